@@ -1,0 +1,12 @@
+// The talkinghead subcommands. Each add*Command registers its options on the CLI11 app and the function
+// that runs it; errors are thrown as th::Error and printed by main() as one line.
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+namespace th::app {
+
+void addFeaturesCommand(CLI::App& app);
+void addEvalCommand(CLI::App& app);
+
+}  // namespace th::app

@@ -1,0 +1,26 @@
+// talkinghead: speech in, talking head out. One executable, one subcommand per job.
+#include <CLI/CLI.hpp>
+
+#include <iostream>
+
+#include "commands.h"
+#include "core/error.h"
+
+int main(int argc, char** argv) {
+  CLI::App app{"talkinghead: a speech-driven 3-D talking head (features, models, face, live, export)"};
+  app.require_subcommand(1);
+  th::app::addFeaturesCommand(app);
+  th::app::addEvalCommand(app);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  } catch (const th::Error& e) {
+    std::cerr << "talkinghead: " << e.what() << '\n';
+    return 1;
+  } catch (const std::exception& e) {
+    std::cerr << "talkinghead: " << e.what() << '\n';
+    return 1;
+  }
+  return 0;
+}

@@ -1,0 +1,15 @@
+# Warnings and sanitizers for project targets only (third-party headers are included as SYSTEM).
+add_library(talkinghead_options INTERFACE)
+target_compile_options(talkinghead_options INTERFACE
+  -Wall -Wextra -Wpedantic -Wshadow -Wconversion -Wno-sign-conversion -Wnon-virtual-dtor
+  -Wold-style-cast -Woverloaded-virtual -Wnull-dereference -Wformat=2
+  # GCC 12 reports false -Wrestrict positives inside libstdc++ string code (GCC bug 105329).
+  -Wno-restrict)
+if(TALKINGHEAD_WERROR)
+  target_compile_options(talkinghead_options INTERFACE -Werror)
+endif()
+if(TALKINGHEAD_SANITIZE)
+  target_compile_options(talkinghead_options INTERFACE
+    -fsanitize=address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer)
+  target_link_options(talkinghead_options INTERFACE -fsanitize=address,undefined)
+endif()

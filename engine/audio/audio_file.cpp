@@ -1,0 +1,164 @@
+#include "audio/audio_file.h"
+
+#include <sndfile.h>
+
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <memory>
+#include <string>
+#include <system_error>
+
+#include "audio/resampler.h"
+#include "core/error.h"
+
+namespace th::audio {
+namespace {
+
+struct SndfileCloser {
+  void operator()(SNDFILE* file) const { sf_close(file); }
+};
+using SndfileHandle = std::unique_ptr<SNDFILE, SndfileCloser>;
+
+// libsndfile's virtual I/O over a byte buffer, so that files and memory share one decoder path.
+struct MemoryStream {
+  const unsigned char* data;
+  sf_count_t size;
+  sf_count_t position;
+};
+
+sf_count_t memoryLength(void* user) { return static_cast<MemoryStream*>(user)->size; }
+sf_count_t memorySeek(sf_count_t offset, int whence, void* user) {
+  auto* stream = static_cast<MemoryStream*>(user);
+  sf_count_t target = offset;
+  if (whence == SEEK_CUR) target = stream->position + offset;
+  if (whence == SEEK_END) target = stream->size + offset;
+  if (target < 0 || target > stream->size) return -1;
+  stream->position = target;
+  return target;
+}
+sf_count_t memoryRead(void* destination, sf_count_t count, void* user) {
+  auto* stream = static_cast<MemoryStream*>(user);
+  const sf_count_t available = stream->size - stream->position;
+  const sf_count_t taken = count < available ? count : available;
+  if (taken > 0) std::memcpy(destination, stream->data + stream->position, static_cast<size_t>(taken));
+  stream->position += taken;
+  return taken;
+}
+sf_count_t memoryWrite(const void*, sf_count_t, void*) { return 0; }
+sf_count_t memoryTell(void* user) { return static_cast<MemoryStream*>(user)->position; }
+
+// libsndfile reads a WAV whose data chunk claims more bytes than the file holds as if it were complete,
+// and says so only in its log ("... (should be N)"). A cut-off download must not pass as a short recording.
+bool logReportsTruncation(SNDFILE* file) {
+  char log[4096] = {};
+  sf_command(file, SFC_GET_LOG_INFO, log, sizeof(log));
+  return std::strstr(log, "should be") != nullptr || std::strstr(log, "truncated") != nullptr ||
+         std::strstr(log, "Truncated") != nullptr;
+}
+
+AudioClip decodeOpened(SNDFILE* file, const SF_INFO& info, const std::string& name,
+                       const AudioReadOptions& options) {
+  if (info.channels <= 0) throw Error(name + ": no audio channels");
+  if (info.samplerate < options.minInputRateHz || info.samplerate > options.maxInputRateHz) {
+    throw Error(name + ": sample rate " + std::to_string(info.samplerate) + " Hz is outside the supported " +
+                std::to_string(options.minInputRateHz) + "-" + std::to_string(options.maxInputRateHz) + " Hz");
+  }
+  if (info.frames <= 0) throw Error(name + ": contains no samples");
+  if (logReportsTruncation(file)) throw Error(name + ": truncated (the header promises more audio than the file holds)");
+  // Guard against absurd headers before allocating: 24 hours at the maximum rate is far beyond any real use.
+  const sf_count_t maxFrames = static_cast<sf_count_t>(options.maxInputRateHz) * 3600 * 24;
+  if (info.frames > maxFrames) throw Error(name + ": header claims an implausible length");
+
+  const auto channels = static_cast<size_t>(info.channels);
+  std::vector<float> interleaved;
+  std::vector<float> mono;
+  mono.reserve(static_cast<size_t>(info.frames));
+  constexpr sf_count_t kBlockFrames = 8192;
+  interleaved.resize(static_cast<size_t>(kBlockFrames) * channels);
+  sf_count_t total = 0;
+  for (;;) {
+    const sf_count_t got = sf_readf_float(file, interleaved.data(), kBlockFrames);
+    if (got <= 0) break;
+    for (sf_count_t f = 0; f < got; ++f) {
+      double sum = 0.0;
+      for (size_t c = 0; c < channels; ++c) {
+        const float value = interleaved[static_cast<size_t>(f) * channels + c];
+        if (!std::isfinite(value)) {
+          throw Error(name + ": sample " + std::to_string(total + f) + " is not a finite number (NaN or infinity)");
+        }
+        sum += static_cast<double>(value);
+      }
+      mono.push_back(static_cast<float>(sum / static_cast<double>(channels)));
+    }
+    total += got;
+  }
+  if (sf_error(file) != SF_ERR_NO_ERROR) throw Error(name + ": read error: " + sf_strerror(file));
+  if (total == 0) throw Error(name + ": contains no samples");
+  if (total < info.frames) {
+    throw Error(name + ": truncated (" + std::to_string(total) + " of " + std::to_string(info.frames) +
+                " sample frames could be read)");
+  }
+
+  AudioClip clip;
+  clip.sourceRateHz = info.samplerate;
+  clip.sourceChannels = info.channels;
+  clip.sampleRateHz = options.outputRateHz > 0 ? options.outputRateHz : info.samplerate;
+  clip.samples = info.samplerate == clip.sampleRateHz
+                     ? std::move(mono)
+                     : resample(mono, info.samplerate, clip.sampleRateHz);
+  return clip;
+}
+
+}  // namespace
+
+AudioClip decodeAudio(const void* data, size_t size, const std::string& name, const AudioReadOptions& options) {
+  if (size == 0) throw Error(name + ": empty file (0 bytes)");
+  MemoryStream stream{static_cast<const unsigned char*>(data), static_cast<sf_count_t>(size), 0};
+  SF_VIRTUAL_IO io{memoryLength, memorySeek, memoryRead, memoryWrite, memoryTell};
+  SF_INFO info{};
+  SndfileHandle file(sf_open_virtual(&io, SFM_READ, &info, &stream));
+  if (!file) {
+    throw Error(name + ": not a readable audio file (libsndfile: " + sf_strerror(nullptr) + ")");
+  }
+  return decodeOpened(file.get(), info, name, options);
+}
+
+AudioClip readAudioFile(const std::filesystem::path& path, const AudioReadOptions& options) {
+  std::error_code error;
+  const auto status = std::filesystem::status(path, error);
+  if (!std::filesystem::exists(status)) throw fileError(path, "no such file");
+  if (std::filesystem::is_directory(status)) throw fileError(path, "is a directory, not an audio file");
+  const auto size = std::filesystem::file_size(path, error);
+  if (error) throw fileError(path, "cannot read: " + error.message());
+  if (size == 0) throw fileError(path, "empty file (0 bytes)");
+
+  SF_INFO info{};
+  SndfileHandle file(sf_open(path.c_str(), SFM_READ, &info));
+  if (!file) {
+    throw fileError(path, std::string("not a readable audio file (libsndfile: ") + sf_strerror(nullptr) + ")");
+  }
+  return decodeOpened(file.get(), info, path.string(), options);
+}
+
+void writeWav16(const std::filesystem::path& path, const std::vector<float>& samples, int sampleRateHz) {
+  const std::filesystem::path temporary = path.string() + ".partial";
+  SF_INFO info{};
+  info.samplerate = sampleRateHz;
+  info.channels = 1;
+  info.format = SF_FORMAT_WAV | SF_FORMAT_PCM_16;
+  {
+    SndfileHandle file(sf_open(temporary.c_str(), SFM_WRITE, &info));
+    if (!file) throw fileError(path, std::string("cannot write: ") + sf_strerror(nullptr));
+    sf_command(file.get(), SFC_SET_CLIPPING, nullptr, SF_TRUE);
+    const auto written = sf_writef_float(file.get(), samples.data(), static_cast<sf_count_t>(samples.size()));
+    if (written != static_cast<sf_count_t>(samples.size())) {
+      file.reset();
+      std::filesystem::remove(temporary);
+      throw fileError(path, "write failed");
+    }
+  }
+  std::filesystem::rename(temporary, path);
+}
+
+}  // namespace th::audio

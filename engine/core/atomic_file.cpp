@@ -1,0 +1,39 @@
+#include "core/atomic_file.h"
+
+#include <unistd.h>
+
+#include <system_error>
+
+#include "core/error.h"
+
+namespace th {
+
+AtomicFile::AtomicFile(std::filesystem::path target) : target_(std::move(target)) {
+  if (std::filesystem::is_directory(target_)) throw fileError(target_, "is a directory");
+  const auto parent = target_.has_parent_path() ? target_.parent_path() : std::filesystem::path(".");
+  if (!std::filesystem::is_directory(parent)) throw fileError(target_, "the folder it should go in does not exist");
+  temporary_ = parent / ("." + target_.filename().string() + ".tmp" + std::to_string(::getpid()));
+  stream_.open(temporary_, std::ios::binary | std::ios::trunc);
+  if (!stream_) throw fileError(target_, "cannot be written (permission denied or read-only location)");
+}
+
+AtomicFile::~AtomicFile() {
+  if (!committed_) {
+    stream_.close();
+    std::error_code ignored;
+    std::filesystem::remove(temporary_, ignored);
+  }
+}
+
+void AtomicFile::commit() {
+  stream_.flush();
+  const bool good = static_cast<bool>(stream_);
+  stream_.close();
+  if (!good || stream_.fail()) throw fileError(target_, "write failed (disk full?)");
+  std::error_code error;
+  std::filesystem::rename(temporary_, target_, error);
+  if (error) throw fileError(target_, "cannot be written: " + error.message());
+  committed_ = true;
+}
+
+}  // namespace th

@@ -1,0 +1,242 @@
+#include "features/pitch.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+
+#include "core/error.h"
+
+namespace th::features {
+namespace {
+
+int fftSizeFor(int minimumLength) {
+  int size = 64;
+  while (size < minimumLength) size *= 2;
+  return size;
+}
+
+}  // namespace
+
+OnlinePitchTracker::OnlinePitchTracker(const PitchOptions& options, int sampleRateHz)
+    : options_(options),
+      sampleRateHz_(sampleRateHz),
+      hopSamples_(static_cast<int>(std::lround(options.hopMs * 1e-3 * sampleRateHz))),
+      windowLength_(2 * static_cast<int>(std::lround(options.windowMs * 1e-3 * sampleRateHz / 2.0))),
+      minLag_(static_cast<int>(std::floor(sampleRateHz / options.maxF0Hz))),
+      maxLag_(static_cast<int>(std::ceil(sampleRateHz / options.minF0Hz))),
+      // Praat's convention: costs are stated for a 10 ms step and scaled to the actual one.
+      transitionScale_(0.01 / (options.hopMs * 1e-3)),
+      fft_(fftSizeFor(2 * static_cast<int>(std::lround(options.windowMs * 1e-3 * sampleRateHz / 2.0)) +
+                      static_cast<int>(std::ceil(sampleRateHz / options.minF0Hz)) + 2)) {
+  if (!(options.minF0Hz > 0) || !(options.maxF0Hz > options.minF0Hz)) {
+    throw Error("pitch: need 0 < minF0Hz < maxF0Hz");
+  }
+  if (hopSamples_ < 1) throw Error("pitch: hop is shorter than one sample");
+  if (maxLag_ + 1 >= windowLength_) throw Error("pitch: the window must be longer than the longest period");
+  if (minLag_ < 2) throw Error("pitch: maxF0Hz is too close to the sample rate");
+  if (options.decisionLagFrames < 0) throw Error("pitch: decisionLagFrames must be >= 0");
+
+  window_.resize(static_cast<size_t>(windowLength_));
+  for (int n = 0; n < windowLength_; ++n) {
+    window_[static_cast<size_t>(n)] =
+        static_cast<float>(0.5 - 0.5 * std::cos(2.0 * std::numbers::pi * (n + 0.5) / windowLength_));
+  }
+  // The window's autocorrelation, by the same FFT path as the signal's so the division is consistent.
+  float* time = fft_.timeData();
+  std::fill(time, time + fft_.size(), 0.0f);
+  std::copy(window_.begin(), window_.end(), time);
+  fft_.forward();
+  for (int k = 0; k < fft_.numBins(); ++k) fft_.spectrum()[k] = std::norm(fft_.spectrum()[k]);
+  fft_.inverse();
+  windowAutocorrelation_.resize(static_cast<size_t>(maxLag_ + 2));
+  for (int lag = 0; lag <= maxLag_ + 1; ++lag) {
+    windowAutocorrelation_[static_cast<size_t>(lag)] = time[lag] / time[0];
+  }
+  segment_.resize(static_cast<size_t>(windowLength_));
+  ring_.resize(static_cast<size_t>(options.decisionLagFrames + 2));  // + the frame before the oldest undecided
+  for (auto& frame : ring_) {
+    frame.candidates.reserve(static_cast<size_t>(options.maxCandidates + 1));
+    frame.score.reserve(static_cast<size_t>(options.maxCandidates + 1));
+    frame.back.reserve(static_cast<size_t>(options.maxCandidates + 1));
+  }
+}
+
+float OnlinePitchTracker::sampleAt(long long index) const {
+  if (index < 0 || index >= numSamples_) return 0.0f;
+  return samples_[static_cast<size_t>(index - samplesOffset_)];
+}
+
+void OnlinePitchTracker::acceptWaveform(std::span<const float> samples) {
+  if (finished_) throw Error("pitch: acceptWaveform after inputFinished");
+  samples_.insert(samples_.end(), samples.begin(), samples.end());
+  numSamples_ += static_cast<long long>(samples.size());
+  analyseAvailableFrames();
+}
+
+void OnlinePitchTracker::inputFinished() {
+  if (finished_) return;
+  finished_ = true;
+  analyseAvailableFrames();
+  if (numAnalysed_ > 0) decideUpTo(numAnalysed_ - 1, numAnalysed_ - 1);
+}
+
+void OnlinePitchTracker::analyseAvailableFrames() {
+  const long long half = windowLength_ / 2;
+  // Frames whose centre lies inside the signal; the last ones are analysed (zero-padded) only once the input
+  // is known to have ended.
+  const long long totalFrames = numSamples_ > 0 ? (numSamples_ - 1) / hopSamples_ + 1 : 0;
+  while (numAnalysed_ < totalFrames) {
+    const long long centre = numAnalysed_ * hopSamples_;
+    if (!finished_ && centre + half > numSamples_) break;
+    analyseFrame(numAnalysed_);
+    ++numAnalysed_;
+    const long long decidable = numAnalysed_ - 1 - options_.decisionLagFrames;
+    if (decidable >= static_cast<long long>(decided_.size())) decideUpTo(decidable, numAnalysed_ - 1);
+  }
+  // Drop samples that no future frame will read.
+  const long long oldestNeeded = numAnalysed_ * hopSamples_ - half;
+  const long long removable = std::min<long long>(oldestNeeded - samplesOffset_, static_cast<long long>(samples_.size()));
+  if (removable > 8 * windowLength_) {
+    samples_.erase(samples_.begin(), samples_.begin() + removable);
+    samplesOffset_ += removable;
+  }
+}
+
+void OnlinePitchTracker::analyseFrame(long long frameIndex) {
+  const long long start = frameIndex * hopSamples_ - windowLength_ / 2;
+  double mean = 0.0;
+  for (int n = 0; n < windowLength_; ++n) {
+    segment_[static_cast<size_t>(n)] = sampleAt(start + n);
+    mean += segment_[static_cast<size_t>(n)];
+  }
+  mean /= windowLength_;
+  double localPeak = 0.0;
+  float* time = fft_.timeData();
+  for (int n = 0; n < windowLength_; ++n) {
+    const double centred = segment_[static_cast<size_t>(n)] - mean;
+    localPeak = std::max(localPeak, std::abs(centred));
+    time[n] = static_cast<float>(centred) * window_[static_cast<size_t>(n)];
+  }
+  std::fill(time + windowLength_, time + fft_.size(), 0.0f);
+  runningPeak_ = std::max(runningPeak_, localPeak);
+
+  AnalysedFrame& frame = analysed(frameIndex);
+  frame.candidates.clear();
+  frame.bestCorrelation = 0.0f;
+  const double vt = options_.voicingThreshold;
+  // Praat's unvoiced strength: the voicing threshold, raised for frames much quieter than the loudest so far.
+  const double relativePeak = runningPeak_ > 0 ? localPeak / runningPeak_ : 0.0;
+  const double unvoicedStrength =
+      vt + std::max(0.0, 2.0 - relativePeak / (options_.silenceThreshold / (1.0 + vt)));
+  frame.candidates.push_back({0.0f, 0.0f, unvoicedStrength});
+
+  if (localPeak > 0.0) {
+    fft_.forward();
+    std::complex<float>* spectrum = fft_.spectrum();
+    for (int k = 0; k < fft_.numBins(); ++k) spectrum[k] = std::norm(spectrum[k]);
+    fft_.inverse();
+    const float energy = time[0];
+    if (energy > 0.0f) {
+      auto r = [&](int lag) { return time[lag] / (energy * windowAutocorrelation_[static_cast<size_t>(lag)]); };
+      float previous = r(minLag_ - 1);
+      float current = r(minLag_);
+      for (int lag = minLag_; lag <= maxLag_; ++lag) {
+        const float next = r(lag + 1);
+        if (current > 0.0f && current >= previous && current > next) {
+          // Parabolic refinement of the peak's lag and height.
+          const double curvature = previous - 2.0 * current + next;
+          double offset = curvature < 0.0 ? 0.5 * (previous - next) / curvature : 0.0;
+          offset = std::clamp(offset, -0.5, 0.5);
+          double height = current - 0.25 * (previous - next) * offset;
+          if (height > 1.0) height = 1.0 / height;  // as Praat: interpolation overshoot counts against it
+          const double period = lag + offset;
+          const double f0 = sampleRateHz_ / period;
+          if (f0 >= options_.minF0Hz && f0 <= options_.maxF0Hz) {
+            const double strength = height - options_.octaveCost * std::log2(options_.minF0Hz / f0);
+            Candidate candidate{static_cast<float>(f0), static_cast<float>(height), strength};
+            frame.bestCorrelation = std::max(frame.bestCorrelation, candidate.correlation);
+            if (static_cast<int>(frame.candidates.size()) <= options_.maxCandidates) {
+              frame.candidates.push_back(candidate);
+            } else {
+              // Replace the weakest voiced candidate if this one is stronger.
+              auto weakest = std::min_element(frame.candidates.begin() + 1, frame.candidates.end(),
+                                              [](const Candidate& a, const Candidate& b) { return a.strength < b.strength; });
+              if (weakest->strength < strength) *weakest = candidate;
+            }
+          }
+        }
+        previous = current;
+        current = next;
+      }
+    }
+  }
+  viterbiStep(frame, frameIndex > 0 ? &analysed(frameIndex - 1) : nullptr);
+}
+
+void OnlinePitchTracker::viterbiStep(AnalysedFrame& current, const AnalysedFrame* previous) const {
+  const size_t count = current.candidates.size();
+  current.score.assign(count, 0.0);
+  current.back.assign(count, 0);
+  const double vuCost = options_.voicedUnvoicedCost * transitionScale_;
+  const double jumpCost = options_.octaveJumpCost * transitionScale_;
+  for (size_t j = 0; j < count; ++j) {
+    const Candidate& to = current.candidates[j];
+    if (!previous) {
+      current.score[j] = to.strength;
+      continue;
+    }
+    double best = -std::numeric_limits<double>::infinity();
+    int bestFrom = 0;
+    for (size_t i = 0; i < previous->candidates.size(); ++i) {
+      const Candidate& from = previous->candidates[i];
+      const bool fromVoiced = from.f0Hz > 0.0f;
+      const bool toVoiced = to.f0Hz > 0.0f;
+      double cost = 0.0;
+      if (fromVoiced != toVoiced) {
+        cost = vuCost;
+      } else if (fromVoiced) {
+        cost = jumpCost * std::abs(std::log2(static_cast<double>(to.f0Hz) / from.f0Hz));
+      }
+      const double value = previous->score[i] - cost;
+      if (value > best) {
+        best = value;
+        bestFrom = static_cast<int>(i);
+      }
+    }
+    current.score[j] = best + to.strength;
+    current.back[j] = bestFrom;
+  }
+  // Keep scores bounded over long streams; only differences matter.
+  const double top = *std::max_element(current.score.begin(), current.score.end());
+  for (double& s : current.score) s -= top;
+}
+
+void OnlinePitchTracker::decideUpTo(long long lastFrameToDecide, long long tracebackFrom) {
+  const AnalysedFrame& end = analysed(tracebackFrom);
+  int state = static_cast<int>(std::max_element(end.score.begin(), end.score.end()) - end.score.begin());
+  // Walk back to the oldest undecided frame, remembering the states on the way.
+  const long long firstUndecided = static_cast<long long>(decided_.size());
+  std::vector<int> path(static_cast<size_t>(tracebackFrom - firstUndecided + 1));
+  for (long long t = tracebackFrom; t >= firstUndecided; --t) {
+    path[static_cast<size_t>(t - firstUndecided)] = state;
+    if (t > 0) state = analysed(t).back[static_cast<size_t>(state)];
+  }
+  for (long long t = firstUndecided; t <= lastFrameToDecide; ++t) {
+    const AnalysedFrame& frame = analysed(t);
+    const Candidate& chosen = frame.candidates[static_cast<size_t>(path[static_cast<size_t>(t - firstUndecided)])];
+    decided_.push_back({chosen.f0Hz, frame.bestCorrelation});
+  }
+}
+
+std::vector<PitchFrame> trackPitch(std::span<const float> samples, int sampleRateHz, const PitchOptions& options) {
+  OnlinePitchTracker tracker(options, sampleRateHz);
+  tracker.acceptWaveform(samples);
+  tracker.inputFinished();
+  std::vector<PitchFrame> frames;
+  frames.reserve(static_cast<size_t>(tracker.numFramesReady()));
+  for (int t = 0; t < tracker.numFramesReady(); ++t) frames.push_back(tracker.frame(t));
+  return frames;
+}
+
+}  // namespace th::features

@@ -1,0 +1,109 @@
+// Streaming F0 tracker: normalised autocorrelation candidates + fixed-lag Viterbi over candidate paths.
+//
+//   th::features::OnlinePitchTracker pitch({}, 16000);
+//   pitch.acceptWaveform(chunk);            // any chunk size, as often as you like
+//   for (; next < pitch.numFramesReady(); ++next) use(pitch.frame(next));   // f0Hz == 0: unvoiced
+//   pitch.inputFinished();                  // flushes the last frames
+//
+// Frame k is centred at k * hopMs. Per frame: a Hann-windowed autocorrelation (FFT) divided by the window's own
+// autocorrelation (Boersma 1993, "Accurate short-term analysis of the fundamental frequency ..."), whose local
+// maxima in [1/maxF0, 1/minF0] are the voiced candidates (lag refined by parabolic interpolation), plus
+// one unvoiced candidate scored from the frame's level against the running peak. A Viterbi search trades
+// candidate strength against octave jumps and voicing changes; frame k is decided when frame k + lag has been
+// analysed (traceback from the best current state), so the look-ahead is fixed: lookaheadSamples().
+// The decision for a frame never depends on how the input was chunked: streaming == batch, bit for bit.
+//
+// Thread contract: one thread per instance.
+#pragma once
+
+#include <span>
+#include <vector>
+
+#include "features/real_fft.h"
+
+namespace th::features {
+
+struct PitchOptions {
+  double minF0Hz = 60.0;
+  double maxF0Hz = 500.0;
+  double hopMs = 5.0;
+  double windowMs = 40.0;          // analysis window (Hann); look-ahead is half of it plus the decision lag
+  int decisionLagFrames = 6;       // fixed-lag Viterbi: frames after a frame that are seen before deciding it
+  int maxCandidates = 6;           // voiced candidates per frame
+  double voicingThreshold = 0.45;  // autocorrelation strength a voiced frame needs
+  double silenceThreshold = 0.03;  // frame peak relative to the running peak below which a frame is silent
+  double octaveCost = 0.01;        // per octave: favours the higher of two candidates (against sub-octaves)
+  double octaveJumpCost = 0.35;    // per octave of change between consecutive voiced frames (at 10 ms)
+  double voicedUnvoicedCost = 0.14;  // per voicing change (at 10 ms)
+};
+
+struct PitchFrame {
+  float f0Hz = 0.0f;        // 0 when unvoiced
+  float strength = 0.0f;    // best normalised autocorrelation in the frame, 0..1
+};
+
+class OnlinePitchTracker {
+ public:
+  OnlinePitchTracker(const PitchOptions& options, int sampleRateHz);
+  OnlinePitchTracker(const OnlinePitchTracker&) = delete;
+  OnlinePitchTracker& operator=(const OnlinePitchTracker&) = delete;
+
+  void acceptWaveform(std::span<const float> samples);
+  void inputFinished();
+
+  int numFramesReady() const { return static_cast<int>(decided_.size()); }
+  bool isLastFrame(int frame) const { return finished_ && frame == numFramesReady() - 1; }
+  const PitchFrame& frame(int frame) const { return decided_[static_cast<size_t>(frame)]; }
+
+  int hopSamples() const { return hopSamples_; }
+  // Samples after a frame's centre that must have arrived before the frame is decided.
+  int lookaheadSamples() const { return windowLength_ / 2 + options_.decisionLagFrames * hopSamples_; }
+  const PitchOptions& options() const { return options_; }
+
+ private:
+  struct Candidate {
+    float f0Hz;
+    float correlation;
+    double strength;
+  };
+  struct AnalysedFrame {
+    std::vector<Candidate> candidates;  // [0] is the unvoiced candidate
+    std::vector<double> score;
+    std::vector<int> back;
+    float bestCorrelation;
+  };
+
+  void analyseAvailableFrames();
+  void analyseFrame(long long frameIndex);
+  void viterbiStep(AnalysedFrame& current, const AnalysedFrame* previous) const;
+  void decideUpTo(long long lastFrameToDecide, long long tracebackFrom);
+  AnalysedFrame& analysed(long long frameIndex) { return ring_[static_cast<size_t>(frameIndex % ring_.size())]; }
+  float sampleAt(long long index) const;
+
+  PitchOptions options_;
+  int sampleRateHz_;
+  int hopSamples_;
+  int windowLength_;
+  int minLag_;
+  int maxLag_;
+  double transitionScale_;
+  RealFft fft_;
+  std::vector<float> window_;
+  std::vector<float> windowAutocorrelation_;  // normalised to 1 at lag 0
+  std::vector<float> segment_;
+
+  std::vector<float> samples_;  // the tail of the input still needed
+  long long samplesOffset_ = 0; // stream index of samples_[0]
+  long long numSamples_ = 0;
+  bool finished_ = false;
+
+  double runningPeak_ = 0.0;
+  long long numAnalysed_ = 0;
+  std::vector<AnalysedFrame> ring_;  // the last decisionLag + 2 analysed frames
+  std::vector<PitchFrame> decided_;
+};
+
+// Whole-signal convenience: the same streaming object, fed once.
+std::vector<PitchFrame> trackPitch(std::span<const float> samples, int sampleRateHz, const PitchOptions& options = {});
+
+}  // namespace th::features
