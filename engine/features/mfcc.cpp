@@ -45,10 +45,13 @@ MfccComputer::MfccComputer(const MfccOptions& options, int sampleRateHz)
     lowerWeight_[static_cast<size_t>(k)] = ((channel + 1) * spacing - mel) / spacing;
   }
 
+  // Orthonormal DCT-II for c1..cN (what SPTK's FFT-based dct() works out to). SPTK's c0 (its -0 output) is
+  // not the DCT's row 0 but sqrt(2/M) times the sum of the log channels, i.e. sqrt(2) times the orthonormal
+  // c0; we follow SPTK so that c0 can be checked against it too.
   const int numRows = options.numCoefficients + 1;
   dctBasis_.resize(static_cast<size_t>(numRows * numBands));
   for (int k = 0; k < numRows; ++k) {
-    const double scale = std::sqrt((k == 0 ? 1.0 : 2.0) / numBands);
+    const double scale = std::sqrt(2.0 / numBands);
     for (int j = 0; j < numBands; ++j) {
       dctBasis_[static_cast<size_t>(k * numBands + j)] =
           scale * std::cos(std::numbers::pi * k * (j + 0.5) / numBands);

@@ -7,7 +7,16 @@
 //   - magnitude (not power) spectrum, bins 1 .. N/2 - 1;
 //   - triangular mel filters (mel = 1127.01048 ln(1 + f/700)), channel j peaking at j/(numBands+1) of the
 //     Nyquist mel, natural log with floor;
-//   - orthonormal DCT-II, HTK lifter 1 + (L/2) sin(pi k / L); c1..cN returned (c0 optional).
+//   - orthonormal DCT-II, HTK lifter 1 + (L/2) sin(pi k / L); c1..cN returned, then c0 if asked for. c0 is
+//     SPTK's (`mfcc -0`): sqrt(2/M) * sum of the M log channels, sqrt(2) times the orthonormal DCT's c0.
+//     SPTK's log energy (`mfcc -E`) is not offered: OnlineFeatureExtractor computes its own level.
+// Framing is the caller's: SPTK's `frame -l L -p P` centres frame i on sample i*P (zeros before the start),
+// which is what OnlineFeatureExtractor does at 100 frames/s (P = 160).
+//
+// Agreement with SPTK (tests/features/mfcc_sptk_test.cpp runs `sptk frame | sptk mfcc` with these options
+// on real speech): |ours - SPTK| <= 5e-4 * max(1, |SPTK|) for every coefficient of every frame. Measured
+// worst case 1.9e-4 (absolute, c9 of a BEAT2 frame; 1.4e-4 relative) over 23 BEAT2, FDA-UE and ARCTIC
+// recordings. Nearly all of it is our single-precision FFT: SPTK is within 2e-6 of an all-double computation.
 //
 //   th::features::MfccComputer mfcc({}, 16000);
 //   std::vector<float> coefficients(mfcc.numOutputs());
@@ -25,7 +34,7 @@ namespace th::features {
 
 struct MfccOptions {
   int numCoefficients = 11;     // c1..c11, as the AV-HMM paper
-  bool includeC0 = false;       // if true, c0 is appended after c1..cN
+  bool includeC0 = false;       // if true, c0 (SPTK's scaling, see above) is appended after c1..cN
   int numMelBands = 24;
   double windowMs = 25.0;
   int fftSize = 512;            // at 16 kHz; must be >= the window length
