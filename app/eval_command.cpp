@@ -20,11 +20,13 @@ struct EvalPitchArguments {
   bool peers = true;
   double minF0Hz = 60.0;
   double maxF0Hz = 500.0;
+  features::PitchOptions pitch;
 };
 
 void printRow(const std::string& name, const features::PitchScore& score, const std::string& note) {
-  std::printf("  %-16s %6.2f %6.2f %6.2f %8.1f %8.1f   %s\n", name.c_str(), 100.0 * score.ffe(), 100.0 * score.gpe(),
-              100.0 * score.vde(), score.fineMeanAbsCents(), score.fineStdCents(), note.c_str());
+  std::printf("  %-16s %6.2f %6.2f %6.2f %6.2f %6.2f %8.1f %8.1f   %s\n", name.c_str(), 100.0 * score.ffe(),
+              100.0 * score.gpe(), 100.0 * score.vde(), 100.0 * score.missedVoicing(), 100.0 * score.falseVoicing(),
+              score.fineMeanAbsCents(), score.fineStdCents(), note.c_str());
 }
 
 void runEvalPitch(const EvalPitchArguments& arguments) {
@@ -42,10 +44,11 @@ void runEvalPitch(const EvalPitchArguments& arguments) {
     double fps;
   };
   for (const Hop& hop : {Hop{"5 ms hop (200 frames/s)", 200.0}, Hop{"30 frames/s (33.3 ms hop)", 30.0}}) {
-    std::printf("\n%s\n  %-16s %6s %6s %6s %8s %8s   %s\n", hop.label.c_str(), "tracker", "FFE%", "GPE%", "VDE%",
-                "|cents|", "sd cents", "notes");
+    std::printf("\n%s\n  %-16s %6s %6s %6s %6s %6s %8s %8s   %s\n", hop.label.c_str(), "tracker", "FFE%", "GPE%",
+                "VDE%", "miss%", "false%", "|cents|", "sd cents", "notes");
     features::FeatureOptions options = features::batchFeatureOptions();
     options.framesPerSecond = hop.fps;
+    options.pitch = arguments.pitch;
     options.pitch.minF0Hz = arguments.minF0Hz;
     options.pitch.maxF0Hz = arguments.maxF0Hz;
     features::PitchScore ours;
@@ -90,6 +93,18 @@ void addEvalCommand(CLI::App& app) {
   pitch->add_flag("!--no-peers", arguments->peers, "Score only our tracker");
   pitch->add_option("--min-f0", arguments->minF0Hz, "Lowest F0 searched, all trackers (Hz)");
   pitch->add_option("--max-f0", arguments->maxF0Hz, "Highest F0 searched, all trackers (Hz)");
+  auto& tuning = arguments->pitch;
+  pitch->add_option("--window-ms", tuning.windowMs, "Our tracker: analysis window (ms)")->group("Tuning our tracker");
+  pitch->add_option("--lag", tuning.decisionLagFrames, "Our tracker: Viterbi decision lag (frames)")
+      ->group("Tuning our tracker");
+  pitch->add_option("--voicing-threshold", tuning.voicingThreshold, "Our tracker")->group("Tuning our tracker");
+  pitch->add_option("--silence-threshold", tuning.silenceThreshold, "Our tracker")->group("Tuning our tracker");
+  pitch->add_option("--octave-cost", tuning.octaveCost, "Our tracker")->group("Tuning our tracker");
+  pitch->add_option("--octave-jump-cost", tuning.octaveJumpCost, "Our tracker")->group("Tuning our tracker");
+  pitch->add_option("--short-window-ms", tuning.shortWindowMs, "Our tracker")->group("Tuning our tracker");
+  pitch->add_option("--level-window-ms", tuning.levelWindowMs, "Our tracker")->group("Tuning our tracker");
+  pitch->add_option("--short-weight", tuning.shortWeight, "Our tracker")->group("Tuning our tracker");
+  pitch->add_option("--vu-cost", tuning.voicedUnvoicedCost, "Our tracker")->group("Tuning our tracker");
   pitch->callback([arguments] { runEvalPitch(*arguments); });
 }
 

@@ -27,6 +27,7 @@ OnlinePitchTracker::OnlinePitchTracker(const PitchOptions& options, int sampleRa
       maxLag_(static_cast<int>(std::ceil(sampleRateHz / options.minF0Hz))),
       // Praat's convention: costs are stated for a 10 ms step and scaled to the actual one.
       transitionScale_(0.01 / (options.hopMs * 1e-3)),
+      shortWindowLength_(static_cast<int>(std::lround(options.shortWindowMs * 1e-3 * sampleRateHz))),
       fft_(fftSizeFor(2 * static_cast<int>(std::lround(options.windowMs * 1e-3 * sampleRateHz / 2.0)) +
                       static_cast<int>(std::ceil(sampleRateHz / options.minF0Hz)) + 2)) {
   if (!(options.minF0Hz > 0) || !(options.maxF0Hz > options.minF0Hz)) {
@@ -36,6 +37,9 @@ OnlinePitchTracker::OnlinePitchTracker(const PitchOptions& options, int sampleRa
   if (maxLag_ + 1 >= windowLength_) throw Error("pitch: the window must be longer than the longest period");
   if (minLag_ < 2) throw Error("pitch: maxF0Hz is too close to the sample rate");
   if (options.decisionLagFrames < 0) throw Error("pitch: decisionLagFrames must be >= 0");
+  if (shortWindowLength_ / 2 + maxLag_ / 2 + 2 > windowLength_ / 2) {
+    throw Error("pitch: the short window plus half the longest period must fit in half the analysis window");
+  }
 
   window_.resize(static_cast<size_t>(windowLength_));
   for (int n = 0; n < windowLength_; ++n) {
@@ -115,6 +119,7 @@ void OnlinePitchTracker::analyseFrame(long long frameIndex) {
   float* time = fft_.timeData();
   for (int n = 0; n < windowLength_; ++n) {
     const double centred = segment_[static_cast<size_t>(n)] - mean;
+    segment_[static_cast<size_t>(n)] = static_cast<float>(centred);
     localPeak = std::max(localPeak, std::abs(centred));
     time[n] = static_cast<float>(centred) * window_[static_cast<size_t>(n)];
   }
@@ -126,7 +131,17 @@ void OnlinePitchTracker::analyseFrame(long long frameIndex) {
   frame.bestCorrelation = 0.0f;
   const double vt = options_.voicingThreshold;
   // Praat's unvoiced strength: the voicing threshold, raised for frames much quieter than the loudest so far.
-  const double relativePeak = runningPeak_ > 0 ? localPeak / runningPeak_ : 0.0;
+  double levelPeak = localPeak;
+  if (options_.levelWindowMs > 0.0) {
+    // The level that decides silence is taken near the frame's centre, so that a loud neighbour inside the
+    // long window does not make a silent frame look voiced.
+    const int half = static_cast<int>(std::lround(options_.levelWindowMs * 1e-3 * sampleRateHz_ / 2.0));
+    levelPeak = 0.0;
+    for (int n = windowLength_ / 2 - half; n < windowLength_ / 2 + half; ++n) {
+      levelPeak = std::max(levelPeak, static_cast<double>(std::abs(segment_[static_cast<size_t>(n)])));
+    }
+  }
+  const double relativePeak = runningPeak_ > 0 ? levelPeak / runningPeak_ : 0.0;
   const double unvoicedStrength =
       vt + std::max(0.0, 2.0 - relativePeak / (options_.silenceThreshold / (1.0 + vt)));
   frame.candidates.push_back({0.0f, 0.0f, unvoicedStrength});
@@ -153,7 +168,11 @@ void OnlinePitchTracker::analyseFrame(long long frameIndex) {
           const double period = lag + offset;
           const double f0 = sampleRateHz_ / period;
           if (f0 >= options_.minF0Hz && f0 <= options_.maxF0Hz) {
-            const double strength = height - options_.octaveCost * std::log2(options_.minF0Hz / f0);
+            const double periodicity =
+                shortWindowLength_ > 0
+                    ? (1.0 - options_.shortWeight) * height + options_.shortWeight * shortCorrelation(period)
+                    : height;
+            const double strength = periodicity - options_.octaveCost * std::log2(options_.minF0Hz / f0);
             Candidate candidate{static_cast<float>(f0), static_cast<float>(height), strength};
             frame.bestCorrelation = std::max(frame.bestCorrelation, candidate.correlation);
             if (static_cast<int>(frame.candidates.size()) <= options_.maxCandidates) {
@@ -172,6 +191,30 @@ void OnlinePitchTracker::analyseFrame(long long frameIndex) {
     }
   }
   viterbiStep(frame, frameIndex > 0 ? &analysed(frameIndex - 1) : nullptr);
+}
+
+// Normalised cross-correlation between the two halves of a lag-spanning pair of short windows centred on the
+// frame: x[c + n - lag/2] against x[c + n + lag/2]. Best of the three integer lags around `lag`.
+double OnlinePitchTracker::shortCorrelation(double lag) const {
+  const int centre = windowLength_ / 2;
+  const int half = shortWindowLength_ / 2;
+  double best = 0.0;
+  const int rounded = static_cast<int>(std::lround(lag));
+  for (int candidateLag = std::max(1, rounded - 1); candidateLag <= rounded + 1; ++candidateLag) {
+    const int first = centre - half - candidateLag / 2;
+    double cross = 0.0;
+    double energyA = 0.0;
+    double energyB = 0.0;
+    for (int n = 0; n < shortWindowLength_; ++n) {
+      const double a = segment_[static_cast<size_t>(first + n)];
+      const double b = segment_[static_cast<size_t>(first + n + candidateLag)];
+      cross += a * b;
+      energyA += a * a;
+      energyB += b * b;
+    }
+    if (energyA > 0.0 && energyB > 0.0) best = std::max(best, cross / std::sqrt(energyA * energyB));
+  }
+  return best;
 }
 
 void OnlinePitchTracker::viterbiStep(AnalysedFrame& current, const AnalysedFrame* previous) const {

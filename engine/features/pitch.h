@@ -27,14 +27,19 @@ struct PitchOptions {
   double minF0Hz = 60.0;
   double maxF0Hz = 500.0;
   double hopMs = 5.0;
-  double windowMs = 40.0;          // analysis window (Hann); look-ahead is half of it plus the decision lag
+  double windowMs = 30.0;          // analysis window (Hann); look-ahead is half of it plus the decision lag
   int decisionLagFrames = 6;       // fixed-lag Viterbi: frames after a frame that are seen before deciding it
   int maxCandidates = 6;           // voiced candidates per frame
-  double voicingThreshold = 0.45;  // autocorrelation strength a voiced frame needs
-  double silenceThreshold = 0.03;  // frame peak relative to the running peak below which a frame is silent
+  double voicingThreshold = 0.5;   // autocorrelation strength a voiced frame needs
+  double silenceThreshold = 0.05;  // frame peak relative to the running peak below which a frame is silent
   double octaveCost = 0.01;        // per octave: favours the higher of two candidates (against sub-octaves)
   double octaveJumpCost = 0.35;    // per octave of change between consecutive voiced frames (at 10 ms)
-  double voicedUnvoicedCost = 0.14;  // per voicing change (at 10 ms)
+  double voicedUnvoicedCost = 0.2;   // per voicing change (at 10 ms)
+  // Time resolution at voicing boundaries: each candidate's periodicity is also measured by a normalised
+  // cross-correlation over a short window centred on the frame (as RAPT's NCCF), and mixed into its strength.
+  double shortWindowMs = 10.0;     // 0 disables
+  double shortWeight = 0.5;        // weight of the short-window periodicity in a candidate's strength
+  double levelWindowMs = 10.0;     // silence is judged on the peak within this window at the centre (0: whole)
 };
 
 struct PitchFrame {
@@ -87,10 +92,12 @@ class OnlinePitchTracker {
   int minLag_;
   int maxLag_;
   double transitionScale_;
+  int shortWindowLength_;
   RealFft fft_;
   std::vector<float> window_;
   std::vector<float> windowAutocorrelation_;  // normalised to 1 at lag 0
-  std::vector<float> segment_;
+  std::vector<float> segment_;   // the frame's samples, mean removed, unwindowed
+  double shortCorrelation(double lag) const;
 
   std::vector<float> samples_;  // the tail of the input still needed
   long long samplesOffset_ = 0; // stream index of samples_[0]

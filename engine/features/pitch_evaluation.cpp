@@ -61,6 +61,7 @@ void PitchScore::add(std::span<const double> referenceHz, std::span<const double
     ++frames_;
     if (referenceVoiced != estimateVoiced) {
       ++voicingErrors_;
+      if (referenceVoiced) ++missedVoicing_;
       continue;
     }
     if (!referenceVoiced) continue;
@@ -80,6 +81,7 @@ void PitchScore::add(std::span<const double> referenceHz, std::span<const double
 void PitchScore::merge(const PitchScore& other) {
   frames_ += other.frames_;
   voicingErrors_ += other.voicingErrors_;
+  missedVoicing_ += other.missedVoicing_;
   voicedBoth_ += other.voicedBoth_;
   grossErrors_ += other.grossErrors_;
   fineCount_ += other.fineCount_;

@@ -44,6 +44,9 @@ class PitchScore {
   double fineMeanCents() const;
   double fineStdCents() const;
   double fineMeanAbsCents() const;
+  // The two kinds of voicing error, over all frames.
+  double missedVoicing() const { return ratio(missedVoicing_, frames_); }
+  double falseVoicing() const { return ratio(voicingErrors_ - missedVoicing_, frames_); }
 
  private:
   static double ratio(long long numerator, long long denominator) {
@@ -51,6 +54,7 @@ class PitchScore {
   }
   long long frames_ = 0;
   long long voicingErrors_ = 0;
+  long long missedVoicing_ = 0;  // reference voiced, estimate unvoiced
   long long voicedBoth_ = 0;
   long long grossErrors_ = 0;
   long long fineCount_ = 0;
