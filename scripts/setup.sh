@@ -1,0 +1,63 @@
+#!/usr/bin/env bash
+# First command for a newcomer on a fresh Debian 12 machine:
+#
+#   bash scripts/setup.sh
+#
+# 1. installs the Debian packages in scripts/packages.txt (scripts/install-packages.sh; needs root or sudo),
+# 2. configures and builds the Release build in build/ with Ninja, on all cores,
+# 3. runs the main job on the shipped default input and prints its summary:
+#      build/talkinghead features "$DATA/beat2/2_scott_0_1_1.wav"
+#    where DATA is $TALKINGHEAD_DATA, else ../shared/data beside the checkout. Without that recording it says so
+#    and uses a sentence synthesised with espeak-ng instead (build/example.wav).
+#
+# Environment: BUILD_DIR (default build), TALKINGHEAD_DATA (the shared data folder).
+# Nothing is copied into the source tree; everything it makes lives in the build folder.
+set -euo pipefail
+
+repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+cd "$repo"
+build_dir="${BUILD_DIR:-build}"
+data_dir="${TALKINGHEAD_DATA:-$repo/../shared/data}"
+jobs="$(nproc 2>/dev/null || echo 2)"
+
+step() { printf '\n== %s\n' "$*"; }
+
+step "Installing Debian packages (scripts/packages.txt)"
+bash scripts/install-packages.sh
+
+step "Configuring and building Release in $build_dir/ (Ninja, $jobs jobs)"
+generator=(-G Ninja)
+if [[ -f "$build_dir/CMakeCache.txt" ]] && ! grep -q '^CMAKE_GENERATOR:INTERNAL=Ninja$' "$build_dir/CMakeCache.txt"; then
+  echo "note: $build_dir/ was configured with another generator; keeping it (remove $build_dir/ to switch to Ninja)"
+  generator=()
+fi
+cmake -S . -B "$build_dir" "${generator[@]}" -DCMAKE_BUILD_TYPE=Release
+cmake --build "$build_dir" --parallel "$jobs"
+
+step "Running the main job: features of the default recording"
+input="$data_dir/beat2/2_scott_0_1_1.wav"
+if [[ -r "$input" ]]; then
+  echo "input: $input"
+else
+  echo "The shared recording $input is not there"
+  echo "(set TALKINGHEAD_DATA to the shared data folder, or put it at ../shared/data beside the checkout)."
+  input="$build_dir/example.wav"
+  if command -v espeak-ng >/dev/null 2>&1; then
+    echo "Using a sentence synthesised with espeak-ng instead: $input"
+    espeak-ng -v en-us -s 150 -w "$input" \
+      "The quick brown fox jumps over the lazy dog. A talking head moves its lips, jaw and head with the voice."
+  else
+    echo "error: espeak-ng is not installed either, so there is no recording to run on" >&2
+    exit 1
+  fi
+fi
+"$build_dir/talkinghead" features "$input"
+
+cat <<EOF
+
+Done. Next:
+  $build_dir/talkinghead features "$input" -o features.csv   # every frame, as CSV (or .json)
+  $build_dir/talkinghead --help                               # the other subcommands
+  bash scripts/test.sh                                        # all tests (Release, ASan+UBSan, fuzz, bench smoke)
+  bash scripts/bench.sh                                       # speed, on one core
+EOF

@@ -1,0 +1,160 @@
+#!/usr/bin/env bash
+# Every test, the way CI runs them (.ci/run calls this):
+#
+#   bash scripts/test.sh
+#
+# Parts, in order (each is timed; a failed part does not stop the later independent ones):
+#   1. packages     scripts/install-packages.sh (no network when everything is installed)
+#   2. release      Release build in build/ (Ninja), then `ctest -j2 --output-on-failure`
+#   3. sanitizers   AddressSanitizer + UBSan build in build-asan/ (Debug at -O1: asserts on), then ctest with
+#                   leak detection; any sanitizer report fails the test that triggered it
+#   4. fuzz         scripts/fuzz.sh, if present, for FUZZ_SECONDS (default 60)
+#   5. bench smoke  build/bench/features_bench --quick: one pass of every benchmark (proves it runs, times nothing)
+# Then a summary of the parts; the last line is "N passed, M failed", the ctest results of both runs together.
+# Exits non-zero if any part failed.
+#
+# Environment: BUILD_DIR (default build), ASAN_BUILD_DIR (default build-asan), FUZZ_SECONDS (default 60),
+# CTEST_TIMEOUT_SECONDS (per test without its own TIMEOUT, default 600), TALKINGHEAD_DATA (shared data folder).
+set -euo pipefail
+
+repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+cd "$repo"
+build_dir="${BUILD_DIR:-build}"
+asan_dir="${ASAN_BUILD_DIR:-build-asan}"
+jobs="$(nproc 2>/dev/null || echo 2)"
+ctest_timeout="${CTEST_TIMEOUT_SECONDS:-600}"
+export FUZZ_SECONDS="${FUZZ_SECONDS:-60}"
+
+logs="$(mktemp -d "${TMPDIR:-/tmp}/talkinghead-test.XXXXXX")"
+trap 'rm -rf "$logs"' EXIT
+
+summary=()        # one line per part
+any_failed=0
+tests_passed=0
+tests_failed=0
+started=$SECONDS
+
+# configure DIR [cmake options...]: configures with Ninja, unless DIR already uses another generator.
+configure() {
+  local dir="$1"
+  shift
+  local generator=(-G Ninja)
+  if [[ -f "$dir/CMakeCache.txt" ]] && ! grep -q '^CMAKE_GENERATOR:INTERNAL=Ninja$' "$dir/CMakeCache.txt"; then
+    generator=()
+  fi
+  cmake -S . -B "$dir" "${generator[@]}" "$@"
+}
+
+# run_ctest DIR: all tests of DIR, two at a time; its output is kept in $logs/ctest-DIR.log for counting.
+run_ctest() {
+  local dir="$1"
+  local log="$logs/ctest-$(basename "$dir").log"
+  ctest --test-dir "$dir" --parallel 2 --output-on-failure --no-tests=error --timeout "$ctest_timeout" 2>&1 |
+    tee "$log"
+  return "${PIPESTATUS[0]}"
+}
+
+# count_ctest DIR: adds the "X% tests passed, F tests failed out of T" line of DIR's ctest log to the totals
+# and describes it in $ctest_counts.
+ctest_counts=""
+count_ctest() {
+  local log="$logs/ctest-$(basename "$1").log"
+  local line failed total
+  line="$(grep -E '[0-9]+ tests? failed out of [0-9]+' "$log" 2>/dev/null | tail -n 1 || true)"
+  if [[ -z "$line" ]]; then
+    ctest_counts="no ctest summary"
+    return 0
+  fi
+  failed="$(sed -E 's/.* ([0-9]+) tests? failed out of ([0-9]+).*/\1/' <<<"$line")"
+  total="$(sed -E 's/.* ([0-9]+) tests? failed out of ([0-9]+).*/\2/' <<<"$line")"
+  tests_passed=$((tests_passed + total - failed))
+  tests_failed=$((tests_failed + failed))
+  ctest_counts="$((total - failed)) passed, $failed failed"
+}
+
+# part NAME COMMAND...: runs COMMAND in a subshell with errexit, times it and records the outcome in the summary
+# and in $part_status. Always returns 0: call it as a plain command, never under if/&&/|| (bash ignores
+# errexit inside anything called from such a context, so a failing step would not stop the part).
+part_status=0
+part() {
+  local name="$1"
+  shift
+  printf '\n==== %s: %s\n' "$name" "$*"
+  local begin=$SECONDS
+  set +e
+  (
+    set -euo pipefail
+    "$@"
+  )
+  part_status=$?
+  set -e
+  local seconds=$((SECONDS - begin))
+  if ((part_status == 0)); then
+    summary+=("$(printf '  %-20s %-8s %5ss' "$name" ok "$seconds")")
+  else
+    summary+=("$(printf '  %-20s %-8s %5ss  (exit %s)' "$name" FAILED "$seconds" "$part_status")")
+    any_failed=1
+  fi
+}
+
+skip() {
+  summary+=("$(printf '  %-20s %-8s         %s' "$1" skipped "$2")")
+}
+
+# Annotates the last summary line with the ctest counts of DIR.
+annotate_counts() {
+  count_ctest "$1"
+  summary[-1]="${summary[-1]}  $ctest_counts"
+}
+
+build_release() {
+  configure "$build_dir" -DCMAKE_BUILD_TYPE=Release
+  cmake --build "$build_dir" --parallel "$jobs"
+}
+
+build_sanitized() {
+  configure "$asan_dir" -DCMAKE_BUILD_TYPE=Debug -DTALKINGHEAD_SANITIZE=ON \
+    -DCMAKE_CXX_FLAGS_DEBUG="-g -O1" -DCMAKE_C_FLAGS_DEBUG="-g -O1"
+  cmake --build "$asan_dir" --parallel "$jobs"
+}
+
+# The sanitizer settings apply to everything after this point, including test discovery at build time.
+export ASAN_OPTIONS="${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=1}"
+export UBSAN_OPTIONS="${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}"
+
+part "packages" bash scripts/install-packages.sh
+
+part "release build" build_release
+release_built=$part_status
+if ((release_built == 0)); then
+  part "release tests" run_ctest "$build_dir"
+  annotate_counts "$build_dir"
+else
+  skip "release tests" "(build failed)"
+fi
+
+part "asan+ubsan build" build_sanitized
+if ((part_status == 0)); then
+  part "asan+ubsan tests" run_ctest "$asan_dir"
+  annotate_counts "$asan_dir"
+else
+  skip "asan+ubsan tests" "(build failed)"
+fi
+
+if [[ -f scripts/fuzz.sh ]]; then
+  part "fuzz (${FUZZ_SECONDS}s)" bash scripts/fuzz.sh
+else
+  skip "fuzz" "(scripts/fuzz.sh not there yet)"
+fi
+
+if ((release_built == 0)); then
+  part "bench smoke" "$build_dir/bench/features_bench" --quick
+else
+  skip "bench smoke" "(release build failed)"
+fi
+
+printf '\n==== Summary (%s)\n' "$(if ((any_failed)); then echo FAILED; else echo all parts ok; fi)"
+printf '%s\n' "${summary[@]}"
+printf '  %-20s %-8s %5ss\n' "total" "" "$((SECONDS - started))"
+echo "$tests_passed passed, $tests_failed failed"
+exit "$any_failed"
