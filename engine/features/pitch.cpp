@@ -54,9 +54,22 @@ OnlinePitchTracker::OnlinePitchTracker(const PitchOptions& options, int sampleRa
   for (int k = 0; k < fft_.numBins(); ++k) fft_.spectrum()[k] = std::norm(fft_.spectrum()[k]);
   fft_.inverse();
   windowAutocorrelation_.resize(static_cast<size_t>(maxLag_ + 2));
-  for (int lag = 0; lag <= maxLag_ + 1; ++lag) {
-    windowAutocorrelation_[static_cast<size_t>(lag)] = time[lag] / time[0];
+  std::vector<double> windowEnergyPrefix(static_cast<size_t>(windowLength_ + 1), 0.0);
+  for (int n = 0; n < windowLength_; ++n) {
+    windowEnergyPrefix[static_cast<size_t>(n + 1)] =
+        windowEnergyPrefix[static_cast<size_t>(n)] + window_[static_cast<size_t>(n)] * window_[static_cast<size_t>(n)];
   }
+  for (int lag = 0; lag <= maxLag_ + 1; ++lag) {
+    if (options_.normalisation == PitchNormalisation::kWindowAutocorrelation) {
+      windowAutocorrelation_[static_cast<size_t>(lag)] = time[lag] / time[0];
+    } else {
+      // What a stationary signal's windowed NCCF would be at this lag: dividing by it removes the window's bias.
+      const double head = windowEnergyPrefix[static_cast<size_t>(windowLength_ - lag)];
+      const double tail = windowEnergyPrefix[static_cast<size_t>(windowLength_)] - windowEnergyPrefix[static_cast<size_t>(lag)];
+      windowAutocorrelation_[static_cast<size_t>(lag)] = static_cast<float>(time[lag] / time[0] * windowEnergyPrefix.back() / std::sqrt(head * tail));
+    }
+  }
+  energyPrefix_.resize(static_cast<size_t>(windowLength_ + 1));
   segment_.resize(static_cast<size_t>(windowLength_));
   ring_.resize(static_cast<size_t>(options.decisionLagFrames + 2));  // + the frame before the oldest undecided
   for (auto& frame : ring_) {
@@ -124,6 +137,10 @@ void OnlinePitchTracker::analyseFrame(long long frameIndex) {
     time[n] = static_cast<float>(centred) * window_[static_cast<size_t>(n)];
   }
   std::fill(time + windowLength_, time + fft_.size(), 0.0f);
+  energyPrefix_[0] = 0.0;
+  for (int n = 0; n < windowLength_; ++n) {
+    energyPrefix_[static_cast<size_t>(n + 1)] = energyPrefix_[static_cast<size_t>(n)] + static_cast<double>(time[n]) * time[n];
+  }
   runningPeak_ = std::max(runningPeak_, localPeak);
 
   AnalysedFrame& frame = analysed(frameIndex);
@@ -153,7 +170,17 @@ void OnlinePitchTracker::analyseFrame(long long frameIndex) {
     fft_.inverse();
     const float energy = time[0];
     if (energy > 0.0f) {
-      auto r = [&](int lag) { return time[lag] / (energy * windowAutocorrelation_[static_cast<size_t>(lag)]); };
+      const bool nccf = options_.normalisation == PitchNormalisation::kNccf;
+      auto r = [&](int lag) {
+        if (!nccf) return time[lag] / (energy * windowAutocorrelation_[static_cast<size_t>(lag)]);
+        // Normalised by the energies of the two overlapping parts (<= 1 by Cauchy-Schwarz even at onsets,
+        // where the window-autocorrelation normalisation overshoots for long lags).
+        const double head = energyPrefix_[static_cast<size_t>(windowLength_ - lag)];
+        const double tail = energyPrefix_[static_cast<size_t>(windowLength_)] - energyPrefix_[static_cast<size_t>(lag)];
+        const double denominator = std::sqrt(head * tail) * windowAutocorrelation_[static_cast<size_t>(lag)];
+        // The inverse FFT is unnormalised: its output is fft size times the autocorrelation.
+        return denominator > 0.0 ? static_cast<float>(time[lag] / (denominator * fft_.size())) : 0.0f;
+      };
       float previous = r(minLag_ - 1);
       float current = r(minLag_);
       for (int lag = minLag_; lag <= maxLag_; ++lag) {
@@ -172,7 +199,15 @@ void OnlinePitchTracker::analyseFrame(long long frameIndex) {
                 shortWindowLength_ > 0
                     ? (1.0 - options_.shortWeight) * height + options_.shortWeight * shortCorrelation(period)
                     : height;
-            const double strength = periodicity - options_.octaveCost * std::log2(options_.minF0Hz / f0);
+            double strength = periodicity - options_.octaveCost * std::log2(options_.minF0Hz / f0);
+            // A signal periodic in P is periodic in 2P too: if half this period correlates nearly as well,
+            // this candidate is most likely a sub-octave, so it pays a penalty.
+            const int halfLag = static_cast<int>(std::lround(period / 2.0));
+            if (options_.subharmonicPenalty > 0.0 && halfLag - 1 >= 1) {
+              float halfBest = 0.0f;
+              for (int h = halfLag - 1; h <= halfLag + 1; ++h) halfBest = std::max(halfBest, r(h));
+              if (halfBest >= options_.subharmonicRatio * height) strength -= options_.subharmonicPenalty;
+            }
             Candidate candidate{static_cast<float>(f0), static_cast<float>(height), strength};
             frame.bestCorrelation = std::max(frame.bestCorrelation, candidate.correlation);
             if (static_cast<int>(frame.candidates.size()) <= options_.maxCandidates) {

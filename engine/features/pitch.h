@@ -23,6 +23,11 @@
 
 namespace th::features {
 
+enum class PitchNormalisation {
+  kWindowAutocorrelation,  // Boersma 1993 / Praat: r(lag) / (r(0) * r_window(lag))
+  kNccf,                   // energies of the overlapping parts, corrected for the window's own NCCF
+};
+
 struct PitchOptions {
   double minF0Hz = 60.0;
   double maxF0Hz = 500.0;
@@ -32,13 +37,16 @@ struct PitchOptions {
   int maxCandidates = 6;           // voiced candidates per frame
   double voicingThreshold = 0.5;   // autocorrelation strength a voiced frame needs
   double silenceThreshold = 0.05;  // frame peak relative to the running peak below which a frame is silent
-  double octaveCost = 0.01;        // per octave: favours the higher of two candidates (against sub-octaves)
+  double octaveCost = 0.02;        // per octave: favours the higher of two candidates (against sub-octaves)
   double octaveJumpCost = 0.35;    // per octave of change between consecutive voiced frames (at 10 ms)
   double voicedUnvoicedCost = 0.2;   // per voicing change (at 10 ms)
   // Time resolution at voicing boundaries: each candidate's periodicity is also measured by a normalised
   // cross-correlation over a short window centred on the frame (as RAPT's NCCF), and mixed into its strength.
   double shortWindowMs = 10.0;     // 0 disables
   double shortWeight = 0.5;        // weight of the short-window periodicity in a candidate's strength
+  double subharmonicPenalty = 0.1;  // strength taken from a candidate whose half period correlates as well
+  double subharmonicRatio = 0.9;    // "as well": at least this fraction of the candidate's correlation
+  PitchNormalisation normalisation = PitchNormalisation::kNccf;
   double levelWindowMs = 10.0;     // silence is judged on the peak within this window at the centre (0: whole)
 };
 
@@ -96,6 +104,7 @@ class OnlinePitchTracker {
   RealFft fft_;
   std::vector<float> window_;
   std::vector<float> windowAutocorrelation_;  // normalised to 1 at lag 0
+  std::vector<double> energyPrefix_;          // running sums of the windowed frame's squared samples
   std::vector<float> segment_;   // the frame's samples, mean removed, unwindowed
   double shortCorrelation(double lag) const;
 
