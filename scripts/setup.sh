@@ -18,6 +18,7 @@ repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$repo"
 build_dir="${BUILD_DIR:-build}"
 data_dir="${TALKINGHEAD_DATA:-$repo/../shared/data}"
+data_dir="$(realpath -m "$data_dir")"
 jobs="$(nproc 2>/dev/null || echo 2)"
 
 step() { printf '\n== %s\n' "$*"; }
@@ -56,8 +57,8 @@ fi
 cat <<EOF
 
 Done. Next:
-  $build_dir/talkinghead features "$input" -o features.csv   # every frame, as CSV (or .json)
-  $build_dir/talkinghead --help                               # the other subcommands
-  bash scripts/test.sh                                        # all tests (Release, ASan+UBSan, fuzz, bench smoke)
-  bash scripts/bench.sh                                       # speed, on one core
+  every frame as CSV (or .json):  $build_dir/talkinghead features "$input" -o features.csv
+  the other subcommands:          $build_dir/talkinghead --help
+  all tests:                      bash scripts/test.sh
+  speed, on one core:             bash scripts/bench.sh
 EOF
