@@ -35,6 +35,16 @@ OnlineFeatureExtractor::OnlineFeatureExtractor(const FeatureOptions& options)
   layout_.numMfcc = mfcc_.numOutputs();
   layout_.contextFrames = options.contextFrames;
   window_.resize(static_cast<size_t>(mfcc_.windowLength()));
+  // Squared Hamming weights, normalised to sum to 1, so the level is a weighted mean square.
+  energyWeights_.resize(window_.size());
+  double sum = 0.0;
+  for (size_t n = 0; n < window_.size(); ++n) {
+    const double w = 0.54 - 0.46 * std::cos(2.0 * 3.14159265358979323846 * static_cast<double>(n) /
+                                               static_cast<double>(window_.size() - 1));
+    energyWeights_[n] = static_cast<float>(w * w);
+    sum += w * w;
+  }
+  for (float& weight : energyWeights_) weight = static_cast<float>(weight / sum);
 }
 
 long long OnlineFeatureExtractor::frameCentreSample(long long frame) const {
@@ -94,14 +104,10 @@ void OnlineFeatureExtractor::computeAvailableBaseFrames() {
 
     // Level in dB re full scale, Hamming-weighted over the MFCC window.
     double weighted = 0.0;
-    double weights = 0.0;
-    for (long long n = 0; n < mfcc_.windowLength(); ++n) {
-      const double w = 0.54 - 0.46 * std::cos(2.0 * 3.14159265358979323846 * static_cast<double>(n) /
-                                                 static_cast<double>(mfcc_.windowLength() - 1));
-      weighted += w * w * window_[static_cast<size_t>(n)] * window_[static_cast<size_t>(n)];
-      weights += w * w;
+    for (size_t n = 0; n < window_.size(); ++n) {
+      weighted += static_cast<double>(energyWeights_[n]) * window_[n] * window_[n];
     }
-    const double levelDb = 10.0 * std::log10(weighted / weights + 1e-10);
+    const double levelDb = 10.0 * std::log10(weighted + 1e-10);
     energyDb_.push_back(static_cast<float>(levelDb));
 
     switch (options_.energyNormalisation) {

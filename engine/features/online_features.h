@@ -113,6 +113,7 @@ class OnlineFeatureExtractor {
   std::vector<float> energy_;
   std::vector<float> mfccRows_;
   std::vector<float> window_;
+  std::vector<float> energyWeights_;
   double runningMean_ = 0.0;
   double runningVariance_ = 0.0;
 };

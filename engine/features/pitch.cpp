@@ -5,6 +5,8 @@
 #include <limits>
 #include <numbers>
 
+#include <Eigen/Core>
+
 #include "core/error.h"
 
 namespace th::features {
@@ -70,6 +72,8 @@ OnlinePitchTracker::OnlinePitchTracker(const PitchOptions& options, int sampleRa
     }
   }
   energyPrefix_.resize(static_cast<size_t>(windowLength_ + 1));
+  segmentEnergyPrefix_.assign(static_cast<size_t>(windowLength_ + 1), 0.0);
+  correlation_.assign(static_cast<size_t>(maxLag_ + 2), 0.0f);
   segment_.resize(static_cast<size_t>(windowLength_));
   ring_.resize(static_cast<size_t>(options.decisionLagFrames + 2));  // + the frame before the oldest undecided
   for (auto& frame : ring_) {
@@ -122,17 +126,20 @@ void OnlinePitchTracker::analyseAvailableFrames() {
 
 void OnlinePitchTracker::analyseFrame(long long frameIndex) {
   const long long start = frameIndex * hopSamples_ - windowLength_ / 2;
-  double mean = 0.0;
-  for (int n = 0; n < windowLength_; ++n) {
-    segment_[static_cast<size_t>(n)] = sampleAt(start + n);
-    mean += segment_[static_cast<size_t>(n)];
+  if (start >= samplesOffset_ && start + windowLength_ <= numSamples_) {
+    std::copy_n(samples_.begin() + (start - samplesOffset_), windowLength_, segment_.begin());
+  } else {
+    for (int n = 0; n < windowLength_; ++n) segment_[static_cast<size_t>(n)] = sampleAt(start + n);
   }
+  double mean = 0.0;
+  for (float sample : segment_) mean += static_cast<double>(sample);
   mean /= windowLength_;
   double localPeak = 0.0;
   float* time = fft_.timeData();
   for (int n = 0; n < windowLength_; ++n) {
     const double centred = segment_[static_cast<size_t>(n)] - mean;
     segment_[static_cast<size_t>(n)] = static_cast<float>(centred);
+    segmentEnergyPrefix_[static_cast<size_t>(n + 1)] = segmentEnergyPrefix_[static_cast<size_t>(n)] + centred * centred;
     localPeak = std::max(localPeak, std::abs(centred));
     time[n] = static_cast<float>(centred) * window_[static_cast<size_t>(n)];
   }
@@ -170,17 +177,25 @@ void OnlinePitchTracker::analyseFrame(long long frameIndex) {
     fft_.inverse();
     const float energy = time[0];
     if (energy > 0.0f) {
-      const bool nccf = options_.normalisation == PitchNormalisation::kNccf;
-      auto r = [&](int lag) {
-        if (!nccf) return time[lag] / (energy * windowAutocorrelation_[static_cast<size_t>(lag)]);
-        // Normalised by the energies of the two overlapping parts (<= 1 by Cauchy-Schwarz even at onsets,
-        // where the window-autocorrelation normalisation overshoots for long lags).
-        const double head = energyPrefix_[static_cast<size_t>(windowLength_ - lag)];
-        const double tail = energyPrefix_[static_cast<size_t>(windowLength_)] - energyPrefix_[static_cast<size_t>(lag)];
-        const double denominator = std::sqrt(head * tail) * windowAutocorrelation_[static_cast<size_t>(lag)];
-        // The inverse FFT is unnormalised: its output is fft size times the autocorrelation.
-        return denominator > 0.0 ? static_cast<float>(time[lag] / (denominator * fft_.size())) : 0.0f;
-      };
+      // Normalise every lag once, in a loop the compiler can vectorise.
+      if (options_.normalisation == PitchNormalisation::kNccf) {
+        // By the energies of the two overlapping parts (<= 1 by Cauchy-Schwarz even at onsets, where the
+        // window-autocorrelation normalisation overshoots for long lags). The inverse FFT is unnormalised:
+        // its output is fft size times the autocorrelation.
+        const double total = energyPrefix_[static_cast<size_t>(windowLength_)];
+        for (int lag = 1; lag <= maxLag_ + 1; ++lag) {
+          const double head = energyPrefix_[static_cast<size_t>(windowLength_ - lag)];
+          const double tail = total - energyPrefix_[static_cast<size_t>(lag)];
+          const auto denominator = static_cast<float>(std::sqrt(head * tail) * fft_.size()) *
+                                   windowAutocorrelation_[static_cast<size_t>(lag)];
+          correlation_[static_cast<size_t>(lag)] = denominator > 0.0f ? time[lag] / denominator : 0.0f;
+        }
+      } else {
+        for (int lag = 1; lag <= maxLag_ + 1; ++lag) {
+          correlation_[static_cast<size_t>(lag)] = time[lag] / (energy * windowAutocorrelation_[static_cast<size_t>(lag)]);
+        }
+      }
+      auto r = [&](int lag) { return correlation_[static_cast<size_t>(lag)]; };
       float previous = r(minLag_ - 1);
       float current = r(minLag_);
       for (int lag = minLag_; lag <= maxLag_; ++lag) {
@@ -237,16 +252,14 @@ double OnlinePitchTracker::shortCorrelation(double lag) const {
   const int rounded = static_cast<int>(std::lround(lag));
   for (int candidateLag = std::max(1, rounded - 1); candidateLag <= rounded + 1; ++candidateLag) {
     const int first = centre - half - candidateLag / 2;
-    double cross = 0.0;
-    double energyA = 0.0;
-    double energyB = 0.0;
-    for (int n = 0; n < shortWindowLength_; ++n) {
-      const double a = segment_[static_cast<size_t>(first + n)];
-      const double b = segment_[static_cast<size_t>(first + n + candidateLag)];
-      cross += a * b;
-      energyA += a * a;
-      energyB += b * b;
-    }
+    // Eigen's dot product is vectorised; the energies come from the frame's running sums of squares.
+    const Eigen::Map<const Eigen::VectorXf> a(segment_.data() + first, shortWindowLength_);
+    const Eigen::Map<const Eigen::VectorXf> b(segment_.data() + first + candidateLag, shortWindowLength_);
+    const double cross = a.dot(b);
+    const double energyA = segmentEnergyPrefix_[static_cast<size_t>(first + shortWindowLength_)] -
+                           segmentEnergyPrefix_[static_cast<size_t>(first)];
+    const double energyB = segmentEnergyPrefix_[static_cast<size_t>(first + candidateLag + shortWindowLength_)] -
+                           segmentEnergyPrefix_[static_cast<size_t>(first + candidateLag)];
     if (energyA > 0.0 && energyB > 0.0) best = std::max(best, cross / std::sqrt(energyA * energyB));
   }
   return best;
