@@ -5,6 +5,8 @@ target_compile_options(talkinghead_options INTERFACE
   -Wold-style-cast -Woverloaded-virtual -Wnull-dereference -Wformat=2
   # GCC 12 reports false -Wrestrict positives inside libstdc++ string code (GCC bug 105329).
   -Wno-restrict)
+# No code here reads errno after maths calls; without this, std::sqrt blocks vectorisation.
+target_compile_options(talkinghead_options INTERFACE -fno-math-errno)
 if(TALKINGHEAD_WERROR)
   target_compile_options(talkinghead_options INTERFACE -Werror)
 endif()
