@@ -2,10 +2,14 @@
 
 #include <sndfile.h>
 
+#include <algorithm>
+#include <cctype>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <memory>
+#include <sstream>
 #include <string>
 #include <system_error>
 
@@ -48,13 +52,47 @@ sf_count_t memoryRead(void* destination, sf_count_t count, void* user) {
 sf_count_t memoryWrite(const void*, sf_count_t, void*) { return 0; }
 sf_count_t memoryTell(void* user) { return static_cast<MemoryStream*>(user)->position; }
 
-// libsndfile reads a WAV whose data chunk claims more bytes than the file holds as if it were complete,
-// and says so only in its log ("... (should be N)"). A cut-off download must not pass as a short recording.
+// libsndfile reads a WAV, AIFF, AU or W64 file whose audio chunk claims more bytes than the file holds as if
+// it were complete: it shrinks the chunk to fit and says so only in its log, as "data : 161040 (should be
+// 80498)" ("SSND : ..." in AIFF, "Data Size : ..." in AU; W64 only corrects its outer "riff" size). A cut-off
+// download must not pass as a short recording, so those lines count, as do the log's explicit "truncated"
+// warnings. Not every "should be" means lost audio: an outer RIFF size 8 bytes too large is a common writer
+// bug (the file's size instead of the size after the 8-byte chunk header), a PEAK chunk can be stale, and a
+// length of 2^31 - 1 or 2^32 - 1 bytes is the placeholder of a WAV written to a pipe, complete but of
+// unknown length.
 bool logReportsTruncation(SNDFILE* file) {
-  char log[4096] = {};
+  char log[8192] = {};
   sf_command(file, SFC_GET_LOG_INFO, log, sizeof(log));
-  return std::strstr(log, "should be") != nullptr || std::strstr(log, "truncated") != nullptr ||
-         std::strstr(log, "Truncated") != nullptr;
+  constexpr unsigned long long kUnknownLengthPlaceholder = 0x7FFFF000ULL;  // and anything above it
+  constexpr unsigned long long kRiffSizeSlackBytes = 8;
+  std::istringstream lines(log);
+  std::string line;
+  while (std::getline(lines, line)) {
+    std::string lower = line;
+    std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char c) { return std::tolower(c); });
+    if (lower.find("truncated") != std::string::npos) return true;
+
+    // "<label> : <claimed> (should be <present>)"
+    const size_t colon = line.find(" : ");
+    const size_t shouldBe = line.find("(should be ");
+    if (colon == std::string::npos || shouldBe == std::string::npos || shouldBe < colon) continue;
+    const size_t labelBegin = line.find_first_not_of(' ');
+    if (labelBegin >= colon) continue;
+    std::string label = line.substr(labelBegin, colon - labelBegin);
+    label.erase(label.find_last_not_of(' ') + 1);
+    unsigned long long claimedBytes = 0;
+    unsigned long long presentBytes = 0;
+    if (std::sscanf(line.c_str() + colon + 3, "%llu", &claimedBytes) != 1 ||
+        std::sscanf(line.c_str() + shouldBe + 11, "%llu", &presentBytes) != 1) {
+      continue;  // e.g. "(should be >= 12)": a malformed header, not a short one
+    }
+    if (claimedBytes >= kUnknownLengthPlaceholder) continue;
+    const bool audioChunk = label == "data" || label == "SSND" || label == "Data Size";
+    const bool outerChunk = label == "riff" || label == "FORM";  // W64, AIFF
+    if ((audioChunk || outerChunk) && claimedBytes > presentBytes) return true;
+    if (label == "RIFF" && claimedBytes > presentBytes + kRiffSizeSlackBytes) return true;
+  }
+  return false;
 }
 
 AudioClip decodeOpened(SNDFILE* file, const SF_INFO& info, const std::string& name,
@@ -65,15 +103,20 @@ AudioClip decodeOpened(SNDFILE* file, const SF_INFO& info, const std::string& na
                 std::to_string(options.minInputRateHz) + "-" + std::to_string(options.maxInputRateHz) + " Hz");
   }
   if (info.frames <= 0) throw Error(name + ": contains no samples");
+  // An Ogg stream whose final page is missing has no known length; libsndfile says so with SF_COUNT_MAX.
+  if (info.frames == SF_COUNT_MAX) throw Error(name + ": truncated (the stream's final page is missing)");
   if (logReportsTruncation(file)) throw Error(name + ": truncated (the header promises more audio than the file holds)");
-  // Guard against absurd headers before allocating: 24 hours at the maximum rate is far beyond any real use.
+  // Guard against absurd headers: 24 hours at the maximum rate is far beyond any real use.
   const sf_count_t maxFrames = static_cast<sf_count_t>(options.maxInputRateHz) * 3600 * 24;
   if (info.frames > maxFrames) throw Error(name + ": header claims an implausible length");
 
   const auto channels = static_cast<size_t>(info.channels);
   std::vector<float> interleaved;
   std::vector<float> mono;
-  mono.reserve(static_cast<size_t>(info.frames));
+  // Reserve by the header only up to ten minutes: a header's claim costs nothing to forge (a few bytes of
+  // FLAC can promise hours), so the vector grows with what is actually decoded beyond that.
+  const sf_count_t maxReservedFrames = static_cast<sf_count_t>(options.maxInputRateHz) * 600;
+  mono.reserve(static_cast<size_t>(std::min(info.frames, maxReservedFrames)));
   constexpr sf_count_t kBlockFrames = 8192;
   interleaved.resize(static_cast<size_t>(kBlockFrames) * channels);
   sf_count_t total = 0;
@@ -147,11 +190,19 @@ void writeWav16(const std::filesystem::path& path, const std::vector<float>& sam
   info.samplerate = sampleRateHz;
   info.channels = 1;
   info.format = SF_FORMAT_WAV | SF_FORMAT_PCM_16;
+  // libsndfile scales floats by 32767 when it writes 16-bit PCM but by 1/32768 when it reads it, so a read and
+  // write round trip through sf_writef_float shrinks the signal and moves samples off their grid. Quantising
+  // with the reader's factor (and clipping) here makes samples read from a 16-bit file come back bit for bit.
+  std::vector<short> quantised(samples.size());
+  for (size_t n = 0; n < samples.size(); ++n) {
+    double scaled = static_cast<double>(samples[n]) * 32768.0;
+    if (std::isnan(scaled)) scaled = 0.0;
+    quantised[n] = static_cast<short>(std::lround(std::clamp(scaled, -32768.0, 32767.0)));
+  }
   {
     SndfileHandle file(sf_open(temporary.c_str(), SFM_WRITE, &info));
     if (!file) throw fileError(path, std::string("cannot write: ") + sf_strerror(nullptr));
-    sf_command(file.get(), SFC_SET_CLIPPING, nullptr, SF_TRUE);
-    const auto written = sf_writef_float(file.get(), samples.data(), static_cast<sf_count_t>(samples.size()));
+    const auto written = sf_writef_short(file.get(), quantised.data(), static_cast<sf_count_t>(quantised.size()));
     if (written != static_cast<sf_count_t>(samples.size())) {
       file.reset();
       std::filesystem::remove(temporary);
