@@ -6,8 +6,8 @@
 # Parts, in order (each is timed; a failed part does not stop the later independent ones):
 #   1. packages     scripts/install-packages.sh (no network when everything is installed)
 #   2. release      Release build in build/ (Ninja), then `ctest -j2 --output-on-failure`
-#   3. sanitizers   AddressSanitizer + UBSan build in build-asan/ (Debug at -O1: asserts on), then ctest with
-#                   leak detection; any sanitizer report fails the test that triggered it
+#   3. sanitizers   AddressSanitizer + UBSan build in build-asan/ (Debug at -O1, so asserts and libstdc++'s
+#                   bounds checks are on), then ctest with leak detection; any report fails its test
 #   4. fuzz         scripts/fuzz.sh, if present, for FUZZ_SECONDS (default 60)
 #   5. bench smoke  build/bench/features_bench --quick: one pass of every benchmark (proves it runs, times nothing)
 # Then a summary of the parts; the last line is "N passed, M failed", the ctest results of both runs together.
@@ -114,7 +114,7 @@ build_release() {
 
 build_sanitized() {
   configure "$asan_dir" -DCMAKE_BUILD_TYPE=Debug -DTALKINGHEAD_SANITIZE=ON \
-    -DCMAKE_CXX_FLAGS_DEBUG="-g -O1" -DCMAKE_C_FLAGS_DEBUG="-g -O1"
+    -DCMAKE_CXX_FLAGS_DEBUG="-g -O1 -D_GLIBCXX_ASSERTIONS" -DCMAKE_C_FLAGS_DEBUG="-g -O1"
   cmake --build "$asan_dir" --parallel "$jobs"
 }
 
