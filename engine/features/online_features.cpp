@@ -107,7 +107,12 @@ void OnlineFeatureExtractor::computeAvailableBaseFrames() {
     for (size_t n = 0; n < window_.size(); ++n) {
       weighted += static_cast<double>(energyWeights_[n]) * window_[n] * window_[n];
     }
-    const double levelDb = 10.0 * std::log10(weighted + 1e-10);
+    // Floor at -140 dB: below any real recording (16-bit dither is near -100 dB) but finite for digital zeros.
+    // Pauses are floored at energyRangeDb below the loudest frame so far: digital silence would otherwise sit
+    // at -140 dB and dominate the normalisation statistics.
+    double levelDb = 10.0 * std::log10(weighted + 1e-14);
+    loudestDb_ = std::max(loudestDb_, levelDb);
+    levelDb = std::max(levelDb, loudestDb_ - options_.energyRangeDb);
     energyDb_.push_back(static_cast<float>(levelDb));
 
     switch (options_.energyNormalisation) {

@@ -38,6 +38,7 @@ struct FeatureOptions {
   int contextFrames = 5;           // MFCC context stacking +-tc frames
   EnergyNormalisation energyNormalisation = EnergyNormalisation::kRunning;
   double runningNormSeconds = 3.0;
+  double energyRangeDb = 60.0;     // levels more than this below the loudest frame so far are raised to it
 
   void check() const;  // throws th::Error naming the bad option
 };
@@ -114,6 +115,7 @@ class OnlineFeatureExtractor {
   std::vector<float> mfccRows_;
   std::vector<float> window_;
   std::vector<float> energyWeights_;
+  double loudestDb_ = -1e9;
   double runningMean_ = 0.0;
   double runningVariance_ = 0.0;
 };

@@ -50,7 +50,9 @@ class TemporaryFolder {
   fs::path path_;
 };
 
-std::string quoted(const fs::path& path) { return "'" + path.string() + "'"; }
+std::string quoted(const fs::path& path) {
+  return "'" + path.string() + "'";
+}
 
 // What `sptk frame -l L -p P | sptk mfcc ...` prints for the options our MfccComputer is built with: c1..cN
 // and, with includeC0, c0 after them (SPTK's -0), as float32 rows.
@@ -68,12 +70,13 @@ std::vector<std::vector<float>> runSptk(const std::vector<float>& samples, const
   }
   std::ostringstream command;
   command << "sptk frame -l " << windowLength << " -p " << kHopSamples << " < " << quoted(input)
-          << " | sptk mfcc -l " << windowLength << " -L " << options.fftSize << " -m " << options.numCoefficients
-          << " -n " << options.numMelBands << " -s " << kSampleRateHz / 1000.0 << " -c " << options.lifter
-          << " -a " << options.preEmphasis << " -e " << options.filterbankFloor << (options.includeC0 ? " -0" : "")
-          << " > " << quoted(output);
+          << " | sptk mfcc -l " << windowLength << " -L " << options.fftSize << " -m "
+          << options.numCoefficients << " -n " << options.numMelBands << " -s " << kSampleRateHz / 1000.0
+          << " -c " << options.lifter << " -a " << options.preEmphasis << " -e " << options.filterbankFloor
+          << (options.includeC0 ? " -0" : "") << " > " << quoted(output);
   const int status = std::system(command.str().c_str());
-  if (status != 0) throw std::runtime_error("failed (status " + std::to_string(status) + "): " + command.str());
+  if (status != 0)
+    throw std::runtime_error("failed (status " + std::to_string(status) + "): " + command.str());
 
   const size_t rowSize = static_cast<size_t>(options.numCoefficients + (options.includeC0 ? 1 : 0));
   std::ifstream in(output, std::ios::binary);
@@ -83,7 +86,8 @@ std::vector<std::vector<float>> runSptk(const std::vector<float>& samples, const
   if (values.size() % rowSize != 0) throw std::runtime_error("SPTK output is not a whole number of frames");
   std::vector<std::vector<float>> rows;
   for (size_t start = 0; start < values.size(); start += rowSize) {
-    rows.emplace_back(values.begin() + static_cast<long>(start), values.begin() + static_cast<long>(start + rowSize));
+    rows.emplace_back(values.begin() + static_cast<long>(start),
+                      values.begin() + static_cast<long>(start + rowSize));
   }
   return rows;
 }
@@ -95,8 +99,9 @@ std::vector<float> ourFrame(MfccComputer& mfcc, const std::vector<float>& sample
   std::vector<float> window(static_cast<size_t>(length));
   for (long long n = 0; n < length; ++n) {
     const long long index = start + n;
-    window[static_cast<size_t>(n)] =
-        index >= 0 && index < static_cast<long long>(samples.size()) ? samples[static_cast<size_t>(index)] : 0.0f;
+    window[static_cast<size_t>(n)] = index >= 0 && index < static_cast<long long>(samples.size())
+                                         ? samples[static_cast<size_t>(index)]
+                                         : 0.0f;
   }
   std::vector<float> coefficients(static_cast<size_t>(mfcc.numOutputs()));
   mfcc.compute(window, coefficients);
@@ -109,8 +114,8 @@ struct Agreement {
   int failures = 0;
 };
 
-void compareRows(const std::vector<std::vector<float>>& sptk, const auto& ours, int numFrames, Agreement& agreement,
-                 const std::string& what) {
+void compareRows(const std::vector<std::vector<float>>& sptk, const auto& ours, int numFrames,
+                 Agreement& agreement, const std::string& what) {
   for (int frame = 0; frame < numFrames; ++frame) {
     const std::vector<float>& reference = sptk[static_cast<size_t>(frame)];
     const std::vector<float> mine = ours(frame);
@@ -118,11 +123,12 @@ void compareRows(const std::vector<std::vector<float>>& sptk, const auto& ours, 
     for (size_t k = 0; k < reference.size(); ++k) {
       const double error = std::abs(static_cast<double>(mine[k]) - reference[k]);
       agreement.maxAbsolute = std::max(agreement.maxAbsolute, error);
-      agreement.maxRelative = std::max(agreement.maxRelative, error / std::max(1.0, std::abs(double{reference[k]})));
+      agreement.maxRelative =
+          std::max(agreement.maxRelative, error / std::max(1.0, std::abs(double{reference[k]})));
       if (error > kTolerance * std::max(1.0, std::abs(double{reference[k]}))) {
         if (++agreement.failures <= 10) {
-          ADD_FAILURE() << what << ": frame " << frame << " coefficient " << k << ": ours " << mine[k] << ", SPTK "
-                        << reference[k];
+          ADD_FAILURE() << what << ": frame " << frame << " coefficient " << k << ": ours " << mine[k]
+                        << ", SPTK " << reference[k];
         }
       }
     }
@@ -167,8 +173,9 @@ TEST_P(MfccSptkTest, EveryCoefficientOfEveryFrameMatches) {
     ASSERT_NEAR(static_cast<double>(sptk.size()), static_cast<double>(expectedFrames), 1.0);
 
     Agreement agreement;
-    compareRows(sptk, [&](int frame) { return ourFrame(mfcc, samples, frame); }, static_cast<int>(sptk.size()),
-                agreement, std::string(GetParam().name) + (includeC0 ? " (with c0)" : ""));
+    compareRows(
+        sptk, [&](int frame) { return ourFrame(mfcc, samples, frame); }, static_cast<int>(sptk.size()),
+        agreement, std::string(GetParam().name) + (includeC0 ? " (with c0)" : ""));
     EXPECT_EQ(agreement.failures, 0);
     std::printf("%s%s: %zu frames, max |error| %.3g, max relative %.3g\n", GetParam().name,
                 includeC0 ? " with c0" : "", sptk.size(), agreement.maxAbsolute, agreement.maxRelative);
