@@ -1,0 +1,266 @@
+// The `talkinghead features` command as a user meets it: the built executable run as a child process.
+// Bad input or an unwritable output gives a non-zero exit, exactly one line on stderr naming the file and
+// the reason, no crash and no partial output; good input gives one row per frame at the frame rate asked for.
+#include <fcntl.h>
+#include <gtest/gtest.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "audio/audio_file.h"
+#include "audio_test_files.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct CliResult {
+  bool exited = false;  // false: killed by a signal (a crash)
+  int exitCode = -1;
+  int signal = 0;
+  std::string out;
+  std::string err;
+};
+
+std::string readText(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+// Runs the CLI with `arguments`, stdout and stderr captured in files under `logFolder`. With `asUser`, the
+// child drops to that user id first (root ignores permission bits, so a read-only folder needs a plain user).
+CliResult runCli(const std::vector<std::string>& arguments, const fs::path& logFolder,
+                 std::optional<uid_t> asUser = std::nullopt) {
+  const fs::path outPath = logFolder / "stdout.txt";
+  const fs::path errPath = logFolder / "stderr.txt";
+  std::vector<std::string> words = {TALKINGHEAD_CLI};
+  words.insert(words.end(), arguments.begin(), arguments.end());
+  std::vector<char*> argv;
+  for (std::string& word : words) argv.push_back(word.data());
+  argv.push_back(nullptr);
+
+  const pid_t child = ::fork();
+  if (child == 0) {
+    // Only async-signal-safe calls between fork and exec.
+    const int out = ::open(outPath.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    const int err = ::open(errPath.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    if (out < 0 || err < 0 || ::dup2(out, 1) < 0 || ::dup2(err, 2) < 0) ::_exit(126);
+    if (asUser && (::setgid(*asUser) != 0 || ::setuid(*asUser) != 0)) ::_exit(125);
+    ::execv(argv[0], argv.data());
+    ::_exit(127);
+  }
+  CliResult result;
+  int status = 0;
+  if (child < 0 || ::waitpid(child, &status, 0) != child) {
+    ADD_FAILURE() << "could not run " << TALKINGHEAD_CLI;
+    return result;
+  }
+  result.exited = WIFEXITED(status);
+  result.exitCode = result.exited ? WEXITSTATUS(status) : -1;
+  result.signal = WIFSIGNALED(status) ? WTERMSIG(status) : 0;
+  result.out = readText(outPath);
+  result.err = readText(errPath);
+  return result;
+}
+
+// A failure as the CLI must report it: a normal non-zero exit (not a signal, not exec trouble), and stderr
+// exactly one line that names `path` and contains `reason`.
+void expectOneLineFailure(const CliResult& result, const std::string& path, const std::string& reason) {
+  ASSERT_TRUE(result.exited) << "killed by signal " << result.signal << "; stderr: " << result.err;
+  EXPECT_NE(result.exitCode, 0);
+  EXPECT_LT(result.exitCode, 125) << "the command did not run (exec failed)";
+  EXPECT_EQ(std::count(result.err.begin(), result.err.end(), '\n'), 1) << "stderr: " << result.err;
+  EXPECT_TRUE(!result.err.empty() && result.err.back() == '\n') << "stderr: " << result.err;
+  EXPECT_NE(result.err.find(path), std::string::npos) << "does not name " << path << ": " << result.err;
+  EXPECT_NE(result.err.find(reason), std::string::npos)
+      << "does not say \"" << reason << "\": " << result.err;
+}
+
+class FeaturesCliTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    fs::create_directory(folder_.path() / "logs");
+    fs::create_directory(folder_.path() / "out");
+  }
+  fs::path logs() const { return folder_.path() / "logs"; }
+  fs::path out() const { return folder_.path() / "out"; }
+  bool outFolderIsEmpty() const { return fs::is_empty(out()); }
+
+  th::test::TemporaryFolder folder_;
+};
+
+// ---- bad input ----
+
+class BadInputCliTest : public FeaturesCliTest, public ::testing::WithParamInterface<std::string> {};
+
+TEST_P(BadInputCliTest, OneLineNonZeroExitNoOutputFile) {
+  const auto inputs = th::test::makeBadInputs(folder_.path());
+  const auto bad =
+      std::find_if(inputs.begin(), inputs.end(), [&](const auto& b) { return b.name == GetParam(); });
+  ASSERT_NE(bad, inputs.end());
+  const fs::path output = out() / "features.csv";
+  const CliResult result = runCli({"features", bad->path.string(), "-o", output.string()}, logs());
+  expectOneLineFailure(result, bad->path.string(), bad->reason);
+  EXPECT_FALSE(fs::exists(output));
+  EXPECT_TRUE(outFolderIsEmpty()) << "a temporary file was left behind";
+}
+
+INSTANTIATE_TEST_SUITE_P(Inputs, BadInputCliTest,
+                         ::testing::Values("missing", "directory", "text_renamed_wav", "zero_bytes",
+                                           "zero_frames", "truncated", "float_nan", "float_inf", "rate_2khz",
+                                           "rate_192khz"),
+                         [](const auto& testInfo) { return testInfo.param; });
+
+// ---- unwritable output ----
+
+fs::path arcticPath() {
+  return th::test::readArcticPrompt().path;
+}
+
+TEST_F(FeaturesCliTest, OutputInAFolderThatDoesNotExist) {
+  const std::string output = "/nonexistent-dir-talkinghead-test/x.csv";
+  ASSERT_FALSE(fs::exists(fs::path(output).parent_path()));
+  const CliResult result = runCli({"features", arcticPath().string(), "-o", output}, logs());
+  expectOneLineFailure(result, output, "does not exist");
+}
+
+TEST_F(FeaturesCliTest, OutputInAReadOnlyFolder) {
+  // The input is copied into a folder every user can read, so that a non-root child can read it.
+  fs::permissions(folder_.path(), fs::perms::owner_all | fs::perms::group_read | fs::perms::group_exec |
+                                      fs::perms::others_read | fs::perms::others_exec);
+  const fs::path input = folder_.path() / "speech.wav";
+  fs::copy_file(arcticPath(), input);
+  fs::permissions(input, fs::perms::owner_read | fs::perms::group_read | fs::perms::others_read);
+  const fs::path readOnly = folder_.path() / "read-only";
+  fs::create_directory(readOnly);
+  fs::permissions(readOnly, fs::perms::owner_read | fs::perms::owner_exec | fs::perms::group_read |
+                                fs::perms::group_exec | fs::perms::others_read | fs::perms::others_exec);
+  fs::permissions(logs(), fs::perms::all);
+  const std::optional<uid_t> nobody = ::geteuid() == 0 ? std::optional<uid_t>(65534) : std::nullopt;
+  const fs::path output = readOnly / "x.csv";
+  const CliResult result = runCli({"features", input.string(), "-o", output.string()}, logs(), nobody);
+  expectOneLineFailure(result, output.string(), "cannot be written");
+  EXPECT_TRUE(fs::is_empty(readOnly));
+}
+
+TEST_F(FeaturesCliTest, OutputOnAReadOnlyFileSystem) {
+  // /proc refuses new files even to root.
+  const CliResult result = runCli({"features", arcticPath().string(), "-o", "/proc/x.csv"}, logs());
+  expectOneLineFailure(result, "/proc/x.csv", "cannot be written");
+}
+
+TEST_F(FeaturesCliTest, OutputThatIsAFolder) {
+  const CliResult result = runCli({"features", arcticPath().string(), "-o", out().string()}, logs());
+  expectOneLineFailure(result, out().string(), "is a directory");
+}
+
+// ---- good runs ----
+
+struct Table {
+  std::vector<std::string> header;
+  std::vector<std::vector<double>> rows;
+};
+
+Table readCsv(const fs::path& path) {
+  Table table;
+  std::ifstream in(path);
+  std::string line;
+  if (std::getline(in, line)) {
+    std::stringstream cells(line);
+    for (std::string cell; std::getline(cells, cell, ',');) table.header.push_back(cell);
+  }
+  while (std::getline(in, line)) {
+    std::stringstream cells(line);
+    std::vector<double> row;
+    for (std::string cell; std::getline(cells, cell, ',');) row.push_back(std::stod(cell));
+    table.rows.push_back(std::move(row));
+  }
+  return table;
+}
+
+class GoodRunCliTest : public FeaturesCliTest {
+ protected:
+  void SetUp() override {
+    FeaturesCliTest::SetUp();
+    input_ = arcticPath();
+    durationSeconds_ = th::audio::readAudioFile(input_).durationSeconds();
+  }
+  Table run(const std::vector<std::string>& extra, const std::string& fileName) {
+    const fs::path output = out() / fileName;
+    std::vector<std::string> arguments = {"features", input_.string(), "-o", output.string()};
+    arguments.insert(arguments.end(), extra.begin(), extra.end());
+    const CliResult result = runCli(arguments, logs());
+    EXPECT_TRUE(result.exited && result.exitCode == 0) << "exit " << result.exitCode << ": " << result.err;
+    EXPECT_TRUE(fs::exists(output));
+    return readCsv(output);
+  }
+
+  fs::path input_;
+  double durationSeconds_ = 0.0;
+};
+
+TEST_F(GoodRunCliTest, CsvHasOneRowPerFrameAt30Fps) {
+  const Table table = run({}, "features.csv");
+  ASSERT_GE(table.header.size(), 2u);
+  EXPECT_EQ(table.header[0], "time_s");
+  EXPECT_EQ(table.header[1], "f0_hz");
+  EXPECT_NEAR(static_cast<double>(table.rows.size()), durationSeconds_ * 30.0, 1.0);
+  for (size_t i = 0; i < table.rows.size(); ++i) {
+    ASSERT_EQ(table.rows[i].size(), table.header.size()) << "row " << i;
+    EXPECT_NEAR(table.rows[i][0], static_cast<double>(i) / 30.0, 1e-6) << "row " << i;
+  }
+  // Speech: some frames voiced, F0 in a human range.
+  const auto voiced =
+      std::count_if(table.rows.begin(), table.rows.end(), [](const auto& r) { return r[1] > 0; });
+  EXPECT_GT(voiced, static_cast<long>(table.rows.size() / 4));
+  EXPECT_TRUE(std::all_of(table.rows.begin(), table.rows.end(),
+                          [](const auto& r) { return r[1] == 0 || (r[1] > 50 && r[1] < 500); }));
+  EXPECT_TRUE(std::all_of(fs::directory_iterator(out()), fs::directory_iterator(), [](const auto& entry) {
+    return entry.path().filename() == "features.csv";
+  })) << "a temporary file was left behind";
+}
+
+TEST_F(GoodRunCliTest, FpsOptionSetsTheRowRate) {
+  const Table table = run({"--fps", "100"}, "features100.csv");
+  EXPECT_NEAR(static_cast<double>(table.rows.size()), durationSeconds_ * 100.0, 1.0);
+  ASSERT_GE(table.rows.size(), 2u);
+  EXPECT_NEAR(table.rows[1][0], 0.01, 1e-9);
+}
+
+TEST_F(GoodRunCliTest, JsonHoldsTheSameFramesAsCsv) {
+  const Table csv = run({}, "features.csv");
+  const fs::path jsonPath = out() / "features.out";
+  const CliResult result =
+      runCli({"features", input_.string(), "-o", jsonPath.string(), "--format", "json"}, logs());
+  ASSERT_TRUE(result.exited && result.exitCode == 0) << result.err;
+  nlohmann::json document;
+  ASSERT_NO_THROW(document = nlohmann::json::parse(readText(jsonPath))) << "not valid JSON";
+  ASSERT_TRUE(document.contains("frames") && document["frames"].is_array());
+  const auto& frames = document["frames"];
+  EXPECT_EQ(frames.size(), csv.rows.size());
+  EXPECT_EQ(document["num_frames"].get<size_t>(), csv.rows.size());
+  EXPECT_EQ(document["columns"].get<std::vector<std::string>>(), csv.header);
+  for (size_t i = 0; i < std::min<size_t>(frames.size(), csv.rows.size()); ++i) {
+    ASSERT_EQ(frames[i].size(), csv.rows[i].size()) << "frame " << i;
+    for (size_t k = 0; k < csv.rows[i].size(); ++k) {
+      // The CSV prints 7 significant digits; JSON keeps the float.
+      const double fromJson = frames[i][k].get<double>();
+      EXPECT_NEAR(fromJson, csv.rows[i][k], 1e-6 * std::max(1.0, std::abs(fromJson)))
+          << "frame " << i << " " << k;
+    }
+  }
+}
+
+}  // namespace
