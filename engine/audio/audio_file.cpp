@@ -69,7 +69,8 @@ bool logReportsTruncation(SNDFILE* file) {
   std::string line;
   while (std::getline(lines, line)) {
     std::string lower = line;
-    std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char c) { return std::tolower(c); });
+    std::transform(lower.begin(), lower.end(), lower.begin(),
+                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
     if (lower.find("truncated") != std::string::npos) return true;
 
     // "<label> : <claimed> (should be <present>)"
@@ -190,9 +191,9 @@ void writeWav16(const std::filesystem::path& path, const std::vector<float>& sam
   info.samplerate = sampleRateHz;
   info.channels = 1;
   info.format = SF_FORMAT_WAV | SF_FORMAT_PCM_16;
-  // libsndfile scales floats by 32767 when it writes 16-bit PCM but by 1/32768 when it reads it, so a read and
-  // write round trip through sf_writef_float shrinks the signal and moves samples off their grid. Quantising
-  // with the reader's factor (and clipping) here makes samples read from a 16-bit file come back bit for bit.
+  // libsndfile scales floats by 32767 when it writes 16-bit PCM but by 1/32768 when it reads it, so a read
+  // and write round trip through sf_writef_float shrinks the signal and moves samples off their grid.
+  // Quantising with the reader's factor (and clipping) here gives 16-bit samples back bit for bit.
   std::vector<short> quantised(samples.size());
   for (size_t n = 0; n < samples.size(); ++n) {
     double scaled = static_cast<double>(samples[n]) * 32768.0;

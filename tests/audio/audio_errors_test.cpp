@@ -20,7 +20,8 @@ class BadAudioTest : public ::testing::TestWithParam<std::string> {
  protected:
   void SetUp() override {
     const auto inputs = th::test::makeBadInputs(folder_.path());
-    const auto found = std::find_if(inputs.begin(), inputs.end(), [&](const BadInput& b) { return b.name == GetParam(); });
+    const auto found =
+        std::find_if(inputs.begin(), inputs.end(), [&](const BadInput& b) { return b.name == GetParam(); });
     ASSERT_NE(found, inputs.end()) << "no bad input called " << GetParam();
     input_ = *found;
   }
@@ -60,17 +61,19 @@ TEST_P(BadAudioBytesTest, DecodingTheBytesFromMemoryThrowsTheSame) {
   ASSERT_TRUE(input_.hasBytes);
   const std::vector<char> bytes = th::test::readBytes(input_.path);
   const std::string name = "memory:" + input_.name;
-  const std::string message = errorMessage([&] { return th::audio::decodeAudio(bytes.data(), bytes.size(), name); });
+  const std::string message =
+      errorMessage([&] { return th::audio::decodeAudio(bytes.data(), bytes.size(), name); });
   expectOneLineNaming(message, name, input_.reason);
 }
 
 INSTANTIATE_TEST_SUITE_P(Inputs, BadAudioTest,
-                         ::testing::Values("missing", "directory", "text_renamed_wav", "zero_bytes", "zero_frames",
-                                           "truncated", "float_nan", "float_inf", "rate_2khz", "rate_192khz"),
+                         ::testing::Values("missing", "directory", "text_renamed_wav", "zero_bytes",
+                                           "zero_frames", "truncated", "float_nan", "float_inf", "rate_2khz",
+                                           "rate_192khz"),
                          [](const auto& testInfo) { return testInfo.param; });
 INSTANTIATE_TEST_SUITE_P(Inputs, BadAudioBytesTest,
-                         ::testing::Values("text_renamed_wav", "zero_bytes", "zero_frames", "truncated", "float_nan",
-                                           "float_inf", "rate_2khz", "rate_192khz"),
+                         ::testing::Values("text_renamed_wav", "zero_bytes", "zero_frames", "truncated",
+                                           "float_nan", "float_inf", "rate_2khz", "rate_192khz"),
                          [](const auto& testInfo) { return testInfo.param; });
 
 // The truncated file is a real recording cut in half: the first half decodes fine, so only the header's
@@ -92,8 +95,10 @@ TEST_P(TruncatedAudioTest, HalfARealRecordingIsNotMistakenForAShortOne) {
   ASSERT_NO_THROW(th::audio::decodeAudio(bytes.data(), bytes.size(), "whole"));
   for (size_t keep : {bytes.size() / 2, bytes.size() - 2}) {
     const std::vector<char> cut(bytes.begin(), bytes.begin() + static_cast<long>(keep));
-    const std::string message = errorMessage([&] { return th::audio::decodeAudio(cut.data(), cut.size(), "cut"); });
-    EXPECT_EQ(message.rfind("cut: truncated", 0), 0u) << keep << " of " << bytes.size() << " bytes: " << message;
+    const std::string message =
+        errorMessage([&] { return th::audio::decodeAudio(cut.data(), cut.size(), "cut"); });
+    EXPECT_EQ(message.rfind("cut: truncated", 0), 0u)
+        << keep << " of " << bytes.size() << " bytes: " << message;
   }
 }
 
@@ -118,7 +123,8 @@ TEST(TruncatedAudio, OggWithoutItsFinalPageIsTruncated) {
   th::test::writeSoundFile(path, arctic.samples, arctic.sampleRateHz, 1, SF_FORMAT_OGG | SF_FORMAT_VORBIS);
   std::vector<char> bytes = th::test::readBytes(path);
   bytes.resize(bytes.size() / 2);
-  const std::string message = errorMessage([&] { return th::audio::decodeAudio(bytes.data(), bytes.size(), "cut"); });
+  const std::string message =
+      errorMessage([&] { return th::audio::decodeAudio(bytes.data(), bytes.size(), "cut"); });
   EXPECT_EQ(message.rfind("cut: truncated", 0), 0u) << message;
 }
 

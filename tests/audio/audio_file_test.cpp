@@ -1,5 +1,7 @@
 // Reading recordings: every container, rate and channel count we accept comes out as 16 kHz mono of the
 // right length, at the right level and in the right place in time.
+#include "audio/audio_file.h"
+
 #include <gtest/gtest.h>
 #include <sndfile.h>
 
@@ -10,7 +12,6 @@
 #include <string>
 #include <vector>
 
-#include "audio/audio_file.h"
 #include "audio_test_files.h"
 
 namespace {
@@ -25,7 +26,8 @@ double rms(const std::vector<float>& x, size_t begin, size_t end) {
 }
 
 // Normalised correlation of x[begin, end) with y[begin + lag, end + lag).
-double correlation(const std::vector<float>& x, const std::vector<float>& y, size_t begin, size_t end, long lag = 0) {
+double correlation(const std::vector<float>& x, const std::vector<float>& y, size_t begin, size_t end,
+                   long lag = 0) {
   double xy = 0.0, xx = 0.0, yy = 0.0;
   for (size_t n = begin; n < end; ++n) {
     const double a = x[n];
@@ -38,8 +40,8 @@ double correlation(const std::vector<float>& x, const std::vector<float>& y, siz
 }
 
 size_t expectedLength(size_t inputSamples, int inputRateHz) {
-  return static_cast<size_t>(
-      std::llround(static_cast<double>(inputSamples) * kEngineSampleRateHz / static_cast<double>(inputRateHz)));
+  return static_cast<size_t>(std::llround(static_cast<double>(inputSamples) * kEngineSampleRateHz /
+                                          static_cast<double>(inputRateHz)));
 }
 
 // ---- containers: the same real recording as 16-bit WAV, FLAC and Ogg Vorbis ----
@@ -95,11 +97,13 @@ TEST_F(ContainerTest, OggVorbisIsLossyButAlignedAndClose) {
   // No codec delay: lag 0 beats a sample either side.
   EXPECT_GT(atZero, correlation(reference_.samples, clip.samples, 16, end, -1));
   EXPECT_GT(atZero, correlation(reference_.samples, clip.samples, 16, end, 1));
-  EXPECT_NEAR(rms(clip.samples, 0, clip.samples.size()) / rms(reference_.samples, 0, reference_.samples.size()), 1.0,
-              0.05);
+  EXPECT_NEAR(
+      rms(clip.samples, 0, clip.samples.size()) / rms(reference_.samples, 0, reference_.samples.size()), 1.0,
+      0.05);
 }
 
-// ---- rates and channel counts: a 440 Hz sine written at every rate, read back as a 440 Hz sine at 16 kHz ----
+// ---- rates and channel counts: a 440 Hz sine written at every rate, read back as a 440 Hz sine at 16 kHz
+// ----
 
 struct RateAndChannels {
   int rateHz;
@@ -121,21 +125,25 @@ TEST_P(RateChannelTest, SineComesBackAt16kMonoAlignedAndAtTheMeanLevel) {
     const double amplitude = 0.2 + 0.1 * c;
     meanAmplitude += amplitude / channels;
     const std::vector<float> channel = th::test::sine(kFrequencyHz, amplitude, rateHz, numFrames);
-    for (size_t n = 0; n < numFrames; ++n) interleaved[n * static_cast<size_t>(channels) + static_cast<size_t>(c)] = channel[n];
+    for (size_t n = 0; n < numFrames; ++n)
+      interleaved[n * static_cast<size_t>(channels) + static_cast<size_t>(c)] = channel[n];
   }
   th::test::TemporaryFolder folder;
-  const auto path = folder.path() / ("sine_" + std::to_string(rateHz) + "_" + std::to_string(channels) + ".wav");
+  const auto path =
+      folder.path() / ("sine_" + std::to_string(rateHz) + "_" + std::to_string(channels) + ".wav");
   th::test::writeSoundFile(path, interleaved, rateHz, channels, SF_FORMAT_WAV | SF_FORMAT_PCM_16);
 
   const AudioClip clip = th::audio::readAudioFile(path);
   EXPECT_EQ(clip.sampleRateHz, kEngineSampleRateHz);
   EXPECT_EQ(clip.sourceRateHz, rateHz);
   EXPECT_EQ(clip.sourceChannels, channels);
-  ASSERT_NEAR(static_cast<double>(clip.samples.size()), static_cast<double>(expectedLength(numFrames, rateHz)), 1.0);
+  ASSERT_NEAR(static_cast<double>(clip.samples.size()),
+              static_cast<double>(expectedLength(numFrames, rateHz)), 1.0);
 
   // The ideal: the same sine, same phase, sampled at 16 kHz. Ends are skipped: the written sine starts and
   // stops abruptly, which rings through any band-limiting filter for a few milliseconds.
-  const std::vector<float> ideal = th::test::sine(kFrequencyHz, meanAmplitude, kEngineSampleRateHz, clip.samples.size());
+  const std::vector<float> ideal =
+      th::test::sine(kFrequencyHz, meanAmplitude, kEngineSampleRateHz, clip.samples.size());
   const size_t margin = kEngineSampleRateHz / 50;  // 20 ms
   const size_t end = clip.samples.size() - margin;
   // Correlation 0.9999 allows a phase error of 0.014 rad = 5 us = 0.08 samples at 16 kHz.

@@ -35,13 +35,14 @@ TemporaryFolder::~TemporaryFolder() {
   // A test may have made a sub-folder read-only; give write permission back so it can be removed.
   for (auto it = fs::recursive_directory_iterator(path_, ignored); it != fs::recursive_directory_iterator();
        it.increment(ignored)) {
-    if (it->is_directory(ignored)) fs::permissions(it->path(), fs::perms::owner_all, fs::perm_options::add, ignored);
+    if (it->is_directory(ignored))
+      fs::permissions(it->path(), fs::perms::owner_all, fs::perm_options::add, ignored);
   }
   fs::remove_all(path_, ignored);
 }
 
-void writeSoundFile(const fs::path& path, const std::vector<float>& interleaved, int sampleRateHz, int channels,
-                    int format) {
+void writeSoundFile(const fs::path& path, const std::vector<float>& interleaved, int sampleRateHz,
+                    int channels, int format) {
   SF_INFO info{};
   info.samplerate = sampleRateHz;
   info.channels = channels;
@@ -52,8 +53,8 @@ void writeSoundFile(const fs::path& path, const std::vector<float>& interleaved,
   if (frames == 0) return;
   sf_count_t written = 0;
   if ((format & SF_FORMAT_SUBMASK) == SF_FORMAT_PCM_16) {
-    // libsndfile writes floats to 16-bit PCM scaled by 32767 but reads them back scaled by 1/32768; quantising
-    // with the reader's factor ourselves makes 16-bit samples survive a round trip bit for bit.
+    // libsndfile writes floats to 16-bit PCM scaled by 32767 but reads them back scaled by 1/32768;
+    // quantising with the reader's factor ourselves makes 16-bit samples survive a round trip bit for bit.
     std::vector<short> quantised(interleaved.size());
     for (size_t n = 0; n < interleaved.size(); ++n) {
       quantised[n] = static_cast<short>(std::lround(std::clamp(interleaved[n] * 32768.0, -32768.0, 32767.0)));
@@ -62,7 +63,8 @@ void writeSoundFile(const fs::path& path, const std::vector<float>& interleaved,
   } else {
     written = sf_writef_float(file.get(), interleaved.data(), frames);
   }
-  if (written != frames) throw std::runtime_error(path.string() + ": short write: " + sf_strerror(file.get()));
+  if (written != frames)
+    throw std::runtime_error(path.string() + ": short write: " + sf_strerror(file.get()));
 }
 
 RawRecording readArcticPrompt() {
@@ -70,7 +72,8 @@ RawRecording readArcticPrompt() {
   recording.path = sharedDataPath("speech/arctic/arctic_a0001.wav");
   SF_INFO info{};
   SndfileHandle file(sf_open(recording.path.c_str(), SFM_READ, &info));
-  if (!file || info.channels != 1) throw std::runtime_error(recording.path.string() + ": cannot read as mono");
+  if (!file || info.channels != 1)
+    throw std::runtime_error(recording.path.string() + ": cannot read as mono");
   recording.sampleRateHz = info.samplerate;
   recording.samples.resize(static_cast<size_t>(info.frames));
   if (sf_readf_float(file.get(), recording.samples.data(), info.frames) != info.frames) {
@@ -139,7 +142,8 @@ std::vector<BadInput> makeBadInputs(const fs::path& folder) {
   writeSoundFile(inputs.back().path, sine(220.0, 0.5, 2000, 2000), 2000, 1, SF_FORMAT_WAV | SF_FORMAT_PCM_16);
 
   inputs.push_back({"rate_192khz", folder / "rate_192000.wav", true, "sample rate 192000 Hz"});
-  writeSoundFile(inputs.back().path, sine(220.0, 0.5, 192000, 19200), 192000, 1, SF_FORMAT_WAV | SF_FORMAT_PCM_16);
+  writeSoundFile(inputs.back().path, sine(220.0, 0.5, 192000, 19200), 192000, 1,
+                 SF_FORMAT_WAV | SF_FORMAT_PCM_16);
   return inputs;
 }
 

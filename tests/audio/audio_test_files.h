@@ -3,7 +3,8 @@
 //
 //   th::test::TemporaryFolder folder;
 //   th::test::writeSoundFile(folder.path() / "a.flac", samples, 44100, 2, SF_FORMAT_FLAC | SF_FORMAT_PCM_16);
-//   for (const th::test::BadInput& bad : th::test::makeBadInputs(folder.path())) { ... bad.path, bad.reason ... }
+//   for (const th::test::BadInput& bad : th::test::makeBadInputs(folder.path())) { ... bad.path, bad.reason
+//   ... }
 //
 // Shared by the engine's audio tests and the CLI tests. Thread contract: none needed (test set-up only).
 #pragma once
@@ -29,8 +30,8 @@ class TemporaryFolder {
 
 // Writes interleaved float samples with libsndfile; `format` is SF_FORMAT_* (container | encoding).
 // Throws std::runtime_error if libsndfile refuses.
-void writeSoundFile(const std::filesystem::path& path, const std::vector<float>& interleaved, int sampleRateHz,
-                    int channels, int format);
+void writeSoundFile(const std::filesystem::path& path, const std::vector<float>& interleaved,
+                    int sampleRateHz, int channels, int format);
 
 // A real recording as libsndfile decodes it (no resampling): the CMU ARCTIC prompt, 24 kHz mono 16-bit.
 struct RawRecording {
@@ -49,9 +50,9 @@ std::vector<float> sine(double frequencyHz, double amplitude, int sampleRateHz, 
 // One bad input: where it is, whether it is a file whose bytes can also be decoded from memory, and a piece
 // of text the error message must contain (the reason).
 struct BadInput {
-  std::string name;             // a short identifier, usable as a test name
+  std::string name;  // a short identifier, usable as a test name
   std::filesystem::path path;
-  bool hasBytes = true;         // false for a missing file and a directory
+  bool hasBytes = true;  // false for a missing file and a directory
   std::string reason;
 };
 std::vector<BadInput> makeBadInputs(const std::filesystem::path& folder);
