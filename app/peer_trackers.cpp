@@ -117,9 +117,10 @@ features::F0Track runAubio(const std::filesystem::path& wav, const PeerSettings&
   keepRate.outputRateHz = 0;
   const int rate = audio::readAudioFile(wav, keepRate).sampleRateHz;
   const int hopSamples = static_cast<int>(std::lround(settings.hopSeconds * rate));
-  // A buffer of about 64 ms, as aubio's default 2048 at 44.1 kHz, rounded to a power of two.
+  // A buffer of about 50 ms rounded up to a power of two (1024 at 20 kHz): aubio does better with it on
+  // FDA-UE than with 2048 (FFE 11.4 % against 18.7 % at a 5 ms hop).
   int buffer = 512;
-  while (buffer < 0.064 * rate) buffer *= 2;
+  while (buffer < 0.05 * rate) buffer *= 2;
   const std::string out = runProgram({"aubiopitch", "-i", wav.string(), "-p", "yinfft", "-H", std::to_string(hopSamples),
                                       "-B", std::to_string(buffer), "-u", "Hz"});
   features::F0Track track = parseTimeValueLines(out, "aubiopitch");
