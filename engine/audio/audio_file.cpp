@@ -96,6 +96,8 @@ bool logReportsTruncation(SNDFILE* file) {
   return false;
 }
 
+constexpr float kMaxSampleMagnitude = 1e6f;
+
 AudioClip decodeOpened(SNDFILE* file, const SF_INFO& info, const std::string& name,
                        const AudioReadOptions& options) {
   if (info.channels <= 0) throw Error(name + ": no audio channels");
@@ -114,9 +116,9 @@ AudioClip decodeOpened(SNDFILE* file, const SF_INFO& info, const std::string& na
   const auto channels = static_cast<size_t>(info.channels);
   std::vector<float> interleaved;
   std::vector<float> mono;
-  // Reserve by the header only up to ten minutes: a header's claim costs nothing to forge (a few bytes of
-  // FLAC can promise hours), so the vector grows with what is actually decoded beyond that.
-  const sf_count_t maxReservedFrames = static_cast<sf_count_t>(options.maxInputRateHz) * 600;
+  // Reserve by the header only up to a minute: a header's claim costs nothing to forge (a few bytes of FLAC
+  // can promise hours), so the vector grows with what is actually decoded beyond that.
+  const sf_count_t maxReservedFrames = static_cast<sf_count_t>(info.samplerate) * 60;
   mono.reserve(static_cast<size_t>(std::min(info.frames, maxReservedFrames)));
   constexpr sf_count_t kBlockFrames = 8192;
   interleaved.resize(static_cast<size_t>(kBlockFrames) * channels);
@@ -130,6 +132,14 @@ AudioClip decodeOpened(SNDFILE* file, const SF_INFO& info, const std::string& na
         const float value = interleaved[static_cast<size_t>(f) * channels + c];
         if (!std::isfinite(value)) {
           throw Error(name + ": sample " + std::to_string(total + f) + " is not a finite number (NaN or infinity)");
+        }
+        // Float files may exceed full scale (some even hold 16-bit integer values), but a sample 120 dB over
+        // it is corrupt data, and resampling such values overflows to infinity.
+        if (std::abs(value) > kMaxSampleMagnitude) {
+          char level[32];
+          std::snprintf(level, sizeof(level), "%g", static_cast<double>(value));
+          throw Error(name + ": sample " + std::to_string(total + f) + " is " + level +
+                      ", more than 120 dB above full scale (corrupt data?)");
         }
         sum += static_cast<double>(value);
       }

@@ -4,8 +4,10 @@
 //   th::audio::AudioClip clip = th::audio::readAudioFile("speech.flac");
 //   // clip.samples at clip.sampleRateHz == 16000
 //
+// Float files can go beyond [-1, 1] and are passed on as they are, up to 120 dB over full scale.
 // Bad input throws th::Error with one line "PATH: what is wrong" (missing, not audio, empty, truncated,
-// no samples, NaN/inf samples, unsupported rate). Thread contract: no shared state; call from any thread.
+// no samples, NaN/inf or absurdly large samples, unsupported rate). Thread contract: no shared state; call
+// from any thread.
 #pragma once
 
 #include <filesystem>

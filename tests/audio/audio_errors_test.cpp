@@ -68,12 +68,13 @@ TEST_P(BadAudioBytesTest, DecodingTheBytesFromMemoryThrowsTheSame) {
 
 INSTANTIATE_TEST_SUITE_P(Inputs, BadAudioTest,
                          ::testing::Values("missing", "directory", "text_renamed_wav", "zero_bytes",
-                                           "zero_frames", "truncated", "float_nan", "float_inf", "rate_2khz",
-                                           "rate_192khz"),
+                                           "zero_frames", "truncated", "float_nan", "float_inf", "float_huge",
+                                           "rate_2khz", "rate_192khz"),
                          [](const auto& testInfo) { return testInfo.param; });
 INSTANTIATE_TEST_SUITE_P(Inputs, BadAudioBytesTest,
                          ::testing::Values("text_renamed_wav", "zero_bytes", "zero_frames", "truncated",
-                                           "float_nan", "float_inf", "rate_2khz", "rate_192khz"),
+                                           "float_nan", "float_inf", "float_huge", "rate_2khz",
+                                           "rate_192khz"),
                          [](const auto& testInfo) { return testInfo.param; });
 
 // The truncated file is a real recording cut in half: the first half decodes fine, so only the header's

@@ -187,6 +187,16 @@ TEST(ReadOptions, ZeroOutputRateKeepsTheSourceRate) {
   EXPECT_EQ(clip.samples, arctic.samples);
 }
 
+// Float files may hold levels beyond full scale (some hold 16-bit integer values as floats): passed on as
+// they are, not clipped and not rejected.
+TEST(FloatFiles, LevelsBeyondFullScaleArePassedOn) {
+  th::test::TemporaryFolder folder;
+  const auto path = folder.path() / "loud_float.wav";
+  const std::vector<float> samples = {2.0f, -3.5f, 32767.0f, -32768.0f, 0.25f};
+  th::test::writeSoundFile(path, samples, 16000, 1, SF_FORMAT_WAV | SF_FORMAT_FLOAT);
+  EXPECT_EQ(th::audio::readAudioFile(path).samples, samples);
+}
+
 // writeWav16 quantises with the reader's factor, so 16-bit audio survives a write and read bit for bit (with
 // libsndfile's own float writer it would shrink by 32767/32768 on every pass).
 TEST(WriteWav16, RoundTripOf16BitSamplesIsExact) {

@@ -138,6 +138,11 @@ std::vector<BadInput> makeBadInputs(const fs::path& folder) {
   speechLike[8000] = std::numeric_limits<float>::infinity();
   writeSoundFile(inputs.back().path, speechLike, 16000, 1, SF_FORMAT_WAV | SF_FORMAT_FLOAT);
 
+  // Finite but absurd: 3e38 is a valid float, 650 dB above full scale; resampled, it overflows to infinity.
+  inputs.push_back({"float_huge", folder / "huge.wav", true, "above full scale"});
+  speechLike[8000] = 3e38f;
+  writeSoundFile(inputs.back().path, speechLike, 44100, 1, SF_FORMAT_WAV | SF_FORMAT_FLOAT);
+
   inputs.push_back({"rate_2khz", folder / "rate_2000.wav", true, "sample rate 2000 Hz"});
   writeSoundFile(inputs.back().path, sine(220.0, 0.5, 2000, 2000), 2000, 1, SF_FORMAT_WAV | SF_FORMAT_PCM_16);
 

@@ -119,8 +119,8 @@ TEST_P(BadInputCliTest, OneLineNonZeroExitNoOutputFile) {
 
 INSTANTIATE_TEST_SUITE_P(Inputs, BadInputCliTest,
                          ::testing::Values("missing", "directory", "text_renamed_wav", "zero_bytes",
-                                           "zero_frames", "truncated", "float_nan", "float_inf", "rate_2khz",
-                                           "rate_192khz"),
+                                           "zero_frames", "truncated", "float_nan", "float_inf", "float_huge",
+                                           "rate_2khz", "rate_192khz"),
                          [](const auto& testInfo) { return testInfo.param; });
 
 // ---- unwritable output ----
