@@ -161,6 +161,12 @@ AudioClip decodeOpened(SNDFILE* file, const SF_INFO& info, const std::string& na
   clip.samples = info.samplerate == clip.sampleRateHz
                      ? std::move(mono)
                      : resample(mono, info.samplerate, clip.sampleRateHz);
+  // A sample or two at a higher rate can round to nothing at the output rate: as empty as no samples at all.
+  if (clip.samples.empty()) {
+    throw Error(name + ": too short (" + std::to_string(total) + " sample frames at " +
+                std::to_string(info.samplerate) + " Hz make no sample at " + std::to_string(clip.sampleRateHz) +
+                " Hz)");
+  }
   return clip;
 }
 

@@ -129,6 +129,16 @@ TEST(TruncatedAudio, OggWithoutItsFinalPageIsTruncated) {
   EXPECT_EQ(message.rfind("cut: truncated", 0), 0u) << message;
 }
 
+// One frame at 48 kHz is a third of a sample at 16 kHz: nothing is left, which must not pass as audio.
+// (Found by the fuzzer, which asserts that accepted input is never empty.)
+TEST(ShortAudio, FewerSamplesThanOneOutputSampleIsRejected) {
+  th::test::TemporaryFolder folder;
+  const auto path = folder.path() / "one_frame.wav";
+  th::test::writeSoundFile(path, {0.5f}, 48000, 1, SF_FORMAT_WAV | SF_FORMAT_PCM_16);
+  const std::string message = errorMessage([&] { return th::audio::readAudioFile(path); });
+  expectOneLineNaming(message, path.string(), "too short");
+}
+
 // Header quirks that do not lose audio must not be called truncation: the whole recording comes back.
 class WavHeaderQuirkTest : public ::testing::Test {
  protected:
