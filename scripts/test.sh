@@ -141,8 +141,23 @@ else
   skip "asan+ubsan tests" "(build failed)"
 fi
 
+# The fuzzer's own output is long (libFuzzer status lines, decoder chatter): it goes to a log in the build
+# folder, and only its tail is shown (a longer tail when it fails, which holds the crash report).
+run_fuzz() {
+  local log="$build_dir/fuzz.log"
+  mkdir -p "$build_dir"
+  echo "full output: $log"
+  if bash scripts/fuzz.sh >"$log" 2>&1; then
+    tail -n 25 "$log"
+  else
+    local status=$?
+    tail -n 200 "$log"
+    return "$status"
+  fi
+}
+
 if [[ -f scripts/fuzz.sh ]]; then
-  part "fuzz (${FUZZ_SECONDS}s)" bash scripts/fuzz.sh
+  part "fuzz (${FUZZ_SECONDS}s)" run_fuzz
 else
   skip "fuzz" "(scripts/fuzz.sh not there yet)"
 fi
