@@ -71,8 +71,7 @@ OnlinePitchTracker::OnlinePitchTracker(const PitchOptions& options, int sampleRa
       windowAutocorrelation_[static_cast<size_t>(lag)] = static_cast<float>(time[lag] / time[0] * windowEnergyPrefix.back() / std::sqrt(head * tail));
     }
   }
-  energyPrefix_.resize(static_cast<size_t>(windowLength_ + 1));
-  segmentEnergyPrefix_.assign(static_cast<size_t>(windowLength_ + 1), 0.0);
+  energyPrefix_.assign(static_cast<size_t>(windowLength_ + 1), 0.0f);
   correlation_.assign(static_cast<size_t>(maxLag_ + 2), 0.0f);
   segment_.resize(static_cast<size_t>(windowLength_));
   ring_.resize(static_cast<size_t>(options.decisionLagFrames + 2));  // + the frame before the oldest undecided
@@ -131,22 +130,20 @@ void OnlinePitchTracker::analyseFrame(long long frameIndex) {
   } else {
     for (int n = 0; n < windowLength_; ++n) segment_[static_cast<size_t>(n)] = sampleAt(start + n);
   }
-  double mean = 0.0;
-  for (float sample : segment_) mean += static_cast<double>(sample);
-  mean /= windowLength_;
-  double localPeak = 0.0;
+  // Vectorised passes (Eigen) over the frame: remove the mean, window, and the level's peak.
+  Eigen::Map<Eigen::VectorXf> segment(segment_.data(), windowLength_);
+  const float mean = segment.mean();
+  segment.array() -= mean;
+  const double localPeak = segment.cwiseAbs().maxCoeff();
   float* time = fft_.timeData();
-  for (int n = 0; n < windowLength_; ++n) {
-    const double centred = segment_[static_cast<size_t>(n)] - mean;
-    segment_[static_cast<size_t>(n)] = static_cast<float>(centred);
-    segmentEnergyPrefix_[static_cast<size_t>(n + 1)] = segmentEnergyPrefix_[static_cast<size_t>(n)] + centred * centred;
-    localPeak = std::max(localPeak, std::abs(centred));
-    time[n] = static_cast<float>(centred) * window_[static_cast<size_t>(n)];
-  }
+  Eigen::Map<Eigen::VectorXf>(time, windowLength_) =
+      segment.cwiseProduct(Eigen::Map<const Eigen::VectorXf>(window_.data(), windowLength_));
   std::fill(time + windowLength_, time + fft_.size(), 0.0f);
-  energyPrefix_[0] = 0.0;
+  // Running sums of the windowed frame's squares give each lag's overlap energies (kNccf).
+  float cumulative = 0.0f;
   for (int n = 0; n < windowLength_; ++n) {
-    energyPrefix_[static_cast<size_t>(n + 1)] = energyPrefix_[static_cast<size_t>(n)] + static_cast<double>(time[n]) * time[n];
+    cumulative += time[n] * time[n];
+    energyPrefix_[static_cast<size_t>(n + 1)] = cumulative;
   }
   runningPeak_ = std::max(runningPeak_, localPeak);
 
@@ -182,12 +179,12 @@ void OnlinePitchTracker::analyseFrame(long long frameIndex) {
         // By the energies of the two overlapping parts (<= 1 by Cauchy-Schwarz even at onsets, where the
         // window-autocorrelation normalisation overshoots for long lags). The inverse FFT is unnormalised:
         // its output is fft size times the autocorrelation.
-        const double total = energyPrefix_[static_cast<size_t>(windowLength_)];
+        const float total = energyPrefix_[static_cast<size_t>(windowLength_)];
+        const auto scale = static_cast<float>(fft_.size());
         for (int lag = 1; lag <= maxLag_ + 1; ++lag) {
-          const double head = energyPrefix_[static_cast<size_t>(windowLength_ - lag)];
-          const double tail = total - energyPrefix_[static_cast<size_t>(lag)];
-          const auto denominator = static_cast<float>(std::sqrt(head * tail) * fft_.size()) *
-                                   windowAutocorrelation_[static_cast<size_t>(lag)];
+          const float head = energyPrefix_[static_cast<size_t>(windowLength_ - lag)];
+          const float tail = total - energyPrefix_[static_cast<size_t>(lag)];
+          const float denominator = std::sqrt(head * tail) * scale * windowAutocorrelation_[static_cast<size_t>(lag)];
           correlation_[static_cast<size_t>(lag)] = denominator > 0.0f ? time[lag] / denominator : 0.0f;
         }
       } else {
@@ -252,14 +249,12 @@ double OnlinePitchTracker::shortCorrelation(double lag) const {
   const int rounded = static_cast<int>(std::lround(lag));
   for (int candidateLag = std::max(1, rounded - 1); candidateLag <= rounded + 1; ++candidateLag) {
     const int first = centre - half - candidateLag / 2;
-    // Eigen's dot product is vectorised; the energies come from the frame's running sums of squares.
+    // Eigen's dot products are vectorised.
     const Eigen::Map<const Eigen::VectorXf> a(segment_.data() + first, shortWindowLength_);
     const Eigen::Map<const Eigen::VectorXf> b(segment_.data() + first + candidateLag, shortWindowLength_);
     const double cross = a.dot(b);
-    const double energyA = segmentEnergyPrefix_[static_cast<size_t>(first + shortWindowLength_)] -
-                           segmentEnergyPrefix_[static_cast<size_t>(first)];
-    const double energyB = segmentEnergyPrefix_[static_cast<size_t>(first + candidateLag + shortWindowLength_)] -
-                           segmentEnergyPrefix_[static_cast<size_t>(first + candidateLag)];
+    const double energyA = a.squaredNorm();
+    const double energyB = b.squaredNorm();
     if (energyA > 0.0 && energyB > 0.0) best = std::max(best, cross / std::sqrt(energyA * energyB));
   }
   return best;

@@ -104,9 +104,8 @@ class OnlinePitchTracker {
   RealFft fft_;
   std::vector<float> window_;
   std::vector<float> windowAutocorrelation_;  // normalised to 1 at lag 0
-  std::vector<double> energyPrefix_;
-  std::vector<double> segmentEnergyPrefix_;   // running sums of segment_'s squares
-  std::vector<float> correlation_;            // the frame's normalised autocorrelation by lag          // running sums of the windowed frame's squared samples
+  std::vector<float> energyPrefix_;           // running sums of the windowed frame's squared samples
+  std::vector<float> correlation_;            // the frame's normalised autocorrelation by lag
   std::vector<float> segment_;   // the frame's samples, mean removed, unwindowed
   double shortCorrelation(double lag) const;
 
