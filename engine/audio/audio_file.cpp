@@ -34,12 +34,19 @@ struct MemoryStream {
 sf_count_t memoryLength(void* user) { return static_cast<MemoryStream*>(user)->size; }
 sf_count_t memorySeek(sf_count_t offset, int whence, void* user) {
   auto* stream = static_cast<MemoryStream*>(user);
-  sf_count_t target = offset;
-  if (whence == SEEK_CUR) target = stream->position + offset;
-  if (whence == SEEK_END) target = stream->size + offset;
-  if (target < 0 || target > stream->size) return -1;
-  stream->position = target;
-  return target;
+  sf_count_t base = 0;
+  if (whence == SEEK_CUR) {
+    base = stream->position;
+  } else if (whence == SEEK_END) {
+    base = stream->size;
+  } else if (whence != SEEK_SET) {
+    return -1;
+  }
+  // Offsets come from headers and can be anything (libsndfile skips a chunk by its claimed size): compare
+  // before adding, so that a forged size cannot overflow the position.
+  if (offset < -base || offset > stream->size - base) return -1;
+  stream->position = base + offset;
+  return stream->position;
 }
 sf_count_t memoryRead(void* destination, sf_count_t count, void* user) {
   auto* stream = static_cast<MemoryStream*>(user);
