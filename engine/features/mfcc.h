@@ -15,7 +15,7 @@
 //
 // Agreement with SPTK (tests/features/mfcc_sptk_test.cpp runs `sptk frame | sptk mfcc` with these options
 // on real speech): |ours - SPTK| <= 5e-4 * max(1, |SPTK|) for every coefficient of every frame. Measured
-// worst case 1.9e-4 (absolute, c9 of a BEAT2 frame; 1.4e-4 relative) over 23 BEAT2, FDA-UE and ARCTIC
+// worst case 1.9e-4 (absolute, c9 of a BEAT2 frame; 1.4e-4 relative) over 24 BEAT2, FDA-UE and ARCTIC
 // recordings. Nearly all of it is our single-precision FFT: SPTK is within 2e-6 of an all-double computation.
 //
 //   th::features::MfccComputer mfcc({}, 16000);
