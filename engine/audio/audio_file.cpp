@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -11,6 +12,7 @@
 #include <memory>
 #include <sstream>
 #include <string>
+#include <string_view>
 #include <system_error>
 
 #include "audio/resampler.h"
@@ -177,10 +179,26 @@ AudioClip decodeOpened(SNDFILE* file, const SF_INFO& info, const std::string& na
   return clip;
 }
 
+// The containers we read, by their first bytes. Anything else is refused before libsndfile sees it: given
+// unknown bytes, libsndfile may hand them to its MPEG decoder (mpg123), which prints its own warnings on
+// stderr and so breaks the one-line error a bad file must get. MP3 input is therefore not supported.
+void checkContainer(const unsigned char* head, size_t size, const std::string& name) {
+  static constexpr std::array<std::string_view, 9> kMagics = {"RIFF", "RIFX", "RF64", "BW64", "riff",
+                                                              "fLaC", "OggS", "FORM", ".snd"};
+  const std::string_view start(reinterpret_cast<const char*>(head), std::min<size_t>(size, 4));
+  for (std::string_view magic : kMagics) {
+    if (start == magic) return;
+  }
+  if (start == "caff") return;
+  throw Error(name + ": not a readable audio file (its first bytes are not those of WAV, FLAC, OGG, AIFF, AU, "
+                     "W64 or CAF)");
+}
+
 }  // namespace
 
 AudioClip decodeAudio(const void* data, size_t size, const std::string& name, const AudioReadOptions& options) {
   if (size == 0) throw Error(name + ": empty file (0 bytes)");
+  checkContainer(static_cast<const unsigned char*>(data), size, name);
   MemoryStream stream{static_cast<const unsigned char*>(data), static_cast<sf_count_t>(size), 0};
   SF_VIRTUAL_IO io{memoryLength, memorySeek, memoryRead, memoryWrite, memoryTell};
   SF_INFO info{};
@@ -199,6 +217,13 @@ AudioClip readAudioFile(const std::filesystem::path& path, const AudioReadOption
   const auto size = std::filesystem::file_size(path, error);
   if (error) throw fileError(path, "cannot read: " + error.message());
   if (size == 0) throw fileError(path, "empty file (0 bytes)");
+  {
+    std::array<unsigned char, 4> head{};
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw fileError(path, "cannot be opened for reading");
+    in.read(reinterpret_cast<char*>(head.data()), head.size());
+    checkContainer(head.data(), static_cast<size_t>(in.gcount()), path.string());
+  }
 
   SF_INFO info{};
   SndfileHandle file(sf_open(path.c_str(), SFM_READ, &info));

@@ -6,8 +6,8 @@
 //   resampler.finish(out);              // flushes the filter tail at end of input
 //
 // The output is aligned with the input (soxr compensates its own filter delay), so sample n of the output
-// is at time n / outputRateHz. Thread contract: one thread per instance; set-up may throw th::Error,
-// process() does not allocate once `out` has capacity.
+// is at time n / outputRateHz. Thread contract: one thread per instance; set-up may throw th::Error.
+// process() appends to a std::vector and may grow it: call it from a worker thread, not an audio callback.
 #pragma once
 
 #include <memory>

@@ -67,12 +67,12 @@ TEST_P(BadAudioBytesTest, DecodingTheBytesFromMemoryThrowsTheSame) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Inputs, BadAudioTest,
-                         ::testing::Values("missing", "directory", "text_renamed_wav", "zero_bytes",
+                         ::testing::Values("missing", "directory", "text_renamed_wav", "mp3_like", "zero_bytes",
                                            "zero_frames", "truncated", "float_nan", "float_inf", "float_huge",
                                            "rate_2khz", "rate_192khz"),
                          [](const auto& testInfo) { return testInfo.param; });
 INSTANTIATE_TEST_SUITE_P(Inputs, BadAudioBytesTest,
-                         ::testing::Values("text_renamed_wav", "zero_bytes", "zero_frames", "truncated",
+                         ::testing::Values("text_renamed_wav", "mp3_like", "zero_bytes", "zero_frames", "truncated",
                                            "float_nan", "float_inf", "float_huge", "rate_2khz",
                                            "rate_192khz"),
                          [](const auto& testInfo) { return testInfo.param; });

@@ -114,6 +114,18 @@ std::vector<BadInput> makeBadInputs(const fs::path& folder) {
   const std::string text = "These are my notes, not a recording.\n";
   writeBytes(inputs.back().path, std::vector<char>(text.begin(), text.end()));
 
+  // MPEG-looking bytes: libsndfile would hand them to mpg123, which writes warnings of its own to stderr.
+  inputs.push_back({"mp3_like", folder / "song.wav", true, "not a readable audio file"});
+  {
+    std::vector<char> bytes = {'I', 'D', '3', 3, 0, 0, 0, 0, 0, 0};
+    for (int frame = 0; frame < 64; ++frame) {
+      bytes.push_back(static_cast<char>(0xFF));
+      bytes.push_back(static_cast<char>(0xFB));
+      for (int n = 0; n < 100; ++n) bytes.push_back(static_cast<char>((frame * 31 + n * 17) & 0xFF));
+    }
+    writeBytes(inputs.back().path, bytes);
+  }
+
   inputs.push_back({"zero_bytes", folder / "empty.wav", true, "empty file (0 bytes)"});
   writeBytes(inputs.back().path, {});
 

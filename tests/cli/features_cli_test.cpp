@@ -118,7 +118,7 @@ TEST_P(BadInputCliTest, OneLineNonZeroExitNoOutputFile) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Inputs, BadInputCliTest,
-                         ::testing::Values("missing", "directory", "text_renamed_wav", "zero_bytes",
+                         ::testing::Values("missing", "directory", "text_renamed_wav", "mp3_like", "zero_bytes",
                                            "zero_frames", "truncated", "float_nan", "float_inf", "float_huge",
                                            "rate_2khz", "rate_192khz"),
                          [](const auto& testInfo) { return testInfo.param; });
