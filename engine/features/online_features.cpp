@@ -18,11 +18,15 @@ void FeatureOptions::check() const {
 }
 
 std::vector<std::string> FeatureLayout::columnNames() const {
+  std::vector<std::string> mfccNames;
+  for (int k = 1; k <= numMfcc; ++k) {
+    mfccNames.push_back("mfcc" + std::to_string(hasC0 && k == numMfcc ? 0 : k));
+  }
   std::vector<std::string> names = {"f0_hz", "energy", "d_f0", "d_energy"};
-  for (int k = 1; k <= numMfcc; ++k) names.push_back("mfcc" + std::to_string(k));
+  names.insert(names.end(), mfccNames.begin(), mfccNames.end());
   for (int offset = -contextFrames; offset <= contextFrames; ++offset) {
     const std::string suffix = offset < 0 ? "_m" + std::to_string(-offset) : "_p" + std::to_string(offset);
-    for (int k = 1; k <= numMfcc; ++k) names.push_back("ctx_mfcc" + std::to_string(k) + suffix);
+    for (const auto& name : mfccNames) names.push_back("ctx_" + name + suffix);
   }
   return names;
 }
@@ -33,6 +37,7 @@ OnlineFeatureExtractor::OnlineFeatureExtractor(const FeatureOptions& options)
       mfcc_(options.mfcc, kSampleRateHz),
       rightContextFrames_(std::max(options.deltaHalfWidth, options.contextFrames)) {
   layout_.numMfcc = mfcc_.numOutputs();
+  layout_.hasC0 = options.mfcc.includeC0;
   layout_.contextFrames = options.contextFrames;
   window_.resize(static_cast<size_t>(mfcc_.windowLength()));
   // Squared Hamming weights, normalised to sum to 1, so the level is a weighted mean square.

@@ -50,7 +50,8 @@ struct FeatureLayout {
   static constexpr int kDeltaF0 = 2;
   static constexpr int kDeltaEnergy = 3;
   static constexpr int kMfccBegin = 4;
-  int numMfcc = 11;
+  int numMfcc = 11;             // MFCC values per frame: c1..cN, then c0 when hasC0
+  bool hasC0 = false;
   int contextFrames = 5;
 
   int contextBegin() const { return kMfccBegin + numMfcc; }  // stacked MFCCs of frames i-tc .. i+tc

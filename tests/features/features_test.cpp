@@ -26,6 +26,12 @@ TEST(FeatureLayout, NamesEveryColumnInOrder) {
   EXPECT_EQ(names[FeatureLayout::kMfccBegin], "mfcc1");
   EXPECT_EQ(names[layout.contextBegin()], "ctx_mfcc1_m5");
   EXPECT_EQ(names.back(), "ctx_mfcc11_p5");
+
+  FeatureOptions withC0;
+  withC0.mfcc.includeC0 = true;
+  const auto c0Names = OnlineFeatureExtractor(withC0).layout().columnNames();
+  EXPECT_EQ(c0Names[FeatureLayout::kMfccBegin + 11], "mfcc0");
+  EXPECT_EQ(c0Names.back(), "ctx_mfcc0_p5");
 }
 
 TEST(Features, OneFramePerAnimationFrameAtAnyRate) {
