@@ -1,7 +1,5 @@
 #include "peer_trackers.h"
 
-#include <unistd.h>
-
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -10,30 +8,11 @@
 
 #include "audio/audio_file.h"
 #include "core/error.h"
+#include "core/temporary_file.h"
 #include "subprocess.h"
 
 namespace th::app {
 namespace {
-
-// A temporary file removed when it goes out of scope.
-class TemporaryFile {
- public:
-  explicit TemporaryFile(const std::string& suffix) {
-    static int counter = 0;
-    path_ = std::filesystem::temp_directory_path() /
-            ("talkinghead-" + std::to_string(::getpid()) + "-" + std::to_string(counter++) + suffix);
-  }
-  ~TemporaryFile() {
-    std::error_code ignored;
-    std::filesystem::remove(path_, ignored);
-  }
-  TemporaryFile(const TemporaryFile&) = delete;
-  TemporaryFile& operator=(const TemporaryFile&) = delete;
-  const std::filesystem::path& path() const { return path_; }
-
- private:
-  std::filesystem::path path_;
-};
 
 // Praat's "To Pitch (ac)" with its standard parameters except time step and range, one "time f0" per line.
 constexpr const char* kPraatScript = R"(form Pitch

@@ -13,7 +13,6 @@
 // Thread contract: single-threaded; pin it to one core (the budget is "on one core").
 #include <benchmark/benchmark.h>
 #include <sys/resource.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
@@ -29,6 +28,7 @@
 
 #include "audio/audio_file.h"
 #include "core/data_path.h"
+#include "core/temporary_file.h"
 #include "core/error.h"
 #include "features/mfcc.h"
 #include "features/online_features.h"
@@ -46,21 +46,13 @@ const th::app::PeerSettings kPeerSettings{0.005, 60.0, 500.0};
 // A WAV in the temporary folder, removed when it goes out of scope.
 class TemporaryWav {
  public:
-  TemporaryWav(const std::string& stem, const std::vector<float>& samples)
-      : path_(std::filesystem::temp_directory_path() /
-              ("talkinghead-bench-" + std::to_string(::getpid()) + "-" + stem + ".wav")) {
-    th::audio::writeWav16(path_, samples, kRateHz);
+  explicit TemporaryWav(const std::vector<float>& samples) : file_(".wav") {
+    th::audio::writeWav16(file_.path(), samples, kRateHz);
   }
-  ~TemporaryWav() {
-    std::error_code ignored;
-    std::filesystem::remove(path_, ignored);
-  }
-  TemporaryWav(const TemporaryWav&) = delete;
-  TemporaryWav& operator=(const TemporaryWav&) = delete;
-  const std::filesystem::path& path() const { return path_; }
+  const std::filesystem::path& path() const { return file_.path(); }
 
  private:
-  std::filesystem::path path_;
+  th::TemporaryFile file_;
 };
 
 // realtime_factor = audio seconds per second of the benchmark's own clock (CPU, or wall for UseRealTime()).
@@ -312,8 +304,8 @@ int main(int argc, char** argv) {
   try {
     const std::vector<float> speech = loadSpeech();
     const std::vector<float> start(speech.begin(), speech.begin() + static_cast<long>(kStartupAudioSeconds * kRateHz));
-    const TemporaryWav speechWav("60s", speech);
-    const TemporaryWav startWav("0.1s", start);
+    const TemporaryWav speechWav(speech);
+    const TemporaryWav startWav(start);
 
     // Minimum measuring time per benchmark: long enough for several subprocess runs, unless --quick.
     const double ourMinSeconds = quick ? 0.0 : 2.0;

@@ -70,8 +70,7 @@ int OnlineFeatureExtractor::pitchFrameFor(long long frame) const {
 void OnlineFeatureExtractor::acceptWaveform(std::span<const float> samples) {
   if (finished_) throw Error("features: acceptWaveform after inputFinished");
   pitch_.acceptWaveform(samples);
-  samples_.insert(samples_.end(), samples.begin(), samples.end());
-  numSamples_ += static_cast<long long>(samples.size());
+  history_.append(samples);
   computeAvailableBaseFrames();
 }
 
@@ -85,12 +84,12 @@ void OnlineFeatureExtractor::inputFinished() {
 
 void OnlineFeatureExtractor::computeAvailableBaseFrames() {
   const long long half = mfcc_.windowLength() / 2;
-  const long long total = totalFramesForSamples(numSamples_);
+  const long long total = totalFramesForSamples(history_.size());
   const int numMfcc = layout_.numMfcc;
   std::vector<float> coefficients(static_cast<size_t>(numMfcc));
   for (long long frame = static_cast<long long>(f0Hz_.size()); frame < total; ++frame) {
     const long long centre = frameCentreSample(frame);
-    if (!finished_ && centre - half + mfcc_.windowLength() > numSamples_) break;
+    if (!finished_ && centre - half + mfcc_.windowLength() > history_.size()) break;
     int pitchFrame = pitchFrameFor(frame);
     if (pitchFrame >= pitch_.numFramesReady()) {
       if (!finished_) break;
@@ -98,12 +97,7 @@ void OnlineFeatureExtractor::computeAvailableBaseFrames() {
     }
     f0Hz_.push_back(pitchFrame >= 0 ? pitch_.frame(pitchFrame).f0Hz : 0.0f);
 
-    const long long start = centre - half;
-    for (long long n = 0; n < mfcc_.windowLength(); ++n) {
-      const long long index = start + n;
-      window_[static_cast<size_t>(n)] =
-          index >= 0 && index < numSamples_ ? samples_[static_cast<size_t>(index - samplesOffset_)] : 0.0f;
-    }
+    history_.copy(centre - half, window_);
     mfcc_.compute(window_, coefficients);
     mfccRows_.insert(mfccRows_.end(), coefficients.begin(), coefficients.end());
 
@@ -140,13 +134,7 @@ void OnlineFeatureExtractor::computeAvailableBaseFrames() {
     }
   }
   // Drop samples that no future frame needs.
-  const long long oldestNeeded = frameCentreSample(static_cast<long long>(f0Hz_.size())) - half;
-  const long long removable =
-      std::min<long long>(oldestNeeded - samplesOffset_, static_cast<long long>(samples_.size()));
-  if (removable > 16 * mfcc_.windowLength()) {
-    samples_.erase(samples_.begin(), samples_.begin() + removable);
-    samplesOffset_ += removable;
-  }
+  history_.forgetBefore(frameCentreSample(static_cast<long long>(f0Hz_.size())) - half);
 }
 
 void OnlineFeatureExtractor::normaliseUtterance() {

@@ -21,6 +21,7 @@
 
 #include "features/mfcc.h"
 #include "features/pitch.h"
+#include "features/sample_history.h"
 
 namespace th::features {
 
@@ -104,9 +105,7 @@ class OnlineFeatureExtractor {
   MfccComputer mfcc_;
   int rightContextFrames_;
 
-  std::vector<float> samples_;
-  long long samplesOffset_ = 0;
-  long long numSamples_ = 0;
+  SampleHistory history_;
   bool finished_ = false;
 
   // Per base frame: F0, normalised energy, MFCCs (row-major numMfcc each).

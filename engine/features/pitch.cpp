@@ -82,15 +82,9 @@ OnlinePitchTracker::OnlinePitchTracker(const PitchOptions& options, int sampleRa
   }
 }
 
-float OnlinePitchTracker::sampleAt(long long index) const {
-  if (index < 0 || index >= numSamples_) return 0.0f;
-  return samples_[static_cast<size_t>(index - samplesOffset_)];
-}
-
 void OnlinePitchTracker::acceptWaveform(std::span<const float> samples) {
   if (finished_) throw Error("pitch: acceptWaveform after inputFinished");
-  samples_.insert(samples_.end(), samples.begin(), samples.end());
-  numSamples_ += static_cast<long long>(samples.size());
+  history_.append(samples);
   analyseAvailableFrames();
 }
 
@@ -105,31 +99,22 @@ void OnlinePitchTracker::analyseAvailableFrames() {
   const long long half = windowLength_ / 2;
   // Frames whose centre lies inside the signal; the last ones are analysed (zero-padded) only once the input
   // is known to have ended.
-  const long long totalFrames = numSamples_ > 0 ? (numSamples_ - 1) / hopSamples_ + 1 : 0;
+  const long long totalFrames = history_.size() > 0 ? (history_.size() - 1) / hopSamples_ + 1 : 0;
   while (numAnalysed_ < totalFrames) {
     const long long centre = numAnalysed_ * hopSamples_;
-    if (!finished_ && centre + half > numSamples_) break;
+    if (!finished_ && centre + half > history_.size()) break;
     analyseFrame(numAnalysed_);
     ++numAnalysed_;
     const long long decidable = numAnalysed_ - 1 - options_.decisionLagFrames;
     if (decidable >= static_cast<long long>(decided_.size())) decideUpTo(decidable, numAnalysed_ - 1);
   }
   // Drop samples that no future frame will read.
-  const long long oldestNeeded = numAnalysed_ * hopSamples_ - half;
-  const long long removable = std::min<long long>(oldestNeeded - samplesOffset_, static_cast<long long>(samples_.size()));
-  if (removable > 8 * windowLength_) {
-    samples_.erase(samples_.begin(), samples_.begin() + removable);
-    samplesOffset_ += removable;
-  }
+  history_.forgetBefore(numAnalysed_ * hopSamples_ - half);
 }
 
 void OnlinePitchTracker::analyseFrame(long long frameIndex) {
   const long long start = frameIndex * hopSamples_ - windowLength_ / 2;
-  if (start >= samplesOffset_ && start + windowLength_ <= numSamples_) {
-    std::copy_n(samples_.begin() + (start - samplesOffset_), windowLength_, segment_.begin());
-  } else {
-    for (int n = 0; n < windowLength_; ++n) segment_[static_cast<size_t>(n)] = sampleAt(start + n);
-  }
+  history_.copy(start, segment_);
   // Vectorised passes (Eigen) over the frame: remove the mean, window, and the level's peak.
   Eigen::Map<Eigen::VectorXf> segment(segment_.data(), windowLength_);
   const float mean = segment.mean();

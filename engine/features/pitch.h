@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "features/real_fft.h"
+#include "features/sample_history.h"
 
 namespace th::features {
 
@@ -91,7 +92,6 @@ class OnlinePitchTracker {
   void viterbiStep(AnalysedFrame& current, const AnalysedFrame* previous) const;
   void decideUpTo(long long lastFrameToDecide, long long tracebackFrom);
   AnalysedFrame& analysed(long long frameIndex) { return ring_[static_cast<size_t>(frameIndex % ring_.size())]; }
-  float sampleAt(long long index) const;
 
   PitchOptions options_;
   int sampleRateHz_;
@@ -109,9 +109,7 @@ class OnlinePitchTracker {
   std::vector<float> segment_;   // the frame's samples, mean removed, unwindowed
   double shortCorrelation(double lag) const;
 
-  std::vector<float> samples_;  // the tail of the input still needed
-  long long samplesOffset_ = 0; // stream index of samples_[0]
-  long long numSamples_ = 0;
+  SampleHistory history_;
   bool finished_ = false;
 
   double runningPeak_ = 0.0;
