@@ -1,0 +1,88 @@
+#include "hmm/forward_backward.h"
+
+#include <cmath>
+#include <string>
+
+#include "core/error.h"
+
+namespace th::hmm {
+namespace {
+
+// Scaled emissions: B(j, t) = exp(log bⱼ(xₜ) − maxₖ log bₖ(xₜ)); frameOffset(t) = that maximum.
+void scaleEmissions(const Eigen::Ref<const Eigen::MatrixXd>& logEmissions, Eigen::MatrixXd& scaled,
+                    Eigen::VectorXd& frameOffset) {
+  frameOffset = logEmissions.colwise().maxCoeff().transpose();
+  if (!frameOffset.allFinite()) {
+    for (Eigen::Index t = 0; t < frameOffset.size(); ++t) {
+      if (!std::isfinite(frameOffset[t])) {
+        throw Error("HMM: frame " + std::to_string(t) + " has no finite emission likelihood in any state");
+      }
+    }
+  }
+  scaled = (logEmissions.rowwise() - frameOffset.transpose()).array().exp();
+}
+
+// α, normalised per frame; returns the scales cₜ. Throws if a frame is unreachable.
+void forwardPass(const HmmModel& model, const Eigen::MatrixXd& scaled, Eigen::MatrixXd& alpha, Eigen::VectorXd& scales) {
+  const Eigen::Index numFrames = scaled.cols();
+  alpha.resize(scaled.rows(), numFrames);
+  scales.resize(numFrames);
+  for (Eigen::Index t = 0; t < numFrames; ++t) {
+    if (t == 0) {
+      alpha.col(0) = model.initial.cwiseProduct(scaled.col(0));
+    } else {
+      alpha.col(t) = (model.transition.transpose() * alpha.col(t - 1)).cwiseProduct(scaled.col(t));
+    }
+    scales[t] = alpha.col(t).sum();
+    if (!(scales[t] > 0.0)) throw Error("HMM: the sequence is impossible under the model at frame " + std::to_string(t));
+    alpha.col(t) /= scales[t];
+  }
+}
+
+}  // namespace
+
+double logLikelihood(const HmmModel& model, const Eigen::Ref<const Eigen::MatrixXd>& logEmissions) {
+  if (logEmissions.cols() == 0) return 0.0;
+  Eigen::MatrixXd scaled;
+  Eigen::VectorXd offsets;
+  scaleEmissions(logEmissions, scaled, offsets);
+  Eigen::MatrixXd alpha;
+  Eigen::VectorXd scales;
+  forwardPass(model, scaled, alpha, scales);
+  return scales.array().log().sum() + offsets.sum();
+}
+
+Posteriors forwardBackward(const HmmModel& model, const Eigen::Ref<const Eigen::MatrixXd>& logEmissions) {
+  const Eigen::Index numStates = model.numStates();
+  const Eigen::Index numFrames = logEmissions.cols();
+  if (logEmissions.rows() != numStates) throw Error("HMM: emission matrix does not match the number of states");
+  Posteriors result;
+  result.transitionCounts = Eigen::MatrixXd::Zero(numStates, numStates);
+  if (numFrames == 0) {
+    result.stateGivenAll.resize(numStates, 0);
+    return result;
+  }
+  Eigen::MatrixXd scaled;
+  Eigen::VectorXd offsets;
+  scaleEmissions(logEmissions, scaled, offsets);
+  Eigen::MatrixXd alpha;
+  Eigen::VectorXd scales;
+  forwardPass(model, scaled, alpha, scales);
+  result.logLikelihood = scales.array().log().sum() + offsets.sum();
+
+  // β scaled by the same cₜ, so that γₜ = αₜ ∘ βₜ sums to 1 and ξₜ(i,j) = αₜ(i) A(i,j) bⱼ(xₜ₊₁) βₜ₊₁(j) / cₜ₊₁.
+  Eigen::VectorXd beta = Eigen::VectorXd::Ones(numStates);
+  result.stateGivenAll.resize(numStates, numFrames);
+  result.stateGivenAll.col(numFrames - 1) = alpha.col(numFrames - 1);
+  Eigen::VectorXd weightedNext(numStates);
+  for (Eigen::Index t = numFrames - 2; t >= 0; --t) {
+    weightedNext = scaled.col(t + 1).cwiseProduct(beta) / scales[t + 1];
+    result.transitionCounts.noalias() +=
+        (alpha.col(t) * weightedNext.transpose()).cwiseProduct(model.transition);
+    beta = model.transition * weightedNext;
+    result.stateGivenAll.col(t) = alpha.col(t).cwiseProduct(beta);
+  }
+  return result;
+}
+
+}  // namespace th::hmm

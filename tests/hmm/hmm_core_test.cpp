@@ -1,0 +1,193 @@
+// Known answers for the HMM core: densities in closed form, forward-backward and Viterbi against brute-force
+// enumeration of every path, online Viterbi against batch, and Baum-Welch's monotone likelihood.
+#include <gtest/gtest.h>
+
+#include <Eigen/LU>
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <random>
+
+#include "core/error.h"
+#include "hmm/forward_backward.h"
+#include "hmm/sampling.h"
+#include "hmm/training.h"
+#include "hmm/viterbi.h"
+#include "hmm_test_models.h"
+
+namespace th::hmm {
+namespace {
+
+TEST(Gaussian, LogDensityMatchesTheClosedForm) {
+  Eigen::Vector2d mean(1.0, -2.0);
+  Eigen::Matrix2d covariance;
+  covariance << 2.0, 0.6, 0.6, 1.0;
+  const Gaussian full(mean, covariance, CovarianceType::kFull);
+  const Eigen::Vector2d x(0.3, -1.1);
+  const Eigen::Vector2d centred = x - mean;
+  const double expected = -0.5 * (2.0 * std::log(2.0 * std::numbers::pi) + std::log(covariance.determinant()) +
+                                  centred.dot(covariance.inverse() * centred));
+  EXPECT_NEAR(full.logDensity(x), expected, 1e-12);
+
+  const Gaussian diagonal(mean, covariance, CovarianceType::kDiagonal);  // uses only the variances
+  const double expectedDiagonal = -0.5 * (2.0 * std::log(2.0 * std::numbers::pi) + std::log(2.0) +
+                                          centred[0] * centred[0] / 2.0 + centred[1] * centred[1] / 1.0);
+  EXPECT_NEAR(diagonal.logDensity(x), expectedDiagonal, 1e-12);
+
+  Eigen::MatrixXd frames(2, 3);
+  frames << 0.3, 1.0, 5.0, -1.1, -2.0, 0.0;
+  Eigen::VectorXd batch(3);
+  full.logDensities(frames, batch);
+  for (int t = 0; t < 3; ++t) EXPECT_NEAR(batch[t], full.logDensity(frames.col(t)), 1e-12);
+}
+
+TEST(Gaussian, RejectsCovariancesThatAreNotPositiveDefinite) {
+  Eigen::Matrix2d singular;
+  singular << 1.0, 1.0, 1.0, 1.0;
+  EXPECT_THROW(Gaussian(Eigen::Vector2d::Zero(), singular, CovarianceType::kFull), Error);
+  EXPECT_THROW(Gaussian(Eigen::Vector2d::Zero(), -Eigen::Matrix2d::Identity(), CovarianceType::kDiagonal), Error);
+  // The floor repairs a singular covariance.
+  const Eigen::MatrixXd repaired = applyCovarianceFloor(singular, Eigen::Vector2d::Constant(1e-3), CovarianceType::kFull);
+  EXPECT_NO_THROW(Gaussian(Eigen::Vector2d::Zero(), repaired, CovarianceType::kFull));
+}
+
+// Every path of a short sequence, enumerated: the definition of the likelihood, the posteriors and the best path.
+struct BruteForce {
+  double logLikelihood;
+  Eigen::MatrixXd gamma;
+  std::vector<int> bestPath;
+};
+
+BruteForce enumerate(const HmmModel& model, const Eigen::MatrixXd& logB) {
+  const int n = model.numStates();
+  const int numFrames = static_cast<int>(logB.cols());
+  BruteForce result{0.0, Eigen::MatrixXd::Zero(n, numFrames), {}};
+  std::vector<int> path(static_cast<size_t>(numFrames), 0);
+  double total = 0.0;
+  double best = -1.0;
+  for (;;) {
+    double p = model.initial[path[0]] * std::exp(logB(path[0], 0));
+    for (int t = 1; t < numFrames; ++t) {
+      p *= model.transition(path[static_cast<size_t>(t - 1)], path[static_cast<size_t>(t)]) *
+           std::exp(logB(path[static_cast<size_t>(t)], t));
+    }
+    total += p;
+    for (int t = 0; t < numFrames; ++t) result.gamma(path[static_cast<size_t>(t)], t) += p;
+    if (p > best) {
+      best = p;
+      result.bestPath = path;
+    }
+    int position = numFrames - 1;
+    while (position >= 0 && ++path[static_cast<size_t>(position)] == n) path[static_cast<size_t>(position--)] = 0;
+    if (position < 0) break;
+  }
+  result.logLikelihood = std::log(total);
+  result.gamma /= total;
+  return result;
+}
+
+TEST(ForwardBackward, EqualsEnumerationOfEveryPath) {
+  for (unsigned seed : {1u, 2u, 3u}) {
+    const HmmModel model = test::randomModel(3, 2, 2, CovarianceType::kFull, seed);
+    std::mt19937 random(seed);
+    const Sample sample = sampleHmm(model, 7, random);
+    const Eigen::MatrixXd logB = model.emissionLogLikelihoods(sample.frames);
+    const BruteForce truth = enumerate(model, logB);
+    const Posteriors posteriors = forwardBackward(model, logB);
+    EXPECT_NEAR(posteriors.logLikelihood, truth.logLikelihood, 1e-10 * std::abs(truth.logLikelihood));
+    EXPECT_NEAR(logLikelihood(model, logB), truth.logLikelihood, 1e-10 * std::abs(truth.logLikelihood));
+    EXPECT_LT((posteriors.stateGivenAll - truth.gamma).cwiseAbs().maxCoeff(), 1e-10);
+    // Expected transitions: T - 1 of them in all, and γ's marginals agree with ξ's.
+    EXPECT_NEAR(posteriors.transitionCounts.sum(), 6.0, 1e-10);
+    EXPECT_LT((posteriors.transitionCounts.rowwise().sum() -
+               posteriors.stateGivenAll.leftCols(6).rowwise().sum()).cwiseAbs().maxCoeff(), 1e-10);
+    EXPECT_EQ(viterbi(model, logB).states, truth.bestPath);
+  }
+}
+
+TEST(ForwardBackward, LongSequencesStayInRange) {
+  const HmmModel model = test::stickyModel1d(4, 0.95);
+  std::mt19937 random(5);
+  const Sample sample = sampleHmm(model, 200000, random);
+  const Posteriors posteriors = forwardBackward(model, model.emissionLogLikelihoods(sample.frames));
+  EXPECT_TRUE(std::isfinite(posteriors.logLikelihood));
+  EXPECT_LT((posteriors.stateGivenAll.colwise().sum().array() - 1.0).abs().maxCoeff(), 1e-9);
+}
+
+TEST(OnlineViterbi, UnboundedLagEqualsBatch) {
+  for (unsigned seed : {11u, 12u}) {
+    const HmmModel model = test::randomModel(6, 1, 2, CovarianceType::kFull, seed);
+    std::mt19937 random(seed);
+    const Sample sample = sampleHmm(model, 20000, random);
+    const Eigen::MatrixXd logB = model.emissionLogLikelihoods(sample.frames);
+    const ViterbiPath batch = viterbi(model, logB);
+    OnlineViterbi online(model, {});
+    int decidedWhileStreaming = 0;
+    for (Eigen::Index t = 0; t < logB.cols(); ++t) {
+      online.acceptFrame(logB.col(t));
+      decidedWhileStreaming = online.numDecided();
+    }
+    EXPECT_GT(decidedWhileStreaming, 19000) << "convergence points come long before the end";
+    online.finish();
+    ASSERT_EQ(online.numDecided(), 20000);
+    std::vector<int> path(20000);
+    for (int t = 0; t < 20000; ++t) path[static_cast<size_t>(t)] = online.state(t);
+    EXPECT_EQ(path, batch.states);
+  }
+}
+
+TEST(OnlineViterbi, MaximumLagIsNeverExceededAndAgreementGrowsWithIt) {
+  const HmmModel model = test::randomModel(6, 1, 2, CovarianceType::kFull, 21);
+  std::mt19937 random(21);
+  const Sample sample = sampleHmm(model, 5000, random);
+  const Eigen::MatrixXd logB = model.emissionLogLikelihoods(sample.frames);
+  const ViterbiPath batch = viterbi(model, logB);
+  double previousAgreement = 0.0;
+  for (int maxLag : {0, 1, 2, 5, 10, 30}) {
+    OnlineViterbi online(model, {.maxLagFrames = maxLag});
+    for (Eigen::Index t = 0; t < logB.cols(); ++t) {
+      online.acceptFrame(logB.col(t));
+      ASSERT_GE(online.numDecided(), static_cast<int>(t) + 1 - maxLag) << "lag " << maxLag << " at frame " << t;
+    }
+    online.finish();
+    int agree = 0;
+    for (int t = 0; t < 5000; ++t) agree += online.state(t) == batch.states[static_cast<size_t>(t)];
+    const double agreement = agree / 5000.0;
+    EXPECT_GE(agreement, previousAgreement - 0.01) << "lag " << maxLag;
+    previousAgreement = agreement;
+  }
+  EXPECT_GT(previousAgreement, 0.999);
+}
+
+TEST(BaumWelch, LikelihoodNeverDecreasesAndRecoversTheMeans) {
+  const HmmModel truth = test::stickyModel1d(3, 0.9);
+  std::mt19937 random(3);
+  std::vector<Eigen::MatrixXd> sequences;
+  for (int s = 0; s < 4; ++s) sequences.push_back(sampleHmm(truth, 1500, random).frames);
+  for (CovarianceType type : {CovarianceType::kFull, CovarianceType::kDiagonal}) {
+    TrainingOptions options;
+    options.numStates = 3;
+    options.numMixtures = 2;
+    options.covariance = type;
+    options.maxIterations = 60;
+    const TrainingResult result = trainHmm(sequences, options);
+    for (size_t i = 1; i < result.history.size(); ++i) {
+      EXPECT_GE(result.history[i].logLikelihood, result.history[i - 1].logLikelihood - 1e-6) << "iteration " << i;
+    }
+    // The three states sit near 0, 3 and 6 (in some order), and stay sticky.
+    std::vector<double> means;
+    for (const auto& state : result.model.states) {
+      double mean = 0.0;
+      for (int m = 0; m < state.numComponents(); ++m) mean += state.weights()[m] * state.components()[static_cast<size_t>(m)].mean()[0];
+      means.push_back(mean);
+    }
+    std::sort(means.begin(), means.end());
+    EXPECT_NEAR(means[0], 0.0, 0.15);
+    EXPECT_NEAR(means[1], 3.0, 0.15);
+    EXPECT_NEAR(means[2], 6.0, 0.15);
+    EXPECT_GT(result.model.transition.diagonal().minCoeff(), 0.85);
+  }
+}
+
+}  // namespace
+}  // namespace th::hmm
