@@ -26,6 +26,19 @@ void HmmModel::check() const {
   if (!columnNames.empty() && static_cast<int>(columnNames.size()) != dimension()) {
     throw Error("HMM: column names do not match the observation dimension");
   }
+  int next = 0;
+  for (const auto& b : blocks) {
+    if (b.begin != next || b.size <= 0) throw Error("HMM: observation blocks must tile the dimensions in order");
+    next += b.size;
+  }
+  if (!blocks.empty() && next != dimension()) throw Error("HMM: observation blocks do not cover every dimension");
+}
+
+const ObservationBlock& HmmModel::block(const std::string& name) const {
+  for (const auto& b : blocks) {
+    if (b.name == name) return b;
+  }
+  throw Error("HMM: the model has no observation block named '" + name + "'");
 }
 
 Eigen::MatrixXd HmmModel::emissionLogLikelihoods(const Eigen::Ref<const Eigen::MatrixXd>& frames,
