@@ -23,13 +23,14 @@ void scaleEmissions(const Eigen::Ref<const Eigen::MatrixXd>& logEmissions, Eigen
 }
 
 // α, normalised per frame; returns the scales cₜ. Throws if a frame is unreachable.
-void forwardPass(const HmmModel& model, const Eigen::MatrixXd& scaled, Eigen::MatrixXd& alpha, Eigen::VectorXd& scales) {
+void forwardPass(const HmmModel& model, const Eigen::MatrixXd& scaled, Eigen::MatrixXd& alpha, Eigen::VectorXd& scales,
+                 const Eigen::VectorXd& initial) {
   const Eigen::Index numFrames = scaled.cols();
   alpha.resize(scaled.rows(), numFrames);
   scales.resize(numFrames);
   for (Eigen::Index t = 0; t < numFrames; ++t) {
     if (t == 0) {
-      alpha.col(0) = model.initial.cwiseProduct(scaled.col(0));
+      alpha.col(0) = initial.cwiseProduct(scaled.col(0));
     } else {
       alpha.col(t) = (model.transition.transpose() * alpha.col(t - 1)).cwiseProduct(scaled.col(t));
     }
@@ -48,11 +49,12 @@ double logLikelihood(const HmmModel& model, const Eigen::Ref<const Eigen::Matrix
   scaleEmissions(logEmissions, scaled, offsets);
   Eigen::MatrixXd alpha;
   Eigen::VectorXd scales;
-  forwardPass(model, scaled, alpha, scales);
+  forwardPass(model, scaled, alpha, scales, model.initial);
   return scales.array().log().sum() + offsets.sum();
 }
 
-Posteriors forwardBackward(const HmmModel& model, const Eigen::Ref<const Eigen::MatrixXd>& logEmissions) {
+Posteriors forwardBackward(const HmmModel& model, const Eigen::Ref<const Eigen::MatrixXd>& logEmissions,
+                           const Eigen::VectorXd* firstFrameDistribution) {
   const Eigen::Index numStates = model.numStates();
   const Eigen::Index numFrames = logEmissions.cols();
   if (logEmissions.rows() != numStates) throw Error("HMM: emission matrix does not match the number of states");
@@ -67,7 +69,7 @@ Posteriors forwardBackward(const HmmModel& model, const Eigen::Ref<const Eigen::
   scaleEmissions(logEmissions, scaled, offsets);
   Eigen::MatrixXd alpha;
   Eigen::VectorXd scales;
-  forwardPass(model, scaled, alpha, scales);
+  forwardPass(model, scaled, alpha, scales, firstFrameDistribution ? *firstFrameDistribution : model.initial);
   result.logLikelihood = scales.array().log().sum() + offsets.sum();
 
   // β scaled by the same cₜ, so that γₜ = αₜ ∘ βₜ sums to 1 and ξₜ(i,j) = αₜ(i) A(i,j) bⱼ(xₜ₊₁) βₜ₊₁(j) / cₜ₊₁.

@@ -24,7 +24,10 @@ struct Posteriors {
 
 // logEmissions: N x T from HmmModel::emissionLogLikelihoods. Throws th::Error if the sequence is impossible
 // under the model (every path has probability 0).
-Posteriors forwardBackward(const HmmModel& model, const Eigen::Ref<const Eigen::MatrixXd>& logEmissions);
+// `firstFrameDistribution`, if given, replaces π as the distribution of the first frame's state (a window of a
+// longer stream starts from the forward variables carried over from the previous window).
+Posteriors forwardBackward(const HmmModel& model, const Eigen::Ref<const Eigen::MatrixXd>& logEmissions,
+                           const Eigen::VectorXd* firstFrameDistribution = nullptr);
 
 // log P(X | model) by the forward pass alone.
 double logLikelihood(const HmmModel& model, const Eigen::Ref<const Eigen::MatrixXd>& logEmissions);

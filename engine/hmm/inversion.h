@@ -1,0 +1,91 @@
+// Recovering the visual part of a joint audio-visual HMM's observations from the audio alone.
+//
+//   th::hmm::HmmInverter inverter(jointModel, {});          // blocks "audio" and "visual" in the model
+//   th::hmm::InversionResult r = inverter.invert(audio);    // audio: d_a x T; r.visual: d_v x T
+//   Eigen::MatrixXd quick = inverter.mmse(audio);           // non-iterative E[o_v | o_a]
+//
+// HMM inversion (Choi et al. 2001; Terissi & Gómez 2008, eq. 7): maximise P(O_a, O_v | λ) over O_v by EM. With
+// γₜ(j,m) from forward-backward on the joint observations [o_a; o'_v] and each component's precision Φ = Σ⁻¹
+// split into blocks [[Φᵃ, Φᵃᵛ], [Φᵛᵃ, Φᵛ]],
+//   o'_vₜ = [Σⱼₘ γₜ(j,m) Φᵛⱼₘ]⁻¹ Σⱼₘ γₜ(j,m) [Φᵛⱼₘ μᵛⱼₘ − Φᵛᵃⱼₘ (o_aₜ − μᵃⱼₘ)],
+// repeated until the joint log-likelihood stops rising (it never falls: each update maximises the EM auxiliary
+// function). Diagonal covariance has Φᵛᵃ = 0 (eq. 8). The start is random, as the papers do, or the
+// conditional mean under the audio-only marginal model (ours; converges in fewer iterations).
+// MMSE: E[o_v | o_a] = Σⱼₘ γᵃₜ(j,m) [μᵛ + Σᵛᵃ (Σᵃ)⁻¹ (o_a − μᵃ)], γᵃ from the audio-only marginal model.
+// Windowed (streaming) inversion runs EM on consecutive blocks of W frames; the forward variables at the end of
+// one block start the next, so only the backward pass is truncated.
+// Thread contract: an HmmInverter is immutable after construction; invert()/mmse() may run on many threads.
+#pragma once
+
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include "hmm/hmm_model.h"
+
+namespace th::hmm {
+
+enum class InversionStart { kConditionalMean, kRandom };
+
+struct InversionOptions {
+  std::string audioBlock = "audio";
+  std::string visualBlock = "visual";
+  int maxIterations = 100;
+  double tolerance = 1e-6;     // stop when the joint log-likelihood per frame rises by less than this
+  InversionStart start = InversionStart::kConditionalMean;
+  unsigned seed = 1;           // for the random start
+  int windowFrames = 0;        // 0: the whole sequence at once; else EM on consecutive blocks of this many frames
+};
+
+struct InversionResult {
+  Eigen::MatrixXd visual;                // d_v x T
+  std::vector<double> logLikelihoods;    // joint log P(O_a, O'_v) after each iteration (batch: whole sequence)
+  int iterations = 0;                    // batch: EM iterations; windowed: the mean over windows (rounded)
+};
+
+class HmmInverter {
+ public:
+  HmmInverter(const HmmModel& jointModel, const InversionOptions& options);
+
+  InversionResult invert(const Eigen::Ref<const Eigen::MatrixXd>& audio) const;
+  Eigen::MatrixXd mmse(const Eigen::Ref<const Eigen::MatrixXd>& audio) const;
+
+  const HmmModel& audioModel() const { return audioModel_; }
+  int audioDimension() const { return audioSize_; }
+  int visualDimension() const { return visualSize_; }
+
+ private:
+  struct Component {
+    Eigen::MatrixXd visualPrecision;         // Φᵛ (d_v x d_v)
+    Eigen::MatrixXd crossPrecision;          // Φᵛᵃ (d_v x d_a)
+    Eigen::VectorXd visualTarget;            // Φᵛ μᵛ + Φᵛᵃ μᵃ: the update's constant part
+    Eigen::MatrixXd regression;              // Σᵛᵃ (Σᵃ)⁻¹ (d_v x d_a), for the conditional mean
+    Eigen::VectorXd visualMean;              // μᵛ
+    Eigen::VectorXd audioMean;               // μᵃ
+  };
+
+  // One EM run over one stretch of audio; `carried` is the state distribution of its first frame (or null: π).
+  // Returns the visual estimate and appends the joint log-likelihood of each iteration.
+  Eigen::MatrixXd runEm(const Eigen::Ref<const Eigen::MatrixXd>& audio, Eigen::MatrixXd visual,
+                        const Eigen::VectorXd* carried, std::vector<double>& logLikelihoods, int& iterations,
+                        Eigen::VectorXd* lastFrameDistribution) const;
+  // γₜ(j,m) of every component (rows: component index j*M+m) for joint or audio-only observations.
+  Eigen::MatrixXd componentPosteriors(const HmmModel& model, const Eigen::Ref<const Eigen::MatrixXd>& frames,
+                                      const Eigen::VectorXd* carried, double* logLikelihood,
+                                      Eigen::VectorXd* lastFrameDistribution) const;
+  Eigen::MatrixXd conditionalMean(const Eigen::Ref<const Eigen::MatrixXd>& audio, const Eigen::MatrixXd& posteriors) const;
+
+  HmmModel jointModel_;
+  HmmModel audioModel_;
+  InversionOptions options_;
+  int audioBegin_ = 0;
+  int audioSize_ = 0;
+  int visualBegin_ = 0;
+  int visualSize_ = 0;
+  std::vector<Component> components_;  // index j * maxComponents + m
+  int maxComponents_ = 0;
+  Eigen::VectorXd visualMean_;         // for the random start: the model's overall visual mean and spread
+  Eigen::VectorXd visualSpread_;
+};
+
+}  // namespace th::hmm
