@@ -298,6 +298,21 @@ def command_loglik(args):
     print(repr(log_likelihood(model, sequences)))
 
 
+def loaded_linear_algebra_libraries():
+    """The BLAS/LAPACK shared libraries numpy actually loaded (Debian: netlib or OpenBLAS, by alternatives)."""
+    found = set()
+    try:
+        with open("/proc/self/maps", encoding="utf-8") as maps:
+            for line in maps:
+                path = line.split()[-1]
+                name = os.path.basename(path)
+                if path.startswith("/") and ("blas" in name or "lapack" in name):
+                    found.add(os.path.realpath(path))
+    except OSError:
+        pass
+    return sorted(found)
+
+
 def command_bw_iteration(args):
     model = load_model(args.model)
     sequences, _ = load_data(args.data, args.seq, model.columns)
@@ -314,7 +329,8 @@ def command_bw_iteration(args):
     frames = sum(len(x) for x in sequences)
     if args.json:
         print(json.dumps({"cpu_seconds": cpu, "wall_seconds": wall, "log_likelihood": log_px, "frames": frames,
-                          "blas_threads": os.environ.get("OPENBLAS_NUM_THREADS")}))
+                          "blas_threads": os.environ.get("OPENBLAS_NUM_THREADS"),
+                          "numpy": np.__version__, "blas": loaded_linear_algebra_libraries()}))
     else:
         print(f"{sum(cpu) / len(cpu):.6f} s per iteration (CPU; wall {sum(wall) / len(wall):.6f} s), "
               f"{args.repeat} run(s), {frames} frames, N={model.num_states}, d={model.dimension}; "
