@@ -72,17 +72,25 @@ Posteriors forwardBackward(const HmmModel& model, const Eigen::Ref<const Eigen::
   forwardPass(model, scaled, alpha, scales, firstFrameDistribution ? *firstFrameDistribution : model.initial);
   result.logLikelihood = scales.array().log().sum() + offsets.sum();
 
-  // β scaled by the same cₜ, so that γₜ = αₜ ∘ βₜ sums to 1 and ξₜ(i,j) = αₜ(i) A(i,j) bⱼ(xₜ₊₁) βₜ₊₁(j) / cₜ₊₁.
+  // β is renormalised to a maximum of 1 at every frame instead of dividing by cₜ₊₁: when trimmed transitions
+  // leave a frame explainable only by an unlikely state, cₜ₊₁ can be ~1e-300 and β/cₜ₊₁ would overflow. γ and
+  // ξ are then normalised per frame (their scale cancels).
   Eigen::VectorXd beta = Eigen::VectorXd::Ones(numStates);
   result.stateGivenAll.resize(numStates, numFrames);
   result.stateGivenAll.col(numFrames - 1) = alpha.col(numFrames - 1);
   Eigen::VectorXd weightedNext(numStates);
+  Eigen::MatrixXd xi(numStates, numStates);
   for (Eigen::Index t = numFrames - 2; t >= 0; --t) {
-    weightedNext = scaled.col(t + 1).cwiseProduct(beta) / scales[t + 1];
-    result.transitionCounts.noalias() +=
-        (alpha.col(t) * weightedNext.transpose()).cwiseProduct(model.transition);
+    weightedNext = scaled.col(t + 1).cwiseProduct(beta);
+    xi.noalias() = (alpha.col(t) * weightedNext.transpose()).cwiseProduct(model.transition);
+    const double xiSum = xi.sum();
+    if (xiSum > 0.0) result.transitionCounts += xi / xiSum;
     beta = model.transition * weightedNext;
-    result.stateGivenAll.col(t) = alpha.col(t).cwiseProduct(beta);
+    const double betaMax = beta.maxCoeff();
+    if (betaMax > 0.0) beta /= betaMax;
+    Eigen::VectorXd gamma = alpha.col(t).cwiseProduct(beta);
+    const double gammaSum = gamma.sum();
+    result.stateGivenAll.col(t) = gammaSum > 0.0 ? Eigen::VectorXd(gamma / gammaSum) : alpha.col(t);
   }
   return result;
 }

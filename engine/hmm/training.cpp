@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
 #include <random>
 
 #include "core/error.h"
@@ -80,7 +81,7 @@ Eigen::VectorXd normalised(const Eigen::VectorXd& counts) { return counts / coun
 
 Eigen::VectorXd estimate(const EstimationHooks& hooks, const Eigen::VectorXd& counts, const Eigen::VectorXd& previous) {
   if (!(counts.sum() > 0.0)) return previous;  // no evidence at all: keep what we had
-  Eigen::VectorXd theta = hooks.multinomial ? hooks.multinomial(counts) : normalised(counts);
+  Eigen::VectorXd theta = hooks.multinomial ? hooks.multinomial(counts, previous) : normalised(counts);
   if (!theta.allFinite()) throw Error("HMM training: a multinomial estimate is not finite");
   return theta;
 }
@@ -154,10 +155,25 @@ HmmModel initialiseWithKMeans(const std::vector<Eigen::MatrixXd>& sequences, con
 }
 
 double modelLogPrior(const HmmModel& model, const EstimationHooks& hooks) {
-  if (!hooks.multinomialLogPrior) return 0.0;
-  double total = hooks.multinomialLogPrior(model.initial);
-  for (Eigen::Index i = 0; i < model.transition.rows(); ++i) total += hooks.multinomialLogPrior(model.transition.row(i).transpose());
-  for (const auto& state : model.states) total += hooks.multinomialLogPrior(state.weights());
+  double total = 0.0;
+  if (hooks.multinomialLogPrior) {
+    total += hooks.multinomialLogPrior(model.initial);
+    for (Eigen::Index i = 0; i < model.transition.rows(); ++i) {
+      total += hooks.multinomialLogPrior(model.transition.row(i).transpose());
+    }
+    for (const auto& state : model.states) total += hooks.multinomialLogPrior(state.weights());
+  }
+  if (hooks.covariancePriorWeight != 0.0) {
+    // −Z_Σ · H(N) with H = ½ (d log(2πe) + log|Σ|), for every component in use.
+    for (const auto& state : model.states) {
+      for (int m = 0; m < state.numComponents(); ++m) {
+        if (state.weights()[m] <= 0.0) continue;
+        const Gaussian& g = state.components()[static_cast<size_t>(m)];
+        total -= 0.5 * hooks.covariancePriorWeight *
+                 (g.dimension() * std::log(2.0 * std::numbers::pi * std::numbers::e) + g.logDeterminant());
+      }
+    }
+  }
   return total;
 }
 
@@ -230,11 +246,13 @@ IterationRecord baumWelchIteration(HmmModel& model, const std::vector<Eigen::Mat
         continue;
       }
       const Eigen::VectorXd mean = firstMoments[static_cast<size_t>(j)].col(m) / gamma;
+      // Scatter S = Σₜ γ (x − μ)(x − μ)ᵀ; ML divides by Γ, the entropic prior by Γ + Z_Σ (Brand 1999).
+      const double divisor = gamma + hooks.covariancePriorWeight;
       Eigen::MatrixXd covariance;
       if (options.covariance == CovarianceType::kFull) {
-        covariance = secondMoments[static_cast<size_t>(j)][static_cast<size_t>(m)] / gamma - mean * mean.transpose();
+        covariance = (secondMoments[static_cast<size_t>(j)][static_cast<size_t>(m)] - gamma * mean * mean.transpose()) / divisor;
       } else {
-        covariance = (secondMoments[static_cast<size_t>(j)][static_cast<size_t>(m)].col(0) / gamma - mean.cwiseAbs2()).asDiagonal();
+        covariance = ((secondMoments[static_cast<size_t>(j)][static_cast<size_t>(m)].col(0) - gamma * mean.cwiseAbs2()) / divisor).asDiagonal();
       }
       components.emplace_back(mean, applyCovarianceFloor(covariance, varianceFloor, options.covariance), options.covariance);
     }

@@ -43,14 +43,18 @@ struct TrainingResult {
   bool converged = false;
 };
 
-// Statistics the M-step hands to a multinomial estimator: expected counts ω, returns θ on the simplex.
-using MultinomialEstimator = std::function<Eigen::VectorXd(const Eigen::VectorXd& counts)>;
+// Statistics the M-step hands to a multinomial estimator: expected counts ω (computed at `previous`, the θ the
+// E-step used), returns the new θ on the simplex.
+using MultinomialEstimator =
+    std::function<Eigen::VectorXd(const Eigen::VectorXd& counts, const Eigen::VectorXd& previous)>;
 
 struct EstimationHooks {
   MultinomialEstimator multinomial;  // unset: θ = ω / Σω
   // Log prior of a multinomial θ (added to the log likelihood to form the log posterior); unset: 0.
   std::function<double(const Eigen::VectorXd& theta)> multinomialLogPrior;
-  // Called after each M-step (e.g. to trim weak parameters and dead states); may change the model's size.
+  // Entropic prior on each Gaussian, P(Σ) ∝ exp(−Z_Σ·H(N(μ, Σ))) ∝ |Σ|^(−Z_Σ/2): Σ = S / (Γ + Z_Σ).
+  double covariancePriorWeight = 0.0;
+  // Called after each M-step (e.g. to delete dead states); may change the model's size.
   std::function<void(HmmModel& model, const Eigen::VectorXd& stateOccupancy)> afterMStep;
 };
 
