@@ -245,8 +245,10 @@ class ModelReader {
     }
   }
 
+  // On ½(Σ + Σᵀ), the matrix Gaussian factors and stores: a model read back from its own file then passes the
+  // same test on the same numbers. (Entries are bounded by kMaxMagnitude, so the sum cannot overflow.)
   void checkPositiveDefinite(const Eigen::MatrixXd& covariance, const std::string& field) const {
-    const Eigen::LLT<Eigen::MatrixXd> cholesky(covariance);
+    const Eigen::LLT<Eigen::MatrixXd> cholesky(0.5 * (covariance + covariance.transpose()));
     // LLT only fails on a pivot ≤ 0; a NaN pivot (overflow inside the factorisation) passes it, so look at L too.
     const Eigen::MatrixXd lower = cholesky.matrixL();
     if (cholesky.info() != Eigen::Success || !lower.allFinite() || !(lower.diagonal().minCoeff() > 0.0)) {
