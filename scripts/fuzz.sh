@@ -1,21 +1,27 @@
 #!/usr/bin/env bash
-# Fuzzes the audio reader (th::audio::decodeAudio) with libFuzzer + ASan + UBSan for a bounded time:
+# Fuzzes the engine's file readers with libFuzzer + ASan + UBSan for a bounded time:
+#   audio_reader_fuzzer   th::audio::decodeAudio (recordings)
+#   model_file_fuzzer     th::hmm::parseModel (HMM model files)
 #
-#   scripts/fuzz.sh                        # 60 s
+#   scripts/fuzz.sh                        # 60 s in all, split between the two
 #   FUZZ_SECONDS=180 scripts/fuzz.sh
 #
-# Builds build-fuzz/ with clang (its own tree: every target there is instrumented), writes the seed corpus
-# from the shared data (TALKINGHEAD_DATA, default ../shared/data), and runs the fuzzer on a working corpus
-# under build-fuzz/fuzz/ that persists between runs. Exits non-zero if the fuzzer finds a crash, a leak, a
-# timeout (10 s per input) or an allocation beyond the memory limit; the input that did it is saved as
-# build-fuzz/fuzz/artifacts/crash-* (or leak-, timeout-, oom-) and reproduces with
-#   build-fuzz/fuzz/audio_reader_fuzzer build-fuzz/fuzz/artifacts/crash-...
+# Builds build-fuzz/ with clang (its own tree: every target there is instrumented), writes the seed corpora
+# (recordings from the shared data, TALKINGHEAD_DATA, default ../shared/data; small models from the engine's
+# model writer), and runs each fuzzer on a working corpus under build-fuzz/fuzz/ that persists between runs.
+# Both always run; exits non-zero if either finds a crash, a leak, a timeout (10 s per input) or an allocation
+# beyond the memory limit. The input that did it is saved as build-fuzz/fuzz/artifacts/<fuzzer>-crash-* (or
+# -leak-, -timeout-, -oom-) and reproduces with
+#   build-fuzz/fuzz/model_file_fuzzer build-fuzz/fuzz/artifacts/model_file_fuzzer-crash-...
 set -euo pipefail
 
 repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$repo"
 build_dir="${FUZZ_BUILD_DIR:-build-fuzz}"
 seconds="${FUZZ_SECONDS:-60}"
+# Half each, at least 1 s (libFuzzer reads -max_total_time=0 as "no limit").
+audio_seconds=$(((seconds + 1) / 2))
+model_seconds=$((seconds / 2 > 0 ? seconds / 2 : 1))
 
 data_option=()
 if [[ -n "${TALKINGHEAD_DATA:-}" ]]; then
@@ -23,14 +29,29 @@ if [[ -n "${TALKINGHEAD_DATA:-}" ]]; then
 fi
 CC=clang CXX=clang++ cmake -S . -B "$build_dir" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
     -DTALKINGHEAD_FUZZ=ON -DTALKINGHEAD_WERROR=OFF "${data_option[@]}" > /dev/null
-ninja -C "$build_dir" audio_reader_fuzzer audio_reader_fuzzer_seeds
+ninja -C "$build_dir" audio_reader_fuzzer audio_reader_fuzzer_seeds model_file_fuzzer model_file_fuzzer_seeds
 
 fuzz_dir="$build_dir/fuzz"
-mkdir -p "$fuzz_dir/corpus" "$fuzz_dir/artifacts"
-echo "fuzz: audio_reader_fuzzer for ${seconds} s (corpus $fuzz_dir/corpus, seeds $fuzz_dir/audio_reader_seeds)"
-# New inputs go to the first folder (corpus); the seeds are read only. Known leaks in third-party decoders
-# are suppressed (each with its upstream report) in fuzz/lsan_suppressions.txt.
-LSAN_OPTIONS="suppressions=$repo/fuzz/lsan_suppressions.txt${LSAN_OPTIONS:+:$LSAN_OPTIONS}" \
-    "$fuzz_dir/audio_reader_fuzzer" "$fuzz_dir/corpus" "$fuzz_dir/audio_reader_seeds" \
-    -max_total_time="$seconds" -rss_limit_mb=2048 -timeout=10 \
-    -artifact_prefix="$fuzz_dir/artifacts/" -print_final_stats=1
+mkdir -p "$fuzz_dir/corpus" "$fuzz_dir/model_file_corpus" "$fuzz_dir/artifacts"
+
+# run_fuzzer NAME SECONDS CORPUS SEEDS [libFuzzer options...]: new inputs go to CORPUS; SEEDS are read only.
+# Known leaks in third-party decoders are suppressed (each with its upstream report) in fuzz/lsan_suppressions.txt.
+failed=0
+run_fuzzer() {
+    local name="$1" time="$2" corpus="$3" seeds="$4"
+    shift 4
+    echo "fuzz: $name for ${time} s (corpus $corpus, seeds $seeds)"
+    if ! LSAN_OPTIONS="suppressions=$repo/fuzz/lsan_suppressions.txt${LSAN_OPTIONS:+:$LSAN_OPTIONS}" \
+        "$fuzz_dir/$name" "$corpus" "$seeds" \
+        -max_total_time="$time" -rss_limit_mb=2048 -timeout=10 \
+        -artifact_prefix="$fuzz_dir/artifacts/$name-" -print_final_stats=1 "$@"; then
+        echo "fuzz: $name FAILED (see $fuzz_dir/artifacts/$name-*)"
+        failed=1
+    fi
+}
+
+# The audio fuzzer's corpus keeps its first name (corpus/), so earlier runs' inputs are not lost.
+run_fuzzer audio_reader_fuzzer "$audio_seconds" "$fuzz_dir/corpus" "$fuzz_dir/audio_reader_seeds"
+run_fuzzer model_file_fuzzer "$model_seconds" "$fuzz_dir/model_file_corpus" "$fuzz_dir/model_file_seeds" \
+    -dict="$repo/fuzz/model_file.dict" -max_len=16384
+exit "$failed"
