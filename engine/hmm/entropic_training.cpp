@@ -1,5 +1,8 @@
 #include "hmm/entropic_training.h"
 
+#include <algorithm>
+#include <memory>
+
 #include "core/error.h"
 #include "hmm/entropic.h"
 
@@ -45,32 +48,52 @@ int countTransitions(const HmmModel& model, double threshold) {
 
 EstimationHooks entropicHooks(const EntropicPrior& prior) {
   EstimationHooks hooks;
-  const double z = prior.multinomialWeight;
+  // The iteration count drives the annealing; it is shared by the hooks of one training run.
+  auto iteration = std::make_shared<int>(0);
+  auto weightNow = [prior, iteration]() {
+    if (*iteration < prior.warmupIterations) return 0.0;
+    if (prior.rampIterations <= 0) return prior.multinomialWeight;
+    const double progress = static_cast<double>(*iteration - prior.warmupIterations + 1) / prior.rampIterations;
+    return prior.multinomialWeight * std::min(1.0, progress);
+  };
   const bool trim = prior.trim;
-  hooks.multinomial = [z, trim](const Eigen::VectorXd& counts, const Eigen::VectorXd& previous) {
+  hooks.multinomial = [weightNow, trim, iteration](Multinomial which, const Eigen::VectorXd& counts,
+                                                   const Eigen::VectorXd& previous) {
+    const double z = weightNow();
     Eigen::VectorXd evidence = counts;
-    if (trim && previous.size() == counts.size()) {
-      Eigen::VectorXd current = previous;
-      if (trimWeakParameters(current, counts, z) > 0) {
-        for (Eigen::Index i = 0; i < evidence.size(); ++i) {
-          if (current[i] == 0.0) evidence[i] = 0.0;
-        }
+    Eigen::VectorXd current = previous;
+    // Trimming compares first-order gradients, which only predict the effect of removing a parameter near a
+    // stationary point: never from the initial model itself (measured: from the fully connected k-means start
+    // it removes what the next iterations would need, and the log posterior falls).
+    // π is not trimmed: with several training sequences, a start state trimmed away would make the sequences
+    // that begin there impossible.
+    const bool mayTrim = trim && which != Multinomial::kInitial && *iteration >= 1 && previous.size() == counts.size();
+    if (mayTrim && trimWeakParameters(current, counts, z) > 0) {
+      for (Eigen::Index i = 0; i < evidence.size(); ++i) {
+        if (current[i] == 0.0) evidence[i] = 0.0;
       }
     }
     // Entries already extinct stay extinct (their count is 0 because θ = 0 made them unreachable).
-    return entropicMap(evidence, z).probabilities;
+    const EntropicEstimate estimate = entropicMap(evidence, z);
+    // Generalised EM: the W₋₁ stationary point is not always the row's maximum (many weak entries against a
+    // large Z), so keep the current row if it scores higher on the same evidence; the posterior cannot fall.
+    if (previous.size() == counts.size() &&
+        entropicObjective(current, evidence, z) > entropicObjective(estimate.probabilities, evidence, z)) {
+      return Eigen::VectorXd(current / current.sum());
+    }
+    return estimate.probabilities;
   };
-  hooks.multinomialLogPrior = [z](const Eigen::VectorXd& theta) { return entropicLogPrior(theta, z); };
+  hooks.multinomialLogPrior = [weightNow](const Eigen::VectorXd& theta) { return entropicLogPrior(theta, weightNow()); };
   hooks.covariancePriorWeight = prior.covarianceWeight;
-  if (trim) {
-    hooks.afterMStep = [](HmmModel& model, const Eigen::VectorXd&) {
-      for (int j = model.numStates() - 1; j >= 0 && model.numStates() > 1; --j) {
-        bool reachable = model.initial[j] > 0.0;
-        for (int i = 0; i < model.numStates() && !reachable; ++i) reachable = i != j && model.transition(i, j) > 0.0;
-        if (!reachable) deleteState(model, j);
-      }
-    };
-  }
+  hooks.afterMStep = [trim, iteration](HmmModel& model, const Eigen::VectorXd&) {
+    ++*iteration;
+    if (!trim) return;
+    for (int j = model.numStates() - 1; j >= 0 && model.numStates() > 1; --j) {
+      bool reachable = model.initial[j] > 0.0;
+      for (int i = 0; i < model.numStates() && !reachable; ++i) reachable = i != j && model.transition(i, j) > 0.0;
+      if (!reachable) deleteState(model, j);
+    }
+  };
   return hooks;
 }
 

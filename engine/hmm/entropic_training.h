@@ -8,8 +8,9 @@
 // default) barely moves rows estimated from thousands of frames; structure discovery on real amounts of data
 // needs Z of the order of the counts themselves (e.g. a fraction of the number of frames). The covariance
 // prior has its own weight because a large Z shrinks a small state's covariance by Γ/(Γ + Z).
-// Each multinomial M-step first trims the entries of the current θ whose entropy gradient outweighs their
-// likelihood gradient (judged with the E-step's counts at that θ), then solves the MAP row on what is left.
+// Each multinomial M-step (from the second on) first trims the entries of the current θ whose entropy gradient
+// outweighs their likelihood gradient (judged with the E-step's counts at that θ), then solves the MAP row on
+// what is left, keeping the current row when that scores higher (generalised EM).
 // A state is deleted once it is unreachable (π and every incoming transition from another state are 0), which
 // leaves the likelihood unchanged; rows that pointed to it are renormalised.
 // Thread contract: the hooks are stateless; use them from one training run at a time or many.
@@ -23,6 +24,11 @@ struct EntropicPrior {
   double multinomialWeight = 1.0;  // Z for π, transition rows and mixture weights
   double covarianceWeight = 0.0;   // Z_Σ
   bool trim = true;                // parameter extinction and dead-state deletion
+  // Annealing: maximum likelihood for the first warmupIterations (the emissions settle first), then Z rises
+  // linearly to its full value over rampIterations. With both 0 the prior is fixed from the start, and the log
+  // posterior is comparable (and non-decreasing) from one iteration to the next.
+  int warmupIterations = 0;
+  int rampIterations = 0;
 };
 
 EstimationHooks entropicHooks(const EntropicPrior& prior);

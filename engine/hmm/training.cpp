@@ -79,9 +79,10 @@ Gaussian fitGaussian(const Eigen::MatrixXd& points, const Eigen::VectorXd& floor
 
 Eigen::VectorXd normalised(const Eigen::VectorXd& counts) { return counts / counts.sum(); }
 
-Eigen::VectorXd estimate(const EstimationHooks& hooks, const Eigen::VectorXd& counts, const Eigen::VectorXd& previous) {
+Eigen::VectorXd estimate(const EstimationHooks& hooks, Multinomial which, const Eigen::VectorXd& counts,
+                         const Eigen::VectorXd& previous) {
   if (!(counts.sum() > 0.0)) return previous;  // no evidence at all: keep what we had
-  Eigen::VectorXd theta = hooks.multinomial ? hooks.multinomial(counts, previous) : normalised(counts);
+  Eigen::VectorXd theta = hooks.multinomial ? hooks.multinomial(which, counts, previous) : normalised(counts);
   if (!theta.allFinite()) throw Error("HMM training: a multinomial estimate is not finite");
   return theta;
 }
@@ -230,14 +231,15 @@ IterationRecord baumWelchIteration(HmmModel& model, const std::vector<Eigen::Mat
   }
 
   // M-step.
-  model.initial = estimate(hooks, initialCounts, model.initial);
+  model.initial = estimate(hooks, Multinomial::kInitial, initialCounts, model.initial);
   for (int i = 0; i < n; ++i) {
-    model.transition.row(i) = estimate(hooks, transitionCounts.row(i).transpose(), model.transition.row(i).transpose()).transpose();
+    model.transition.row(i) = estimate(hooks, Multinomial::kTransitionRow, transitionCounts.row(i).transpose(),
+                                     model.transition.row(i).transpose()).transpose();
   }
   for (int j = 0; j < n; ++j) {
     const GaussianMixture& old = model.states[static_cast<size_t>(j)];
     const Eigen::VectorXd& counts = componentCounts[static_cast<size_t>(j)];
-    const Eigen::VectorXd weights = estimate(hooks, counts, old.weights());
+    const Eigen::VectorXd weights = estimate(hooks, Multinomial::kMixtureWeights, counts, old.weights());
     std::vector<Gaussian> components;
     for (int m = 0; m < old.numComponents(); ++m) {
       const double gamma = counts[m];

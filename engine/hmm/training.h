@@ -43,10 +43,13 @@ struct TrainingResult {
   bool converged = false;
 };
 
+// Which multinomial an estimator is asked for.
+enum class Multinomial { kInitial, kTransitionRow, kMixtureWeights };
+
 // Statistics the M-step hands to a multinomial estimator: expected counts ω (computed at `previous`, the θ the
 // E-step used), returns the new θ on the simplex.
-using MultinomialEstimator =
-    std::function<Eigen::VectorXd(const Eigen::VectorXd& counts, const Eigen::VectorXd& previous)>;
+using MultinomialEstimator = std::function<Eigen::VectorXd(Multinomial which, const Eigen::VectorXd& counts,
+                                                           const Eigen::VectorXd& previous)>;
 
 struct EstimationHooks {
   MultinomialEstimator multinomial;  // unset: θ = ω / Σω
