@@ -265,10 +265,12 @@ class ModelReader {
     if (!document.is_object()) {
       throw fileError(name_, "not a talkinghead HMM model (the top level is " + kindOf(document) + ", not an object)");
     }
-    const auto format = document.find("format");
-    if (format == document.end()) throw fileError(name_, "not a talkinghead HMM model (it has no \"format\" field)");
-    if (!format->is_string() || format->get_ref<const std::string&>() != kFormatName) {
-      fail("format", "is " + describe(*format) + ", not \"talkinghead-hmm\": not a talkinghead HMM model");
+    if (!document.contains("format")) {
+      throw fileError(name_, "not a talkinghead HMM model (it has no \"format\" field)");
+    }
+    const Json& format = member(document, "format", "");
+    if (!format.is_string() || format.get_ref<const std::string&>() != kFormatName) {
+      fail("format", "is " + describe(format) + ", not \"talkinghead-hmm\": not a talkinghead HMM model");
     }
     // The version before anything else: a newer file may well have fields this reader does not know.
     const std::int64_t version = integer(member(document, "version", ""), "version");
