@@ -8,5 +8,6 @@ namespace th::app {
 
 void addFeaturesCommand(CLI::App& app);
 void addEvalCommand(CLI::App& app);
+void addHmmCommand(CLI::App& app);
 
 }  // namespace th::app

@@ -11,6 +11,7 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   th::app::addFeaturesCommand(app);
   th::app::addEvalCommand(app);
+  th::app::addHmmCommand(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
