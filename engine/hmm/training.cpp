@@ -216,13 +216,23 @@ IterationRecord baumWelchIteration(HmmModel& model, const std::vector<Eigen::Mat
       const Eigen::MatrixXd& terms = componentLog[static_cast<size_t>(j)];
       for (Eigen::Index m = 0; m < terms.rows(); ++m) {
         // γₜ(j, m) = γₜ(j) · wₘ Nₘ(xₜ) / bⱼ(xₜ)
+        // Responsibilities below 1e-300 count as 0: they add nothing a double can hold, and subnormal
+        // numbers make the products below many times slower.
         const Eigen::VectorXd responsibility =
-            (posteriors.stateGivenAll.row(j).array() * (terms.row(m) - logB.row(j)).array().exp()).transpose();
+            (posteriors.stateGivenAll.row(j).array() * (terms.row(m) - logB.row(j)).array().exp())
+                .transpose()
+                .unaryExpr([](double r) { return r < 1e-300 ? 0.0 : r; });
         componentCounts[static_cast<size_t>(j)][m] += responsibility.sum();
         firstMoments[static_cast<size_t>(j)].col(m) += frames * responsibility;
         if (options.covariance == CovarianceType::kFull) {
-          secondMoments[static_cast<size_t>(j)][static_cast<size_t>(m)] +=
-              frames * responsibility.asDiagonal() * frames.transpose();
+          // Σₜ γₜ xₜxₜᵀ as a rank update of the lower triangle with the frames that carry weight: (X·diag(√γ)).
+          Eigen::Index used = 0;
+          for (Eigen::Index t = 0; t < responsibility.size(); ++t) used += responsibility[t] > 0.0;
+          Eigen::MatrixXd weighted(frames.rows(), used);
+          for (Eigen::Index t = 0, k = 0; t < responsibility.size(); ++t) {
+            if (responsibility[t] > 0.0) weighted.col(k++) = frames.col(t) * std::sqrt(responsibility[t]);
+          }
+          secondMoments[static_cast<size_t>(j)][static_cast<size_t>(m)].selfadjointView<Eigen::Lower>().rankUpdate(weighted);
         } else {
           secondMoments[static_cast<size_t>(j)][static_cast<size_t>(m)] += frames.cwiseAbs2() * responsibility;
         }
@@ -252,7 +262,9 @@ IterationRecord baumWelchIteration(HmmModel& model, const std::vector<Eigen::Mat
       const double divisor = gamma + hooks.covariancePriorWeight;
       Eigen::MatrixXd covariance;
       if (options.covariance == CovarianceType::kFull) {
-        covariance = (secondMoments[static_cast<size_t>(j)][static_cast<size_t>(m)] - gamma * mean * mean.transpose()) / divisor;
+        const Eigen::MatrixXd second =
+            secondMoments[static_cast<size_t>(j)][static_cast<size_t>(m)].selfadjointView<Eigen::Lower>();
+        covariance = (second - gamma * mean * mean.transpose()) / divisor;
       } else {
         covariance = ((secondMoments[static_cast<size_t>(j)][static_cast<size_t>(m)].col(0) - gamma * mean.cwiseAbs2()) / divisor).asDiagonal();
       }
