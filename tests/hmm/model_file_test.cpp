@@ -527,18 +527,6 @@ TEST(ModelFile, SaveWhereNoFileCanBeLeavesNothing) {
   EXPECT_EQ(listFolder(folder.path()), std::vector<std::string>{"file"});
 }
 
-TEST(ModelFile, SaveIntoAReadOnlyFolderLeavesNothing) {
-  if (::geteuid() == 0) GTEST_SKIP() << "root writes into read-only folders; the disk-full test covers failed writes";
-  TemporaryFolder folder;
-  const HmmModel model = test::stickyModel1d(2, 0.8);
-  const fs::path readOnly = folder.path() / "read-only";
-  fs::create_directory(readOnly);
-  fs::permissions(readOnly, fs::perms::owner_read | fs::perms::owner_exec);
-  expectOneLineError([&] { saveModel(readOnly / "model.json", model); }, (readOnly / "model.json").string(),
-                     "cannot be written");
-  EXPECT_TRUE(listFolder(readOnly).empty());
-}
-
 // Limits the size of files this process may write (as a full disk would), and restores it.
 class FileSizeLimit {
  public:
