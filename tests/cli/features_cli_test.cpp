@@ -13,6 +13,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <optional>
+#include <random>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -264,3 +265,114 @@ TEST_F(GoodRunCliTest, JsonHoldsTheSameFramesAsCsv) {
 }
 
 }  // namespace
+
+// ---- the hmm subcommands ----
+
+namespace hmmcli {
+
+// A CSV of 2 sequences from a 3-state model whose 2-D observations are "a1" (audio) and "v1" (visual), with
+// v1 = a1 + small noise, so inversion has something to recover.
+void writeTrainingCsv(const fs::path& path, int framesPerSequence) {
+  std::ofstream out(path);
+  out << "seq,a1,v1\n";
+  std::mt19937 random(5);
+  std::normal_distribution<double> noise(0.0, 0.3);
+  for (int s = 0; s < 2; ++s) {
+    int state = 0;
+    for (int t = 0; t < framesPerSequence; ++t) {
+      if (t % 40 == 39) state = (state + 1) % 3;
+      const double a = 4.0 * state + noise(random);
+      out << s << ',' << a << ',' << a + 0.1 * noise(random) << '\n';
+    }
+  }
+}
+
+int countLines(const std::string& text) { return static_cast<int>(std::count(text.begin(), text.end(), '\n')); }
+
+}  // namespace hmmcli
+
+TEST_F(FeaturesCliTest, HmmTrainInfoDecodeInvert) {
+  const fs::path data = folder_.path() / "data.csv";
+  hmmcli::writeTrainingCsv(data, 400);
+  const fs::path model = out() / "model.json";
+  CliResult result = runCli({"hmm", "train", "--data", data.string(), "--states", "3", "--visual-columns", "v1",
+                             "-o", model.string()},
+                            logs());
+  ASSERT_EQ(result.exitCode, 0) << result.err;
+  ASSERT_TRUE(fs::exists(model));
+
+  result = runCli({"hmm", "info", model.string()}, logs());
+  ASSERT_EQ(result.exitCode, 0) << result.err;
+  const auto info = nlohmann::json::parse(result.out);
+  EXPECT_EQ(info["states"], 3);
+  EXPECT_EQ(info["dimension"], 2);
+  EXPECT_EQ(info["blocks"].size(), 2u);
+  EXPECT_GT(info["iterations"].get<int>(), 0);
+  EXPECT_TRUE(std::isfinite(info["final_log_likelihood_per_frame"].get<double>()));
+
+  const fs::path states = out() / "states.csv";
+  result = runCli({"hmm", "decode", model.string(), "--data", data.string(), "-o", states.string()}, logs());
+  ASSERT_EQ(result.exitCode, 0) << result.err;
+  const std::string decoded = readText(states);
+  EXPECT_EQ(decoded.substr(0, 6), "state\n");
+  EXPECT_EQ(hmmcli::countLines(decoded), 801);
+
+  result = runCli({"hmm", "decode", model.string(), "--data", data.string(), "--online", "--max-lag", "3", "-o",
+                   states.string()},
+                  logs());
+  ASSERT_EQ(result.exitCode, 0) << result.err;
+  std::istringstream online(readText(states));
+  std::string line;
+  std::getline(online, line);
+  EXPECT_EQ(line, "state,lag_frames");
+  while (std::getline(online, line)) EXPECT_LE(std::stoi(line.substr(line.find(',') + 1)), 3) << line;
+
+  for (const std::string method : {"inversion", "mmse"}) {
+    const fs::path visual = out() / ("visual-" + method + ".csv");
+    result = runCli({"hmm", "invert", model.string(), "--data", data.string(), "--method", method, "-o",
+                     visual.string()},
+                    logs());
+    ASSERT_EQ(result.exitCode, 0) << result.err;
+    std::istringstream rows(readText(visual));
+    std::getline(rows, line);
+    EXPECT_EQ(line, "v1");
+    // The visual estimate follows the audio: within the noise of a1 = v1.
+    std::ifstream original(data);
+    std::string input;
+    std::getline(original, input);
+    int checked = 0;
+    while (std::getline(rows, line) && std::getline(original, input)) {
+      const double a = std::stod(input.substr(input.find(',') + 1));
+      EXPECT_NEAR(std::stod(line), a, 0.5) << method;
+      ++checked;
+    }
+    EXPECT_EQ(checked, 800);
+  }
+}
+
+TEST_F(FeaturesCliTest, HmmBadInputsGiveOneLine) {
+  const fs::path ragged = folder_.path() / "ragged.csv";
+  std::ofstream(ragged) << "a,b\n1,2\n3\n";
+  const fs::path model = out() / "m.json";
+  expectOneLineFailure(runCli({"hmm", "train", "--data", ragged.string(), "--states", "2", "-o", model.string()}, logs()),
+                       ragged.string(), "line 3 has 1 values");
+  EXPECT_TRUE(outFolderIsEmpty());
+
+  const fs::path text = folder_.path() / "text.csv";
+  std::ofstream(text) << "a,b\n1,x\n";
+  expectOneLineFailure(runCli({"hmm", "train", "--data", text.string(), "--states", "2", "-o", model.string()}, logs()),
+                       text.string(), "is not a finite number");
+
+  const fs::path notModel = folder_.path() / "not-a-model.json";
+  std::ofstream(notModel) << "{\"format\": \"something else\"}\n";
+  expectOneLineFailure(runCli({"hmm", "info", notModel.string()}, logs()), notModel.string(), "format");
+
+  // A model without audio/visual blocks cannot be inverted.
+  const fs::path data = folder_.path() / "data.csv";
+  hmmcli::writeTrainingCsv(data, 200);
+  ASSERT_EQ(runCli({"hmm", "train", "--data", data.string(), "--states", "2", "-o", model.string()}, logs()).exitCode, 0);
+  const fs::path visual = out() / "v.csv";
+  expectOneLineFailure(runCli({"hmm", "invert", model.string(), "--data", data.string(), "-o", visual.string()}, logs()),
+                       model.string(), "no audio and visual blocks");
+  EXPECT_FALSE(fs::exists(visual));
+}
