@@ -96,3 +96,50 @@ Posteriors forwardBackward(const HmmModel& model, const Eigen::Ref<const Eigen::
 }
 
 }  // namespace th::hmm
+
+namespace th::hmm {
+
+FixedLagSmoother::FixedLagSmoother(const HmmModel& model, int lagFrames) : model_(model), lagFrames_(lagFrames) {
+  if (lagFrames < 0) throw Error("fixed-lag smoother: the lag must be >= 0");
+}
+
+void FixedLagSmoother::acceptFrame(const Eigen::Ref<const Eigen::VectorXd>& logEmission) {
+  if (finished_) throw Error("fixed-lag smoother: acceptFrame after finish");
+  const double offset = logEmission.maxCoeff();
+  if (!std::isfinite(offset)) throw Error("fixed-lag smoother: a frame has no finite emission likelihood");
+  const Eigen::VectorXd scaled = (logEmission.array() - offset).exp();
+  const bool first = window_.empty() && posteriors_.empty();
+  Eigen::VectorXd alpha = first ? Eigen::VectorXd(model_.initial.cwiseProduct(scaled))
+                                : Eigen::VectorXd((model_.transition.transpose() * lastAlpha()).cwiseProduct(scaled));
+  const double sum = alpha.sum();
+  if (!(sum > 0.0)) throw Error("fixed-lag smoother: the stream is impossible under the model");
+  alpha /= sum;
+  window_.push_back(std::move(alpha));
+  scaledEmissions_.push_back(scaled);
+  if (static_cast<int>(window_.size()) > lagFrames_) emitOldest(static_cast<Eigen::Index>(window_.size()));
+}
+
+const Eigen::VectorXd& FixedLagSmoother::lastAlpha() const { return window_.empty() ? lastEmittedAlpha_ : window_.back(); }
+
+void FixedLagSmoother::emitOldest(Eigen::Index windowFrames) {
+  // Backward over the window from β = 1 at its newest frame, renormalised each step (only the shape matters).
+  Eigen::VectorXd beta = Eigen::VectorXd::Ones(model_.numStates());
+  for (Eigen::Index k = windowFrames - 1; k >= 1; --k) {
+    beta = model_.transition * scaledEmissions_[static_cast<size_t>(k)].cwiseProduct(beta);
+    beta /= beta.maxCoeff();
+  }
+  Eigen::VectorXd gamma = window_.front().cwiseProduct(beta);
+  gamma /= gamma.sum();
+  posteriors_.push_back(std::move(gamma));
+  lastEmittedAlpha_ = window_.front();
+  window_.erase(window_.begin());
+  scaledEmissions_.erase(scaledEmissions_.begin());
+}
+
+void FixedLagSmoother::finish() {
+  if (finished_) return;
+  finished_ = true;
+  while (!window_.empty()) emitOldest(static_cast<Eigen::Index>(window_.size()));
+}
+
+}  // namespace th::hmm

@@ -11,6 +11,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <vector>
 
 #include "hmm/hmm_model.h"
 
@@ -31,5 +32,43 @@ Posteriors forwardBackward(const HmmModel& model, const Eigen::Ref<const Eigen::
 
 // log P(X | model) by the forward pass alone.
 double logLikelihood(const HmmModel& model, const Eigen::Ref<const Eigen::MatrixXd>& logEmissions);
+
+}  // namespace th::hmm
+
+namespace th::hmm {
+
+// Fixed-lag smoothing: the posterior of frame t given frames up to t + lag, as frames stream in.
+//
+//   th::hmm::FixedLagSmoother smoother(model, /*lagFrames=*/10);
+//   smoother.acceptFrame(logEmission);                 // N values: log bⱼ(xₜ)
+//   while (smoother.numReady() > next) use(smoother.posterior(next++));
+//   smoother.finish();                                 // the last frames, smoothed over what remains
+//
+// The forward variables are kept for the last lag + 1 frames; each new frame runs the backward recursion over
+// that window from β = 1. With a lag at least the sequence length the result equals forwardBackward's γ.
+// Thread contract: one thread per instance; the model must outlive the smoother (it is referenced, not copied).
+class FixedLagSmoother {
+ public:
+  FixedLagSmoother(const HmmModel& model, int lagFrames);
+
+  void acceptFrame(const Eigen::Ref<const Eigen::VectorXd>& logEmission);
+  void finish();
+
+  int numReady() const { return static_cast<int>(posteriors_.size()); }
+  const Eigen::VectorXd& posterior(int frame) const { return posteriors_[static_cast<size_t>(frame)]; }
+
+ private:
+  void emitOldest(Eigen::Index windowFrames);
+  const Eigen::VectorXd& lastAlpha() const;
+
+  const HmmModel& model_;
+  int lagFrames_;
+  std::vector<Eigen::VectorXd> window_;   // normalised α of the frames not yet emitted
+
+  std::vector<Eigen::VectorXd> scaledEmissions_;
+  std::vector<Eigen::VectorXd> posteriors_;
+  Eigen::VectorXd lastEmittedAlpha_;      // α of the newest emitted frame, when the window is empty
+  bool finished_ = false;
+};
 
 }  // namespace th::hmm

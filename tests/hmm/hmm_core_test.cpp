@@ -191,3 +191,35 @@ TEST(BaumWelch, LikelihoodNeverDecreasesAndRecoversTheMeans) {
 
 }  // namespace
 }  // namespace th::hmm
+
+namespace th::hmm {
+namespace {
+
+TEST(FixedLagSmoother, EqualsForwardBackwardWithALongLagAndImprovesWithTheLag) {
+  const HmmModel model = test::randomModel(5, 2, 2, CovarianceType::kFull, 41);
+  std::mt19937 random(41);
+  const Sample sample = sampleHmm(model, 600, random);
+  const Eigen::MatrixXd logB = model.emissionLogLikelihoods(sample.frames);
+  const Posteriors batch = forwardBackward(model, logB);
+  double previousError = 1e300;
+  for (int lag : {0, 1, 3, 10, 600}) {
+    FixedLagSmoother smoother(model, lag);
+    for (Eigen::Index t = 0; t < logB.cols(); ++t) {
+      smoother.acceptFrame(logB.col(t));
+      ASSERT_EQ(smoother.numReady(), std::max(0, static_cast<int>(t) + 1 - lag));
+    }
+    smoother.finish();
+    ASSERT_EQ(smoother.numReady(), 600);
+    double error = 0.0;
+    for (int t = 0; t < 600; ++t) error += (smoother.posterior(t) - batch.stateGivenAll.col(t)).cwiseAbs().sum();
+    error /= 600.0;
+    EXPECT_LE(error, previousError + 1e-12) << "lag " << lag;
+    previousError = error;
+    if (lag >= 600) {
+      EXPECT_LT(error, 1e-10);
+    }
+  }
+}
+
+}  // namespace
+}  // namespace th::hmm
