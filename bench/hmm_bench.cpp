@@ -38,6 +38,7 @@
 #include "core/error.h"
 #include "core/temporary_file.h"
 #include "hmm/model_file.h"
+#include "hmm/inversion.h"
 #include "hmm/sampling.h"
 #include "hmm/training.h"
 #include "hmm/viterbi.h"
@@ -232,6 +233,25 @@ void benchEmissionsBatch(benchmark::State& state, const FrameCase* c) {
   state.counters["frames"] = static_cast<double>(c->frames.cols());
 }
 
+// The last two dimensions as the visual block, the rest as audio: the papers' mouth model (121 + 2).
+th::hmm::HmmModel withAudioVisualBlocks(th::hmm::HmmModel model) {
+  const int d = model.dimension();
+  model.blocks = {{"audio", 0, d - 2}, {"visual", d - 2, 2}};
+  return model;
+}
+
+// Windowed inversion (state(0) frames per window; 0 = MMSE) over the whole sample, per frame.
+void benchInversion(benchmark::State& state, const FrameCase* c) {
+  const int window = static_cast<int>(state.range(0));
+  const th::hmm::HmmInverter inverter(withAudioVisualBlocks(c->model), {.windowFrames = window});
+  const Eigen::MatrixXd audio = c->frames.topRows(c->frames.rows() - 2);
+  for (auto _ : state) {
+    const Eigen::MatrixXd visual = window > 0 ? inverter.invert(audio).visual : inverter.mmse(audio);
+    benchmark::DoNotOptimize(visual.data());
+  }
+  state.counters["frames"] = static_cast<double>(audio.cols());
+}
+
 struct Measured {
   double seconds = 0.0;  // per iteration: CPU for ours, the manual (reported) time for numpy
   double frames = 0.0;
@@ -402,6 +422,25 @@ int main(int argc, char** argv) {
       registerFrameBench("emissions_block/" + id, "emissions, " + std::to_string(numFrames) + " frames per call, " +
                                                       size.describe(),
                          benchEmissionsBatch, frameCase(size));
+    }
+
+    for (const ModelSize& size : {ModelSize{4, 2, 123, CovarianceType::kFull}, ModelSize{19, 3, 123, CovarianceType::kDiagonal}}) {
+      std::string id = size.describe();
+      for (char& ch : id) ch = ch == ' ' || ch == '=' ? '_' : ch;
+      for (int window : {0, 10, 30}) {
+        const std::string name = "inversion/" + id + "/" + std::to_string(window);
+        const std::string what = (window == 0 ? std::string("MMSE estimate, ")
+                                              : "inversion, window " + std::to_string(window) + " frames, ") +
+                                 size.describe();
+        auto* b = benchmark::RegisterBenchmark(name.c_str(), benchInversion, frameCase(size));
+        b->Arg(window)->Unit(benchmark::kMillisecond);
+        if (quick) {
+          b->Iterations(1);
+        } else {
+          b->MinTime(1.0);
+        }
+        frameRows.emplace_back(name, what);
+      }
     }
 
     SummaryReporter reporter(makeDisplayReporter(format));
