@@ -13,20 +13,12 @@
 #include <string>
 #include <vector>
 
+#include "core/temporary_file.h"
+
 namespace th::test {
 
-// A fresh folder under the system's temporary folder, removed with everything in it on destruction.
-class TemporaryFolder {
- public:
-  TemporaryFolder();
-  ~TemporaryFolder();
-  TemporaryFolder(const TemporaryFolder&) = delete;
-  TemporaryFolder& operator=(const TemporaryFolder&) = delete;
-  const std::filesystem::path& path() const { return path_; }
-
- private:
-  std::filesystem::path path_;
-};
+// The engine's temporary folder (removed with everything in it on destruction).
+using TemporaryFolder = th::TemporaryFolder;
 
 // Writes interleaved float samples with libsndfile; `format` is SF_FORMAT_* (container | encoding).
 // Throws std::runtime_error if libsndfile refuses.

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "audio/audio_file.h"
+#include "core/temporary_file.h"
 #include "core/data_path.h"
 #include "features/mfcc.h"
 #include "features/online_features.h"
@@ -31,24 +32,7 @@ constexpr int kHopSamples = 160;  // 10 ms: SPTK frame i is centred at sample 16
 // single-precision FFT. Absolute below 1 because small coefficients carry the same absolute rounding error.
 constexpr double kTolerance = 5e-4;
 
-class TemporaryFolder {
- public:
-  TemporaryFolder() {
-    std::string pattern = (fs::temp_directory_path() / "mfcc_sptk_XXXXXX").string();
-    if (::mkdtemp(pattern.data()) == nullptr) throw std::runtime_error("mkdtemp failed");
-    path_ = pattern;
-  }
-  ~TemporaryFolder() {
-    std::error_code ignored;
-    fs::remove_all(path_, ignored);
-  }
-  TemporaryFolder(const TemporaryFolder&) = delete;
-  TemporaryFolder& operator=(const TemporaryFolder&) = delete;
-  const fs::path& path() const { return path_; }
-
- private:
-  fs::path path_;
-};
+using TemporaryFolder = th::TemporaryFolder;
 
 std::string quoted(const fs::path& path) {
   return "'" + path.string() + "'";
