@@ -12,6 +12,8 @@
 //
 // Thread contract: single-threaded; pin it to one core (the budget is "on one core").
 #include <benchmark/benchmark.h>
+
+#include "bench_arguments.h"
 #include <sys/resource.h>
 
 #include <algorithm>
@@ -280,26 +282,10 @@ std::vector<float> loadSpeech() {
 }  // namespace
 
 int main(int argc, char** argv) {
-  // Our own flag, taken out before Google Benchmark sees the rest.
-  bool quick = false;
-  std::string format = "console";
-  std::vector<char*> args;
-  for (int i = 0; i < argc; ++i) {
-    const std::string arg = argv[i];
-    if (arg == "--quick") {
-      quick = true;
-      continue;
-    }
-    if (arg.rfind("--benchmark_format=", 0) == 0) format = arg.substr(std::strlen("--benchmark_format="));
-    args.push_back(argv[i]);
-  }
-  if (format != "console" && format != "json") {
-    std::cerr << "features_bench: --benchmark_format must be console or json\n";
-    return 1;
-  }
-  int benchArgc = static_cast<int>(args.size());
-  benchmark::Initialize(&benchArgc, args.data());
-  if (benchmark::ReportUnrecognizedArguments(benchArgc, args.data())) return 1;
+  const BenchArguments arguments = parseBenchArguments(argc, argv, "features_bench");
+  if (!arguments.ok) return 1;
+  const bool quick = arguments.quick;
+  const std::string& format = arguments.format;
 
   try {
     const std::vector<float> speech = loadSpeech();

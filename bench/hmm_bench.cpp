@@ -18,6 +18,8 @@
 // HmmModel::emissionLogLikelihoods for one frame at a time (the streaming call) and over a whole block.
 // Thread contract: single-threaded; pin it to one core (the budgets are "on one core").
 #include <benchmark/benchmark.h>
+
+#include "bench_arguments.h"
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -345,25 +347,10 @@ void printSummary(const SummaryReporter& reporter, const std::vector<std::unique
 }  // namespace
 
 int main(int argc, char** argv) {
-  bool quick = false;
-  std::string format = "console";
-  std::vector<char*> args;
-  for (int i = 0; i < argc; ++i) {
-    const std::string arg = argv[i];
-    if (arg == "--quick") {
-      quick = true;
-      continue;
-    }
-    if (arg.rfind("--benchmark_format=", 0) == 0) format = arg.substr(std::strlen("--benchmark_format="));
-    args.push_back(argv[i]);
-  }
-  if (format != "console" && format != "json") {
-    std::cerr << "hmm_bench: --benchmark_format must be console or json\n";
-    return 1;
-  }
-  int benchArgc = static_cast<int>(args.size());
-  benchmark::Initialize(&benchArgc, args.data());
-  if (benchmark::ReportUnrecognizedArguments(benchArgc, args.data())) return 1;
+  const BenchArguments arguments = parseBenchArguments(argc, argv, "hmm_bench");
+  if (!arguments.ok) return 1;
+  const bool quick = arguments.quick;
+  const std::string& format = arguments.format;
 
   try {
     // The papers' sizes: head model N=12 single full Gaussians on d=4 prosody; mouth model N=4 M=2 full (or
