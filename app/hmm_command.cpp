@@ -64,6 +64,8 @@ struct TrainArguments {
   double covariancePrior = 0.0;
   int warmup = 0;
   int ramp = 0;
+  int mergeCandidates = 8;
+  bool noTrim = false;
   int iterations = 100;
   unsigned seed = 1;
   std::string visualColumns;
@@ -95,8 +97,10 @@ void runTrain(const TrainArguments& arguments) {
   const hmm::EstimationHooks hooks =
       entropic ? hmm::entropicHooks({.multinomialWeight = arguments.entropic,
                                      .covarianceWeight = arguments.covariancePrior,
+                                     .trim = !arguments.noTrim,
                                      .warmupIterations = arguments.warmup,
-                                     .rampIterations = arguments.ramp})
+                                     .rampIterations = arguments.ramp,
+                                     .mergeCandidates = arguments.mergeCandidates})
                : hmm::EstimationHooks{};
   hmm::TrainingResult result = hmm::trainHmm(sequences, options, hooks);
   result.model.columnNames = names;
@@ -114,11 +118,13 @@ void runTrain(const TrainArguments& arguments) {
   training["options"] = {{"states", arguments.states}, {"mixtures", arguments.mixtures},
                          {"covariance", arguments.covariance}, {"entropic", arguments.entropic},
                          {"covariance_prior", arguments.covariancePrior}, {"warmup", arguments.warmup},
-                         {"ramp", arguments.ramp}, {"seed", arguments.seed}};
+                         {"ramp", arguments.ramp}, {"merge_candidates", arguments.mergeCandidates},
+                         {"trim", !arguments.noTrim}, {"seed", arguments.seed}};
   nlohmann::json history = nlohmann::json::array();
   for (const auto& record : result.history) {
     history.push_back({{"log_likelihood", record.logLikelihood}, {"log_prior", record.logPrior},
-                       {"live_states", record.liveStates}});
+                       {"live_states", record.liveStates}, {"step_gain", record.stepGain},
+                       {"trim_retries", record.trimRetries}, {"states_merged", record.statesMerged}});
   }
   training["history"] = history;
   hmm::saveModel(arguments.output, result.model, training.dump());
@@ -244,6 +250,12 @@ void addHmmCommand(CLI::App& app) {
   trainCommand->add_option("--covariance-prior", train->covariancePrior, "Entropic prior weight on covariances");
   trainCommand->add_option("--warmup", train->warmup, "Maximum-likelihood iterations before the prior starts");
   trainCommand->add_option("--ramp", train->ramp, "Iterations over which Z rises to its full value");
+  trainCommand->add_option("--merge-candidates", train->mergeCandidates,
+                           "With the entropic prior: most similar state pairs tried for merging per iteration once Z "
+                           "has settled; a merge is kept only if the log posterior rises (0: never)")
+      ->check(CLI::Range(0, 100));
+  trainCommand->add_flag("--no-trim", train->noTrim,
+                         "With the entropic prior: no parameter extinction, state deletion or merging");
   trainCommand->add_option("--iterations", train->iterations, "Maximum EM iterations")->check(CLI::Range(1, 100000));
   trainCommand->add_option("--seed", train->seed, "Seed of the k-means++ initialisation");
   trainCommand->add_option("--visual-columns", train->visualColumns, "Comma-separated columns forming the visual block");

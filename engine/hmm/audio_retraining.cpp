@@ -38,15 +38,15 @@ AudioRetrainingResult retrainAudio(const HmmModel& jointModel, const std::vector
   for (const auto& sequence : audioSequences) {
     if (sequence.rows() != audioModel.dimension()) throw Error("audio re-training: audio has the wrong dimension");
   }
-  TrainingOptions training;
-  training.covariance = jointModel.covarianceType();
   EstimationHooks fixedStructure;
   // π, A and the mixture weights stay as the joint model learnt them: only the densities move.
-  fixedStructure.multinomial = [](Multinomial, const Eigen::VectorXd&, const Eigen::VectorXd& previous) { return previous; };
+  fixedStructure.multinomial = [](Multinomial, const Eigen::VectorXd&, const Eigen::VectorXd& previous, const MStepContext&) {
+    return previous;
+  };
   const Eigen::VectorXd floor = varianceFloorFor(audioSequences, options.varianceFloorFraction);
   AudioRetrainingResult result;
   for (int iteration = 0; iteration < options.iterations; ++iteration) {
-    result.logLikelihoods.push_back(baumWelchIteration(audioModel, audioSequences, training, floor, fixedStructure).logLikelihood);
+    result.logLikelihoods.push_back(baumWelchIteration(audioModel, audioSequences, floor, fixedStructure).logLikelihood);
   }
 
   const ObservationBlock& audio = jointModel.block(options.audioBlock);

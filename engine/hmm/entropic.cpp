@@ -308,7 +308,7 @@ double entropicObjective(const Eigen::Ref<const Eigen::VectorXd>& probabilities,
 }
 
 int trimWeakParameters(Eigen::Ref<Eigen::VectorXd, 0, Eigen::InnerStride<>> probabilities,
-                       const Eigen::Ref<const Eigen::VectorXd>& counts, double priorWeight) {
+                       const Eigen::Ref<const Eigen::VectorXd>& counts, double priorWeight, double margin) {
   requireValidCounts(counts, "trimWeakParameters");
   requireFinitePriorWeight(priorWeight, "trimWeakParameters");
   if (probabilities.size() != counts.size()) {
@@ -335,7 +335,7 @@ int trimWeakParameters(Eigen::Ref<Eigen::VectorXd, 0, Eigen::InnerStride<>> prob
     if (theta <= 0.0) continue;
     ++numPositive;
     if (theta > probabilities[largest]) largest = i;
-    if (-priorWeight * theta * (std::log(theta) + 1.0) > counts[i]) trimmed.push_back(i);
+    if (-priorWeight * theta * (std::log(theta) + 1.0) > margin * counts[i]) trimmed.push_back(i);
   }
   if (trimmed.empty()) return 0;
   if (static_cast<int>(trimmed.size()) == numPositive) {

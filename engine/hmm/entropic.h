@@ -67,10 +67,12 @@ double entropicObjective(const Eigen::Ref<const Eigen::VectorXd>& probabilities,
 // mass cannot raise a prior that favours high entropy). Returns how many entries were zeroed; θ is left
 // bit-identical when none is. `probabilities` may be a matrix row.
 //
+// With `margin` > 1 an entry is trimmed only when the prior's gain exceeds the likelihood's loss that many times
+// (a cautious retry when a first-order trim turned out to lower the log posterior).
 // Use ω computed at this θ (the E-step's expected counts, before the M-step): ωᵢ/θᵢ is then the gradient of the
 // log likelihood. At an exact stationary point of the same ω the criterion reads λ > 0 for every entry alike,
 // so it would trim all entries or none.
 int trimWeakParameters(Eigen::Ref<Eigen::VectorXd, 0, Eigen::InnerStride<>> probabilities,
-                       const Eigen::Ref<const Eigen::VectorXd>& counts, double priorWeight);
+                       const Eigen::Ref<const Eigen::VectorXd>& counts, double priorWeight, double margin = 1.0);
 
 }  // namespace th::hmm

@@ -1,7 +1,6 @@
 #include "hmm/entropic_training.h"
 
 #include <algorithm>
-#include <memory>
 
 #include "core/error.h"
 #include "hmm/entropic.h"
@@ -46,29 +45,28 @@ int countTransitions(const HmmModel& model, double threshold) {
   return count;
 }
 
+double EntropicPrior::weightAt(int iteration) const {
+  if (iteration < warmupIterations) return 0.0;
+  if (rampIterations <= 0) return multinomialWeight;
+  const double progress = static_cast<double>(iteration - warmupIterations + 1) / rampIterations;
+  return multinomialWeight * std::min(1.0, progress);
+}
+
 EstimationHooks entropicHooks(const EntropicPrior& prior) {
   EstimationHooks hooks;
-  // The iteration count drives the annealing; it is shared by the hooks of one training run.
-  auto iteration = std::make_shared<int>(0);
-  auto weightNow = [prior, iteration]() {
-    if (*iteration < prior.warmupIterations) return 0.0;
-    if (prior.rampIterations <= 0) return prior.multinomialWeight;
-    const double progress = static_cast<double>(*iteration - prior.warmupIterations + 1) / prior.rampIterations;
-    return prior.multinomialWeight * std::min(1.0, progress);
-  };
-  const bool trim = prior.trim;
-  hooks.multinomial = [weightNow, trim, iteration](Multinomial which, const Eigen::VectorXd& counts,
-                                                   const Eigen::VectorXd& previous) {
-    const double z = weightNow();
+  hooks.multinomial = [prior](Multinomial which, const Eigen::VectorXd& counts, const Eigen::VectorXd& previous,
+                              const MStepContext& context) {
+    const double z = prior.weightAt(context.iteration);
     Eigen::VectorXd evidence = counts;
     Eigen::VectorXd current = previous;
     // Trimming compares first-order gradients, which only predict the effect of removing a parameter near a
     // stationary point: never from the initial model itself (measured: from the fully connected k-means start
-    // it removes what the next iterations would need, and the log posterior falls).
-    // π is not trimmed: with several training sequences, a start state trimmed away would make the sequences
-    // that begin there impossible.
-    const bool mayTrim = trim && which != Multinomial::kInitial && *iteration >= 1 && previous.size() == counts.size();
-    if (mayTrim && trimWeakParameters(current, counts, z) > 0) {
+    // it removes what the next iterations would need). trainHmm undoes a trimming step that lowers the log
+    // posterior. π is not trimmed: with several training sequences, a start state trimmed away would make the
+    // sequences that begin there impossible.
+    const bool mayTrim = prior.trim && context.mayTrim && which != Multinomial::kInitial && context.iteration >= 1 &&
+                         previous.size() == counts.size();
+    if (mayTrim && trimWeakParameters(current, counts, z, context.trimMargin) > 0) {
       for (Eigen::Index i = 0; i < evidence.size(); ++i) {
         if (current[i] == 0.0) evidence[i] = 0.0;
       }
@@ -83,11 +81,15 @@ EstimationHooks entropicHooks(const EntropicPrior& prior) {
     }
     return estimate.probabilities;
   };
-  hooks.multinomialLogPrior = [weightNow](const Eigen::VectorXd& theta) { return entropicLogPrior(theta, weightNow()); };
+  hooks.multinomialLogPrior = [prior](const Eigen::VectorXd& theta, int iteration) {
+    return entropicLogPrior(theta, prior.weightAt(iteration));
+  };
   hooks.covariancePriorWeight = prior.covarianceWeight;
-  hooks.afterMStep = [trim, iteration](HmmModel& model, const Eigen::VectorXd&) {
-    ++*iteration;
-    if (!trim) return;
+  // Z = 0 is maximum likelihood exactly: no structural moves then.
+  hooks.stateMergeCandidates = prior.trim && prior.multinomialWeight > 0.0 ? prior.mergeCandidates : 0;
+  hooks.priorFinalFrom = prior.warmupIterations + std::max(prior.rampIterations - 1, 0);
+  hooks.afterMStep = [trim = prior.trim](HmmModel& model, const MStepContext& context) {
+    if (!trim || !context.mayTrim) return;
     for (int j = model.numStates() - 1; j >= 0 && model.numStates() > 1; --j) {
       bool reachable = model.initial[j] > 0.0;
       for (int i = 0; i < model.numStates() && !reachable; ++i) reachable = i != j && model.transition(i, j) > 0.0;

@@ -13,7 +13,7 @@
 // what is left, keeping the current row when that scores higher (generalised EM).
 // A state is deleted once it is unreachable (π and every incoming transition from another state are 0), which
 // leaves the likelihood unchanged; rows that pointed to it are renormalised.
-// Thread contract: the hooks are stateless; use them from one training run at a time or many.
+// Thread contract: the hooks are stateless (the iteration comes with each call); share them freely.
 #pragma once
 
 #include "hmm/training.h"
@@ -29,6 +29,11 @@ struct EntropicPrior {
   // posterior is comparable (and non-decreasing) from one iteration to the next.
   int warmupIterations = 0;
   int rampIterations = 0;
+  // State merging (state_merging.h): pairs tried per iteration once Z has settled, kept only if the log
+  // posterior rises (0: none). Only with trim and Z > 0.
+  int mergeCandidates = 8;
+
+  double weightAt(int iteration) const;  // Z at an iteration of the schedule
 };
 
 EstimationHooks entropicHooks(const EntropicPrior& prior);

@@ -1,6 +1,7 @@
 #include "hmm/gaussian.h"
 
 #include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -105,17 +106,24 @@ void GaussianMixture::logDensities(const Eigen::Ref<const Eigen::MatrixXd>& fram
 
 Eigen::MatrixXd applyCovarianceFloor(const Eigen::MatrixXd& covariance, const Eigen::VectorXd& floor,
                                      CovarianceType type) {
-  Eigen::MatrixXd floored = type == CovarianceType::kDiagonal ? Eigen::MatrixXd(covariance.diagonal().asDiagonal())
-                                                              : Eigen::MatrixXd(0.5 * (covariance + covariance.transpose()));
-  for (Eigen::Index i = 0; i < floored.rows(); ++i) floored(i, i) = std::max(floored(i, i), floor[i]);
-  if (type == CovarianceType::kDiagonal) return floored;
-  double ridge = floor.minCoeff();
-  for (int attempt = 0; attempt < 60; ++attempt) {
-    if (Eigen::LLT<Eigen::MatrixXd>(floored).info() == Eigen::Success) return floored;
-    floored.diagonal().array() += ridge;
-    ridge *= 2.0;
+  if (type == CovarianceType::kDiagonal) {
+    return Eigen::MatrixXd(covariance.diagonal().cwiseMax(floor).asDiagonal());
   }
-  throw Error("covariance floor: could not make the covariance positive definite");
+  const Eigen::MatrixXd symmetric = 0.5 * (covariance + covariance.transpose());
+  const Eigen::MatrixXd excess = symmetric - Eigen::MatrixXd(floor.asDiagonal());
+  if (Eigen::LLT<Eigen::MatrixXd>(excess).info() == Eigen::Success) return symmetric;  // already Σ ≻ D
+  // In coordinates where the floor D is the identity, raise every eigenvalue below 1 to 1. This is the maximum
+  // of the Gaussian's expected log-likelihood over {Σ ⪰ D} (the objective is invariant under the change of
+  // coordinates up to a constant, and with an identity bound the optimum clamps the eigenvalues), so EM with the
+  // floor stays monotone. Raising only the diagonal would leave collinear data near-singular.
+  const Eigen::VectorXd scale = floor.cwiseSqrt();
+  const Eigen::MatrixXd whitened = scale.cwiseInverse().asDiagonal() * symmetric * scale.cwiseInverse().asDiagonal();
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(whitened);
+  if (eigen.info() != Eigen::Success) throw Error("covariance floor: the eigen-decomposition failed (not finite?)");
+  const Eigen::VectorXd clamped = eigen.eigenvalues().cwiseMax(1.0);
+  const Eigen::MatrixXd restored = eigen.eigenvectors() * clamped.asDiagonal() * eigen.eigenvectors().transpose();
+  Eigen::MatrixXd floored = scale.asDiagonal() * restored * scale.asDiagonal();
+  return 0.5 * (floored + floored.transpose());
 }
 
 }  // namespace th::hmm

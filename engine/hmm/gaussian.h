@@ -68,8 +68,9 @@ class GaussianMixture {
 // log Σ exp(values), stable; −∞ if all are −∞.
 double logSumExp(const Eigen::Ref<const Eigen::VectorXd>& values);
 
-// Raises the diagonal of a covariance to at least `floor` (per dimension) and, if it is still not positive
-// definite (collinear data), adds the smallest multiple of the identity that makes it so.
+// The covariance nearest in likelihood to `covariance` with Σ ⪰ diag(floor): diagonal, each variance raised to
+// its floor; full, the eigenvalues of D^(-1/2) Σ D^(-1/2) raised to 1 (the exact constrained ML estimate, so EM
+// with the floor never loses likelihood; collinear data get a proper floor in every direction).
 Eigen::MatrixXd applyCovarianceFloor(const Eigen::MatrixXd& covariance, const Eigen::VectorXd& floor,
                                      CovarianceType type);
 

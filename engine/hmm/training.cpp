@@ -8,6 +8,7 @@
 
 #include "core/error.h"
 #include "hmm/forward_backward.h"
+#include "hmm/state_merging.h"
 
 namespace th::hmm {
 namespace {
@@ -80,11 +81,29 @@ Gaussian fitGaussian(const Eigen::MatrixXd& points, const Eigen::VectorXd& floor
 Eigen::VectorXd normalised(const Eigen::VectorXd& counts) { return counts / counts.sum(); }
 
 Eigen::VectorXd estimate(const EstimationHooks& hooks, Multinomial which, const Eigen::VectorXd& counts,
-                         const Eigen::VectorXd& previous) {
+                         const Eigen::VectorXd& previous, const MStepContext& context) {
   if (!(counts.sum() > 0.0)) return previous;  // no evidence at all: keep what we had
-  Eigen::VectorXd theta = hooks.multinomial ? hooks.multinomial(which, counts, previous) : normalised(counts);
+  Eigen::VectorXd theta = hooks.multinomial ? hooks.multinomial(which, counts, previous, context) : normalised(counts);
   if (!theta.allFinite()) throw Error("HMM training: a multinomial estimate is not finite");
   return theta;
+}
+
+// Zero entries of π, A and the mixture weights, and the number of states: an M-step that changes these trimmed.
+std::pair<int, Eigen::Index> structureOf(const HmmModel& model) {
+  Eigen::Index zeros = (model.initial.array() == 0.0).count() + (model.transition.array() == 0.0).count();
+  for (const auto& state : model.states) zeros += (state.weights().array() == 0.0).count();
+  return {model.numStates(), zeros};
+}
+
+// State merging is tried once EM gains less than this per frame, and a merge is judged after this many EM
+// iterations.
+constexpr double kMergeTolerance = 1e-3;
+constexpr int kMergeSettleIterations = 5;
+// Margins of the trimming test for an M-step and its retries; 0: no trimming.
+constexpr double kTrimMargins[] = {1.0, 10.0, 100.0, 0.0};
+
+double posteriorOf(const HmmModel& model, double logLikelihood, const EstimationHooks& hooks, int iteration) {
+  return logLikelihood + modelLogPrior(model, hooks, iteration);
 }
 
 }  // namespace
@@ -155,14 +174,14 @@ HmmModel initialiseWithKMeans(const std::vector<Eigen::MatrixXd>& sequences, con
   return model;
 }
 
-double modelLogPrior(const HmmModel& model, const EstimationHooks& hooks) {
+double modelLogPrior(const HmmModel& model, const EstimationHooks& hooks, int iteration) {
   double total = 0.0;
   if (hooks.multinomialLogPrior) {
-    total += hooks.multinomialLogPrior(model.initial);
+    total += hooks.multinomialLogPrior(model.initial, iteration);
     for (Eigen::Index i = 0; i < model.transition.rows(); ++i) {
-      total += hooks.multinomialLogPrior(model.transition.row(i).transpose());
+      total += hooks.multinomialLogPrior(model.transition.row(i).transpose(), iteration);
     }
-    for (const auto& state : model.states) total += hooks.multinomialLogPrior(state.weights());
+    for (const auto& state : model.states) total += hooks.multinomialLogPrior(state.weights(), iteration);
   }
   if (hooks.covariancePriorWeight != 0.0) {
     // −Z_Σ · H(N) with H = ½ (d log(2πe) + log|Σ|), for every component in use.
@@ -178,40 +197,33 @@ double modelLogPrior(const HmmModel& model, const EstimationHooks& hooks) {
   return total;
 }
 
-IterationRecord baumWelchIteration(HmmModel& model, const std::vector<Eigen::MatrixXd>& sequences,
-                                   const TrainingOptions& options, const Eigen::VectorXd& varianceFloor,
-                                   const EstimationHooks& hooks) {
+SufficientStatistics expectationStep(const HmmModel& model, const std::vector<Eigen::MatrixXd>& sequences) {
   const int n = model.numStates();
   const Eigen::Index d = model.dimension();
-  IterationRecord record;
-  record.liveStates = n;
-  record.logPrior = modelLogPrior(model, hooks);
-
-  // E-step: expected counts over all sequences.
-  Eigen::VectorXd initialCounts = Eigen::VectorXd::Zero(n);
-  Eigen::MatrixXd transitionCounts = Eigen::MatrixXd::Zero(n, n);
-  Eigen::VectorXd stateOccupancy = Eigen::VectorXd::Zero(n);
-  std::vector<Eigen::VectorXd> componentCounts(static_cast<size_t>(n));
-  std::vector<Eigen::MatrixXd> firstMoments(static_cast<size_t>(n));
-  std::vector<std::vector<Eigen::MatrixXd>> secondMoments(static_cast<size_t>(n));
+  const bool full = model.covarianceType() == CovarianceType::kFull;
+  SufficientStatistics statistics;
+  statistics.initialCounts = Eigen::VectorXd::Zero(n);
+  statistics.transitionCounts = Eigen::MatrixXd::Zero(n, n);
+  statistics.stateOccupancy = Eigen::VectorXd::Zero(n);
+  statistics.componentCounts.resize(static_cast<size_t>(n));
+  statistics.firstMoments.resize(static_cast<size_t>(n));
+  statistics.secondMoments.resize(static_cast<size_t>(n));
   for (int j = 0; j < n; ++j) {
     const int m = model.states[static_cast<size_t>(j)].numComponents();
-    componentCounts[static_cast<size_t>(j)] = Eigen::VectorXd::Zero(m);
-    firstMoments[static_cast<size_t>(j)] = Eigen::MatrixXd::Zero(d, m);
-    secondMoments[static_cast<size_t>(j)].assign(static_cast<size_t>(m),
-                                                 options.covariance == CovarianceType::kFull
-                                                     ? Eigen::MatrixXd::Zero(d, d)
-                                                     : Eigen::MatrixXd::Zero(d, 1));
+    statistics.componentCounts[static_cast<size_t>(j)] = Eigen::VectorXd::Zero(m);
+    statistics.firstMoments[static_cast<size_t>(j)] = Eigen::MatrixXd::Zero(d, m);
+    statistics.secondMoments[static_cast<size_t>(j)].assign(static_cast<size_t>(m),
+                                                            full ? Eigen::MatrixXd::Zero(d, d) : Eigen::MatrixXd::Zero(d, 1));
   }
   std::vector<Eigen::MatrixXd> componentLog;
   for (const auto& frames : sequences) {
     if (frames.cols() == 0) continue;
     const Eigen::MatrixXd logB = model.emissionLogLikelihoods(frames, &componentLog);
     const Posteriors posteriors = forwardBackward(model, logB);
-    record.logLikelihood += posteriors.logLikelihood;
-    initialCounts += posteriors.stateGivenAll.col(0);
-    transitionCounts += posteriors.transitionCounts;
-    stateOccupancy += posteriors.stateGivenAll.rowwise().sum();
+    statistics.logLikelihood += posteriors.logLikelihood;
+    statistics.initialCounts += posteriors.stateGivenAll.col(0);
+    statistics.transitionCounts += posteriors.transitionCounts;
+    statistics.stateOccupancy += posteriors.stateGivenAll.rowwise().sum();
     for (int j = 0; j < n; ++j) {
       const Eigen::MatrixXd& terms = componentLog[static_cast<size_t>(j)];
       for (Eigen::Index m = 0; m < terms.rows(); ++m) {
@@ -222,9 +234,10 @@ IterationRecord baumWelchIteration(HmmModel& model, const std::vector<Eigen::Mat
             (posteriors.stateGivenAll.row(j).array() * (terms.row(m) - logB.row(j)).array().exp())
                 .transpose()
                 .unaryExpr([](double r) { return r < 1e-300 ? 0.0 : r; });
-        componentCounts[static_cast<size_t>(j)][m] += responsibility.sum();
-        firstMoments[static_cast<size_t>(j)].col(m) += frames * responsibility;
-        if (options.covariance == CovarianceType::kFull) {
+        statistics.componentCounts[static_cast<size_t>(j)][m] += responsibility.sum();
+        statistics.firstMoments[static_cast<size_t>(j)].col(m) += frames * responsibility;
+        Eigen::MatrixXd& second = statistics.secondMoments[static_cast<size_t>(j)][static_cast<size_t>(m)];
+        if (full) {
           // Σₜ γₜ xₜxₜᵀ as a rank update of the lower triangle with the frames that carry weight: (X·diag(√γ)).
           Eigen::Index used = 0;
           for (Eigen::Index t = 0; t < responsibility.size(); ++t) used += responsibility[t] > 0.0;
@@ -232,24 +245,30 @@ IterationRecord baumWelchIteration(HmmModel& model, const std::vector<Eigen::Mat
           for (Eigen::Index t = 0, k = 0; t < responsibility.size(); ++t) {
             if (responsibility[t] > 0.0) weighted.col(k++) = frames.col(t) * std::sqrt(responsibility[t]);
           }
-          secondMoments[static_cast<size_t>(j)][static_cast<size_t>(m)].selfadjointView<Eigen::Lower>().rankUpdate(weighted);
+          second.selfadjointView<Eigen::Lower>().rankUpdate(weighted);
         } else {
-          secondMoments[static_cast<size_t>(j)][static_cast<size_t>(m)] += frames.cwiseAbs2() * responsibility;
+          second += frames.cwiseAbs2() * responsibility;
         }
       }
     }
   }
+  return statistics;
+}
 
-  // M-step.
-  model.initial = estimate(hooks, Multinomial::kInitial, initialCounts, model.initial);
+void maximisationStep(HmmModel& model, const SufficientStatistics& statistics, const Eigen::VectorXd& varianceFloor,
+                      const EstimationHooks& hooks, const MStepContext& context) {
+  const int n = model.numStates();
+  const CovarianceType type = model.covarianceType();
+  model.initial = estimate(hooks, Multinomial::kInitial, statistics.initialCounts, model.initial, context);
   for (int i = 0; i < n; ++i) {
-    model.transition.row(i) = estimate(hooks, Multinomial::kTransitionRow, transitionCounts.row(i).transpose(),
-                                     model.transition.row(i).transpose()).transpose();
+    model.transition.row(i) = estimate(hooks, Multinomial::kTransitionRow, statistics.transitionCounts.row(i).transpose(),
+                                       model.transition.row(i).transpose(), context)
+                                  .transpose();
   }
   for (int j = 0; j < n; ++j) {
     const GaussianMixture& old = model.states[static_cast<size_t>(j)];
-    const Eigen::VectorXd& counts = componentCounts[static_cast<size_t>(j)];
-    const Eigen::VectorXd weights = estimate(hooks, Multinomial::kMixtureWeights, counts, old.weights());
+    const Eigen::VectorXd& counts = statistics.componentCounts[static_cast<size_t>(j)];
+    const Eigen::VectorXd weights = estimate(hooks, Multinomial::kMixtureWeights, counts, old.weights(), context);
     std::vector<Gaussian> components;
     for (int m = 0; m < old.numComponents(); ++m) {
       const double gamma = counts[m];
@@ -257,52 +276,117 @@ IterationRecord baumWelchIteration(HmmModel& model, const std::vector<Eigen::Mat
         components.push_back(old.components()[static_cast<size_t>(m)]);
         continue;
       }
-      const Eigen::VectorXd mean = firstMoments[static_cast<size_t>(j)].col(m) / gamma;
+      const Eigen::VectorXd mean = statistics.firstMoments[static_cast<size_t>(j)].col(m) / gamma;
+      const Eigen::MatrixXd& second = statistics.secondMoments[static_cast<size_t>(j)][static_cast<size_t>(m)];
       // Scatter S = Σₜ γ (x − μ)(x − μ)ᵀ; ML divides by Γ, the entropic prior by Γ + Z_Σ (Brand 1999).
       const double divisor = gamma + hooks.covariancePriorWeight;
       Eigen::MatrixXd covariance;
-      if (options.covariance == CovarianceType::kFull) {
-        const Eigen::MatrixXd second =
-            secondMoments[static_cast<size_t>(j)][static_cast<size_t>(m)].selfadjointView<Eigen::Lower>();
-        covariance = (second - gamma * mean * mean.transpose()) / divisor;
+      if (type == CovarianceType::kFull) {
+        covariance = (Eigen::MatrixXd(second.selfadjointView<Eigen::Lower>()) - gamma * mean * mean.transpose()) / divisor;
       } else {
-        covariance = ((secondMoments[static_cast<size_t>(j)][static_cast<size_t>(m)].col(0) - gamma * mean.cwiseAbs2()) / divisor).asDiagonal();
+        covariance = ((second.col(0) - gamma * mean.cwiseAbs2()) / divisor).asDiagonal();
       }
-      components.emplace_back(mean, applyCovarianceFloor(covariance, varianceFloor, options.covariance), options.covariance);
+      components.emplace_back(mean, applyCovarianceFloor(covariance, varianceFloor, type), type);
     }
     model.states[static_cast<size_t>(j)] = GaussianMixture(weights, std::move(components));
   }
-  if (hooks.afterMStep) hooks.afterMStep(model, stateOccupancy);
+  if (hooks.afterMStep) hooks.afterMStep(model, context);
   model.check();
+}
+
+IterationRecord baumWelchIteration(HmmModel& model, const std::vector<Eigen::MatrixXd>& sequences,
+                                   const Eigen::VectorXd& varianceFloor, const EstimationHooks& hooks,
+                                   const MStepContext& context) {
+  const SufficientStatistics statistics = expectationStep(model, sequences);
+  IterationRecord record;
+  record.liveStates = model.numStates();
+  record.logLikelihood = statistics.logLikelihood;
+  record.logPrior = modelLogPrior(model, hooks, context.iteration);
+  maximisationStep(model, statistics, varianceFloor, hooks, context);
   return record;
 }
 
 TrainingResult trainHmm(const std::vector<Eigen::MatrixXd>& sequences, const TrainingOptions& options,
                         const EstimationHooks& hooks) {
   TrainingResult result;
-  result.model = initialiseWithKMeans(sequences, options);
+  HmmModel model = initialiseWithKMeans(sequences, options);
   const Eigen::VectorXd floor = varianceFloorFor(sequences, options.varianceFloorFraction);
   double totalFrames = 0.0;
   for (const auto& sequence : sequences) totalFrames += static_cast<double>(sequence.cols());
+  SufficientStatistics statistics = expectationStep(model, sequences);
+  bool mergesExhausted = false;  // every candidate failed and the structure has not changed since
   for (int iteration = 0; iteration < options.maxIterations; ++iteration) {
-    result.history.push_back(baumWelchIteration(result.model, sequences, options, floor, hooks));
-    const auto& records = result.history;
-    if (records.size() >= 2) {
-      const double gain = (records.back().logPosterior() - records[records.size() - 2].logPosterior()) / totalFrames;
-      if (std::abs(gain) < options.tolerance) {
-        result.converged = true;
-        break;
+    IterationRecord record;
+    record.liveStates = model.numStates();
+    record.logLikelihood = statistics.logLikelihood;
+    record.logPrior = modelLogPrior(model, hooks, iteration);
+    const double before = record.logPosterior();
+
+    // Trimming is judged on first-order gradients and can lose more likelihood than it gains in prior (a rare
+    // transition that was the only good path, say). Then the step is retried with a wider margin, and at
+    // last without trimming, which cannot lower the log posterior.
+    HmmModel candidate;
+    SufficientStatistics candidateStatistics;
+    double after = 0.0;
+    for (const double margin : kTrimMargins) {
+      const bool mayTrim = margin > 0.0;
+      candidate = model;
+      maximisationStep(candidate, statistics, floor, hooks, {.iteration = iteration, .mayTrim = mayTrim, .trimMargin = margin});
+      candidateStatistics = expectationStep(candidate, sequences);
+      after = posteriorOf(candidate, candidateStatistics.logLikelihood, hooks, iteration);
+      if (!mayTrim || after >= before || structureOf(candidate) == structureOf(model)) break;
+      ++record.trimRetries;
+    }
+    if (structureOf(candidate) != structureOf(model)) mergesExhausted = false;
+    model = std::move(candidate);
+    statistics = std::move(candidateStatistics);
+    const bool priorSettled = iteration >= hooks.priorFinalFrom;
+    record.stepGain = after - before;
+    // At the final prior, once EM gains little, try merging the most similar pairs of states. A merge is judged
+    // after a few EM iterations without trimming (the other parameters need them to adapt: measured, right
+    // after the merge most profitable merges still score lower), against the unmerged model after as many.
+    const bool settled = priorSettled && std::abs(record.stepGain) / totalFrames < kMergeTolerance;
+    if (settled && !mergesExhausted && hooks.stateMergeCandidates > 0 && model.numStates() > 1) {
+      mergesExhausted = true;
+      auto settle = [&](HmmModel& settling, SufficientStatistics& settlingStatistics) {
+        for (int step = 0; step < kMergeSettleIterations; ++step) {
+          maximisationStep(settling, settlingStatistics, floor, hooks, {.iteration = iteration, .mayTrim = false});
+          settlingStatistics = expectationStep(settling, sequences);
+        }
+        return posteriorOf(settling, settlingStatistics.logLikelihood, hooks, iteration);
+      };
+      HmmModel unmerged = model;
+      SufficientStatistics unmergedStatistics = statistics;
+      const double threshold = std::max(after, settle(unmerged, unmergedStatistics));
+      for (const auto& [a, b] : mergeCandidates(model, statistics, hooks.stateMergeCandidates)) {
+        HmmModel merged = mergeStates(model, statistics, a, b, floor, hooks.covariancePriorWeight);
+        SufficientStatistics mergedStatistics = expectationStep(merged, sequences);
+        const double mergedPosterior = settle(merged, mergedStatistics);
+        if (mergedPosterior > threshold) {
+          record.stepGain += mergedPosterior - after;
+          after = mergedPosterior;
+          model = std::move(merged);
+          statistics = std::move(mergedStatistics);
+          ++record.statesMerged;
+          mergesExhausted = false;
+          break;
+        }
       }
+    }
+    result.history.push_back(record);
+    // Converged when the step gained (almost) nothing, the prior no longer changes and no merge was kept.
+    if (priorSettled && record.statesMerged == 0 && std::abs(record.stepGain) / totalFrames < options.tolerance) {
+      result.converged = true;
+      break;
     }
   }
   // The score of the model returned (the history holds each iteration's starting model).
   IterationRecord final;
-  final.liveStates = result.model.numStates();
-  final.logPrior = modelLogPrior(result.model, hooks);
-  for (const auto& frames : sequences) {
-    if (frames.cols() > 0) final.logLikelihood += logLikelihood(result.model, result.model.emissionLogLikelihoods(frames));
-  }
+  final.liveStates = model.numStates();
+  final.logLikelihood = statistics.logLikelihood;
+  final.logPrior = modelLogPrior(model, hooks, static_cast<int>(result.history.size()));
   result.history.push_back(final);
+  result.model = std::move(model);
   return result;
 }
 

@@ -2,6 +2,8 @@
 // enumeration of every path, online Viterbi against batch, and Baum-Welch's monotone likelihood.
 #include <gtest/gtest.h>
 
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
 #include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
@@ -50,6 +52,43 @@ TEST(Gaussian, RejectsCovariancesThatAreNotPositiveDefinite) {
   // The floor repairs a singular covariance.
   const Eigen::MatrixXd repaired = applyCovarianceFloor(singular, Eigen::Vector2d::Constant(1e-3), CovarianceType::kFull);
   EXPECT_NO_THROW(Gaussian(Eigen::Vector2d::Zero(), repaired, CovarianceType::kFull));
+}
+
+// The floor is the constrained maximum of a Gaussian's expected log-likelihood −½[Γ log|Σ| + tr(Σ⁻¹S)] over
+// {Σ ⪰ D}: feasible, and no other feasible covariance scores higher. (Raising only the diagonal of collinear data
+// would not be feasible: the data's null direction would stay near-singular.)
+TEST(Gaussian, CovarianceFloorIsTheConstrainedMaximumLikelihoodEstimate) {
+  std::mt19937 random(4);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  const int d = 4;
+  const Eigen::VectorXd floor = Eigen::Vector4d(0.5, 0.2, 1.0, 0.3);
+  auto objective = [](const Eigen::MatrixXd& sigma, const Eigen::MatrixXd& scatter) {
+    const Eigen::LLT<Eigen::MatrixXd> llt(sigma);
+    const double logDet = 2.0 * llt.matrixL().toDenseMatrix().diagonal().array().log().sum();
+    return -0.5 * (logDet + (llt.solve(scatter)).trace());
+  };
+  for (int trial = 0; trial < 20; ++trial) {
+    // A scatter of rank 2 in 4-D: collinear data.
+    const Eigen::MatrixXd a = Eigen::MatrixXd::NullaryExpr(d, 2, [&] { return normal(random); });
+    const Eigen::MatrixXd scatter = a * a.transpose();
+    const Eigen::MatrixXd floored = applyCovarianceFloor(scatter, floor, CovarianceType::kFull);
+    const Eigen::VectorXd margin =
+        Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(floored - Eigen::MatrixXd(floor.asDiagonal())).eigenvalues();
+    EXPECT_GT(margin.minCoeff(), -1e-12) << "Σ − D must be positive semi-definite";
+    const double best = objective(floored, scatter);
+    for (int other = 0; other < 50; ++other) {
+      const Eigen::MatrixXd b = Eigen::MatrixXd::NullaryExpr(d, d, [&] { return 0.3 * normal(random); });
+      const Eigen::MatrixXd feasible = floored + b * b.transpose();  // Σ + PSD stays ⪰ D
+      EXPECT_LE(objective(feasible, scatter), best + 1e-12);
+    }
+    for (double c : {0.0, 0.5, 0.9, 1.1, 2.0}) {  // towards and away from the bound: D + c(Σ − D)
+      const Eigen::MatrixXd feasible = Eigen::MatrixXd(floor.asDiagonal()) + c * (floored - Eigen::MatrixXd(floor.asDiagonal()));
+      EXPECT_LE(objective(feasible, scatter), best + 1e-12) << c;
+    }
+  }
+  // Already above the floor: unchanged.
+  const Eigen::Matrix2d wide = (Eigen::Matrix2d() << 2.0, 0.5, 0.5, 1.0).finished();
+  EXPECT_EQ(applyCovarianceFloor(wide, Eigen::Vector2d(0.1, 0.1), CovarianceType::kFull), Eigen::MatrixXd(wide));
 }
 
 // Every path of a short sequence, enumerated: the definition of the likelihood, the posteriors and the best path.

@@ -261,7 +261,7 @@ TEST(ReferenceCheck, OneBaumWelchIterationGivesTheSameParameters) {
     HmmModel ours = start;
     // A floor far below any variance here, so that it never acts (the reference has none).
     const Eigen::VectorXd floor = Eigen::VectorXd::Constant(ours.dimension(), 1e-12);
-    const IterationRecord record = baumWelchIteration(ours, data.sequences, options, floor, {});
+    const IterationRecord record = baumWelchIteration(ours, data.sequences, floor, {});
     const ProcessResult result = runReference({referenceScript(), "bw-iteration", before.path().string(),
                                                csv.path().string(), "-o", after.path().string()});
     ASSERT_EQ(result.exitCode, 0) << result.output;

@@ -3,6 +3,7 @@
 // everything. Also: the log posterior never decreases, on synthetic and on real speech features.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <random>
 
@@ -84,10 +85,15 @@ StructureReport compare(const HmmModel& truth, const HmmModel& trained, const Sa
   return report;
 }
 
-void expectPosteriorNeverFalls(const TrainingResult& result) {
-  for (size_t i = 1; i < result.history.size(); ++i) {
-    const double previous = result.history[i - 1].logPosterior();
-    EXPECT_GE(result.history[i].logPosterior(), previous - 1e-7 * std::abs(previous)) << "iteration " << i;
+// Every step, judged under the prior it was taken with, raises the log posterior (up to rounding); and with a
+// fixed prior the history itself never falls.
+void expectPosteriorNeverFalls(const TrainingResult& result, bool fixedPrior) {
+  for (size_t i = 0; i + 1 < result.history.size(); ++i) {
+    const double scale = 1e-9 * std::abs(result.history[i].logPosterior());
+    EXPECT_GE(result.history[i].stepGain, -scale) << "iteration " << i;
+    if (fixedPrior) {
+      EXPECT_GE(result.history[i + 1].logPosterior(), result.history[i].logPosterior() - scale) << "iteration " << i;
+    }
   }
 }
 
@@ -117,14 +123,17 @@ TEST(StructureDiscovery, EntropicPriorFindsTheSparseModelThatMaximumLikelihoodMi
               "state agreement %.3f, %zu iterations\n",
               z, mapReport.liveStates, mapReport.transitions, mapReport.recoveredEdges, mapReport.spuriousEdges,
               mapReport.stateAgreement, map.history.size() - 1);
-  // The issue's target is at most 8 live states. Not reached yet: runs end with 9 to 15 (true states split in
-  // copies that keep their transitions), depending on rounding. What holds robustly is guarded here.
-  EXPECT_LT(mapReport.liveStates, 20) << "the prior deletes states";
-  EXPECT_LE(mapReport.transitions, 40) << "against maximum likelihood's dense rows";
-  EXPECT_GE(mapReport.recoveredEdges, 8);
-  EXPECT_LE(mapReport.spuriousEdges, 2);
-  EXPECT_GT(mapReport.stateAgreement, 0.9);
-  expectPosteriorNeverFalls(ml);
+  int merges = 0;
+  for (const auto& record : map.history) merges += record.statesMerged;
+  EXPECT_LE(mapReport.liveStates, 8);
+  EXPECT_GE(mapReport.liveStates, 6) << "no true state may be lost";
+  EXPECT_LE(mapReport.transitions, mapReport.liveStates + 12) << "against maximum likelihood's dense rows";
+  EXPECT_EQ(mapReport.recoveredEdges, 9);
+  EXPECT_LE(mapReport.spuriousEdges, 1);
+  EXPECT_GT(mapReport.stateAgreement, 0.99);
+  EXPECT_GT(merges, 0) << "extinction alone leaves split copies of true states (see state_merging.h)";
+  expectPosteriorNeverFalls(ml, true);
+  expectPosteriorNeverFalls(map, false);
 }
 
 TEST(StructureDiscovery, LogPosteriorNeverFallsOnSyntheticData) {
@@ -135,13 +144,16 @@ TEST(StructureDiscovery, LogPosteriorNeverFallsOnSyntheticData) {
   options.numStates = 10;
   options.maxIterations = 40;
   for (double z : {0.0, 1.0, 250.0}) {
-    expectPosteriorNeverFalls(
-        trainHmm({sample.frames}, options, entropicHooks({.multinomialWeight = z, .covarianceWeight = z, .trim = false})));
+    for (bool trim : {false, true}) {
+      expectPosteriorNeverFalls(
+          trainHmm({sample.frames}, options, entropicHooks({.multinomialWeight = z, .covarianceWeight = z, .trim = trim})),
+          true);
+    }
   }
 }
 
-TEST(StructureDiscovery, LogPosteriorNeverFallsOnRealProsody) {
-  // BEAT2 prosody [F0, energy, dF0, dE] at 30 fps, in 4 sequences.
+// BEAT2 prosody [F0, energy, dF0, dE] at 30 fps, in 4 sequences.
+std::vector<Eigen::MatrixXd> beat2Prosody() {
   const audio::AudioClip clip = audio::readAudioFile(sharedDataPath("beat2/2_scott_0_1_1.wav"));
   features::FeatureOptions featureOptions = features::batchFeatureOptions();
   featureOptions.contextFrames = 0;
@@ -156,19 +168,80 @@ TEST(StructureDiscovery, LogPosteriorNeverFallsOnRealProsody) {
     }
     sequences.push_back(frames);
   }
+  return sequences;
+}
+
+TEST(StructureDiscovery, LogPosteriorNeverFallsOnRealProsody) {
+  const std::vector<Eigen::MatrixXd> sequences = beat2Prosody();
+  double numFrames = 0.0;
+  for (const auto& sequence : sequences) numFrames += static_cast<double>(sequence.cols());
   TrainingOptions options;
   options.numStates = 16;
   options.maxIterations = 40;
-  // A fixed prior without trimming: every M-step maximises (or, by the generalised-EM guard, does not lower) the
-  // log posterior. Trimming is a first-order step and can lower it; see the closing note of issue 3.
-  for (double z : {0.0, 1.0, 0.02 * features.numFrames()}) {
-    const TrainingResult result = trainHmm(
-        sequences, options, entropicHooks({.multinomialWeight = z, .covarianceWeight = z > 1.0 ? 5.0 : 0.0, .trim = false}));
-    std::printf("[ INFO     ] real prosody, Z = %.1f: %d live states, %d transitions, log posterior per frame %.4f\n", z,
-                result.model.numStates(), countTransitions(result.model, 0.0),
-                result.history.back().logPosterior() / features.numFrames());
-    expectPosteriorNeverFalls(result);
+  // With a fixed prior, with and without trimming and merging.
+  for (double z : {0.0, 1.0, 0.02 * numFrames, 0.1 * numFrames}) {
+    for (bool trim : {false, true}) {
+      const TrainingResult result = trainHmm(
+          sequences, options, entropicHooks({.multinomialWeight = z, .covarianceWeight = z > 1.0 ? 5.0 : 0.0, .trim = trim}));
+      int undone = 0;
+      int merges = 0;
+      for (const auto& record : result.history) {
+        undone += record.trimRetries;
+        merges += record.statesMerged;
+      }
+      std::printf("[ INFO     ] real prosody, Z = %.1f, trim %d: %d live states, %d transitions, log posterior per frame "
+                  "%.4f, %d trimming retries, %d merges\n",
+                  z, trim, result.model.numStates(), countTransitions(result.model, 0.0),
+                  result.history.back().logPosterior() / numFrames, undone, merges);
+      expectPosteriorNeverFalls(result, true);
+    }
   }
+}
+
+// Online Viterbi on a model trained on real speech (the prosody model's size: 12 states from 16, entropic),
+// decoding the whole recording: agreement with batch Viterbi and mean actual lag for maximum lags 1-30.
+TEST(StructureDiscovery, OnlineViterbiLagSweepOnATrainedProsodyModel) {
+  const std::vector<Eigen::MatrixXd> sequences = beat2Prosody();
+  double numFrames = 0.0;
+  for (const auto& sequence : sequences) numFrames += static_cast<double>(sequence.cols());
+  TrainingOptions options;
+  options.numStates = 16;
+  options.maxIterations = 60;
+  const HmmModel model =
+      trainHmm(sequences, options, entropicHooks({.multinomialWeight = 0.02 * numFrames, .covarianceWeight = 5.0})).model;
+  Eigen::MatrixXd all(4, static_cast<Eigen::Index>(numFrames));
+  Eigen::Index column = 0;
+  for (const auto& sequence : sequences) {
+    all.middleCols(column, sequence.cols()) = sequence;
+    column += sequence.cols();
+  }
+  const Eigen::MatrixXd logB = model.emissionLogLikelihoods(all);
+  const ViterbiPath batch = viterbi(model, logB);
+  const auto total = static_cast<int>(logB.cols());
+  double previousAgreement = 0.0;
+  for (int maxLag : {1, 2, 3, 5, 10, 20, 30, -1}) {
+    OnlineViterbi online(model, {.maxLagFrames = maxLag});
+    for (Eigen::Index t = 0; t < logB.cols(); ++t) online.acceptFrame(logB.col(t));
+    online.finish();
+    int agree = 0;
+    double lagSum = 0.0;
+    int maxActual = 0;
+    for (int t = 0; t < total; ++t) {
+      agree += online.state(t) == batch.states[static_cast<size_t>(t)];
+      lagSum += online.decisionLags()[static_cast<size_t>(t)];
+      maxActual = std::max(maxActual, online.decisionLags()[static_cast<size_t>(t)]);
+    }
+    const double agreement = agree / static_cast<double>(total);
+    std::printf("[ INFO     ] prosody model (%d states), max lag %3d: agreement with batch %.4f, mean actual lag %.2f "
+                "frames, longest %d\n",
+                model.numStates(), maxLag, agreement, lagSum / total, maxActual);
+    if (maxLag >= 0) {
+      EXPECT_LE(maxActual, maxLag);
+    }
+    EXPECT_GE(agreement, previousAgreement - 0.01) << "lag " << maxLag;
+    previousAgreement = agreement;
+  }
+  EXPECT_EQ(previousAgreement, 1.0) << "an unbounded lag equals batch";
 }
 
 }  // namespace
