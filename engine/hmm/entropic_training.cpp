@@ -6,6 +6,11 @@
 #include "hmm/entropic.h"
 
 namespace th::hmm {
+namespace {
+
+constexpr double kDeadOccupancy = 1e-9;  // expected frames
+
+}  // namespace
 
 void deleteState(HmmModel& model, int state) {
   const int n = model.numStates();
@@ -61,9 +66,10 @@ EstimationHooks entropicHooks(const EntropicPrior& prior) {
     Eigen::VectorXd current = previous;
     // Trimming compares first-order gradients, which only predict the effect of removing a parameter near a
     // stationary point: never from the initial model itself (measured: from the fully connected k-means start
-    // it removes what the next iterations would need). trainHmm undoes a trimming step that lowers the log
-    // posterior. π is not trimmed: with several training sequences, a start state trimmed away would make the
-    // sequences that begin there impossible.
+    // it removes what the next iterations would need). trainHmm retries, then undoes, a trimming step that
+    // lowers the log posterior. π is not trimmed: a model decodes streams that start anywhere, and a start
+    // state trimmed away would make them impossible from there. (States that only π keeps alive die when no
+    // frame visits them; see afterMStep.)
     const bool mayTrim = prior.trim && context.mayTrim && which != Multinomial::kInitial && context.iteration >= 1 &&
                          previous.size() == counts.size();
     if (mayTrim && trimWeakParameters(current, counts, z, context.trimMargin) > 0) {
@@ -88,11 +94,16 @@ EstimationHooks entropicHooks(const EntropicPrior& prior) {
   // Z = 0 is maximum likelihood exactly: no structural moves then.
   hooks.stateMergeCandidates = prior.trim && prior.multinomialWeight > 0.0 ? prior.mergeCandidates : 0;
   hooks.priorFinalFrom = prior.warmupIterations + std::max(prior.rampIterations - 1, 0);
-  hooks.afterMStep = [trim = prior.trim](HmmModel& model, const MStepContext& context) {
-    if (!trim || !context.mayTrim) return;
+  hooks.afterMStep = [prior](HmmModel& model, const Eigen::VectorXd& stateOccupancy, const MStepContext& context) {
+    if (!prior.trim || !context.mayTrim || prior.weightAt(context.iteration) <= 0.0) return;
+    // Descending, so that the occupancy (indexed by the states before any deletion) stays aligned.
     for (int j = model.numStates() - 1; j >= 0 && model.numStates() > 1; --j) {
-      bool reachable = model.initial[j] > 0.0;
-      for (int i = 0; i < model.numStates() && !reachable; ++i) reachable = i != j && model.transition(i, j) > 0.0;
+      // A state that no frame visits (less than a billionth of a frame in all) contributes nothing to the
+      // likelihood, only to the prior's cost.
+      bool reachable = model.initial[j] > 0.0 && stateOccupancy[j] >= kDeadOccupancy;
+      for (int i = 0; i < model.numStates() && !reachable && stateOccupancy[j] >= kDeadOccupancy; ++i) {
+        reachable = i != j && model.transition(i, j) > 0.0;
+      }
       if (!reachable) deleteState(model, j);
     }
   };

@@ -290,7 +290,7 @@ void maximisationStep(HmmModel& model, const SufficientStatistics& statistics, c
     }
     model.states[static_cast<size_t>(j)] = GaussianMixture(weights, std::move(components));
   }
-  if (hooks.afterMStep) hooks.afterMStep(model, context);
+  if (hooks.afterMStep) hooks.afterMStep(model, statistics.stateOccupancy, context);
   model.check();
 }
 

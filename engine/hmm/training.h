@@ -75,8 +75,9 @@ struct EstimationHooks {
   std::function<double(const Eigen::VectorXd& theta, int iteration)> multinomialLogPrior;
   // Entropic prior on each Gaussian, P(Σ) ∝ exp(−Z_Σ·H(N(μ, Σ))) ∝ |Σ|^(−Z_Σ/2): Σ = S / (Γ + Z_Σ).
   double covariancePriorWeight = 0.0;
-  // Called after each M-step (e.g. to delete dead states); may change the model's size.
-  std::function<void(HmmModel& model, const MStepContext& context)> afterMStep;
+  // Called after each M-step with the E-step's expected frames per state (e.g. to delete dead states); may
+  // change the model's size.
+  std::function<void(HmmModel& model, const Eigen::VectorXd& stateOccupancy, const MStepContext& context)> afterMStep;
   // The first iteration from which the prior no longer changes (an annealed prior rises before it). Training
   // neither declares convergence nor merges states before it.
   int priorFinalFrom = 0;
