@@ -291,6 +291,26 @@ int countLines(const std::string& text) { return static_cast<int>(std::count(tex
 
 }  // namespace hmmcli
 
+TEST_F(FeaturesCliTest, HmmTrainWithTheEntropicPriorPrunesAndRecordsEveryStep) {
+  const fs::path data = folder_.path() / "data.csv";
+  hmmcli::writeTrainingCsv(data, 400);
+  const fs::path model = out() / "model.json";
+  const CliResult result = runCli({"hmm", "train", "--data", data.string(), "--states", "8", "--entropic", "80",
+                                   "--warmup", "5", "--ramp", "5", "-o", model.string()},
+                                  logs());
+  ASSERT_EQ(result.exitCode, 0) << result.err;
+  const auto file = nlohmann::json::parse(readText(model));
+  EXPECT_LT(file["states"].size(), 8u) << "the prior removes states the 3-state data does not need";
+  const auto& history = file["training"]["history"];
+  ASSERT_GT(history.size(), 10u);
+  for (size_t i = 0; i + 1 < history.size(); ++i) {
+    const double posterior = history[i]["log_likelihood"].get<double>() + history[i]["log_prior"].get<double>();
+    EXPECT_GE(history[i]["step_gain"].get<double>(), -1e-9 * std::abs(posterior)) << "iteration " << i;
+    EXPECT_TRUE(history[i].contains("trim_retries") && history[i].contains("states_merged"));
+  }
+  EXPECT_EQ(file["training"]["options"]["merge_candidates"], 8);
+}
+
 TEST_F(FeaturesCliTest, HmmTrainInfoDecodeInvert) {
   const fs::path data = folder_.path() / "data.csv";
   hmmcli::writeTrainingCsv(data, 400);
