@@ -9,5 +9,7 @@ namespace th::app {
 void addFeaturesCommand(CLI::App& app);
 void addEvalCommand(CLI::App& app);
 void addHmmCommand(CLI::App& app);
+void addTrainCommand(CLI::App& app);
+void addEvalHeadCommand(CLI::App& eval);  // `eval head`, registered by addEvalCommand
 
 }  // namespace th::app

@@ -124,6 +124,7 @@ void addEvalCommand(CLI::App& app) {
   pitch->add_option("--short-weight", tuning.shortWeight, "Our tracker")->group("Tuning our tracker");
   pitch->add_option("--vu-cost", tuning.voicedUnvoicedCost, "Our tracker")->group("Tuning our tracker");
   pitch->callback([arguments] { runEvalPitch(*arguments); });
+  addEvalHeadCommand(*eval);
 }
 
 }  // namespace th::app

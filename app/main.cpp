@@ -12,6 +12,7 @@ int main(int argc, char** argv) {
   th::app::addFeaturesCommand(app);
   th::app::addEvalCommand(app);
   th::app::addHmmCommand(app);
+  th::app::addTrainCommand(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

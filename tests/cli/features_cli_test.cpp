@@ -291,6 +291,26 @@ int countLines(const std::string& text) { return static_cast<int>(std::count(tex
 
 }  // namespace hmmcli
 
+TEST_F(FeaturesCliTest, TrainHeadThenEvaluateItBesideItsBaselines) {
+  const fs::path model = out() / "head.json";
+  CliResult result = runCli({"train", "head", "--start-states", "8", "-o", model.string()}, logs());
+  ASSERT_EQ(result.exitCode, 0) << result.err;
+  ASSERT_TRUE(fs::exists(model));
+  result = runCli({"eval", "head", "--model", model.string(), "--lag", "4"}, logs());
+  ASSERT_EQ(result.exitCode, 0) << result.err;
+  for (const std::string expected : {"training part", "held-out part", "(a) Viterbi state means (paper)",
+                                     "(b) ML trajectory (ours)", "online", "constant mean pose",
+                                     "prosody from another segment", "random walk", "0.2362"}) {
+    EXPECT_NE(result.out.find(expected), std::string::npos) << expected;
+  }
+  // A model file that is not a head model: one line naming it.
+  const fs::path plain = folder_.path() / "data.csv";
+  hmmcli::writeTrainingCsv(plain, 100);
+  const fs::path hmmFile = out() / "plain.json";
+  ASSERT_EQ(runCli({"hmm", "train", "--data", plain.string(), "--states", "2", "-o", hmmFile.string()}, logs()).exitCode, 0);
+  expectOneLineFailure(runCli({"eval", "head", "--model", hmmFile.string()}, logs()), hmmFile.string(), "not a head model");
+}
+
 TEST_F(FeaturesCliTest, HmmTrainWithTheEntropicPriorPrunesAndRecordsEveryStep) {
   const fs::path data = folder_.path() / "data.csv";
   hmmcli::writeTrainingCsv(data, 400);

@@ -1,0 +1,97 @@
+// Head motion from prosody (the first source paper, plus a smooth trajectory and an online version).
+//
+//   th::animation::HeadModel model = th::animation::trainHeadModel({trainingPart}, {});
+//   th::animation::saveHeadModel("models/head.json", model);
+//   Eigen::MatrixXd rotations = th::animation::synthesiseHead(model, prosody, {.variant = HeadVariant::kTrajectory});
+//
+//   th::animation::HeadSynthesiser live(model, {.variant = HeadVariant::kTrajectory, .maxLagFrames = 6});
+//   live.acceptProsody(p);  while (live.numReady() > next) use(live.rotation(next++));
+//
+// Training (paper, steps 1-3): an HMM of head rotations [pitch, yaw, roll] (degrees, relative to the mean pose)
+// with one full Gaussian per state, trained with Brand's entropic prior from a generous fully connected start;
+// then, with the state posteriors γ of the motion training data, every state gets the γ-weighted mean and
+// covariance of the prosody [pitch, energy, Δpitch, Δenergy] and of the rotation velocities (Δ, for the
+// trajectory). The result is one HMM with three independent blocks: "motion" (3), "motion_delta" (3) and
+// "prosody" (4), saved in the ordinary model file with the mean pose in its "training" object.
+// Synthesis decodes the prosody block with the shared transitions:
+//   kStateMeans      the paper: Viterbi states, each frame the state's mean pose (steps at state changes);
+//   kTrajectory      ours: the same states, then the maximum-likelihood trajectory of poses and velocities
+//                    (mlpg.h), which has no jumps;
+//   kPosteriorMeans  ours: each frame Σⱼ γₜ(j) μⱼ (forward-backward), smooth but damped.
+// Online (maxLagFrames ≥ 0): online Viterbi with that maximum lag, or fixed-lag smoothing for posterior means;
+// the trajectory waits trajectoryLookaheadFrames more and solves over a window of past frames.
+// Thread contract: models are values; a HeadSynthesiser belongs to one thread.
+#pragma once
+
+#include <Eigen/Core>
+#include <filesystem>
+#include <memory>
+#include <vector>
+
+#include "animation/head_data.h"
+#include "hmm/hmm_model.h"
+#include "hmm/training.h"
+
+namespace th::animation {
+
+struct HeadModelOptions {
+  int startStates = 24;               // a generous, fully connected start
+  double entropicWeightPerFrame = 0.05;  // Z = this x training frames
+  double covariancePriorWeight = 0.0;
+  int warmupIterations = 10;
+  int rampIterations = 20;
+  int maxIterations = 150;
+  unsigned seed = 1;
+};
+
+struct HeadModel {
+  hmm::HmmModel hmm;                            // blocks motion | motion_delta | prosody
+  Eigen::Vector3d meanPose = Eigen::Vector3d::Zero();  // degrees; the motion block is relative to it
+  std::vector<hmm::IterationRecord> history;    // of the motion HMM's training (empty when loaded)
+};
+
+HeadModel trainHeadModel(const std::vector<HeadRecording>& parts, const HeadModelOptions& options);
+
+// The ordinary HMM model file; the "training" object holds the mean pose and the options. Errors name the file.
+void saveHeadModel(const std::filesystem::path& path, const HeadModel& model, const HeadModelOptions& options);
+HeadModel loadHeadModel(const std::filesystem::path& path);
+
+enum class HeadVariant { kStateMeans, kTrajectory, kPosteriorMeans };
+
+struct HeadSynthesisOptions {
+  HeadVariant variant = HeadVariant::kTrajectory;
+  int maxLagFrames = -1;              // < 0: batch (whole input); >= 0: online with this decoding lag
+  int trajectoryLookaheadFrames = 3;  // online trajectory: decided states needed past the output frame
+  int trajectoryWindowFrames = 30;    // online trajectory: past frames in each solve
+};
+
+// Rotations relative to the mean pose (3 x T, degrees) for a prosody sequence (4 x T).
+Eigen::MatrixXd synthesiseHead(const HeadModel& model, const Eigen::MatrixXd& prosody,
+                               const HeadSynthesisOptions& options = {});
+
+class HeadSynthesiser {
+ public:
+  HeadSynthesiser(const HeadModel& model, const HeadSynthesisOptions& options);
+  ~HeadSynthesiser();
+  HeadSynthesiser(const HeadSynthesiser&) = delete;
+  HeadSynthesiser& operator=(const HeadSynthesiser&) = delete;
+
+  void acceptProsody(const Eigen::Vector4d& prosody);
+  void finish();
+  int numReady() const;
+  Eigen::Vector3d rotation(int frame) const;  // relative to the mean pose, degrees
+  int lookaheadFrames() const;                // the most frames a rotation waits for (batch: unbounded, -1)
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+// The prosody marginal of a head model (A, π and the prosody block), for decoding.
+hmm::HmmModel prosodyModel(const HeadModel& model);
+
+// A random walk through the motion HMM (states drawn from π and A), each frame its state's mean pose: the
+// baseline that has the model's motion but no voice.
+Eigen::MatrixXd randomWalkHead(const HeadModel& model, int numFrames, unsigned seed);
+
+}  // namespace th::animation

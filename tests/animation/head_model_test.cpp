@@ -1,0 +1,173 @@
+// The head-motion path: prosody from feature rows, the paper's error and the other metrics, training a head
+// model on data with a known voice-motion link, its file, and the batch and online synthesis variants.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include "animation/head_data.h"
+#include "animation/head_evaluation.h"
+#include "animation/head_model.h"
+#include "core/error.h"
+#include "core/temporary_file.h"
+#include "hmm/model_file.h"
+#include "hmm/sampling.h"
+
+namespace th::animation {
+namespace {
+
+std::vector<float> featureRow(float f0, float energy, float deltaF0, float deltaEnergy) {
+  std::vector<float> row(static_cast<size_t>(features::FeatureLayout{}.size()), 0.0f);
+  row[features::FeatureLayout::kF0Hz] = f0;
+  row[features::FeatureLayout::kEnergy] = energy;
+  row[features::FeatureLayout::kDeltaF0] = deltaF0;
+  row[features::FeatureLayout::kDeltaEnergy] = deltaEnergy;
+  return row;
+}
+
+TEST(Prosody, SemitonesAroundTheRunningMeanAndAHeldPitchThatRelaxesWhenUnvoiced) {
+  ProsodyTracker tracker(30.0, {.unvoicedDecaySeconds = 0.1, .meanPitchSeconds = 1e9});
+  // The first voiced frame sets the mean: 0 semitones; an octave up is +12.
+  EXPECT_NEAR(tracker.accept(featureRow(100.0f, 0.5f, 0.0f, 0.1f))[0], 0.0, 1e-9);
+  const Eigen::Vector4d octave = tracker.accept(featureRow(200.0f, 0.7f, 10.0f, -0.2f));
+  EXPECT_NEAR(octave[0], 12.0, 1e-6);
+  EXPECT_NEAR(octave[1], 0.7, 1e-6);
+  EXPECT_NEAR(octave[2], 12.0 / std::log(2.0) * 10.0 / 200.0, 1e-6) << "dF0/F0 in semitones per frame";
+  EXPECT_NEAR(octave[3], -0.2, 1e-6);
+  // Unvoiced: the pitch holds and relaxes by exp(-1 / (30 x 0.1)) per frame; its delta is 0.
+  const Eigen::Vector4d unvoiced = tracker.accept(featureRow(0.0f, -1.0f, 0.0f, 0.0f));
+  EXPECT_NEAR(unvoiced[0], 12.0 * std::exp(-1.0 / 3.0), 1e-6);
+  EXPECT_EQ(unvoiced[2], 0.0);
+  Eigen::Vector4d later;
+  for (int t = 0; t < 60; ++t) later = tracker.accept(featureRow(0.0f, -1.0f, 0.0f, 0.0f));
+  EXPECT_LT(std::abs(later[0]), 1e-6) << "two seconds of silence bring it back to the speaker's mean";
+}
+
+TEST(HeadEvaluation, ThePapersErrorAndItsReferencePoints) {
+  std::mt19937 random(3);
+  std::normal_distribution<double> normal(0.0, 5.0);
+  const Eigen::MatrixXd truth = Eigen::MatrixXd::NullaryExpr(3, 4000, [&] { return normal(random); });
+  const Eigen::MatrixXd unrelated = Eigen::MatrixXd::NullaryExpr(3, 4000, [&] { return normal(random); });
+  EXPECT_EQ(headError(truth, truth), 0.0);
+  EXPECT_DOUBLE_EQ(headError(Eigen::MatrixXd::Zero(3, 4000), truth), 1.0) << "the rest pose scores exactly 1";
+  EXPECT_NEAR(headError(unrelated, truth), 1.0, 0.03) << "an unrelated motion of the same size scores about 1";
+  EXPECT_NEAR(headError(-truth, truth), 2.0, 1e-12) << "the mirror image scores 2";
+  // One frame by hand: x^ = (1, 0, 0), x = (0, 1, 0): |x^ - x|^2 = 2, |x^|^2 + |x|^2 = 2.
+  Eigen::MatrixXd a = Eigen::MatrixXd::Zero(3, 2);
+  Eigen::MatrixXd b = Eigen::MatrixXd::Zero(3, 2);
+  a(0, 0) = 1.0;
+  b(1, 0) = 1.0;
+  EXPECT_DOUBLE_EQ(headError(a, b), 0.5) << "(2/2 + 0 for the frame where both rest) / 2";
+
+  const HeadMetrics self = evaluateHead(truth, truth, stepQuantile(truth, 0.99));
+  EXPECT_NEAR(self.correlation.minCoeff(), 1.0, 1e-12);
+  EXPECT_NEAR(self.jumpRate, 0.01, 0.002) << "1 % of the truth's own steps exceed its 99th percentile";
+  EXPECT_EQ(self.poseStd, self.truthPoseStd);
+  EXPECT_THROW(headError(truth.leftCols(10), truth), Error);
+}
+
+// A recording where the voice determines the head: a 3-state process, each state with its own pose and its own
+// prosody.
+HeadRecording synthetic(int frames, unsigned seed) {
+  hmm::HmmModel joint;
+  joint.initial = Eigen::Vector3d::Constant(1.0 / 3.0);
+  joint.transition = Eigen::Matrix3d::Constant(0.05);
+  joint.transition.diagonal().setConstant(0.9);
+  const double poses[3][3] = {{-6.0, 0.0, 1.0}, {0.0, 8.0, -1.0}, {5.0, -6.0, 0.0}};
+  for (int j = 0; j < 3; ++j) {
+    Eigen::VectorXd mean(7);
+    mean << poses[j][0], poses[j][1], poses[j][2], 3.0 * (j - 1), 0.8 * (j - 1), 0.0, 0.0;
+    Eigen::VectorXd variances(7);
+    variances << 1.0, 1.0, 1.0, 1.0, 0.1, 0.05, 0.05;
+    joint.states.emplace_back(Eigen::VectorXd::Ones(1),
+                              std::vector<hmm::Gaussian>{hmm::Gaussian(mean, variances.asDiagonal(), hmm::CovarianceType::kFull)});
+  }
+  std::mt19937 random(seed);
+  const hmm::Sample sample = hmm::sampleHmm(joint, frames, random);
+  HeadRecording recording;
+  recording.rotations = sample.frames.topRows(3);
+  recording.prosody = sample.frames.bottomRows(4);
+  return recording;
+}
+
+TEST(HeadModel, LearnsAVoiceThatDrivesTheHeadAndBeatsItsBaselines) {
+  const HeadRecording train = synthetic(3000, 1);
+  const HeadRecording test = synthetic(1000, 2);
+  const HeadModel model = trainHeadModel({train}, {.startStates = 8, .entropicWeightPerFrame = 0.05, .maxIterations = 60});
+  EXPECT_LE(model.hmm.numStates(), 8);
+  EXPECT_GE(model.hmm.numStates(), 3);
+  const Eigen::MatrixXd truth = test.rotations.colwise() - model.meanPose;
+  const double paper = headError(synthesiseHead(model, test.prosody, {.variant = HeadVariant::kStateMeans}), truth);
+  const double trajectory = headError(synthesiseHead(model, test.prosody, {.variant = HeadVariant::kTrajectory}), truth);
+  const double posterior = headError(synthesiseHead(model, test.prosody, {.variant = HeadVariant::kPosteriorMeans}), truth);
+  const double walk = headError(randomWalkHead(model, test.numFrames(), 4), truth);
+  std::printf("[ INFO     ] synthetic held-out E: paper %.3f, trajectory %.3f, posterior means %.3f, random walk %.3f\n",
+              paper, trajectory, posterior, walk);
+  EXPECT_LT(paper, 0.2);
+  EXPECT_LT(trajectory, 0.2);
+  EXPECT_LT(posterior, 0.2);
+  EXPECT_GT(walk, 0.6) << "the voice is what makes the difference";
+}
+
+TEST(HeadModel, OnlineVariantsMatchBatchWithALongLagAndRespectTheirLag) {
+  const HeadRecording train = synthetic(2000, 5);
+  const HeadModel model = trainHeadModel({train}, {.startStates = 6, .maxIterations = 40});
+  const HeadRecording test = synthetic(600, 6);
+  for (HeadVariant variant : {HeadVariant::kStateMeans, HeadVariant::kPosteriorMeans}) {
+    const Eigen::MatrixXd batch = synthesiseHead(model, test.prosody, {.variant = variant});
+    const Eigen::MatrixXd online = synthesiseHead(model, test.prosody, {.variant = variant, .maxLagFrames = 600});
+    EXPECT_LT((batch - online).cwiseAbs().maxCoeff(), 1e-9) << static_cast<int>(variant);
+  }
+  for (HeadVariant variant : {HeadVariant::kStateMeans, HeadVariant::kTrajectory, HeadVariant::kPosteriorMeans}) {
+    HeadSynthesiser live(model, {.variant = variant, .maxLagFrames = 4});
+    for (Eigen::Index t = 0; t < test.prosody.cols(); ++t) {
+      live.acceptProsody(test.prosody.col(t));
+      ASSERT_GE(live.numReady(), static_cast<int>(t) + 1 - live.lookaheadFrames()) << "variant " << static_cast<int>(variant);
+    }
+    live.finish();
+    EXPECT_EQ(live.numReady(), test.prosody.cols());
+  }
+  // The online trajectory, solved over windows, stays close to the batch trajectory.
+  const Eigen::MatrixXd batch = synthesiseHead(model, test.prosody, {.variant = HeadVariant::kTrajectory});
+  const Eigen::MatrixXd online =
+      synthesiseHead(model, test.prosody, {.variant = HeadVariant::kTrajectory, .maxLagFrames = 600});
+  EXPECT_LT(std::sqrt((batch - online).squaredNorm() / static_cast<double>(batch.size())), 0.2);
+}
+
+TEST(HeadModel, FileRoundTripAndRefusals) {
+  const HeadModel model = trainHeadModel({synthetic(1500, 7)}, {.startStates = 5, .maxIterations = 30});
+  const TemporaryFile file(".json");
+  saveHeadModel(file.path(), model, {});
+  const HeadModel loaded = loadHeadModel(file.path());
+  EXPECT_EQ(loaded.meanPose, model.meanPose);
+  const HeadRecording test = synthetic(300, 8);
+  EXPECT_EQ(synthesiseHead(loaded, test.prosody), synthesiseHead(model, test.prosody));
+  // A plain HMM file is not a head model.
+  const TemporaryFile plain(".json");
+  hmm::saveModel(plain.path(), model.hmm);
+  try {
+    loadHeadModel(plain.path());
+    FAIL() << "a plain HMM file was accepted";
+  } catch (const Error& error) {
+    EXPECT_NE(std::string(error.what()).find(plain.path().string()), std::string::npos) << error.what();
+  }
+}
+
+TEST(HeadData, Beat2TakeIsAlignedAndPlausible) {
+  const HeadRecording take = loadBeat2Head();
+  EXPECT_EQ(take.numFrames(), 1906);
+  EXPECT_TRUE(take.prosody.allFinite());
+  const Eigen::Vector3d spread =
+      ((take.rotations.colwise() - take.rotations.rowwise().mean()).cwiseAbs2().rowwise().mean()).cwiseSqrt();
+  // The data's README: neck+head std about 4.6 / 7.1 / 4.0 degrees.
+  EXPECT_NEAR(spread[0], 4.6, 0.5);
+  EXPECT_NEAR(spread[1], 7.1, 0.5);
+  EXPECT_NEAR(spread[2], 4.0, 0.5);
+  const auto [train, test] = splitByTime(take, 0.75);
+  EXPECT_EQ(train.numFrames() + test.numFrames(), 1906);
+  EXPECT_NEAR(test.startSeconds, train.numFrames() / 30.0, 1e-12);
+}
+
+}  // namespace
+}  // namespace th::animation
