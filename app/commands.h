@@ -10,6 +10,7 @@ void addFeaturesCommand(CLI::App& app);
 void addEvalCommand(CLI::App& app);
 void addHmmCommand(CLI::App& app);
 void addTrainCommand(CLI::App& app);
-void addEvalHeadCommand(CLI::App& eval);  // `eval head`, registered by addEvalCommand
+void addEvalHeadCommand(CLI::App& eval);   // `eval head`, registered by addEvalCommand
+void addEvalMouthCommand(CLI::App& eval);  // `eval mouth`, likewise
 
 }  // namespace th::app

@@ -125,6 +125,7 @@ void addEvalCommand(CLI::App& app) {
   pitch->add_option("--vu-cost", tuning.voicedUnvoicedCost, "Our tracker")->group("Tuning our tracker");
   pitch->callback([arguments] { runEvalPitch(*arguments); });
   addEvalHeadCommand(*eval);
+  addEvalMouthCommand(*eval);
 }
 
 }  // namespace th::app

@@ -5,7 +5,8 @@
 #                                               # taskset -c 0 build/bench/features_bench
 #   bash scripts/bench.sh --benchmark_filter=features   # extra arguments go to the benchmark binary
 #   bash scripts/bench.sh hmm [ARGS...]         # the HMM engine: taskset -c 0 build/bench/hmm_bench (~2 min)
-#   bash scripts/bench.sh all                   # both, one after the other
+#   bash scripts/bench.sh animation [ARGS...]   # head model training and synthesis: build/bench/animation_bench
+#   bash scripts/bench.sh all                   # all three, one after the other
 #
 # features_bench: speed of the feature extraction against Praat and SPTK RAPT. Prints Google Benchmark's table
 # (realtime_factor = audio seconds per second) and a summary: "ours N× real time, Praat M×, RAPT K×;
@@ -24,7 +25,7 @@ cpu="${BENCH_CPU:-0}"
 
 which="features"
 case "${1:-}" in
-  features | hmm | all)
+  features | hmm | animation | all)
     which="$1"
     shift
     ;;
@@ -32,6 +33,7 @@ esac
 targets=()
 [[ "$which" == features || "$which" == all ]] && targets+=(features_bench)
 [[ "$which" == hmm || "$which" == all ]] && targets+=(hmm_bench)
+[[ "$which" == animation || "$which" == all ]] && targets+=(animation_bench)
 
 if [[ ! -f "$build_dir/CMakeCache.txt" ]]; then
   cmake -S . -B "$build_dir" -G Ninja -DCMAKE_BUILD_TYPE=Release

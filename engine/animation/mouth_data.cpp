@@ -1,0 +1,93 @@
+#include "animation/mouth_data.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "audio/audio_file.h"
+#include "core/data_path.h"
+#include "core/error.h"
+#include "core/numeric_csv.h"
+#include "features/online_features.h"
+
+namespace th::animation {
+namespace {
+
+constexpr int kExpressionCoefficients = 100;
+
+}  // namespace
+
+Eigen::MatrixXd mfccOf(const std::filesystem::path& wav) {
+  const audio::AudioClip clip = audio::readAudioFile(wav);
+  features::FeatureOptions options = features::batchFeatureOptions();
+  options.contextFrames = 0;
+  const features::FeatureMatrix features = features::computeFeatures(clip.samples, options);
+  const int numMfcc = features.layout.numMfcc;
+  Eigen::MatrixXd mfcc(numMfcc, features.numFrames());
+  for (int t = 0; t < features.numFrames(); ++t) {
+    const auto row = features.row(t);
+    for (int k = 0; k < numMfcc; ++k) mfcc(k, t) = row[static_cast<size_t>(features::FeatureLayout::kMfccBegin + k)];
+  }
+  return mfcc;
+}
+
+MouthRecording loadMouthRecording(const std::filesystem::path& wav, const std::filesystem::path& headPoseCsv,
+                                  const std::filesystem::path& expressionCsv) {
+  const NumericTable pose = readNumericCsv(headPoseCsv);
+  const NumericTable expressions = readNumericCsv(expressionCsv);
+  const int jaw = pose.column("jaw_aa_x_deg");
+  std::vector<int> columns;
+  for (int k = 0; k < kExpressionCoefficients; ++k) columns.push_back(expressions.column("e" + std::to_string(k)));
+  if (pose.rows.size() != expressions.rows.size()) {
+    throw fileError(expressionCsv, "has " + std::to_string(expressions.rows.size()) + " frames, the head pose " +
+                                       std::to_string(pose.rows.size()));
+  }
+  const Eigen::MatrixXd mfcc = mfccOf(wav);
+  const int frames = std::min(static_cast<int>(pose.rows.size()), static_cast<int>(mfcc.cols()));
+  if (frames < 2) throw fileError(expressionCsv, "has fewer than 2 frames");
+  MouthRecording take;
+  take.visual.resize(1 + kExpressionCoefficients, frames);
+  for (int t = 0; t < frames; ++t) {
+    take.visual(0, t) = pose.rows[static_cast<size_t>(t)][static_cast<size_t>(jaw)];
+    for (int k = 0; k < kExpressionCoefficients; ++k) {
+      take.visual(1 + k, t) = expressions.rows[static_cast<size_t>(t)][static_cast<size_t>(columns[static_cast<size_t>(k)])];
+    }
+  }
+  take.mfcc = mfcc.leftCols(frames);
+  return take;
+}
+
+MouthRecording loadBeat2Mouth() {
+  return loadMouthRecording(sharedDataPath("beat2/2_scott_0_1_1.wav"),
+                            sharedDataPath("beat2/2_scott_0_1_1_headpose_30fps.csv"),
+                            sharedDataPath("beat2/2_scott_0_1_1_flame_expr_30fps.csv"));
+}
+
+std::pair<MouthRecording, MouthRecording> splitByTime(const MouthRecording& take, double trainingFraction) {
+  const int boundary = static_cast<int>(std::lround(trainingFraction * take.numFrames()));
+  if (boundary < 1 || boundary >= take.numFrames()) throw Error("mouth data: the split leaves a part empty");
+  MouthRecording train = take;
+  MouthRecording test = take;
+  train.visual = take.visual.leftCols(boundary);
+  train.mfcc = take.mfcc.leftCols(boundary);
+  test.visual = take.visual.rightCols(take.numFrames() - boundary);
+  test.mfcc = take.mfcc.rightCols(take.numFrames() - boundary);
+  test.startSeconds = take.startSeconds + boundary / take.framesPerSecond;
+  return {train, test};
+}
+
+Eigen::MatrixXd stackContext(const Eigen::MatrixXd& mfcc, int contextFrames) {
+  if (contextFrames < 0) throw Error("mouth data: the context must be >= 0 frames");
+  const Eigen::Index frames = mfcc.cols();
+  const Eigen::Index rows = mfcc.rows();
+  Eigen::MatrixXd stacked(rows * (2 * contextFrames + 1), frames);
+  for (Eigen::Index t = 0; t < frames; ++t) {
+    for (int offset = -contextFrames; offset <= contextFrames; ++offset) {
+      const Eigen::Index source = std::clamp<Eigen::Index>(t + offset, 0, frames - 1);
+      stacked.block(rows * (offset + contextFrames), t, rows, 1) = mfcc.col(source);
+    }
+  }
+  return stacked;
+}
+
+}  // namespace th::animation

@@ -1,0 +1,40 @@
+// The mouth model's data: per frame at 30 fps, the visual parameters of BEAT2 (jaw opening and the 100 FLAME
+// expression coefficients) and the MFCCs of the synchronous recording, and MFCC context stacking.
+//
+//   th::animation::MouthRecording take = th::animation::loadBeat2Mouth();
+//   auto [train, test] = th::animation::splitByTime(take, 0.75);
+//   Eigen::MatrixXd audio = th::animation::stackContext(train.mfcc, 3);   // 11·7 x T
+//
+// Frame i of both streams is at i / 30 s, as for the head (head_data.h); the longer stream is cut to the
+// shorter. The jaw opening is the x component of the SMPL-X jaw axis-angle (degrees; positive opens).
+// Thread contract: pure functions of files.
+#pragma once
+
+#include <Eigen/Core>
+#include <filesystem>
+#include <utility>
+
+namespace th::animation {
+
+struct MouthRecording {
+  double framesPerSecond = 30.0;
+  double startSeconds = 0.0;
+  Eigen::MatrixXd visual;  // 101 x T: jaw opening (degrees), expression coefficients e0..e99
+  Eigen::MatrixXd mfcc;    // 11 x T: c1..c11 (features/mfcc.h conventions)
+  int numFrames() const { return static_cast<int>(visual.cols()); }
+};
+
+MouthRecording loadMouthRecording(const std::filesystem::path& wav, const std::filesystem::path& headPoseCsv,
+                                  const std::filesystem::path& expressionCsv);
+MouthRecording loadBeat2Mouth();
+
+// MFCC frames alone from any recording (11 x T at 30 fps), for synthesis.
+Eigen::MatrixXd mfccOf(const std::filesystem::path& wav);
+
+std::pair<MouthRecording, MouthRecording> splitByTime(const MouthRecording& take, double trainingFraction);
+
+// Frames t−tc .. t+tc stacked (c1..c11 of the earliest first), edges replicating the first and last frame —
+// the same layout as the streaming extractor's context columns.
+Eigen::MatrixXd stackContext(const Eigen::MatrixXd& mfcc, int contextFrames);
+
+}  // namespace th::animation

@@ -1,0 +1,58 @@
+// Mouth from audio (the second source paper, Terissi & Gómez): a joint audio-visual HMM over [MFCC with ±tc
+// frames of context | K visual components], inverted to recover the visual part from audio alone.
+//
+//   th::animation::MouthModel model = th::animation::trainMouthModel({trainingPart}, {.states = 4, .mixtures = 2});
+//   Eigen::MatrixXd components = th::animation::synthesiseMouth(model, mfcc, {});   // K x T
+//   Eigen::MatrixXd visual = model.basis.reconstruct(components);                     // jaw + expressions
+//
+// The visual components are ICA after PCA (visual_basis.h) of [jaw opening, 100 expression coefficients],
+// fitted on the training part. The HMM is trained by Baum-Welch (maximum likelihood, as the paper) with full or
+// diagonal covariance. Synthesis: HMM inversion (hmm/inversion.h, eq. 7/8) from the paper's random start or
+// from the audio-only conditional mean (ours), batch or windowed; or the non-iterative MMSE estimate.
+// Thread contract: models are values; synthesis is a pure function.
+#pragma once
+
+#include <Eigen/Core>
+#include <vector>
+
+#include "animation/mouth_data.h"
+#include "animation/visual_basis.h"
+#include "hmm/hmm_model.h"
+#include "hmm/inversion.h"
+
+namespace th::animation {
+
+struct MouthModelOptions {
+  int states = 4;                                        // N
+  int mixtures = 2;                                      // M
+  hmm::CovarianceType covariance = hmm::CovarianceType::kFull;
+  int contextFrames = 3;                                 // tc
+  int visualComponents = 2;                              // K
+  int maxIterations = 60;
+  unsigned seed = 1;
+};
+
+struct MouthModel {
+  hmm::HmmModel hmm;    // blocks "audio" (11·(2tc+1)) and "visual" (K)
+  VisualBasis basis;
+  int contextFrames = 3;
+  int iterations = 0;   // Baum-Welch iterations used
+};
+
+MouthModel trainMouthModel(const std::vector<MouthRecording>& parts, const MouthModelOptions& options);
+
+enum class MouthMethod { kInversion, kMmse };
+
+struct MouthSynthesisOptions {
+  MouthMethod method = MouthMethod::kInversion;
+  hmm::InversionStart start = hmm::InversionStart::kConditionalMean;
+  int windowFrames = 0;     // 0: batch
+  int maxIterations = 100;
+  unsigned seed = 1;
+};
+
+// K x T visual components for 11 x T MFCC frames. `iterations`, if given, receives the inversion's EM count.
+Eigen::MatrixXd synthesiseMouth(const MouthModel& model, const Eigen::MatrixXd& mfcc,
+                                const MouthSynthesisOptions& options = {}, int* iterations = nullptr);
+
+}  // namespace th::animation

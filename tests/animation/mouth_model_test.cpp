@@ -1,0 +1,113 @@
+// The mouth path: MFCC context stacking, the paper's ε and ρ at their reference points, and an AV-HMM that
+// learns a known audio-visual link and recovers the visual part from audio by inversion and MMSE.
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "animation/mouth_data.h"
+#include "animation/mouth_evaluation.h"
+#include "animation/mouth_model.h"
+#include "core/error.h"
+#include "hmm/sampling.h"
+
+namespace th::animation {
+namespace {
+
+TEST(MouthData, ContextStackingReplicatesTheEdges) {
+  Eigen::MatrixXd mfcc(2, 4);
+  mfcc << 1, 2, 3, 4, 10, 20, 30, 40;
+  const Eigen::MatrixXd stacked = stackContext(mfcc, 1);
+  ASSERT_EQ(stacked.rows(), 6);
+  ASSERT_EQ(stacked.cols(), 4);
+  // Frame 0: [frame 0 (edge), frame 0, frame 1]; frame 3: [frame 2, frame 3, frame 3 (edge)].
+  EXPECT_EQ(stacked.col(0), (Eigen::VectorXd(6) << 1, 10, 1, 10, 2, 20).finished());
+  EXPECT_EQ(stacked.col(3), (Eigen::VectorXd(6) << 3, 30, 4, 40, 4, 40).finished());
+  EXPECT_EQ(stackContext(mfcc, 0), mfcc);
+  EXPECT_THROW(stackContext(mfcc, -1), Error);
+}
+
+TEST(MouthEvaluation, ThePapersMeasuresAtTheirReferencePoints) {
+  std::mt19937 random(2);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  const Eigen::MatrixXd truth = Eigen::MatrixXd::NullaryExpr(2, 5000, [&] { return 3.0 + 2.0 * normal(random); });
+  EXPECT_NEAR(averageMse(truth, truth), 0.0, 1e-15);
+  EXPECT_NEAR(averageCorrelation(truth, truth), 1.0, 1e-12);
+  const Eigen::MatrixXd mean = truth.rowwise().mean().replicate(1, truth.cols());
+  EXPECT_NEAR(averageMse(mean, truth), 1.0, 1e-12) << "the mean prediction scores exactly 1";
+  EXPECT_NEAR(averageCorrelation(mean, truth), 0.0, 1e-9);
+  EXPECT_NEAR(averageCorrelation(-truth, truth), -1.0, 1e-12);
+  // Correlation ignores scale and offset; ε does not.
+  EXPECT_NEAR(averageCorrelation(5.0 * truth.array() + 1.0, truth), 1.0, 1e-12);
+  EXPECT_GT(averageMse(5.0 * truth.array() + 1.0, truth), 10.0);
+  EXPECT_THROW(averageMse(truth.leftCols(10), truth), Error);
+}
+
+// Recordings where the audio (3 "MFCC" dimensions) and the visual parameters (4, driven by 2 sources) share a
+// hidden 3-state process.
+MouthRecording synthetic(int frames, unsigned seed) {
+  hmm::HmmModel joint;
+  joint.initial = Eigen::Vector3d::Constant(1.0 / 3.0);
+  joint.transition = Eigen::Matrix3d::Constant(0.05);
+  joint.transition.diagonal().setConstant(0.9);
+  for (int j = 0; j < 3; ++j) {
+    Eigen::VectorXd mean(5);
+    mean << 2.0 * (j - 1), 1.0 * (j == 1), -1.0 * (j == 2), 1.5 * (j - 1), 1.0 * (j == 0);
+    // The visual sources vary little within a state, so the audio (through the state) can explain them.
+    const Eigen::VectorXd variances = (Eigen::VectorXd(5) << 0.1, 0.1, 0.1, 0.01, 0.01).finished();
+    joint.states.emplace_back(Eigen::VectorXd::Ones(1),
+                              std::vector<hmm::Gaussian>{hmm::Gaussian(mean, variances.asDiagonal(), hmm::CovarianceType::kFull)});
+  }
+  std::mt19937 random(seed);
+  const hmm::Sample sample = hmm::sampleHmm(joint, frames, random);
+  MouthRecording recording;
+  recording.mfcc = sample.frames.topRows(3);
+  const Eigen::MatrixXd sources = sample.frames.bottomRows(2);
+  Eigen::MatrixXd mixing(4, 2);
+  mixing << 1.0, 0.2, 0.5, 1.0, -0.3, 0.8, 0.9, -0.4;
+  recording.visual = mixing * sources;
+  return recording;
+}
+
+TEST(MouthModel, RecoversTheVisualPartFromAudioOnHeldOutData) {
+  const MouthRecording train = synthetic(3000, 1);
+  const MouthRecording test = synthetic(1000, 2);
+  for (hmm::CovarianceType covariance : {hmm::CovarianceType::kFull, hmm::CovarianceType::kDiagonal}) {
+    const MouthModel model =
+        trainMouthModel({train}, {.states = 3, .mixtures = 1, .covariance = covariance, .contextFrames = 1});
+    EXPECT_EQ(model.hmm.block("audio").size, 9);
+    EXPECT_EQ(model.hmm.block("visual").size, 2);
+    const Eigen::MatrixXd truth = model.basis.transform(test.visual);
+    for (MouthMethod method : {MouthMethod::kInversion, MouthMethod::kMmse}) {
+      const Eigen::MatrixXd estimate = synthesiseMouth(model, test.mfcc, {.method = method});
+      const double rho = averageCorrelation(estimate, truth);
+      const double epsilon = averageMse(estimate, truth);
+      std::printf("[ INFO     ] %s, %s: held-out epsilon %.3f, rho %.3f\n",
+                  covariance == hmm::CovarianceType::kFull ? "full" : "diagonal",
+                  method == MouthMethod::kMmse ? "MMSE" : "inversion", epsilon, rho);
+      EXPECT_GT(rho, 0.9);
+      EXPECT_LT(epsilon, 0.2);
+    }
+    // Audio from elsewhere: the estimate no longer follows the truth.
+    Eigen::MatrixXd shuffled(test.mfcc.rows(), test.mfcc.cols());
+    shuffled << test.mfcc.rightCols(500), test.mfcc.leftCols(500);
+    EXPECT_LT(std::abs(averageCorrelation(synthesiseMouth(model, shuffled), truth)), 0.2);
+    // Reconstruction gives back the visual parameters' units.
+    const Eigen::MatrixXd visual = model.basis.reconstruct(synthesiseMouth(model, test.mfcc));
+    EXPECT_EQ(visual.rows(), 4);
+    EXPECT_LT((visual - test.visual).cwiseAbs().mean(), 0.3);
+  }
+  const MouthModel model = trainMouthModel({train}, {.states = 3, .mixtures = 1, .contextFrames = 1});
+  EXPECT_THROW(synthesiseMouth(model, Eigen::MatrixXd::Zero(5, 10)), Error) << "audio of the wrong dimension";
+}
+
+TEST(MouthData, Beat2TakeIsAligned) {
+  const MouthRecording take = loadBeat2Mouth();
+  EXPECT_EQ(take.numFrames(), 1906);
+  EXPECT_EQ(take.visual.rows(), 101);
+  EXPECT_EQ(take.mfcc.rows(), 11);
+  EXPECT_TRUE(take.mfcc.allFinite());
+  EXPECT_TRUE(take.visual.allFinite());
+}
+
+}  // namespace
+}  // namespace th::animation
