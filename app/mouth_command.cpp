@@ -1,13 +1,26 @@
 // `talkinghead eval mouth`: the audio → mouth AV-HMM on BEAT2, trained on the first part of the take and
 // measured by the paper's ε and ρ on both parts, per synthesis method, beside baselines.
+#include <algorithm>
+#include <chrono>
 #include <cstdio>
+#include <filesystem>
+#include <fstream>
 #include <memory>
+#include <mutex>
+#include <sstream>
 #include <string>
+#include <thread>
+#include <vector>
+
+#include <unistd.h>
 
 #include "animation/mouth_data.h"
 #include "animation/mouth_evaluation.h"
 #include "animation/mouth_model.h"
 #include "commands.h"
+#include "core/atomic_file.h"
+#include "core/error.h"
+#include "subprocess.h"
 
 namespace th::app {
 namespace {
@@ -15,7 +28,31 @@ namespace {
 struct MouthArguments {
   double trainingFraction = 0.75;
   int windowFrames = 30;
+  bool sweep = false;
+  std::string states = "3,4,5,6,7,8,9,10,11,12,13,14,15,16,17,18,19,20";
+  std::string mixtures = "1,2,3,7";
+  std::string contexts = "2,3,4,5";
+  std::string covariances = "full,diag";
+  std::string output = "docs/mouth_sweep";
+  int iterations = 30;
 };
+
+std::vector<int> integerList(const std::string& text, const std::string& option) {
+  std::vector<int> values;
+  std::stringstream stream(text);
+  std::string item;
+  while (std::getline(stream, item, ',')) {
+    try {
+      size_t used = 0;
+      values.push_back(std::stoi(item, &used));
+      if (used != item.size() || values.back() < 1) throw std::invalid_argument(item);
+    } catch (const std::exception&) {
+      throw Error(option + ": \"" + item + "\" is not a positive integer");
+    }
+  }
+  if (values.empty()) throw Error(option + ": empty list");
+  return values;
+}
 
 // The audio of another segment of the same speaker: the same frames shifted by half their length.
 Eigen::MatrixXd otherSegment(const Eigen::MatrixXd& frames) {
@@ -52,8 +89,156 @@ void evaluatePart(const std::string& title, const animation::MouthModel& model, 
            animation::synthesiseMouth(model, otherSegment(part.mfcc), {}), truth, 0);
 }
 
+struct SweepPoint {
+  hmm::CovarianceType covariance;
+  int contextFrames;
+  int mixtures;
+  int states;
+  double validationEpsilon = 0.0;
+  double validationRho = 0.0;
+  double heldOutEpsilon = 0.0;
+  double heldOutRho = 0.0;
+  double seconds = 0.0;
+  bool failed = false;
+};
+
+const char* covarianceName(hmm::CovarianceType type) { return type == hmm::CovarianceType::kFull ? "full" : "diag"; }
+
+// Fig. 3 of the paper: ε and ρ on the held-out part against N, one curve per M, at the context tc chosen on the
+// validation data; one PNG per covariance type, drawn by gnuplot.
+void plotSweep(const std::filesystem::path& folder, const std::filesystem::path& csv, hmm::CovarianceType covariance,
+               int contextFrames, const std::vector<int>& mixtures) {
+  const std::string name = covarianceName(covariance);
+  const std::filesystem::path png = folder / ("mouth_sweep_" + name + ".png");
+  const std::filesystem::path script = folder / ("mouth_sweep_" + name + ".gp");
+  {
+    std::ofstream out(script);
+    out << "set terminal pngcairo size 1200,480 font 'sans,11'\n"
+        << "set output '" << png.string() << ".part'\n"
+        << "set datafile separator ','\n"
+        << "set multiplot layout 1,2 title '" << name << " covariance, tc = " << contextFrames
+        << ": held-out part of BEAT2 (inversion, conditional-mean start)'\n"
+        << "set xlabel 'states N'\nset grid\nset key outside right\n";
+    for (const char* measure : {"epsilon", "rho"}) {
+      const int column = std::string(measure) == "epsilon" ? 8 : 9;
+      out << "set ylabel '" << (std::string(measure) == "epsilon" ? "AMSE (epsilon)" : "ACC (rho)") << "'\n"
+          << "plot ";
+      for (size_t i = 0; i < mixtures.size(); ++i) {
+        out << (i ? ", " : "") << "'" << csv.string() << "' using ($1 == " << (covariance == hmm::CovarianceType::kFull ? 0 : 1)
+            << " && $2 == " << contextFrames << " && $3 == " << mixtures[i] << " ? $4 : 1/0):" << column
+            << " with linespoints title 'M = " << mixtures[i] << "'";
+      }
+      out << "\n";
+    }
+    out << "unset multiplot\n";
+  }
+  runProgram({"gnuplot", script.string()});
+  std::filesystem::rename(png.string() + ".part", png);
+  std::filesystem::remove(script);
+}
+
+void runSweep(const MouthArguments& arguments, const animation::MouthRecording& train,
+              const animation::MouthRecording& test) {
+  if (!programExists("gnuplot")) throw Error("eval mouth --sweep: gnuplot is not installed (scripts/setup.sh installs it)");
+  // Choices are made on the last fifth of the training part, fitted on the rest; the held-out part is only
+  // reported.
+  const auto [fit, validation] = animation::splitByTime(train, 0.8);
+  std::vector<SweepPoint> points;
+  std::stringstream covariances(arguments.covariances);
+  std::string covariance;
+  while (std::getline(covariances, covariance, ',')) {
+    if (covariance != "full" && covariance != "diag") throw Error("--covariances: \"" + covariance + "\" is not full or diag");
+    for (int tc : integerList(arguments.contexts, "--contexts")) {
+      for (int m : integerList(arguments.mixtures, "--mixtures")) {
+        for (int n : integerList(arguments.states, "--states")) {
+          points.push_back({covariance == "full" ? hmm::CovarianceType::kFull : hmm::CovarianceType::kDiagonal, tc, m, n});
+        }
+      }
+    }
+  }
+  std::printf("sweep: %zu models, fitted on %d frames, chosen on %d, reported on the held-out %d\n", points.size(),
+              fit.numFrames(), validation.numFrames(), test.numFrames());
+  std::mutex mutex;
+  size_t next = 0;
+  size_t done = 0;
+  auto worker = [&] {
+    for (;;) {
+      size_t index = 0;
+      {
+        const std::lock_guard lock(mutex);
+        if (next == points.size()) return;
+        index = next++;
+      }
+      SweepPoint& point = points[index];
+      const auto start = std::chrono::steady_clock::now();
+      try {
+        const animation::MouthModel model = animation::trainMouthModel(
+            {fit}, {.states = point.states, .mixtures = point.mixtures, .covariance = point.covariance,
+                    .contextFrames = point.contextFrames, .maxIterations = arguments.iterations});
+        const Eigen::MatrixXd validationTruth = model.basis.transform(validation.visual);
+        const Eigen::MatrixXd validationEstimate = animation::synthesiseMouth(model, validation.mfcc);
+        point.validationEpsilon = animation::averageMse(validationEstimate, validationTruth);
+        point.validationRho = animation::averageCorrelation(validationEstimate, validationTruth);
+        const Eigen::MatrixXd heldOutTruth = model.basis.transform(test.visual);
+        const Eigen::MatrixXd heldOutEstimate = animation::synthesiseMouth(model, test.mfcc);
+        point.heldOutEpsilon = animation::averageMse(heldOutEstimate, heldOutTruth);
+        point.heldOutRho = animation::averageCorrelation(heldOutEstimate, heldOutTruth);
+      } catch (const Error&) {
+        point.failed = true;  // e.g. more components than the data support; reported as a gap
+      }
+      point.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      const std::lock_guard lock(mutex);
+      ++done;
+      if (isatty(fileno(stderr)) != 0) std::fprintf(stderr, "\r  %zu / %zu models", done, points.size());
+    }
+  };
+  std::vector<std::thread> threads;
+  for (unsigned i = 0; i < std::max(1u, std::thread::hardware_concurrency()); ++i) threads.emplace_back(worker);
+  for (auto& thread : threads) thread.join();
+  if (isatty(fileno(stderr)) != 0) std::fprintf(stderr, "\n");
+
+  std::filesystem::create_directories(arguments.output);
+  const std::filesystem::path csv = std::filesystem::path(arguments.output) / "mouth_sweep.csv";
+  {
+    AtomicFile file(csv);
+    std::ostream& out = file.stream();
+    out << "covariance_diag,tc,mixtures,states,validation_epsilon,validation_rho,seconds,heldout_epsilon,heldout_rho\n";
+    for (const auto& p : points) {
+      if (p.failed) continue;
+      out << (p.covariance == hmm::CovarianceType::kDiagonal) << ',' << p.contextFrames << ',' << p.mixtures << ','
+          << p.states << ',' << p.validationEpsilon << ',' << p.validationRho << ',' << p.seconds << ','
+          << p.heldOutEpsilon << ',' << p.heldOutRho << '\n';
+    }
+    file.commit();
+  }
+  for (hmm::CovarianceType type : {hmm::CovarianceType::kFull, hmm::CovarianceType::kDiagonal}) {
+    const SweepPoint* best = nullptr;
+    int failed = 0;
+    for (const auto& p : points) {
+      if (p.covariance != type) continue;
+      if (p.failed) {
+        ++failed;
+        continue;
+      }
+      if (best == nullptr || p.validationRho > best->validationRho) best = &p;
+    }
+    if (best == nullptr) continue;
+    std::printf("%s covariance: chosen on validation N = %d, M = %d, tc = %d (validation ε %.3f, ρ %.3f) -> held-out "
+                "ε %.3f, ρ %.3f%s\n",
+                covarianceName(type), best->states, best->mixtures, best->contextFrames, best->validationEpsilon,
+                best->validationRho, best->heldOutEpsilon, best->heldOutRho,
+                failed ? (", " + std::to_string(failed) + " models could not be trained").c_str() : "");
+    plotSweep(arguments.output, csv, type, best->contextFrames, integerList(arguments.mixtures, "--mixtures"));
+  }
+  std::printf("wrote %s and the plots beside it\n", csv.string().c_str());
+}
+
 void runEvalMouth(const MouthArguments& arguments) {
   const auto [train, test] = animation::splitByTime(animation::loadBeat2Mouth(), arguments.trainingFraction);
+  if (arguments.sweep) {
+    runSweep(arguments, train, test);
+    return;
+  }
   std::printf("Mouth from audio on BEAT2: trained on the first %d frames, held out the last %d (%.1f s). Visual: "
               "K = 2 ICA-after-PCA components of [jaw opening, 100 expression coefficients]; audio: 11 MFCC with "
               "±tc frames of context. ε = AMSE normalised by the truth's variance (mean prediction: 1), ρ = ACC.\n",
@@ -88,6 +273,17 @@ void addEvalMouthCommand(CLI::App& eval) {
       ->check(CLI::Range(0.1, 0.95));
   mouth->add_option("--window", arguments->windowFrames, "Frames per window of the streaming inversion")
       ->check(CLI::Range(2, 10000));
+  mouth->add_flag("--sweep", arguments->sweep,
+                  "Sweep N, M, tc and covariance (fitted on the first 80 % of the training part, chosen on the rest, "
+                  "reported on the held-out part); writes a CSV and PNG plots like the paper's Fig. 3");
+  mouth->add_option("--states", arguments->states, "Sweep: states N, comma-separated")->group("Sweep");
+  mouth->add_option("--mixtures", arguments->mixtures, "Sweep: mixtures M")->group("Sweep");
+  mouth->add_option("--contexts", arguments->contexts, "Sweep: MFCC context tc")->group("Sweep");
+  mouth->add_option("--covariances", arguments->covariances, "Sweep: full,diag")->group("Sweep");
+  mouth->add_option("--iterations", arguments->iterations, "Sweep: maximum Baum-Welch iterations")
+      ->check(CLI::Range(1, 1000))
+      ->group("Sweep");
+  mouth->add_option("--output", arguments->output, "Sweep: folder for the CSV and the plots")->group("Sweep");
   mouth->callback([arguments] { runEvalMouth(*arguments); });
 }
 

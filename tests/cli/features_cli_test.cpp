@@ -311,6 +311,29 @@ TEST_F(FeaturesCliTest, TrainHeadThenEvaluateItBesideItsBaselines) {
   expectOneLineFailure(runCli({"eval", "head", "--model", hmmFile.string()}, logs()), hmmFile.string(), "not a head model");
 }
 
+TEST_F(FeaturesCliTest, EvalMouthReportsThePapersMeasuresAndTheSweepWritesPlots) {
+  CliResult result = runCli({"eval", "mouth"}, logs());
+  ASSERT_EQ(result.exitCode, 0) << result.err;
+  for (const std::string expected : {"held-out part", "inversion, random start (paper)", "MMSE estimate",
+                                     "baseline: mean prediction", "another segment", "ρ = 0.75"}) {
+    EXPECT_NE(result.out.find(expected), std::string::npos) << expected;
+  }
+  const fs::path folder = out() / "sweep";
+  result = runCli({"eval", "mouth", "--sweep", "--states", "3,4", "--mixtures", "1", "--contexts", "2",
+                   "--iterations", "5", "--output", folder.string()},
+                  logs());
+  ASSERT_EQ(result.exitCode, 0) << result.err;
+  const std::string csv = readText(folder / "mouth_sweep.csv");
+  EXPECT_EQ(hmmcli::countLines(csv), 5) << "a header and 2 covariances x 2 state counts:\n" << csv;
+  for (const char* png : {"mouth_sweep_full.png", "mouth_sweep_diag.png"}) {
+    const std::string bytes = readText(folder / png);
+    ASSERT_GT(bytes.size(), 1000u) << png;
+    EXPECT_EQ(bytes.substr(1, 3), "PNG") << png;
+  }
+  expectOneLineFailure(runCli({"eval", "mouth", "--sweep", "--states", "3,x", "--output", folder.string()}, logs()),
+                       "--states", "not a positive integer");
+}
+
 TEST_F(FeaturesCliTest, HmmTrainWithTheEntropicPriorPrunesAndRecordsEveryStep) {
   const fs::path data = folder_.path() / "data.csv";
   hmmcli::writeTrainingCsv(data, 400);
