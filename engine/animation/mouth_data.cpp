@@ -1,10 +1,12 @@
 #include "animation/mouth_data.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <string>
 
 #include "audio/audio_file.h"
+#include "audio/media_audio.h"
 #include "core/data_path.h"
 #include "core/error.h"
 #include "core/numeric_csv.h"
@@ -17,11 +19,19 @@ constexpr int kExpressionCoefficients = 100;
 
 }  // namespace
 
-Eigen::MatrixXd mfccOf(const std::filesystem::path& wav) {
-  const audio::AudioClip clip = audio::readAudioFile(wav);
+Eigen::MatrixXd mfccOf(const std::filesystem::path& recording) {
+  std::string extension = recording.extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  const bool soundFile = extension == ".wav" || extension == ".flac" || extension == ".ogg" || extension == ".aiff" ||
+                         extension == ".au" || extension == ".w64" || extension == ".caf";
+  const audio::AudioClip clip = soundFile ? audio::readAudioFile(recording) : audio::readMediaAudio(recording);
+  return mfccOf(clip.samples);
+}
+
+Eigen::MatrixXd mfccOf(std::span<const float> samples16k) {
   features::FeatureOptions options = features::batchFeatureOptions();
   options.contextFrames = 0;
-  const features::FeatureMatrix features = features::computeFeatures(clip.samples, options);
+  const features::FeatureMatrix features = features::computeFeatures(samples16k, options);
   const int numMfcc = features.layout.numMfcc;
   Eigen::MatrixXd mfcc(numMfcc, features.numFrames());
   for (int t = 0; t < features.numFrames(); ++t) {

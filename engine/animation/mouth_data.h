@@ -12,6 +12,7 @@
 
 #include <Eigen/Core>
 #include <filesystem>
+#include <span>
 #include <utility>
 
 namespace th::animation {
@@ -28,8 +29,10 @@ MouthRecording loadMouthRecording(const std::filesystem::path& wav, const std::f
                                   const std::filesystem::path& expressionCsv);
 MouthRecording loadBeat2Mouth();
 
-// MFCC frames alone from any recording (11 x T at 30 fps), for synthesis.
-Eigen::MatrixXd mfccOf(const std::filesystem::path& wav);
+// MFCC frames alone (11 x T at 30 fps), for synthesis and speech-only training: from 16 kHz samples, or from
+// any recording (audio files through libsndfile, the audio track of videos such as GRID's .mpg through FFmpeg).
+Eigen::MatrixXd mfccOf(std::span<const float> samples16k);
+Eigen::MatrixXd mfccOf(const std::filesystem::path& recording);
 
 std::pair<MouthRecording, MouthRecording> splitByTime(const MouthRecording& take, double trainingFraction);
 

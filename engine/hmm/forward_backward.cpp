@@ -1,6 +1,8 @@
 #include "hmm/forward_backward.h"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 
 #include "core/error.h"
@@ -23,18 +25,37 @@ void scaleEmissions(const Eigen::Ref<const Eigen::MatrixXd>& logEmissions, Eigen
 }
 
 // α, normalised per frame; returns the scales cₜ. Throws if a frame is unreachable.
-void forwardPass(const HmmModel& model, const Eigen::MatrixXd& scaled, Eigen::MatrixXd& alpha, Eigen::VectorXd& scales,
+// A frame's emissions are scaled relative to the best state overall; when every state that can be reached has an
+// emission far below it (more than ~745 nats: sharp full-covariance densities on unseen data), the scaled values
+// underflow to 0 and the frame would look impossible. Then the frame is rescaled relative to the best reachable
+// state instead (and the offset corrected), which is exact: unreachable states contribute nothing either way.
+void forwardPass(const HmmModel& model, const Eigen::Ref<const Eigen::MatrixXd>& logEmissions, Eigen::MatrixXd& scaled,
+                 Eigen::VectorXd& frameOffset, Eigen::MatrixXd& alpha, Eigen::VectorXd& scales,
                  const Eigen::VectorXd& initial) {
   const Eigen::Index numFrames = scaled.cols();
   alpha.resize(scaled.rows(), numFrames);
   scales.resize(numFrames);
+  Eigen::VectorXd predicted;
   for (Eigen::Index t = 0; t < numFrames; ++t) {
     if (t == 0) {
-      alpha.col(0) = initial.cwiseProduct(scaled.col(0));
+      predicted = initial;
     } else {
-      alpha.col(t) = (model.transition.transpose() * alpha.col(t - 1)).cwiseProduct(scaled.col(t));
+      predicted.noalias() = model.transition.transpose() * alpha.col(t - 1);
     }
+    alpha.col(t) = predicted.cwiseProduct(scaled.col(t));
     scales[t] = alpha.col(t).sum();
+    if (!(scales[t] > 0.0)) {
+      double best = -std::numeric_limits<double>::infinity();
+      for (Eigen::Index j = 0; j < predicted.size(); ++j) {
+        if (predicted[j] > 0.0) best = std::max(best, logEmissions(j, t));
+      }
+      if (std::isfinite(best)) {
+        scaled.col(t) = (logEmissions.col(t).array() - best).min(0.0).exp();
+        frameOffset[t] = best;
+        alpha.col(t) = predicted.cwiseProduct(scaled.col(t));
+        scales[t] = alpha.col(t).sum();
+      }
+    }
     if (!(scales[t] > 0.0)) throw Error("HMM: the sequence is impossible under the model at frame " + std::to_string(t));
     alpha.col(t) /= scales[t];
   }
@@ -49,7 +70,7 @@ double logLikelihood(const HmmModel& model, const Eigen::Ref<const Eigen::Matrix
   scaleEmissions(logEmissions, scaled, offsets);
   Eigen::MatrixXd alpha;
   Eigen::VectorXd scales;
-  forwardPass(model, scaled, alpha, scales, model.initial);
+  forwardPass(model, logEmissions, scaled, offsets, alpha, scales, model.initial);
   return scales.array().log().sum() + offsets.sum();
 }
 
@@ -69,7 +90,8 @@ Posteriors forwardBackward(const HmmModel& model, const Eigen::Ref<const Eigen::
   scaleEmissions(logEmissions, scaled, offsets);
   Eigen::MatrixXd alpha;
   Eigen::VectorXd scales;
-  forwardPass(model, scaled, alpha, scales, firstFrameDistribution ? *firstFrameDistribution : model.initial);
+  forwardPass(model, logEmissions, scaled, offsets, alpha, scales,
+              firstFrameDistribution ? *firstFrameDistribution : model.initial);
   result.logLikelihood = scales.array().log().sum() + offsets.sum();
 
   // β is renormalised to a maximum of 1 at every frame instead of dividing by cₜ₊₁: when trimmed transitions
@@ -107,11 +129,24 @@ void FixedLagSmoother::acceptFrame(const Eigen::Ref<const Eigen::VectorXd>& logE
   if (finished_) throw Error("fixed-lag smoother: acceptFrame after finish");
   const double offset = logEmission.maxCoeff();
   if (!std::isfinite(offset)) throw Error("fixed-lag smoother: a frame has no finite emission likelihood");
-  const Eigen::VectorXd scaled = (logEmission.array() - offset).exp();
+  Eigen::VectorXd scaled = (logEmission.array() - offset).exp();
   const bool first = window_.empty() && posteriors_.empty();
-  Eigen::VectorXd alpha = first ? Eigen::VectorXd(model_.initial.cwiseProduct(scaled))
-                                : Eigen::VectorXd((model_.transition.transpose() * lastAlpha()).cwiseProduct(scaled));
-  const double sum = alpha.sum();
+  const Eigen::VectorXd predicted = first ? model_.initial : Eigen::VectorXd(model_.transition.transpose() * lastAlpha());
+  Eigen::VectorXd alpha = predicted.cwiseProduct(scaled);
+  double sum = alpha.sum();
+  if (!(sum > 0.0)) {
+    // Every reachable state's emission underflowed against the best state's: rescale relative to the best
+    // reachable one (as forwardPass does; the scale cancels in the posteriors).
+    double best = -std::numeric_limits<double>::infinity();
+    for (Eigen::Index j = 0; j < predicted.size(); ++j) {
+      if (predicted[j] > 0.0) best = std::max(best, logEmission[j]);
+    }
+    if (std::isfinite(best)) {
+      scaled = (logEmission.array() - best).min(0.0).exp();
+      alpha = predicted.cwiseProduct(scaled);
+      sum = alpha.sum();
+    }
+  }
   if (!(sum > 0.0)) throw Error("fixed-lag smoother: the stream is impossible under the model");
   alpha /= sum;
   window_.push_back(std::move(alpha));

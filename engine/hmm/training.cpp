@@ -241,6 +241,9 @@ SufficientStatistics expectationStep(const HmmModel& model, const std::vector<Ei
           // Σₜ γₜ xₜxₜᵀ as a rank update of the lower triangle with the frames that carry weight: (X·diag(√γ)).
           Eigen::Index used = 0;
           for (Eigen::Index t = 0; t < responsibility.size(); ++t) used += responsibility[t] > 0.0;
+          // No frame of this sequence in this component: nothing to add (and Eigen's blocking heuristic divides
+          // by the inner dimension, so a d x 0 rank update would raise SIGFPE).
+          if (used == 0) continue;
           Eigen::MatrixXd weighted(frames.rows(), used);
           for (Eigen::Index t = 0, k = 0; t < responsibility.size(); ++t) {
             if (responsibility[t] > 0.0) weighted.col(k++) = frames.col(t) * std::sqrt(responsibility[t]);

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <numbers>
 #include <random>
 
@@ -152,6 +153,46 @@ TEST(ForwardBackward, LongSequencesStayInRange) {
   const Posteriors posteriors = forwardBackward(model, model.emissionLogLikelihoods(sample.frames));
   EXPECT_TRUE(std::isfinite(posteriors.logLikelihood));
   EXPECT_LT((posteriors.stateGivenAll.colwise().sum().array() - 1.0).abs().maxCoeff(), 1e-9);
+}
+
+// Sharp densities on unseen data: the only reachable state explains a frame 1000 nats worse than a state that
+// cannot be reached. Scaled relative to the best state overall, that frame would underflow to "impossible".
+TEST(ForwardBackward, AFrameExplainedOnlyByAFarWorseReachableStateIsStillPossible) {
+  HmmModel model = test::stickyModel1d(2, 0.5);
+  model.initial << 1.0, 0.0;
+  model.transition << 1.0, 0.0, 0.0, 1.0;  // state 1 can never be reached
+  Eigen::MatrixXd logB(2, 3);
+  logB << -1.0, -1000.0, -2.0,  //
+      0.0, 0.0, 0.0;
+  EXPECT_NEAR(logLikelihood(model, logB), -1003.0, 1e-9);
+  const Posteriors posteriors = forwardBackward(model, logB);
+  EXPECT_NEAR(posteriors.logLikelihood, -1003.0, 1e-9);
+  for (int t = 0; t < 3; ++t) EXPECT_NEAR(posteriors.stateGivenAll(0, t), 1.0, 1e-12);
+  FixedLagSmoother smoother(model, 1);
+  for (int t = 0; t < 3; ++t) smoother.acceptFrame(logB.col(t));
+  smoother.finish();
+  for (int t = 0; t < 3; ++t) EXPECT_NEAR(smoother.posterior(t)[0], 1.0, 1e-12);
+  // A frame that truly no reachable state can explain is still refused, in one line.
+  logB(0, 1) = -std::numeric_limits<double>::infinity();
+  EXPECT_THROW(logLikelihood(model, logB), Error);
+}
+
+// A sequence that no frame of some state touches (responsibilities exactly 0 for the whole sequence) must add
+// nothing to that state's statistics; an empty rank update once raised SIGFPE inside Eigen.
+TEST(BaumWelch, ASequenceThatNeverVisitsAStateAddsNothingToIt) {
+  std::mt19937 random(3);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  const Eigen::MatrixXd near = Eigen::MatrixXd::NullaryExpr(80, 400, [&] { return normal(random); });
+  const Eigen::MatrixXd far = Eigen::MatrixXd::NullaryExpr(80, 400, [&] { return 1000.0 + normal(random); });
+  TrainingOptions options;
+  options.numStates = 2;
+  options.maxIterations = 5;
+  const TrainingResult result = trainHmm({near, far}, options);
+  ASSERT_EQ(result.model.numStates(), 2);
+  const double a = result.model.states[0].components()[0].mean()[0];
+  const double b = result.model.states[1].components()[0].mean()[0];
+  EXPECT_NEAR(std::min(a, b), 0.0, 0.3);
+  EXPECT_NEAR(std::max(a, b), 1000.0, 0.3);
 }
 
 TEST(OnlineViterbi, UnboundedLagEqualsBatch) {
