@@ -12,5 +12,6 @@ void addHmmCommand(CLI::App& app);
 void addTrainCommand(CLI::App& app);
 void addEvalHeadCommand(CLI::App& eval);   // `eval head`, registered by addEvalCommand
 void addEvalMouthCommand(CLI::App& eval);  // `eval mouth`, likewise
+void addTrainMouthCommand(CLI::App& train);  // `train mouth`, registered by addTrainCommand
 
 }  // namespace th::app

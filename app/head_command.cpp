@@ -157,6 +157,7 @@ void addTrainCommand(CLI::App& app) {
   addModelOptions(head, *arguments);
   head->add_option("-o,--output", arguments->output, "Model file to write (default models/head.json)");
   head->callback([arguments] { runTrain(*arguments); });
+  addTrainMouthCommand(*train);
 }
 
 void addEvalHeadCommand(CLI::App& eval) {

@@ -2,6 +2,7 @@
 // measured by the paper's ε and ρ on both parts, per synthesis method, beside baselines.
 #include <algorithm>
 #include <chrono>
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -28,6 +29,10 @@ namespace th::app {
 namespace {
 
 struct MouthArguments {
+  std::string model;       // eval: evaluate this model file instead of the two built-in configurations
+  std::string modelOutput = "models/mouth.json";  // train
+  animation::MouthModelOptions options{.states = 5, .mixtures = 2, .covariance = hmm::CovarianceType::kFull,
+                                       .contextFrames = 2};  // what the sweep chose on validation data
   double trainingFraction = 0.75;
   int windowFrames = 30;
   bool sweep = false;
@@ -288,6 +293,13 @@ void runEvalMouth(const MouthArguments& arguments) {
               "K = 2 ICA-after-PCA components of [jaw opening, 100 expression coefficients]; audio: 11 MFCC with "
               "±tc frames of context. ε = AMSE normalised by the truth's variance (mean prediction: 1), ρ = ACC.\n",
               train.numFrames(), test.numFrames(), test.numFrames() / test.framesPerSecond);
+  if (!arguments.model.empty()) {
+    const animation::MouthModel model = animation::loadMouthModel(arguments.model);
+    std::printf("\n%s: %d states, tc = %d\n", arguments.model.c_str(), model.hmm.numStates(), model.contextFrames);
+    evaluatePart("training part", model, train, arguments.windowFrames);
+    evaluatePart("held-out part", model, test, arguments.windowFrames);
+    return;
+  }
   const struct {
     const char* name;
     animation::MouthModelOptions options;
@@ -311,6 +323,35 @@ void runEvalMouth(const MouthArguments& arguments) {
 
 }  // namespace
 
+void runTrainMouth(const MouthArguments& arguments) {
+  const auto [train, test] = animation::splitByTime(animation::loadBeat2Mouth(), arguments.trainingFraction);
+  const auto start = std::chrono::steady_clock::now();
+  const animation::MouthModel model = animation::trainMouthModel({train}, arguments.options);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  animation::saveMouthModel(arguments.modelOutput, model, arguments.options);
+  std::fprintf(stderr, "mouth model: %d states x %d mixtures, tc = %d, trained on %d frames in %.1f s; wrote %s\n",
+               model.hmm.numStates(), arguments.options.mixtures, model.contextFrames, train.numFrames(), seconds,
+               arguments.modelOutput.c_str());
+}
+
+void addTrainMouthCommand(CLI::App& train) {
+  auto arguments = std::make_shared<MouthArguments>();
+  CLI::App* mouth = train.add_subcommand("mouth", "Audio -> mouth AV-HMM from BEAT2 (training part)");
+  mouth->add_option("--train-fraction", arguments->trainingFraction,
+                    "The first this fraction of the BEAT2 take trains")
+      ->check(CLI::Range(0.1, 0.95));
+  mouth->add_option("--states", arguments->options.states, "States N (default 5, the sweep's choice)")
+      ->check(CLI::Range(1, 100));
+  mouth->add_option("--mixtures", arguments->options.mixtures, "Gaussians per state M (default 2)")
+      ->check(CLI::Range(1, 20));
+  mouth->add_option("--context", arguments->options.contextFrames, "MFCC context tc (default 2)")->check(CLI::Range(0, 10));
+  mouth->add_flag_function(
+      "--diagonal", [arguments](std::int64_t) { arguments->options.covariance = hmm::CovarianceType::kDiagonal; },
+      "Diagonal covariance (default full)");
+  mouth->add_option("-o,--output", arguments->modelOutput, "Model file to write (default models/mouth.json)");
+  mouth->callback([arguments] { runTrainMouth(*arguments); });
+}
+
 void addEvalMouthCommand(CLI::App& eval) {
   auto arguments = std::make_shared<MouthArguments>();
   CLI::App* mouth = eval.add_subcommand(
@@ -320,6 +361,7 @@ void addEvalMouthCommand(CLI::App& eval) {
       ->check(CLI::Range(0.1, 0.95));
   mouth->add_option("--window", arguments->windowFrames, "Frames per window of the streaming inversion")
       ->check(CLI::Range(2, 10000));
+  mouth->add_option("--model", arguments->model, "Evaluate this mouth model instead of the two built-in ones");
   mouth->add_flag("--sweep", arguments->sweep,
                   "Sweep N, M, tc and covariance (fitted on the first 80 % of the training part, chosen on the rest, "
                   "reported on the held-out part); writes a CSV and PNG plots like the paper's Fig. 3");

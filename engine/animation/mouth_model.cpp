@@ -1,6 +1,9 @@
 #include "animation/mouth_model.h"
 
+#include <nlohmann/json.hpp>
+
 #include "core/error.h"
+#include "hmm/model_file.h"
 #include "hmm/training.h"
 
 namespace th::animation {
@@ -44,6 +47,121 @@ MouthModel trainMouthModel(const std::vector<MouthRecording>& parts, const Mouth
   }
   for (int k = 0; k < options.visualComponents; ++k) model.hmm.columnNames.push_back("visual" + std::to_string(k + 1));
   model.hmm.check();
+  return model;
+}
+
+namespace {
+
+nlohmann::json matrixJson(const Eigen::MatrixXd& m) {
+  nlohmann::json rows = nlohmann::json::array();
+  for (Eigen::Index r = 0; r < m.rows(); ++r) {
+    nlohmann::json row = nlohmann::json::array();
+    for (Eigen::Index c = 0; c < m.cols(); ++c) row.push_back(m(r, c));
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+nlohmann::json vectorJson(const Eigen::VectorXd& v) {
+  nlohmann::json values = nlohmann::json::array();
+  for (Eigen::Index i = 0; i < v.size(); ++i) values.push_back(v[i]);
+  return values;
+}
+
+Eigen::VectorXd vectorFrom(const nlohmann::json& json, const std::filesystem::path& path, const std::string& field) {
+  if (!json.is_array() || json.empty()) throw fileError(path, "training.visual_basis." + field + " must be a list of numbers");
+  Eigen::VectorXd v(static_cast<Eigen::Index>(json.size()));
+  for (size_t i = 0; i < json.size(); ++i) {
+    if (!json[i].is_number()) throw fileError(path, "training.visual_basis." + field + " must be a list of numbers");
+    v[static_cast<Eigen::Index>(i)] = json[i].get<double>();
+  }
+  return v;
+}
+
+Eigen::MatrixXd matrixFrom(const nlohmann::json& json, const std::filesystem::path& path, const std::string& field) {
+  if (!json.is_array() || json.empty() || !json[0].is_array()) {
+    throw fileError(path, "training.visual_basis." + field + " must be a list of rows");
+  }
+  Eigen::MatrixXd m(static_cast<Eigen::Index>(json.size()), static_cast<Eigen::Index>(json[0].size()));
+  for (size_t r = 0; r < json.size(); ++r) {
+    if (!json[r].is_array() || json[r].size() != json[0].size()) {
+      throw fileError(path, "training.visual_basis." + field + " has rows of different lengths");
+    }
+    for (size_t c = 0; c < json[r].size(); ++c) {
+      if (!json[r][c].is_number()) throw fileError(path, "training.visual_basis." + field + " must hold numbers");
+      m(static_cast<Eigen::Index>(r), static_cast<Eigen::Index>(c)) = json[r][c].get<double>();
+    }
+  }
+  return m;
+}
+
+}  // namespace
+
+void saveMouthModel(const std::filesystem::path& path, const MouthModel& model, const MouthModelOptions& options) {
+  nlohmann::json training;
+  training["kind"] = "mouth";
+  training["context_frames"] = model.contextFrames;
+  training["visual_basis"] = {{"mean", vectorJson(model.basis.mean())},
+                              {"scale", vectorJson(model.basis.scale())},
+                              {"unmixing", matrixJson(model.basis.unmixing())},
+                              {"mixing", matrixJson(model.basis.mixing())},
+                              {"explained_variance", model.basis.explainedVariance()}};
+  training["options"] = {{"states", options.states},
+                         {"mixtures", options.mixtures},
+                         {"covariance", options.covariance == hmm::CovarianceType::kFull ? "full" : "diagonal"},
+                         {"context_frames", options.contextFrames},
+                         {"visual_components", options.visualComponents},
+                         {"max_iterations", options.maxIterations},
+                         {"seed", options.seed}};
+  training["iterations"] = model.iterations;
+  hmm::saveModel(path, model.hmm, training.dump());
+}
+
+MouthModel loadMouthModel(const std::filesystem::path& path) {
+  std::string trainingText;
+  MouthModel model;
+  model.hmm = hmm::loadModel(path, &trainingText);
+  const nlohmann::json training = nlohmann::json::parse(trainingText, nullptr, false);
+  if (!training.is_object() || training.value("kind", "") != "mouth") {
+    throw fileError(path, "is an HMM file but not a mouth model (training.kind is not \"mouth\")");
+  }
+  if (!training.contains("context_frames") || !training["context_frames"].is_number_integer() ||
+      training["context_frames"].get<int>() < 0 || training["context_frames"].get<int>() > 20) {
+    throw fileError(path, "training.context_frames must be an integer 0..20");
+  }
+  model.contextFrames = training["context_frames"].get<int>();
+  if (!training.contains("visual_basis") || !training["visual_basis"].is_object()) {
+    throw fileError(path, "training.visual_basis is missing");
+  }
+  const nlohmann::json& basis = training["visual_basis"];
+  if (!basis.contains("explained_variance") || !basis["explained_variance"].is_number()) {
+    throw fileError(path, "training.visual_basis.explained_variance must be a number");
+  }
+  try {
+    model.basis = VisualBasis::fromParts(vectorFrom(basis.value("mean", nlohmann::json()), path, "mean"),
+                                         vectorFrom(basis.value("scale", nlohmann::json()), path, "scale"),
+                                         matrixFrom(basis.value("unmixing", nlohmann::json()), path, "unmixing"),
+                                         matrixFrom(basis.value("mixing", nlohmann::json()), path, "mixing"),
+                                         basis["explained_variance"].get<double>());
+  } catch (const Error& error) {
+    const std::string what = error.what();
+    if (what.rfind(path.string(), 0) == 0) throw;
+    throw fileError(path, what);
+  }
+  // The audio block holds 2tc + 1 frames of MFCCs; the visual block the basis's K components.
+  const int contextWidth = 2 * model.contextFrames + 1;
+  int audioSize = -1;
+  bool visualOk = false;
+  for (const auto& block : model.hmm.blocks) {
+    if (block.name == "audio" && block.begin == 0 && block.size > 0 && block.size % contextWidth == 0) audioSize = block.size;
+  }
+  for (const auto& block : model.hmm.blocks) {
+    if (block.name == "visual") visualOk = block.begin == audioSize && block.size == model.basis.components();
+  }
+  if (audioSize < 0 || !visualOk) {
+    throw fileError(path, "a mouth model needs an audio block at 0 of (2 tc + 1) x MFCCs and a visual block of the "
+                          "basis's " + std::to_string(model.basis.components()) + " components after it");
+  }
   return model;
 }
 

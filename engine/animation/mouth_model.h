@@ -13,6 +13,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <filesystem>
 #include <vector>
 
 #include "animation/mouth_data.h"
@@ -40,6 +41,11 @@ struct MouthModel {
 };
 
 MouthModel trainMouthModel(const std::vector<MouthRecording>& parts, const MouthModelOptions& options);
+
+// The ordinary HMM model file; its "training" object holds the visual basis (mean, scale, unmixing, mixing) and
+// tc, so the file alone turns audio into jaw and expression parameters. Errors name the file.
+void saveMouthModel(const std::filesystem::path& path, const MouthModel& model, const MouthModelOptions& options);
+MouthModel loadMouthModel(const std::filesystem::path& path);
 
 enum class MouthMethod { kInversion, kMmse };
 

@@ -2,12 +2,16 @@
 // learns a known audio-visual link and recovers the visual part from audio by inversion and MMSE.
 #include <gtest/gtest.h>
 
+#include <fstream>
 #include <random>
+#include <sstream>
 
 #include "animation/mouth_data.h"
 #include "animation/mouth_evaluation.h"
 #include "animation/mouth_model.h"
 #include "core/error.h"
+#include "core/temporary_file.h"
+#include "hmm/model_file.h"
 #include "hmm/sampling.h"
 
 namespace th::animation {
@@ -98,6 +102,38 @@ TEST(MouthModel, RecoversTheVisualPartFromAudioOnHeldOutData) {
   }
   const MouthModel model = trainMouthModel({train}, {.states = 3, .mixtures = 1, .contextFrames = 1});
   EXPECT_THROW(synthesiseMouth(model, Eigen::MatrixXd::Zero(5, 10)), Error) << "audio of the wrong dimension";
+}
+
+TEST(MouthModel, FileRoundTripAndRefusals) {
+  const MouthModelOptions options{.states = 3, .mixtures = 1, .contextFrames = 1};
+  const MouthModel model = trainMouthModel({synthetic(1500, 3)}, options);
+  const TemporaryFile file(".json");
+  saveMouthModel(file.path(), model, options);
+  const MouthModel loaded = loadMouthModel(file.path());
+  EXPECT_EQ(loaded.contextFrames, 1);
+  const MouthRecording test = synthetic(300, 4);
+  EXPECT_EQ(synthesiseMouth(loaded, test.mfcc), synthesiseMouth(model, test.mfcc));
+  EXPECT_EQ(loaded.basis.transform(test.visual), model.basis.transform(test.visual));
+  // A plain HMM file is not a mouth model; a mouth model with its basis damaged is refused, naming the file.
+  const TemporaryFile plain(".json");
+  hmm::saveModel(plain.path(), model.hmm);
+  EXPECT_THROW(loadMouthModel(plain.path()), Error);
+  std::ostringstream buffer;
+  buffer << std::ifstream(file.path()).rdbuf();
+  const std::string text = buffer.str();
+  const size_t at = text.find("\"explained_variance\"");
+  ASSERT_NE(at, std::string::npos);
+  const TemporaryFile damaged(".json");
+  {
+    std::ofstream out(damaged.path());
+    out << text.substr(0, at) << "\"explained_variance\":7," << text.substr(text.find(',', at) + 1);
+  }
+  try {
+    loadMouthModel(damaged.path());
+    FAIL() << "a basis with explained variance 7 was accepted";
+  } catch (const Error& error) {
+    EXPECT_NE(std::string(error.what()).find(damaged.path().string()), std::string::npos) << error.what();
+  }
 }
 
 TEST(MouthData, Beat2TakeIsAligned) {

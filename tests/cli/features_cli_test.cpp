@@ -318,6 +318,12 @@ TEST_F(FeaturesCliTest, EvalMouthReportsThePapersMeasuresAndTheSweepWritesPlots)
                                      "baseline: mean prediction", "another segment", "ρ = 0.75"}) {
     EXPECT_NE(result.out.find(expected), std::string::npos) << expected;
   }
+  const fs::path model = out() / "mouth.json";
+  result = runCli({"train", "mouth", "--states", "3", "--mixtures", "1", "-o", model.string()}, logs());
+  ASSERT_EQ(result.exitCode, 0) << result.err;
+  result = runCli({"eval", "mouth", "--model", model.string()}, logs());
+  ASSERT_EQ(result.exitCode, 0) << result.err;
+  EXPECT_NE(result.out.find("held-out part"), std::string::npos) << result.out;
   const fs::path folder = out() / "sweep";
   result = runCli({"eval", "mouth", "--sweep", "--states", "3,4", "--mixtures", "1", "--contexts", "2",
                    "--iterations", "5", "--output", folder.string()},
