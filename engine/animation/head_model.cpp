@@ -182,7 +182,7 @@ HeadModel loadHeadModel(const std::filesystem::path& path) {
   HeadModel model;
   model.hmm = hmm::loadModel(path, &trainingText);
   const nlohmann::json training = nlohmann::json::parse(trainingText, nullptr, false);
-  if (!training.is_object() || training.value("kind", "") != "head") {
+  if (!training.is_object() || !training.contains("kind") || training["kind"] != "head") {
     throw fileError(path, "is an HMM file but not a head model (training.kind is not \"head\")");
   }
   const auto blockIs = [&](const std::string& name, int begin, int size) {
@@ -195,6 +195,7 @@ HeadModel loadHeadModel(const std::filesystem::path& path) {
       !blockIs("motion_delta", kDeltaBegin, 3) || !blockIs("prosody", kProsodyBegin, 4)) {
     throw fileError(path, "a head model needs blocks motion (0, 3), motion_delta (3, 3) and prosody (6, 4)");
   }
+  if (!training.contains("mean_pose_deg")) throw fileError(path, "training.mean_pose_deg is missing");
   const auto& pose = training["mean_pose_deg"];
   if (!pose.is_array() || pose.size() != 3 || !pose[0].is_number() || !pose[1].is_number() || !pose[2].is_number()) {
     throw fileError(path, "training.mean_pose_deg must be 3 numbers");

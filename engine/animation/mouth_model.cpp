@@ -122,7 +122,7 @@ MouthModel loadMouthModel(const std::filesystem::path& path) {
   MouthModel model;
   model.hmm = hmm::loadModel(path, &trainingText);
   const nlohmann::json training = nlohmann::json::parse(trainingText, nullptr, false);
-  if (!training.is_object() || training.value("kind", "") != "mouth") {
+  if (!training.is_object() || !training.contains("kind") || training["kind"] != "mouth") {
     throw fileError(path, "is an HMM file but not a mouth model (training.kind is not \"mouth\")");
   }
   if (!training.contains("context_frames") || !training["context_frames"].is_number_integer() ||

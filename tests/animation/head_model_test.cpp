@@ -152,6 +152,17 @@ TEST(HeadModel, FileRoundTripAndRefusals) {
   } catch (const Error& error) {
     EXPECT_NE(std::string(error.what()).find(plain.path().string()), std::string::npos) << error.what();
   }
+  // A head model whose training object lacks the mean pose, or names another kind with a number.
+  for (const std::string training : {R"({"kind": "head"})", R"({"kind": 5})", R"({"kind": "head", "mean_pose_deg": [1, "x", 3]})"}) {
+    const TemporaryFile broken(".json");
+    hmm::saveModel(broken.path(), model.hmm, training);
+    try {
+      loadHeadModel(broken.path());
+      FAIL() << training << " was accepted";
+    } catch (const Error& error) {
+      EXPECT_NE(std::string(error.what()).find(broken.path().string()), std::string::npos) << error.what();
+    }
+  }
 }
 
 TEST(HeadData, Beat2TakeIsAlignedAndPlausible) {
