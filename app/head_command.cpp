@@ -9,6 +9,7 @@
 #include "animation/head_data.h"
 #include "animation/head_evaluation.h"
 #include "animation/head_model.h"
+#include "animation/time_split.h"
 #include "commands.h"
 #include "hmm/entropic_training.h"
 
@@ -64,14 +65,6 @@ void printRow(const std::string& name, const animation::HeadMetrics& m) {
               m.velocityStd[0], m.velocityStd[1], m.velocityStd[2], 100.0 * m.jumpRate);
 }
 
-// Prosody of another segment of the same speaker: the same frames shifted by half their length (cyclically).
-Eigen::MatrixXd otherSegment(const Eigen::MatrixXd& prosody) {
-  const Eigen::Index half = prosody.cols() / 2;
-  Eigen::MatrixXd shifted(prosody.rows(), prosody.cols());
-  shifted << prosody.rightCols(prosody.cols() - half), prosody.leftCols(half);
-  return shifted;
-}
-
 void evaluatePart(const std::string& title, const animation::HeadModel& model, const animation::HeadRecording& part,
                   int lag) {
   const Eigen::MatrixXd truth = part.rotations.colwise() - model.meanPose;
@@ -95,13 +88,12 @@ void evaluatePart(const std::string& title, const animation::HeadModel& model, c
   }
   for (const auto& v : variants) {
     const animation::HeadSynthesisOptions online{.variant = v.variant, .maxLagFrames = lag};
-    const animation::HeadSynthesiser probe(model, online);
-    printRow(std::string("(c) ") + v.name + ", online, lag " + std::to_string(probe.lookaheadFrames()),
+    printRow(std::string("(c) ") + v.name + ", online, lag " + std::to_string(animation::headLookaheadFrames(online)),
              animation::evaluateHead(animation::synthesiseHead(model, part.prosody, online), truth, jump));
   }
   std::printf("  baselines:\n");
   printRow("constant mean pose", animation::evaluateHead(Eigen::MatrixXd::Zero(3, truth.cols()), truth, jump));
-  const Eigen::MatrixXd other = otherSegment(part.prosody);
+  const Eigen::MatrixXd other = animation::anotherSegment(part.prosody);
   printRow("(a) with prosody from another segment",
            animation::evaluateHead(animation::synthesiseHead(model, other, {.variant = HeadVariant::kStateMeans}), truth, jump));
   printRow("(b) with prosody from another segment",

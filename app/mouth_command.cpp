@@ -18,6 +18,7 @@
 #include "animation/mouth_data.h"
 #include "animation/mouth_evaluation.h"
 #include "animation/mouth_model.h"
+#include "animation/time_split.h"
 #include "commands.h"
 #include "core/atomic_file.h"
 #include "core/data_path.h"
@@ -61,14 +62,6 @@ std::vector<int> integerList(const std::string& text, const std::string& option)
   return values;
 }
 
-// The audio of another segment of the same speaker: the same frames shifted by half their length.
-Eigen::MatrixXd otherSegment(const Eigen::MatrixXd& frames) {
-  const Eigen::Index half = frames.cols() / 2;
-  Eigen::MatrixXd shifted(frames.rows(), frames.cols());
-  shifted << frames.rightCols(frames.cols() - half), frames.leftCols(half);
-  return shifted;
-}
-
 void printRow(const std::string& name, const Eigen::MatrixXd& estimate, const Eigen::MatrixXd& truth, int iterations) {
   std::printf("  %-52s %6.3f  %6.3f", name.c_str(), animation::averageMse(estimate, truth),
               animation::averageCorrelation(estimate, truth));
@@ -93,7 +86,7 @@ void evaluatePart(const std::string& title, const animation::MouthModel& model, 
   // The training data's mean: the components are zero-mean there by construction.
   printRow("baseline: mean prediction (the training mean)", Eigen::MatrixXd::Zero(truth.rows(), truth.cols()), truth, 0);
   printRow("baseline: inversion of another segment's audio",
-           animation::synthesiseMouth(model, otherSegment(part.mfcc), {}), truth, 0);
+           animation::synthesiseMouth(model, animation::anotherSegment(part.mfcc), {}), truth, 0);
 }
 
 struct SweepPoint {
@@ -254,32 +247,46 @@ std::vector<Eigen::MatrixXd> speechOnly(const std::vector<std::string>& folders,
   return mfcc;
 }
 
-// Stage 2 of the paper: the audio part re-trained on speech alone (π, A, weights and the visual blocks kept).
-void runStage2(const animation::MouthModel& model, const animation::MouthRecording& test) {
+// Speech without motion, for stage 2: its MFCC frames, read once and used by every model evaluated.
+struct SpeechSet {
+  std::string name;
+  std::vector<Eigen::MatrixXd> mfcc;
+  double seconds = 0.0;
+};
+
+std::vector<SpeechSet> speechSets() {
   const struct {
     const char* name;
     std::vector<std::string> folders;
     const char* extension;
-  } sets[] = {{"GRID (s1 and the samples: other speakers, 81 clips)", {"grid/s1", "grid/samples"}, ".mpg"},
-              {"BEAT2 audio-only takes (the same speaker, 129 s)", {"beat2/audio_only"}, ".wav"}};
+  } sources[] = {{"GRID (s1 and the samples: other speakers, 81 clips)", {"grid/s1", "grid/samples"}, ".mpg"},
+                 {"BEAT2 audio-only takes (the same speaker, 129 s)", {"beat2/audio_only"}, ".wav"}};
+  std::vector<SpeechSet> sets;
+  for (const auto& source : sources) {
+    SpeechSet set{source.name, speechOnly(source.folders, source.extension)};
+    for (const auto& mfcc : set.mfcc) set.seconds += static_cast<double>(mfcc.cols()) / 30.0;
+    sets.push_back(std::move(set));
+  }
+  return sets;
+}
+
+// Stage 2 of the paper: the audio part re-trained on speech alone (π, A, weights and the visual blocks kept).
+void runStage2(const animation::MouthModel& model, const animation::MouthRecording& test,
+               const std::vector<SpeechSet>& sets) {
   const Eigen::MatrixXd truth = model.basis.transform(test.visual);
   const Eigen::MatrixXd before = animation::synthesiseMouth(model, test.mfcc);
   std::printf("  %-60s ε %.3f  ρ %.3f\n", "held-out part, as trained", animation::averageMse(before, truth),
               animation::averageCorrelation(before, truth));
   for (const auto& set : sets) {
     std::vector<Eigen::MatrixXd> audio;
-    double seconds = 0.0;
-    for (const auto& mfcc : speechOnly(set.folders, set.extension)) {
-      audio.push_back(animation::stackContext(mfcc, model.contextFrames));
-      seconds += static_cast<double>(mfcc.cols()) / 30.0;
-    }
+    for (const auto& mfcc : set.mfcc) audio.push_back(animation::stackContext(mfcc, model.contextFrames));
     const hmm::AudioRetrainingResult retrained = hmm::retrainAudio(model.hmm, audio, {});
     animation::MouthModel adapted = model;
     adapted.hmm = retrained.model;
     const Eigen::MatrixXd after = animation::synthesiseMouth(adapted, test.mfcc);
     std::printf("  %-60s ε %.3f  ρ %.3f   (%.0f s of speech; %d joint covariances repaired)\n",
-                (std::string("re-trained on ") + set.name).c_str(), animation::averageMse(after, truth),
-                animation::averageCorrelation(after, truth), seconds, retrained.repairedComponents);
+                ("re-trained on " + set.name).c_str(), animation::averageMse(after, truth),
+                animation::averageCorrelation(after, truth), set.seconds, retrained.repairedComponents);
   }
 }
 
@@ -308,6 +315,7 @@ void runEvalMouth(const MouthArguments& arguments) {
       {"diagonal covariance, N = 19, M = 3, tc = 3",
        {.states = 19, .mixtures = 3, .covariance = hmm::CovarianceType::kDiagonal}},
   };
+  const std::vector<SpeechSet> speech = speechSets();
   for (const auto& configuration : configurations) {
     const animation::MouthModel model = animation::trainMouthModel({train}, configuration.options);
     std::printf("\n%s (%d Baum-Welch iterations; the K components keep %.1f %% of the visual variance)\n",
@@ -315,7 +323,7 @@ void runEvalMouth(const MouthArguments& arguments) {
     evaluatePart("training part", model, train, arguments.windowFrames);
     evaluatePart("held-out part", model, test, arguments.windowFrames);
     std::printf("  stage 2, audio re-trained on speech only (inversion, conditional-mean start):\n");
-    runStage2(model, test);
+    runStage2(model, test, speech);
   }
   std::printf("\nThe paper's own best, on its own data: full N = 4, M = 2: ε = 0.47, ρ = 0.75; diagonal N = 19, "
               "M = 3: ε = 0.47, ρ = 0.76.\n");

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "audio/audio_file.h"
+#include "animation/time_split.h"
 #include "core/data_path.h"
 #include "core/error.h"
 #include "core/numeric_csv.h"
@@ -39,8 +40,7 @@ HeadRecording loadBeat2Head(const ProsodyOptions& prosody) {
 }
 
 std::pair<HeadRecording, HeadRecording> splitByTime(const HeadRecording& take, double trainingFraction) {
-  const int boundary = static_cast<int>(std::lround(trainingFraction * take.numFrames()));
-  if (boundary < 1 || boundary >= take.numFrames()) throw Error("head data: the split leaves a part empty");
+  const int boundary = trainingFrames(take.numFrames(), trainingFraction, "head data");
   HeadRecording train = take;
   HeadRecording test = take;
   train.rotations = take.rotations.leftCols(boundary);

@@ -318,11 +318,12 @@ int HeadSynthesiser::numReady() const { return static_cast<int>(impl_->ready.siz
 
 Eigen::Vector3d HeadSynthesiser::rotation(int frame) const { return impl_->ready.at(static_cast<size_t>(frame)); }
 
-int HeadSynthesiser::lookaheadFrames() const {
-  const HeadSynthesisOptions& options = impl_->options;
+int headLookaheadFrames(const HeadSynthesisOptions& options) {
   if (options.maxLagFrames < 0) return -1;
   return options.maxLagFrames + (options.variant == HeadVariant::kTrajectory ? options.trajectoryLookaheadFrames : 0);
 }
+
+int HeadSynthesiser::lookaheadFrames() const { return headLookaheadFrames(impl_->options); }
 
 Eigen::MatrixXd randomWalkHead(const HeadModel& model, int numFrames, unsigned seed) {
   std::mt19937 random(seed);

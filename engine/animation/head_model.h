@@ -65,6 +65,9 @@ struct HeadSynthesisOptions {
   int trajectoryWindowFrames = 30;    // online trajectory: past frames in each solve
 };
 
+// The most frames a rotation waits for past its own input under these options (batch: unbounded, -1).
+int headLookaheadFrames(const HeadSynthesisOptions& options);
+
 // Rotations relative to the mean pose (3 x T, degrees) for a prosody sequence (4 x T).
 Eigen::MatrixXd synthesiseHead(const HeadModel& model, const Eigen::MatrixXd& prosody,
                                const HeadSynthesisOptions& options = {});
@@ -80,7 +83,7 @@ class HeadSynthesiser {
   void finish();
   int numReady() const;
   Eigen::Vector3d rotation(int frame) const;  // relative to the mean pose, degrees
-  int lookaheadFrames() const;                // the most frames a rotation waits for (batch: unbounded, -1)
+  int lookaheadFrames() const;                // headLookaheadFrames of its options
 
  private:
   struct Impl;

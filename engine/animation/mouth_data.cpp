@@ -7,6 +7,7 @@
 
 #include "audio/audio_file.h"
 #include "audio/media_audio.h"
+#include "animation/time_split.h"
 #include "core/data_path.h"
 #include "core/error.h"
 #include "core/numeric_csv.h"
@@ -74,8 +75,7 @@ MouthRecording loadBeat2Mouth() {
 }
 
 std::pair<MouthRecording, MouthRecording> splitByTime(const MouthRecording& take, double trainingFraction) {
-  const int boundary = static_cast<int>(std::lround(trainingFraction * take.numFrames()));
-  if (boundary < 1 || boundary >= take.numFrames()) throw Error("mouth data: the split leaves a part empty");
+  const int boundary = trainingFrames(take.numFrames(), trainingFraction, "mouth data");
   MouthRecording train = take;
   MouthRecording test = take;
   train.visual = take.visual.leftCols(boundary);
