@@ -13,5 +13,6 @@ void addTrainCommand(CLI::App& app);
 void addEvalHeadCommand(CLI::App& eval);   // `eval head`, registered by addEvalCommand
 void addEvalMouthCommand(CLI::App& eval);  // `eval mouth`, likewise
 void addTrainMouthCommand(CLI::App& train);  // `train mouth`, registered by addTrainCommand
+void addAnimateCommand(CLI::App& app);
 
 }  // namespace th::app

@@ -11,6 +11,7 @@
 #include "animation/head_model.h"
 #include "animation/time_split.h"
 #include "commands.h"
+#include "core/atomic_file.h"
 #include "hmm/entropic_training.h"
 
 namespace th::app {
@@ -51,6 +52,7 @@ TrainedHead trainOnBeat2(const animation::HeadRecording& train, const animation:
 }
 
 void runTrain(const HeadArguments& arguments) {
+  checkOutputTarget(arguments.output);
   const auto [train, test] = animation::splitByTime(animation::loadBeat2Head(), arguments.trainingFraction);
   const TrainedHead trained = trainOnBeat2(train, arguments.options);
   animation::saveHeadModel(arguments.output, trained.model, arguments.options);

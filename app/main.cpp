@@ -13,6 +13,7 @@ int main(int argc, char** argv) {
   th::app::addEvalCommand(app);
   th::app::addHmmCommand(app);
   th::app::addTrainCommand(app);
+  th::app::addAnimateCommand(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -1,6 +1,7 @@
 // `talkinghead eval mouth`: the audio → mouth AV-HMM on BEAT2, trained on the first part of the take and
 // measured by the paper's ε and ρ on both parts, per synthesis method, beside baselines.
 #include <algorithm>
+#include <cmath>
 #include <chrono>
 #include <cstdint>
 #include <cstdio>
@@ -8,6 +9,7 @@
 #include <fstream>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <thread>
@@ -23,6 +25,7 @@
 #include "core/atomic_file.h"
 #include "core/data_path.h"
 #include "core/error.h"
+#include "face/feature_points.h"
 #include "hmm/audio_retraining.h"
 #include "subprocess.h"
 
@@ -290,21 +293,50 @@ void runStage2(const animation::MouthModel& model, const animation::MouthRecordi
   }
 }
 
+double correlation(const Eigen::RowVectorXd& a, const Eigen::RowVectorXd& b) {
+  const Eigen::RowVectorXd x = a.array() - a.mean();
+  const Eigen::RowVectorXd y = b.array() - b.mean();
+  return x.dot(y) / std::sqrt(x.squaredNorm() * y.squaredNorm());
+}
+
+double percentile(Eigen::RowVectorXd values, double fraction) {
+  std::sort(values.begin(), values.end());
+  return values[static_cast<Eigen::Index>(fraction * static_cast<double>(values.size() - 1))];
+}
+
+// The jaw as the face will show it: FAP 3 from the predicted and from the true jaw opening, through the model's
+// FAP map, on the held-out part.
+void reportJawFaps(const animation::MouthModel& model, const animation::MouthRecording& test) {
+  const Eigen::RowVectorXd predictedJaw = animation::jawOpeningOf(model, animation::synthesiseMouth(model, test.mfcc, {}));
+  const Eigen::RowVectorXd trueJaw = test.visual.row(0);
+  const Eigen::RowVectorXd predicted = animation::mouthFaps(*model.fapMap, predictedJaw).row(0);
+  const Eigen::RowVectorXd truth = animation::mouthFaps(*model.fapMap, trueJaw).row(0);
+  std::printf("  jaw → FAP 3 on the held-out part (inversion, conditional-mean start): correlation with the truth "
+              "%.3f (jaw angle %.3f); FAP 3 1st / 50th / 99th percentile %.0f / %.0f / %.0f, the truth's %.0f / %.0f "
+              "/ %.0f (true jaw %.2f° to %.2f°)\n",
+              correlation(predicted, truth), correlation(predictedJaw, trueJaw), percentile(predicted, 0.01),
+              percentile(predicted, 0.5), percentile(predicted, 0.99), percentile(truth, 0.01), percentile(truth, 0.5),
+              percentile(truth, 0.99), trueJaw.minCoeff(), trueJaw.maxCoeff());
+}
+
 void runEvalMouth(const MouthArguments& arguments) {
   const auto [train, test] = animation::splitByTime(animation::loadBeat2Mouth(), arguments.trainingFraction);
   if (arguments.sweep) {
     runSweep(arguments, train, test);
     return;
   }
+  // A bad model file fails before anything is printed.
+  const std::optional<animation::MouthModel> given =
+      arguments.model.empty() ? std::nullopt : std::optional(animation::loadMouthModel(arguments.model));
   std::printf("Mouth from audio on BEAT2: trained on the first %d frames, held out the last %d (%.1f s). Visual: "
               "K = 2 ICA-after-PCA components of [jaw opening, 100 expression coefficients]; audio: 11 MFCC with "
               "±tc frames of context. ε = AMSE normalised by the truth's variance (mean prediction: 1), ρ = ACC.\n",
               train.numFrames(), test.numFrames(), test.numFrames() / test.framesPerSecond);
-  if (!arguments.model.empty()) {
-    const animation::MouthModel model = animation::loadMouthModel(arguments.model);
-    std::printf("\n%s: %d states, tc = %d\n", arguments.model.c_str(), model.hmm.numStates(), model.contextFrames);
-    evaluatePart("training part", model, train, arguments.windowFrames);
-    evaluatePart("held-out part", model, test, arguments.windowFrames);
+  if (given) {
+    std::printf("\n%s: %d states, tc = %d\n", arguments.model.c_str(), given->hmm.numStates(), given->contextFrames);
+    evaluatePart("training part", *given, train, arguments.windowFrames);
+    evaluatePart("held-out part", *given, test, arguments.windowFrames);
+    if (given->fapMap) reportJawFaps(*given, test);
     return;
   }
   const struct {
@@ -332,10 +364,13 @@ void runEvalMouth(const MouthArguments& arguments) {
 }  // namespace
 
 void runTrainMouth(const MouthArguments& arguments) {
+  checkOutputTarget(arguments.modelOutput);
   const auto [train, test] = animation::splitByTime(animation::loadBeat2Mouth(), arguments.trainingFraction);
   const auto start = std::chrono::steady_clock::now();
-  const animation::MouthModel model = animation::trainMouthModel({train}, arguments.options);
+  animation::MouthModel model = animation::trainMouthModel({train}, arguments.options);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  // The jaw's geometry and the lip pattern come from the reference face (fap_mapping.h).
+  model.fapMap = animation::defineMouthFapMap(face::loadIctFace(face::ictFaceDirectory()));
   animation::saveMouthModel(arguments.modelOutput, model, arguments.options);
   std::fprintf(stderr, "mouth model: %d states x %d mixtures, tc = %d, trained on %d frames in %.1f s; wrote %s\n",
                model.hmm.numStates(), arguments.options.mixtures, model.contextFrames, train.numFrames(), seconds,

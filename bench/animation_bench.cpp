@@ -1,5 +1,10 @@
-// Speed of the animation models on BEAT2: training the head model, and synthesising head motion from prosody
-// with every variant, batch and online (realtime_factor = seconds of animation per second of CPU).
+// Speed of the animation models on BEAT2 (realtime_factor = seconds of animation per second of CPU):
+// - head: training the head model, and synthesising head motion from prosody with every variant, batch and online;
+// - mouth: training the default mouth model exactly as `talkinghead train mouth` does (N = 5, M = 2, full
+//   covariance, tc = 2, on the first 75 % of the take; counter `frames`), and synthesising the mouth's visual
+//   components from the held-out part's MFCC by batch inversion from the conditional-mean start (ours) and from
+//   the random start (the paper's), by windowed (streaming) inversion with `eval mouth --window`'s default of
+//   30 frames, and by the MMSE estimate. The mouth model is trained in-process, not read from models/mouth.json.
 //
 //   taskset -c 0 build/bench/animation_bench [--quick]      (scripts/bench.sh animation)
 #include <benchmark/benchmark.h>
@@ -9,6 +14,8 @@
 
 #include "animation/head_data.h"
 #include "animation/head_model.h"
+#include "animation/mouth_data.h"
+#include "animation/mouth_model.h"
 #include "bench_arguments.h"
 
 namespace {
@@ -50,6 +57,48 @@ void synthesiseHead(benchmark::State& state, HeadVariant variant, int lag) {
   state.counters["realtime_factor"] = benchmark::Counter(seconds, benchmark::Counter::kIsIterationInvariantRate);
 }
 
+// The defaults of `talkinghead train mouth` (app/mouth_command.cpp, MouthArguments): keep them in step.
+constexpr double kMouthTrainingFraction = 0.75;
+constexpr int kMouthWindowFrames = 30;  // `talkinghead eval mouth --window` default
+th::animation::MouthModelOptions defaultMouthOptions() {
+  return {.states = 5, .mixtures = 2, .covariance = th::hmm::CovarianceType::kFull, .contextFrames = 2};
+}
+
+struct MouthData {
+  th::animation::MouthRecording train;
+  th::animation::MouthRecording test;
+  th::animation::MouthModel model;
+};
+
+const MouthData& mouthData() {
+  static const MouthData loaded = [] {
+    auto [train, test] = th::animation::splitByTime(th::animation::loadBeat2Mouth(), kMouthTrainingFraction);
+    MouthData result{train, test, th::animation::trainMouthModel({train}, defaultMouthOptions())};
+    return result;
+  }();
+  return loaded;
+}
+
+void trainMouth(benchmark::State& state) {
+  const MouthData& d = mouthData();
+  for (auto _ : state) {
+    const th::animation::MouthModel model = th::animation::trainMouthModel({d.train}, defaultMouthOptions());
+    benchmark::DoNotOptimize(model.hmm.numStates());
+  }
+  state.counters["frames"] = d.train.numFrames();
+  state.counters["bw_iterations"] = d.model.iterations;
+}
+
+void synthesiseMouth(benchmark::State& state, th::animation::MouthSynthesisOptions options) {
+  const MouthData& d = mouthData();
+  for (auto _ : state) {
+    const Eigen::MatrixXd components = th::animation::synthesiseMouth(d.model, d.test.mfcc, options);
+    benchmark::DoNotOptimize(components.data());
+  }
+  const double seconds = d.test.numFrames() / d.test.framesPerSecond;
+  state.counters["realtime_factor"] = benchmark::Counter(seconds, benchmark::Counter::kIsIterationInvariantRate);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -70,6 +119,23 @@ int main(int argc, char** argv) {
           ->Unit(benchmark::kMillisecond)
           ->MinTime(minTime);
     }
+  }
+  using th::animation::MouthMethod;
+  using th::hmm::InversionStart;
+  benchmark::RegisterBenchmark("mouth/train_default", trainMouth)
+      ->Unit(benchmark::kMillisecond)
+      ->Iterations(arguments.quick ? 1 : 3);
+  const struct {
+    std::string name;
+    th::animation::MouthSynthesisOptions options;
+  } mouthMethods[] = {
+      {"mouth/inversion_batch_conditional_start", {.start = InversionStart::kConditionalMean}},
+      {"mouth/inversion_batch_random_start", {.start = InversionStart::kRandom}},
+      {"mouth/inversion_window" + std::to_string(kMouthWindowFrames), {.windowFrames = kMouthWindowFrames}},
+      {"mouth/mmse", {.method = MouthMethod::kMmse}},
+  };
+  for (const auto& m : mouthMethods) {
+    benchmark::RegisterBenchmark(m.name.c_str(), synthesiseMouth, m.options)->Unit(benchmark::kMillisecond)->MinTime(minTime);
   }
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();

@@ -5,7 +5,8 @@
 #                                               # taskset -c 0 build/bench/features_bench
 #   bash scripts/bench.sh --benchmark_filter=features   # extra arguments go to the benchmark binary
 #   bash scripts/bench.sh hmm [ARGS...]         # the HMM engine: taskset -c 0 build/bench/hmm_bench (~2 min)
-#   bash scripts/bench.sh animation [ARGS...]   # head model training and synthesis: build/bench/animation_bench
+#   bash scripts/bench.sh animation [ARGS...]   # head and mouth models' training and synthesis (mouth: batch,
+#                                               # windowed and MMSE): build/bench/animation_bench
 #   bash scripts/bench.sh all                   # all three, one after the other
 #
 # features_bench: speed of the feature extraction against Praat and SPTK RAPT. Prints Google Benchmark's table

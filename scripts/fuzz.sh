@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # Fuzzes the engine's file readers with libFuzzer + ASan + UBSan for a bounded time:
-#   audio_reader_fuzzer   th::audio::decodeAudio (recordings)
-#   model_file_fuzzer     th::hmm::parseModel (HMM model files)
+#   audio_reader_fuzzer     th::audio::decodeAudio (recordings)
+#   model_file_fuzzer       th::hmm::parseModel (HMM model files)
+#   animation_file_fuzzer   th::video::readAnimation (CSV, JSON and .fap animation files)
 #
-#   scripts/fuzz.sh                        # 60 s in all, split between the two
+#   scripts/fuzz.sh                        # 60 s in all, split between the three
 #   FUZZ_SECONDS=180 scripts/fuzz.sh
 #
 # Builds build-fuzz/ with clang (its own tree: every target there is instrumented), writes the seed corpora
@@ -19,9 +20,11 @@ repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$repo"
 build_dir="${FUZZ_BUILD_DIR:-build-fuzz}"
 seconds="${FUZZ_SECONDS:-60}"
-# Half each, at least 1 s (libFuzzer reads -max_total_time=0 as "no limit").
-audio_seconds=$(((seconds + 1) / 2))
-model_seconds=$((seconds / 2 > 0 ? seconds / 2 : 1))
+# 40 % for the audio decoders (the largest input space), 30 % each for the two text formats; at least 1 s each
+# (libFuzzer reads -max_total_time=0 as "no limit").
+audio_seconds=$((seconds * 4 / 10 > 0 ? seconds * 4 / 10 : 1))
+model_seconds=$((seconds * 3 / 10 > 0 ? seconds * 3 / 10 : 1))
+animation_seconds=$((seconds * 3 / 10 > 0 ? seconds * 3 / 10 : 1))
 
 data_option=()
 if [[ -n "${TALKINGHEAD_DATA:-}" ]]; then
@@ -29,10 +32,24 @@ if [[ -n "${TALKINGHEAD_DATA:-}" ]]; then
 fi
 CC=clang CXX=clang++ cmake -S . -B "$build_dir" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
     -DTALKINGHEAD_FUZZ=ON -DTALKINGHEAD_WERROR=OFF "${data_option[@]}" > /dev/null
-ninja -C "$build_dir" audio_reader_fuzzer audio_reader_fuzzer_seeds model_file_fuzzer model_file_fuzzer_seeds
+ninja -C "$build_dir" audio_reader_fuzzer audio_reader_fuzzer_seeds model_file_fuzzer model_file_fuzzer_seeds \
+    animation_file_fuzzer
 
 fuzz_dir="$build_dir/fuzz"
-mkdir -p "$fuzz_dir/corpus" "$fuzz_dir/model_file_corpus" "$fuzz_dir/artifacts"
+mkdir -p "$fuzz_dir/corpus" "$fuzz_dir/model_file_corpus" "$fuzz_dir/animation_file_corpus" \
+    "$fuzz_dir/animation_file_seeds" "$fuzz_dir/artifacts"
+# Animation seeds: one small valid file per format; the first byte picks the format (0 CSV, 1 JSON, 2 .fap).
+printf '\000time_s,fap3,fap48\n0.0000000,12.5,-1745\n0.0333333,40,0\n0.0666667,7.25,1745\n' \
+    > "$fuzz_dir/animation_file_seeds/seed.csv"
+printf '\001{"format":"talkinghead-animation","version":1,"fps":30,"name":"seed","faps":[{"number":3,"name":"open_jaw","unit":"MNS"}],"time_s":[0,0.0333333],"frames":[[12.5],[40]]}' \
+    > "$fuzz_dir/animation_file_seeds/seed.json"
+{
+    printf '\0022.1 seed 25 2\n'
+    printf '0 0 1 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 1 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0\n'
+    printf '0 12 -1745\n'
+    printf '0 0 1 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0\n'
+    printf '1 40\n'
+} > "$fuzz_dir/animation_file_seeds/seed.fap"
 
 # run_fuzzer NAME SECONDS CORPUS SEEDS [libFuzzer options...]: new inputs go to CORPUS; SEEDS are read only.
 # Known leaks in third-party decoders are suppressed (each with its upstream report) in fuzz/lsan_suppressions.txt.
@@ -54,4 +71,6 @@ run_fuzzer() {
 run_fuzzer audio_reader_fuzzer "$audio_seconds" "$fuzz_dir/corpus" "$fuzz_dir/audio_reader_seeds"
 run_fuzzer model_file_fuzzer "$model_seconds" "$fuzz_dir/model_file_corpus" "$fuzz_dir/model_file_seeds" \
     -dict="$repo/fuzz/model_file.dict" -max_len=16384
+run_fuzzer animation_file_fuzzer "$animation_seconds" "$fuzz_dir/animation_file_corpus" \
+    "$fuzz_dir/animation_file_seeds" -max_len=16384
 exit "$failed"

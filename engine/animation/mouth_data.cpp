@@ -21,12 +21,7 @@ constexpr int kExpressionCoefficients = 100;
 }  // namespace
 
 Eigen::MatrixXd mfccOf(const std::filesystem::path& recording) {
-  std::string extension = recording.extension().string();
-  std::transform(extension.begin(), extension.end(), extension.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  const bool soundFile = extension == ".wav" || extension == ".flac" || extension == ".ogg" || extension == ".aiff" ||
-                         extension == ".au" || extension == ".w64" || extension == ".caf";
-  const audio::AudioClip clip = soundFile ? audio::readAudioFile(recording) : audio::readMediaAudio(recording);
-  return mfccOf(clip.samples);
+  return mfccOf(audio::readRecording(recording).samples);
 }
 
 Eigen::MatrixXd mfccOf(std::span<const float> samples16k) {

@@ -114,6 +114,7 @@ void saveMouthModel(const std::filesystem::path& path, const MouthModel& model, 
                          {"max_iterations", options.maxIterations},
                          {"seed", options.seed}};
   training["iterations"] = model.iterations;
+  if (model.fapMap) training["fap_map"] = mouthFapMapJson(*model.fapMap);
   hmm::saveModel(path, model.hmm, training.dump());
 }
 
@@ -148,6 +149,7 @@ MouthModel loadMouthModel(const std::filesystem::path& path) {
     if (what.rfind(path.string(), 0) == 0) throw;
     throw fileError(path, what);
   }
+  if (training.contains("fap_map")) model.fapMap = mouthFapMapFromJson(training["fap_map"], path);
   // The audio block holds 2tc + 1 frames of MFCCs; the visual block the basis's K components.
   const int contextWidth = 2 * model.contextFrames + 1;
   int audioSize = -1;
@@ -180,6 +182,15 @@ Eigen::MatrixXd synthesiseMouth(const MouthModel& model, const Eigen::MatrixXd& 
   hmm::InversionResult result = inverter.invert(audio);
   if (iterations != nullptr) *iterations = result.iterations;
   return result.visual;
+}
+
+}  // namespace th::animation
+
+namespace th::animation {
+
+Eigen::RowVectorXd jawOpeningOf(const MouthModel& model, const Eigen::MatrixXd& components) {
+  // Row 0 of the visual parameters is the jaw opening (mouth_data.h).
+  return model.basis.reconstruct(components).row(0);
 }
 
 }  // namespace th::animation

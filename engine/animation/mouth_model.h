@@ -14,8 +14,10 @@
 
 #include <Eigen/Core>
 #include <filesystem>
+#include <optional>
 #include <vector>
 
+#include "animation/fap_mapping.h"
 #include "animation/mouth_data.h"
 #include "animation/visual_basis.h"
 #include "hmm/hmm_model.h"
@@ -38,12 +40,16 @@ struct MouthModel {
   VisualBasis basis;
   int contextFrames = 3;
   int iterations = 0;   // Baum-Welch iterations used
+  // From the jaw opening to MPEG-4 FAPs (fap_mapping.h); `train mouth` measures it on the reference face and
+  // stores it with the model, so the model file alone turns audio into FAPs. Absent in sweep models.
+  std::optional<MouthFapMap> fapMap;
 };
 
 MouthModel trainMouthModel(const std::vector<MouthRecording>& parts, const MouthModelOptions& options);
 
-// The ordinary HMM model file; its "training" object holds the visual basis (mean, scale, unmixing, mixing) and
-// tc, so the file alone turns audio into jaw and expression parameters. Errors name the file.
+// The ordinary HMM model file; its "training" object holds the visual basis (mean, scale, unmixing, mixing),
+// tc and the FAP map if there is one, so the file alone turns audio into jaw and expression parameters (and
+// FAPs). Errors name the file.
 void saveMouthModel(const std::filesystem::path& path, const MouthModel& model, const MouthModelOptions& options);
 MouthModel loadMouthModel(const std::filesystem::path& path);
 
@@ -60,5 +66,8 @@ struct MouthSynthesisOptions {
 // K x T visual components for 11 x T MFCC frames. `iterations`, if given, receives the inversion's EM count.
 Eigen::MatrixXd synthesiseMouth(const MouthModel& model, const Eigen::MatrixXd& mfcc,
                                 const MouthSynthesisOptions& options = {}, int* iterations = nullptr);
+
+// The jaw opening (degrees, row 0 of the visual parameters) that K x T components reconstruct.
+Eigen::RowVectorXd jawOpeningOf(const MouthModel& model, const Eigen::MatrixXd& components);
 
 }  // namespace th::animation

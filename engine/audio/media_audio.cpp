@@ -10,6 +10,8 @@ extern "C" {
 #include <libavutil/samplefmt.h>
 }
 
+#include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <cmath>
 #include <cstdint>
@@ -315,6 +317,15 @@ AudioClip readMediaAudio(const std::filesystem::path& path, const AudioReadOptio
                               std::to_string(clip.sampleRateHz) + " Hz)");
   }
   return clip;
+}
+
+AudioClip readRecording(const std::filesystem::path& path, const AudioReadOptions& options) {
+  std::string extension = path.extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  const bool soundFile = extension == ".wav" || extension == ".flac" || extension == ".ogg" || extension == ".aiff" ||
+                         extension == ".au" || extension == ".w64" || extension == ".caf";
+  return soundFile ? readAudioFile(path, options) : readMediaAudio(path, options);
 }
 
 }  // namespace th::audio

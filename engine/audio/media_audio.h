@@ -24,4 +24,8 @@ namespace th::audio {
 // stream's rate). Time 0 of the clip is the first decoded sample, whatever the stream's start time.
 AudioClip readMediaAudio(const std::filesystem::path& path, const AudioReadOptions& options = {});
 
+// Any recording: sound files that libsndfile reads (by extension: .wav .flac .ogg .aiff .au .w64 .caf) through
+// readAudioFile, everything else (videos, MP3, ...) through readMediaAudio.
+AudioClip readRecording(const std::filesystem::path& path, const AudioReadOptions& options = {});
+
 }  // namespace th::audio

@@ -36,4 +36,11 @@ void AtomicFile::commit() {
   committed_ = true;
 }
 
+void checkOutputTarget(const std::filesystem::path& target) {
+  const std::filesystem::path folder = target.has_parent_path() ? target.parent_path() : std::filesystem::path(".");
+  std::error_code error;
+  if (!std::filesystem::is_directory(folder, error)) throw fileError(target, "its folder does not exist");
+  if (std::filesystem::is_directory(target, error)) throw fileError(target, "is a folder");
+}
+
 }  // namespace th

@@ -32,4 +32,8 @@ class AtomicFile {
   bool committed_ = false;
 };
 
+// Fails early, before any work, where an AtomicFile for `target` would fail at the end: its folder does not
+// exist, or the target is a folder. Throws th::Error naming the target.
+void checkOutputTarget(const std::filesystem::path& target);
+
 }  // namespace th

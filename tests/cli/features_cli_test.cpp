@@ -20,74 +20,16 @@
 
 #include "audio/audio_file.h"
 #include "audio_test_files.h"
+#include "cli_runner.h"
 
 namespace {
 
 namespace fs = std::filesystem;
 
-struct CliResult {
-  bool exited = false;  // false: killed by a signal (a crash)
-  int exitCode = -1;
-  int signal = 0;
-  std::string out;
-  std::string err;
-};
-
-std::string readText(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
-// Runs the CLI with `arguments`, stdout and stderr captured in files under `logFolder`. With `asUser`, the
-// child drops to that user id first (root ignores permission bits, so a read-only folder needs a plain user).
-CliResult runCli(const std::vector<std::string>& arguments, const fs::path& logFolder,
-                 std::optional<uid_t> asUser = std::nullopt) {
-  const fs::path outPath = logFolder / "stdout.txt";
-  const fs::path errPath = logFolder / "stderr.txt";
-  std::vector<std::string> words = {TALKINGHEAD_CLI};
-  words.insert(words.end(), arguments.begin(), arguments.end());
-  std::vector<char*> argv;
-  for (std::string& word : words) argv.push_back(word.data());
-  argv.push_back(nullptr);
-
-  const pid_t child = ::fork();
-  if (child == 0) {
-    // Only async-signal-safe calls between fork and exec.
-    const int out = ::open(outPath.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    const int err = ::open(errPath.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    if (out < 0 || err < 0 || ::dup2(out, 1) < 0 || ::dup2(err, 2) < 0) ::_exit(126);
-    if (asUser && (::setgid(*asUser) != 0 || ::setuid(*asUser) != 0)) ::_exit(125);
-    ::execv(argv[0], argv.data());
-    ::_exit(127);
-  }
-  CliResult result;
-  int status = 0;
-  if (child < 0 || ::waitpid(child, &status, 0) != child) {
-    ADD_FAILURE() << "could not run " << TALKINGHEAD_CLI;
-    return result;
-  }
-  result.exited = WIFEXITED(status);
-  result.exitCode = result.exited ? WEXITSTATUS(status) : -1;
-  result.signal = WIFSIGNALED(status) ? WTERMSIG(status) : 0;
-  result.out = readText(outPath);
-  result.err = readText(errPath);
-  return result;
-}
-
-// A failure as the CLI must report it: a normal non-zero exit (not a signal, not exec trouble), and stderr
-// exactly one line that names `path` and contains `reason`.
-void expectOneLineFailure(const CliResult& result, const std::string& path, const std::string& reason) {
-  ASSERT_TRUE(result.exited) << "killed by signal " << result.signal << "; stderr: " << result.err;
-  EXPECT_NE(result.exitCode, 0);
-  EXPECT_LT(result.exitCode, 125) << "the command did not run (exec failed)";
-  EXPECT_EQ(std::count(result.err.begin(), result.err.end(), '\n'), 1) << "stderr: " << result.err;
-  EXPECT_TRUE(!result.err.empty() && result.err.back() == '\n') << "stderr: " << result.err;
-  EXPECT_NE(result.err.find(path), std::string::npos) << "does not name " << path << ": " << result.err;
-  EXPECT_NE(result.err.find(reason), std::string::npos)
-      << "does not say \"" << reason << "\": " << result.err;
-}
+using th::test::CliResult;
+using th::test::expectOneLineFailure;
+using th::test::readText;
+using th::test::runCli;
 
 class FeaturesCliTest : public ::testing::Test {
  protected:

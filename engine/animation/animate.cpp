@@ -1,0 +1,58 @@
+#include "animation/animate.h"
+
+#include <algorithm>
+#include <map>
+
+#include "animation/fap_mapping.h"
+#include "animation/prosody.h"
+#include "core/error.h"
+#include "features/online_features.h"
+
+namespace th::animation {
+
+video::Animation animate(std::span<const float> samples16k, const HeadModel* head, const MouthModel* mouth,
+                         const AnimateOptions& options) {
+  if (head == nullptr && mouth == nullptr) throw Error("animate: neither a head nor a mouth model");
+  if (mouth != nullptr && !mouth->fapMap)
+    throw Error("animate: the mouth model has no FAP map (a sweep model?); make one with `talkinghead train mouth`");
+
+  // FAP number → its curve; std::map keeps the columns in FAP order.
+  std::map<int, Eigen::RowVectorXd> curves;
+  Eigen::Index frames = -1;
+  const auto add = [&](const std::vector<int>& numbers, const Eigen::MatrixXd& values) {
+    frames = frames < 0 ? values.cols() : std::min(frames, values.cols());
+    for (std::size_t i = 0; i < numbers.size(); ++i) curves[numbers[i]] = values.row(static_cast<Eigen::Index>(i));
+  };
+  if (head != nullptr) {
+    const Eigen::MatrixXd prosody =
+        prosodyOf(features::computeFeatures(samples16k, prosodyFeatureOptions(kAnimationFramesPerSecond)));
+    if (prosody.cols() > 0) {
+      const Eigen::MatrixXd rotations = synthesiseHead(*head, prosody, options.head);
+      add({kHeadFaps.begin(), kHeadFaps.end()}, headFaps(rotations));
+    } else {
+      frames = 0;
+    }
+  }
+  if (mouth != nullptr) {
+    const Eigen::MatrixXd mfcc = mfccOf(samples16k);
+    if (mfcc.cols() > 0) {
+      const Eigen::MatrixXd components = synthesiseMouth(*mouth, mfcc, options.mouth);
+      add(mouthFapNumbers(*mouth->fapMap), mouthFaps(*mouth->fapMap, jawOpeningOf(*mouth, components)));
+    } else {
+      frames = 0;
+    }
+  }
+  if (frames <= 0) throw Error("animate: the recording is shorter than one animation frame");
+
+  video::Animation animation;
+  animation.framesPerSecond = kAnimationFramesPerSecond;
+  animation.values.resize(frames, static_cast<Eigen::Index>(curves.size()));
+  Eigen::Index column = 0;
+  for (const auto& [number, curve] : curves) {
+    animation.faps.push_back(number);
+    animation.values.col(column++) = curve.head(frames).transpose();
+  }
+  return animation;
+}
+
+}  // namespace th::animation

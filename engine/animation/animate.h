@@ -1,0 +1,34 @@
+// A recording in, MPEG-4 FAP curves out: the head model (prosody → FAPs 48–50) and the mouth model (MFCC →
+// jaw opening → FAP 3 and the lip FAPs), batch or in their streaming forms, at the models' 30 frames/s.
+//
+//   th::animation::HeadModel head = th::animation::loadHeadModel("models/head.json");
+//   th::animation::MouthModel mouth = th::animation::loadMouthModel("models/mouth.json");
+//   th::video::Animation anim = th::animation::animate(clip.samples, &head, &mouth, {});
+//   th::video::writeAnimation("speech.fap", anim);
+//
+// Frame i is at i / 30 s for both parts (the feature extractor centres frame i there). A null model leaves its
+// FAPs out. Head rotations are relative to the model's mean pose (the face's rest pose looks ahead).
+// Thread contract: a pure function; models are shared read-only.
+#pragma once
+
+#include <span>
+
+#include "animation/head_model.h"
+#include "animation/mouth_model.h"
+#include "video/animation_file.h"
+
+namespace th::animation {
+
+struct AnimateOptions {
+  HeadSynthesisOptions head;    // variant; maxLagFrames ≥ 0 for the online (fixed-lag) decoder
+  MouthSynthesisOptions mouth;  // method; windowFrames > 0 for the streaming inversion
+};
+
+inline constexpr double kAnimationFramesPerSecond = 30.0;
+
+// samples16k: mono at 16 kHz. Throws th::Error if both models are null, the mouth model has no FAP map, or
+// the recording is shorter than one frame.
+video::Animation animate(std::span<const float> samples16k, const HeadModel* head, const MouthModel* mouth,
+                         const AnimateOptions& options = {});
+
+}  // namespace th::animation
