@@ -14,5 +14,7 @@ void addEvalHeadCommand(CLI::App& eval);   // `eval head`, registered by addEval
 void addEvalMouthCommand(CLI::App& eval);  // `eval mouth`, likewise
 void addTrainMouthCommand(CLI::App& train);  // `train mouth`, registered by addTrainCommand
 void addAnimateCommand(CLI::App& app);
+void addFaceCommands(CLI::App& app);  // render, poses, export
+void addShowCommand(CLI::App& app);
 
 }  // namespace th::app

@@ -14,6 +14,8 @@ int main(int argc, char** argv) {
   th::app::addHmmCommand(app);
   th::app::addTrainCommand(app);
   th::app::addAnimateCommand(app);
+  th::app::addFaceCommands(app);
+  th::app::addShowCommand(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -4,14 +4,16 @@
 #   bash scripts/setup.sh
 #
 # 1. installs the Debian packages in scripts/packages.txt (scripts/install-packages.sh; needs root or sudo),
-# 2. configures and builds the Release build in build/ with Ninja, on all cores,
-# 3. runs the main job on the shipped default input and prints its summary:
+# 2. puts the face assets (ICT FaceKit, Candide-3) into the git-ignored assets/ (scripts/fetch-assets.sh: copied
+#    from the shared data, or downloaded from upstream where that is absent),
+# 3. configures and builds the Release build in build/ with Ninja, on all cores,
+# 4. runs the main job on the shipped default input and prints its summary:
 #      build/talkinghead features "$DATA/beat2/2_scott_0_1_1.wav"
 #    where DATA is $TALKINGHEAD_DATA, else ../shared/data beside the checkout. Without that recording it says so
 #    and uses a sentence synthesised with espeak-ng instead (build/example.wav).
 #
 # Environment: BUILD_DIR (default build), TALKINGHEAD_DATA (the shared data folder).
-# Nothing is copied into the source tree; everything it makes lives in the build folder.
+# Besides assets/, nothing is written into the source tree; everything it makes lives in the build folder.
 set -euo pipefail
 
 repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -25,6 +27,9 @@ step() { printf '\n== %s\n' "$*"; }
 
 step "Installing Debian packages (scripts/packages.txt)"
 bash scripts/install-packages.sh
+
+step "Face assets (scripts/fetch-assets.sh)"
+bash scripts/fetch-assets.sh
 
 step "Configuring and building Release in $build_dir/ (Ninja, $jobs jobs)"
 generator=(-G Ninja)

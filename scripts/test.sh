@@ -9,7 +9,7 @@
 #   3. sanitizers   AddressSanitizer + UBSan build in build-asan/ (Debug at -O1, so asserts and libstdc++'s
 #                   bounds checks are on), then ctest with leak detection; any report fails its test
 #   4. fuzz         scripts/fuzz.sh, if present, for FUZZ_SECONDS (default 60)
-#   5. bench smoke  build/bench/features_bench and animation_bench --quick: one pass of every benchmark (proves it
+#   5. bench smoke  build/bench/{features,animation,render,export}_bench --quick: one pass of every benchmark (proves it
 #                   runs, times nothing)
 # Then a summary of the parts; the last line is "N passed, M failed", the ctest results of both runs together.
 # Exits non-zero if any part failed.
@@ -165,7 +165,8 @@ fi
 
 if ((release_built == 0)); then
   bench_smoke() {
-    "$build_dir/bench/features_bench" --quick && "$build_dir/bench/animation_bench" --quick
+    "$build_dir/bench/features_bench" --quick && "$build_dir/bench/animation_bench" --quick &&
+      "$build_dir/bench/render_bench" --quick && "$build_dir/bench/export_bench" --quick
   }
   part "bench smoke" bench_smoke
 else

@@ -24,6 +24,7 @@ extern "C" {
 
 #include "audio/resampler.h"
 #include "core/error.h"
+#include "core/ffmpeg_support.h"
 
 #if LIBAVUTIL_VERSION_INT < AV_VERSION_INT(57, 24, 100)
 #error "media_audio.cpp needs FFmpeg 5.1 or later (AVFrame::ch_layout)"
@@ -41,42 +42,12 @@ const int kDecoderNotFound = AVERROR_DECODER_NOT_FOUND;
 struct FormatCloser {
   void operator()(AVFormatContext* context) const { avformat_close_input(&context); }
 };
-struct CodecFreer {
-  void operator()(AVCodecContext* context) const { avcodec_free_context(&context); }
-};
-struct FrameFreer {
-  void operator()(AVFrame* frame) const { av_frame_free(&frame); }
-};
-struct PacketFreer {
-  void operator()(AVPacket* packet) const { av_packet_free(&packet); }
-};
 using FormatHandle = std::unique_ptr<AVFormatContext, FormatCloser>;
-using CodecHandle = std::unique_ptr<AVCodecContext, CodecFreer>;
-using FrameHandle = std::unique_ptr<AVFrame, FrameFreer>;
-using PacketHandle = std::unique_ptr<AVPacket, PacketFreer>;
+using ffmpeg::CodecHandle;
+using ffmpeg::FrameHandle;
+using ffmpeg::PacketHandle;
 
-// An AVDictionary of options, freed on scope exit (avformat_open_input replaces it with the unused ones).
-struct Dictionary {
-  AVDictionary* entries = nullptr;
-  Dictionary() = default;
-  Dictionary(const Dictionary&) = delete;
-  Dictionary& operator=(const Dictionary&) = delete;
-  ~Dictionary() { av_dict_free(&entries); }
-};
-
-std::string ffmpegMessage(int code) {
-  char text[AV_ERROR_MAX_STRING_SIZE] = {};
-  if (av_strerror(code, text, sizeof(text)) < 0) {
-    std::snprintf(text, sizeof(text), "error %d", code);
-  }
-  return text;
-}
-
-// FFmpeg logs to stderr by default, warnings and all; errors must reach the caller as one th::Error line.
-void silenceFfmpegLogging() {
-  static std::once_flag once;
-  std::call_once(once, [] { av_log_set_level(AV_LOG_QUIET); });
-}
+using ffmpeg::Dictionary;
 
 constexpr double kMaxSampleMagnitude = 1e6;  // as readAudioFile: 120 dB over full scale is corrupt data
 
@@ -190,7 +161,7 @@ bool receiveFrames(AVCodecContext* codec, AVFrame* frame, MonoCollector& collect
     if (result == kEndOfFile) return false;
     if (result < 0) {
       throw fileError(path, "audio decoding failed after " + std::to_string(collector.samples().size()) +
-                                " samples (FFmpeg: " + ffmpegMessage(result) + ")");
+                                " samples (FFmpeg: " + ffmpeg::message(result) + ")");
     }
     collector.add(*frame);
     av_frame_unref(frame);
@@ -209,7 +180,7 @@ void sendPacket(AVCodecContext* codec, const AVPacket* packet, AVFrame* frame, M
     if (result == kEndOfFile) return;  // already flushed
     if (result < 0) {
       throw fileError(path, "audio decoding failed after " + std::to_string(collector.samples().size()) +
-                                " samples (FFmpeg: " + ffmpegMessage(result) + ")");
+                                " samples (FFmpeg: " + ffmpeg::message(result) + ")");
     }
     receiveFrames(codec, frame, collector, path);
     return;
@@ -225,13 +196,13 @@ FormatHandle openContainer(const std::filesystem::path& path) {
   AVFormatContext* raw = nullptr;
   const int opened = avformat_open_input(&raw, url.c_str(), nullptr, &options.entries);
   if (opened < 0) {  // avformat_open_input frees the context itself on failure
-    throw fileError(path, "not a readable media file (FFmpeg: " + ffmpegMessage(opened) + ")");
+    throw fileError(path, "not a readable media file (FFmpeg: " + ffmpeg::message(opened) + ")");
   }
   FormatHandle format(raw);
   const int found = avformat_find_stream_info(format.get(), nullptr);
   if (found < 0) {
     throw fileError(
-        path, "not a readable media file (FFmpeg cannot read its streams: " + ffmpegMessage(found) + ")");
+        path, "not a readable media file (FFmpeg cannot read its streams: " + ffmpeg::message(found) + ")");
   }
   return format;
 }
@@ -239,7 +210,7 @@ FormatHandle openContainer(const std::filesystem::path& path) {
 }  // namespace
 
 AudioClip readMediaAudio(const std::filesystem::path& path, const AudioReadOptions& options) {
-  silenceFfmpegLogging();
+  ffmpeg::silenceLogging();
   std::error_code error;
   const auto status = std::filesystem::status(path, error);
   if (!std::filesystem::exists(status)) throw fileError(path, "no such file");
@@ -263,7 +234,7 @@ AudioClip readMediaAudio(const std::filesystem::path& path, const AudioReadOptio
     throw fileError(path, "has audio in a format FFmpeg cannot decode (" + codecName + ")");
   }
   if (streamIndex < 0) {
-    throw fileError(path, "cannot choose its audio stream (FFmpeg: " + ffmpegMessage(streamIndex) + ")");
+    throw fileError(path, "cannot choose its audio stream (FFmpeg: " + ffmpeg::message(streamIndex) + ")");
   }
   // Only the audio stream's packets are wanted: the demuxer may skip the rest.
   for (unsigned s = 0; s < format->nb_streams; ++s) {
@@ -275,13 +246,13 @@ AudioClip readMediaAudio(const std::filesystem::path& path, const AudioReadOptio
   if (!codec) throw fileError(path, "cannot allocate an audio decoder");
   int result = avcodec_parameters_to_context(codec.get(), stream->codecpar);
   if (result < 0) {
-    throw fileError(path, "cannot set up its audio decoder (FFmpeg: " + ffmpegMessage(result) + ")");
+    throw fileError(path, "cannot set up its audio decoder (FFmpeg: " + ffmpeg::message(result) + ")");
   }
   codec->pkt_timebase = stream->time_base;
   result = avcodec_open2(codec.get(), decoder, nullptr);
   if (result < 0) {
     throw fileError(path, std::string("cannot open its audio decoder ") + decoder->name +
-                              " (FFmpeg: " + ffmpegMessage(result) + ")");
+                              " (FFmpeg: " + ffmpeg::message(result) + ")");
   }
 
   PacketHandle packet(av_packet_alloc());
@@ -293,7 +264,7 @@ AudioClip readMediaAudio(const std::filesystem::path& path, const AudioReadOptio
     if (result == kEndOfFile) break;
     if (result < 0) {
       throw fileError(path, "read error after " + std::to_string(collector.samples().size()) +
-                                " audio samples (FFmpeg: " + ffmpegMessage(result) + ")");
+                                " audio samples (FFmpeg: " + ffmpeg::message(result) + ")");
     }
     if (packet->stream_index == streamIndex)
       sendPacket(codec.get(), packet.get(), frame.get(), collector, path);

@@ -10,6 +10,10 @@ namespace th {
 
 AtomicFile::AtomicFile(std::filesystem::path target) : target_(std::move(target)) {
   if (std::filesystem::is_directory(target_)) throw fileError(target_, "is a directory");
+  // Renaming onto a device, pipe or socket would replace it with a plain file (think /dev/null).
+  std::error_code status;
+  if (std::filesystem::exists(target_, status) && !std::filesystem::is_regular_file(target_, status))
+    throw fileError(target_, "exists and is not a regular file");
   const auto parent = target_.has_parent_path() ? target_.parent_path() : std::filesystem::path(".");
   if (!std::filesystem::is_directory(parent)) throw fileError(target_, "the folder it should go in does not exist");
   temporary_ = parent / ("." + target_.filename().string() + ".tmp" + std::to_string(::getpid()));
@@ -41,6 +45,8 @@ void checkOutputTarget(const std::filesystem::path& target) {
   std::error_code error;
   if (!std::filesystem::is_directory(folder, error)) throw fileError(target, "its folder does not exist");
   if (std::filesystem::is_directory(target, error)) throw fileError(target, "is a folder");
+  if (std::filesystem::exists(target, error) && !std::filesystem::is_regular_file(target, error))
+    throw fileError(target, "exists and is not a regular file");
 }
 
 }  // namespace th

@@ -2,7 +2,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <fstream>
+#include <limits>
 #include <sstream>
 
 #include "core/data_path.h"
@@ -123,11 +125,17 @@ FaceAssets loadIctFace(const std::filesystem::path& directory) {
     for (int landmark : point.landmarks) vertices.push_back(landmarks[static_cast<std::size_t>(landmark)]);
     face.points.set(point.id, std::move(vertices));
   }
-  // Pupils: the centre of each iris. The iris mesh is a dome, so its vertex mean lies on the eye's axis.
+  // Pupils: the front of each eye. ICT's iris material is a whole sphere over the eyeball (the iris is in its
+  // texture), so the pupil is the mean of that sphere's front-most vertices (its apex on the eye's axis).
   for (const auto& [id, material] : {std::pair{"3.5", "M_IrisLeft"}, std::pair{"3.6", "M_IrisRight"}}) {
-    std::vector<int> iris = face.neutral.verticesOf(material);
+    const std::vector<int> iris = face.neutral.verticesOf(material);
     if (iris.empty()) throw fileError(directory / "generic_neutral_mesh.obj", std::string("no ") + material + " material");
-    face.points.set(id, std::move(iris));
+    double front = -std::numeric_limits<double>::infinity(), back = std::numeric_limits<double>::infinity();
+    for (int v : iris) front = std::max(front, face.neutral.positions(2, v)), back = std::min(back, face.neutral.positions(2, v));
+    std::vector<int> apex;
+    for (int v : iris)
+      if (face.neutral.positions(2, v) >= front - 0.05 * (front - back)) apex.push_back(v);
+    face.points.set(id, std::move(apex));
   }
   return face;
 }

@@ -4,7 +4,7 @@
 //   Eigen::Vector3d chin = ict.points.position(ict.neutral.positions, "2.1");
 //   th::face::FapUnits fapu = th::face::measureFapUnits(ict.points, ict.neutral.positions);
 //
-// A feature point is one vertex, or the mean of a few (a pupil is the centre of its iris). The ICT FaceKit map
+// A feature point is one vertex, or the mean of a few (a pupil is the apex of its eye's iris sphere). The ICT FaceKit map
 // is made from the 68 iBUG landmarks its authors marked on the mesh (vertex_indices.json,
 // idx_to_landmark_verts) and from its iris materials; the table is in feature_points.cpp with the landmark
 // behind each point. The face's left (+x) is the iBUG right-hand side of the image.

@@ -24,16 +24,9 @@ using th::test::CliResult;
 using th::test::expectOneLineFailure;
 using th::test::runCli;
 
-class AnimateCliTest : public ::testing::Test {
+class AnimateCliTest : public th::test::CliTest {
  protected:
-  void SetUp() override {
-    fs::create_directory(folder_.path() / "logs");
-    fs::create_directory(folder_.path() / "out");
-  }
-  fs::path logs() const { return folder_.path() / "logs"; }
-  fs::path out() const { return folder_.path() / "out"; }
   static fs::path speech() { return th::sharedDataPath("beat2/audio_only/2_scott_0_2_2.wav"); }
-  th::TemporaryFolder folder_;
 };
 
 // Root-mean-square level of the recording in each 1/30 s frame (centred at i/30 s, like the features).

@@ -1,11 +1,13 @@
 #include "cli_runner.h"
 
 #include <fcntl.h>
+#include <signal.h>
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <functional>
 #include <fstream>
 #include <sstream>
 
@@ -20,7 +22,10 @@ std::string readText(const fs::path& path) {
   return text.str();
 }
 
-CliResult runCli(const std::vector<std::string>& arguments, const fs::path& logFolder, std::optional<uid_t> asUser) {
+namespace {
+
+CliResult run(const std::vector<std::string>& arguments, const fs::path& logFolder, std::optional<uid_t> asUser,
+              const std::function<bool()>& interruptWhen) {
   const fs::path outPath = logFolder / "stdout.txt";
   const fs::path errPath = logFolder / "stderr.txt";
   std::vector<std::string> words = {TALKINGHEAD_CLI};
@@ -41,6 +46,11 @@ CliResult runCli(const std::vector<std::string>& arguments, const fs::path& logF
   }
   CliResult result;
   int status = 0;
+  if (child > 0 && interruptWhen) {
+    // Poll (for at most a minute, and only while the child runs) until the moment has come, then press Ctrl-C.
+    for (int i = 0; i < 1200 && !interruptWhen() && ::waitpid(child, &status, WNOHANG) == 0; ++i) ::usleep(50000);
+    ::kill(child, SIGINT);
+  }
   if (child < 0 || ::waitpid(child, &status, 0) != child) {
     ADD_FAILURE() << "could not run " << TALKINGHEAD_CLI;
     return result;
@@ -51,6 +61,22 @@ CliResult runCli(const std::vector<std::string>& arguments, const fs::path& logF
   result.out = readText(outPath);
   result.err = readText(errPath);
   return result;
+}
+
+}  // namespace
+
+CliResult runCli(const std::vector<std::string>& arguments, const fs::path& logFolder, std::optional<uid_t> asUser) {
+  return run(arguments, logFolder, asUser, {});
+}
+
+CliResult runCliInterrupted(const std::vector<std::string>& arguments, const fs::path& logFolder,
+                            const std::function<bool()>& when) {
+  return run(arguments, logFolder, std::nullopt, when);
+}
+
+void CliTest::SetUp() {
+  fs::create_directory(folder_.path() / "logs");
+  fs::create_directory(folder_.path() / "out");
 }
 
 void expectOneLineFailure(const CliResult& result, const std::string& path, const std::string& reason) {

@@ -31,18 +31,7 @@ using th::test::expectOneLineFailure;
 using th::test::readText;
 using th::test::runCli;
 
-class FeaturesCliTest : public ::testing::Test {
- protected:
-  void SetUp() override {
-    fs::create_directory(folder_.path() / "logs");
-    fs::create_directory(folder_.path() / "out");
-  }
-  fs::path logs() const { return folder_.path() / "logs"; }
-  fs::path out() const { return folder_.path() / "out"; }
-  bool outFolderIsEmpty() const { return fs::is_empty(out()); }
-
-  th::test::TemporaryFolder folder_;
-};
+using FeaturesCliTest = th::test::CliTest;
 
 // ---- bad input ----
 

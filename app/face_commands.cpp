@@ -1,0 +1,268 @@
+// The face on screen and in files: `render` (animation → PNG frames), `poses` (a contact sheet of key poses),
+// `export` (recording → MP4 with the face speaking it, plus the animation files on request).
+#include <atomic>
+#include <cmath>
+#include <csignal>
+#include <cstdio>
+#include <iostream>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "animation/animate.h"
+#include "audio/media_audio.h"
+#include "commands.h"
+#include "core/atomic_file.h"
+#include "core/error.h"
+#include "core/progress.h"
+#include "face/face_model.h"
+#include "face/poses.h"
+#include "render/camera.h"
+#include "render/face_renderer.h"
+#include "render/gl_context.h"
+#include "render/image.h"
+#include "text_overlay.h"
+#include "video/animation_file.h"
+#include "video/animation_sampling.h"
+#include "video/arkit.h"
+#include "video/mp4_writer.h"
+
+namespace th::app {
+namespace {
+
+// "1280x720" → {1280, 720}; both even (H.264 in yuv420p) and within what a renderer can allocate.
+std::pair<int, int> parseSize(const std::string& text) {
+  int width = 0, height = 0;
+  char x = 0, extra = 0;
+  if (std::sscanf(text.c_str(), "%d%c%d%c", &width, &x, &height, &extra) != 3 || (x != 'x' && x != 'X'))
+    throw Error("--size " + text + ": expected WIDTHxHEIGHT, e.g. 1280x720");
+  if (width < 16 || height < 16 || width > 7680 || height > 4320)
+    throw Error("--size " + text + ": each side must be 16..7680 x 16..4320 pixels");
+  if (width % 2 != 0 || height % 2 != 0) throw Error("--size " + text + ": both sides must be even (H.264, 4:2:0)");
+  return {width, height};
+}
+
+// Interrupts (Ctrl-C, SIGTERM) end a long job cleanly: the loop sees the flag, throws, and the writers'
+// destructors remove their temporary files. The handler only sets the flag (async-signal-safe).
+std::atomic<bool> interrupted{false};
+extern "C" void onInterrupt(int) { interrupted.store(true); }
+
+class InterruptGuard {
+ public:
+  InterruptGuard() {
+    interrupted.store(false);
+    previousInt_ = std::signal(SIGINT, onInterrupt);
+    previousTerm_ = std::signal(SIGTERM, onInterrupt);
+  }
+  ~InterruptGuard() {
+    std::signal(SIGINT, previousInt_);
+    std::signal(SIGTERM, previousTerm_);
+  }
+  InterruptGuard(const InterruptGuard&) = delete;
+  InterruptGuard& operator=(const InterruptGuard&) = delete;
+  static void check() {
+    if (interrupted.load()) throw Error("interrupted; no output was written");
+  }
+
+ private:
+  void (*previousInt_)(int) = nullptr;
+  void (*previousTerm_)(int) = nullptr;
+};
+
+ProgressOptions progressAt(double framesPerSecond) {
+  ProgressOptions options;
+  options.unitsPerSecond = framesPerSecond;  // progress counts frames; the bar shows the real-time factor
+  return options;
+}
+
+// The face, an off-screen renderer and a camera framing it: what every off-screen command needs.
+struct Stage {
+  face::FaceModel face;
+  render::OffscreenContext context;
+  render::FaceRenderer renderer;
+  render::OrbitCamera camera;
+  render::Image image;
+
+  explicit Stage(render::RenderOptions options)
+      : face(face::FaceModel::build(face::loadIctFace(face::ictFaceDirectory()))),
+        renderer(context, face.mesh(), options),
+        camera(render::frameHead(face.mesh().positions, static_cast<double>(options.width) / options.height)) {}
+
+  const render::Image& draw(const face::FapValues& faps) {
+    renderer.setPositions(face.deform(faps));
+    renderer.render(camera);
+    renderer.readPixels(image);
+    return image;
+  }
+};
+
+// ---- render ----
+
+struct RenderArguments {
+  std::string animation;
+  std::string output;
+  std::string size = "640x480";
+  double fps = 0.0;  // 0: the animation's
+};
+
+void runRender(const RenderArguments& arguments) {
+  InterruptGuard guard;
+  const auto [width, height] = parseSize(arguments.size);
+  const video::Animation animation = video::readAnimation(arguments.animation);
+  const std::filesystem::path folder = arguments.output;
+  std::error_code error;
+  std::filesystem::create_directories(folder, error);
+  if (!std::filesystem::is_directory(folder, error)) throw fileError(folder, "is not a folder and cannot be made one");
+  const double fps = arguments.fps > 0.0 ? arguments.fps : animation.framesPerSecond;
+  const auto frames = static_cast<int>(std::ceil(video::durationOf(animation) * fps - 1e-9));
+  Stage stage({.width = width, .height = height});
+  ProgressBar progress(frames, "render", std::cerr, progressAt(fps));
+  char name[32];
+  for (int frame = 0; frame < frames; ++frame) {
+    InterruptGuard::check();
+    std::snprintf(name, sizeof name, "frame_%06d.png", frame);
+    render::writePng(folder / name, stage.draw(video::fapValuesAt(animation, frame / fps)));
+    progress.update(frame + 1);
+  }
+  progress.finish();
+  std::cout << "wrote " << frames << " frames (" << width << "x" << height << ", " << fps << " fps) to " << folder.string()
+            << '\n';
+}
+
+// ---- poses ----
+
+struct PosesArguments {
+  std::string output = "docs/face_poses.png";
+  int tile = 360;
+  int columns = 3;
+};
+
+void runPoses(const PosesArguments& arguments) {
+  checkOutputTarget(arguments.output);
+  const std::vector<face::Pose> poses = face::keyPoses();
+  const int rows = (static_cast<int>(poses.size()) + arguments.columns - 1) / arguments.columns;
+  Stage stage({.width = arguments.tile, .height = arguments.tile});
+  render::Image sheet(arguments.tile * arguments.columns, arguments.tile * rows);
+  for (std::size_t i = 0; i < poses.size(); ++i) {
+    const render::Image& tile = stage.draw(poses[i].faps);
+    const int left = static_cast<int>(i) % arguments.columns * arguments.tile;
+    const int top = static_cast<int>(i) / arguments.columns * arguments.tile;
+    for (int y = 0; y < tile.height; ++y)
+      std::copy_n(tile.pixel(0, y), tile.width * 3, sheet.pixel(left, top + y));
+    drawLabel(sheet, left + 8, top + 8, poses[i].title, 2);
+  }
+  render::writePng(arguments.output, sheet);
+  std::cout << "wrote " << arguments.output << ": " << poses.size() << " poses\n";
+}
+
+// ---- export ----
+
+struct ExportArguments {
+  std::string input;
+  std::string output;
+  std::string size = "1280x720";
+  double fps = 30.0;
+  std::string animation;              // --anim: play this instead of the models' animation
+  std::vector<std::string> saveAnimation;  // --save-anim: .fap / .csv / .json beside the video
+  std::string arkit;                  // --arkit: ARKit blendshape weights CSV
+  std::string headModel = std::string(TALKINGHEAD_SOURCE_DIR) + "/models/head.json";
+  std::string mouthModel = std::string(TALKINGHEAD_SOURCE_DIR) + "/models/mouth.json";
+  int crf = 20;
+  std::string preset = "veryfast";
+};
+
+void runExport(const ExportArguments& arguments) {
+  InterruptGuard guard;
+  // Everything that can be checked before the work is checked first.
+  const auto [width, height] = parseSize(arguments.size);
+  std::string extension = std::filesystem::path(arguments.output).extension().string();
+  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (extension != ".mp4") throw fileError(arguments.output, "an export is an .mp4 file");
+  checkOutputTarget(arguments.output);
+  for (const std::string& path : arguments.saveAnimation) {
+    video::animationFormatOf(path);
+    checkOutputTarget(path);
+  }
+  if (!arguments.arkit.empty()) checkOutputTarget(arguments.arkit);
+
+  const audio::AudioClip clip = audio::readRecording(arguments.input);
+  if (clip.samples.empty()) throw fileError(arguments.input, "has no samples");
+  video::Animation animation;
+  if (!arguments.animation.empty()) {
+    animation = video::readAnimation(arguments.animation);
+  } else {
+    const animation::HeadModel head = animation::loadHeadModel(arguments.headModel);
+    const animation::MouthModel mouth = animation::loadMouthModel(arguments.mouthModel);
+    try {
+      animation = animation::animate(clip.samples, &head, &mouth, {});
+    } catch (const Error& error) {
+      throw fileError(arguments.input, error.what());
+    }
+    animation.name = std::filesystem::path(arguments.input).stem().string();
+  }
+
+  // Video: FXAA on one sample instead of 4x MSAA, a third of the CPU per frame on llvmpipe, nearly as smooth.
+  Stage stage({.width = width, .height = height, .samples = 1, .fxaa = true});
+  InterruptGuard::check();
+  {
+    video::Mp4Writer writer(arguments.output, {.width = width, .height = height, .framesPerSecond = arguments.fps,
+                                               .audioSampleRateHz = clip.sampleRateHz, .crf = arguments.crf,
+                                               .preset = arguments.preset});
+    writer.addAudio(clip.samples);
+    // As many frames as cover the sound: the video ends within one frame of the audio.
+    const auto frames = static_cast<int>(video::videoFramesFor(clip.samples.size(), clip.sampleRateHz, arguments.fps));
+    ProgressBar progress(frames, "export", std::cerr, progressAt(arguments.fps));
+    for (int frame = 0; frame < frames; ++frame) {
+      InterruptGuard::check();
+      const render::Image& image = stage.draw(video::fapValuesAt(animation, frame / arguments.fps));
+      writer.addVideoFrame(image.pixels, image.width * 3);
+      progress.update(frame + 1);
+    }
+    InterruptGuard::check();
+    writer.finish();
+    progress.finish();
+  }
+  for (const std::string& path : arguments.saveAnimation) video::writeAnimation(path, animation);
+  if (!arguments.arkit.empty()) video::writeArkitCsv(arguments.arkit, animation, video::arkitScaleFor(stage.face));
+  std::cout << "wrote " << arguments.output << " (" << width << "x" << height << ", " << arguments.fps << " fps, "
+            << static_cast<double>(clip.samples.size()) / clip.sampleRateHz << " s)\n";
+}
+
+}  // namespace
+
+void addFaceCommands(CLI::App& app) {
+  auto renderArguments = std::make_shared<RenderArguments>();
+  CLI::App* render = app.add_subcommand("render", "Animation (.csv, .json or .fap) -> PNG frames of the face");
+  render->add_option("animation", renderArguments->animation, "Animation file")->required();
+  render->add_option("-o,--output", renderArguments->output, "Folder for frame_000000.png, ...")->required();
+  render->add_option("--size", renderArguments->size, "WIDTHxHEIGHT")->capture_default_str();
+  render->add_option("--fps", renderArguments->fps, "Frames per second (default: the animation's)")
+      ->check(CLI::Range(1.0, 240.0));
+  render->callback([renderArguments] { runRender(*renderArguments); });
+
+  auto posesArguments = std::make_shared<PosesArguments>();
+  CLI::App* poses = app.add_subcommand("poses", "A contact sheet PNG of the face's key poses");
+  poses->add_option("-o,--output", posesArguments->output, "PNG to write")->capture_default_str();
+  poses->add_option("--tile", posesArguments->tile, "Pixels per pose (square)")->check(CLI::Range(64, 2048))->capture_default_str();
+  poses->callback([posesArguments] { runPoses(*posesArguments); });
+
+  auto exportArguments = std::make_shared<ExportArguments>();
+  CLI::App* exporter = app.add_subcommand(
+      "export", "Recording -> MP4 (H.264 + AAC) of the face speaking it, rendered off-screen");
+  exporter->add_option("input", exportArguments->input, "Recording (WAV, FLAC, ... or a video's audio track)")->required();
+  exporter->add_option("-o,--output", exportArguments->output, "MP4 file to write")->required();
+  exporter->add_option("--size", exportArguments->size, "WIDTHxHEIGHT, both even")->capture_default_str();
+  exporter->add_option("--fps", exportArguments->fps, "Video frames per second")->check(CLI::Range(1.0, 120.0))->capture_default_str();
+  exporter->add_option("--anim", exportArguments->animation, "Play this animation (.csv, .json, .fap) instead of the models'");
+  exporter->add_option("--save-anim", exportArguments->saveAnimation,
+                       "Also write the animation (.fap MPEG-4 FAP stream, .csv or .json); repeatable");
+  exporter->add_option("--arkit", exportArguments->arkit, "Also write ARKit blendshape weights (CSV: time_s + 52 names)");
+  exporter->add_option("--head-model", exportArguments->headModel, "Head model file")->capture_default_str();
+  exporter->add_option("--mouth-model", exportArguments->mouthModel, "Mouth model file")->capture_default_str();
+  exporter->add_option("--crf", exportArguments->crf, "H.264 quality (lower is better and larger)")->check(CLI::Range(0, 51))->capture_default_str();
+  exporter->add_option("--preset", exportArguments->preset, "x264 preset (ultrafast ... veryslow)")->capture_default_str();
+  exporter->callback([exportArguments] { runExport(*exportArguments); });
+}
+
+}  // namespace th::app

@@ -1,0 +1,191 @@
+// `talkinghead show`: the face in a window. Drag to orbit, scroll to zoom; a Dear ImGui panel has a slider for
+// every FAP the face can show (grouped as the standard groups them), the key poses, and a player for an
+// animation file. `--screenshot PNG --frames N` saves the window after N frames and quits (for tests under Xvfb).
+// glad before GLFW: glad's header stands in for the system GL header that GLFW would otherwise pull in.
+#include <glad/gl.h>
+#include <GLFW/glfw3.h>
+#include <imgui.h>
+#include <imgui_impl_glfw.h>
+#include <imgui_impl_opengl3.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "commands.h"
+#include "core/error.h"
+#include "face/fap.h"
+#include "face/face_model.h"
+#include "face/poses.h"
+#include "render/camera.h"
+#include "render/face_renderer.h"
+#include "render/gl_context.h"
+#include "render/image.h"
+#include "video/animation_file.h"
+#include "video/animation_sampling.h"
+
+namespace th::app {
+namespace {
+
+struct ShowArguments {
+  std::string animation;
+  std::string screenshot;
+  int frames = 3;
+  int width = 1280, height = 720;
+};
+
+// The slider range of a FAP: a full unit of 1024 FAPU each way (a FAP 3 of 1024 drops the chin by the
+// mouth-nose distance), ±40° for rotations, 0..1024 for the unidirectional ones.
+std::pair<float, float> sliderRange(const face::FapDefinition& fap) {
+  if (fap.unit == face::Fapu::kAngle) return {-70000.0f, 70000.0f};
+  return {fap.bidirectional ? -1024.0f : 0.0f, 1024.0f};
+}
+
+// The window's pixels (face and panel), top row first.
+render::Image grabWindow(std::pair<int, int> size) {
+  render::Image image(size.first, size.second);
+  std::vector<std::uint8_t> rgba(static_cast<std::size_t>(size.first) * static_cast<std::size_t>(size.second) * 4);
+  glReadBuffer(GL_BACK);
+  glReadPixels(0, 0, size.first, size.second, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data());
+  for (int y = 0; y < size.second; ++y)
+    for (int x = 0; x < size.first; ++x) {
+      const std::uint8_t* source = rgba.data() + (static_cast<std::size_t>(size.second - 1 - y) * static_cast<std::size_t>(size.first) + static_cast<std::size_t>(x)) * 4;
+      std::copy_n(source, 3, image.pixel(x, y));
+    }
+  return image;
+}
+
+void runShow(const ShowArguments& arguments) {
+  std::optional<video::Animation> animation;
+  if (!arguments.animation.empty()) animation = video::readAnimation(arguments.animation);
+  const face::FaceModel face = face::FaceModel::build(face::loadIctFace(face::ictFaceDirectory()));
+  render::WindowContext window({.width = arguments.width, .height = arguments.height, .title = "talkinghead",
+                                .visible = true, .vsync = true});
+  render::FaceRenderer renderer(window, face.mesh(), {.width = arguments.width, .height = arguments.height});
+  render::OrbitCamera camera = render::frameHead(face.mesh().positions, static_cast<double>(arguments.width) / arguments.height);
+  const render::OrbitCamera home = camera;
+
+  IMGUI_CHECKVERSION();
+  ImGui::CreateContext();
+  ImGui::GetIO().IniFilename = nullptr;  // no imgui.ini in the working folder
+  ImGui::StyleColorsDark();
+  ImGui_ImplGlfw_InitForOpenGL(window.window(), true);
+  ImGui_ImplOpenGL3_Init("#version 330 core");
+
+  face::FapValues faps{};
+  face::FapValues shown{};
+  shown[1] = 1.0;  // differs from faps: the first frame deforms
+  bool playing = animation.has_value();
+  double playStart = glfwGetTime();
+  int frame = 0;
+  std::pair<int, int> lastSize{0, 0};
+  while (!window.shouldClose()) {
+    glfwPollEvents();
+    const auto size = window.framebufferSize();
+    if (size.first <= 0 || size.second <= 0) continue;  // minimised
+    if (size != lastSize) {
+      renderer.resize(size.first, size.second);
+      lastSize = size;
+    }
+    ImGui_ImplOpenGL3_NewFrame();
+    ImGui_ImplGlfw_NewFrame();
+    ImGui::NewFrame();
+
+    // Orbit with the left button, zoom with the wheel, unless the panel has the mouse.
+    const ImGuiIO& io = ImGui::GetIO();
+    if (!io.WantCaptureMouse) {
+      if (ImGui::IsMouseDragging(ImGuiMouseButton_Left)) {
+        camera.yawDegrees -= 0.3f * io.MouseDelta.x;
+        camera.pitchDegrees = std::clamp(camera.pitchDegrees + 0.3f * io.MouseDelta.y, -80.0f, 80.0f);
+      }
+      camera.distance = std::clamp(camera.distance * (1.0f - 0.1f * io.MouseWheel), 10.0f, 300.0f);
+    }
+
+    ImGui::SetNextWindowPos(ImVec2(10, 10), ImGuiCond_FirstUseEver);
+    ImGui::SetNextWindowSize(ImVec2(420, static_cast<float>(size.second) - 20), ImGuiCond_FirstUseEver);
+    ImGui::Begin("Face");
+    if (ImGui::Button("Reset FAPs")) faps = {};
+    ImGui::SameLine();
+    if (ImGui::Button("Reset view")) camera = home;
+    if (animation) {
+      ImGui::SameLine();
+      if (ImGui::Button(playing ? "Pause" : "Play")) {
+        playing = !playing;
+        playStart = glfwGetTime();
+      }
+    }
+    ImGui::TextUnformatted("Poses:");
+    for (const face::Pose& pose : face::keyPoses()) {
+      ImGui::SameLine();
+      if (ImGui::GetContentRegionAvail().x < 80) ImGui::NewLine();
+      if (ImGui::SmallButton(pose.name.c_str())) faps = pose.faps, playing = false;
+    }
+    if (playing && animation) {
+      const double seconds = std::fmod(glfwGetTime() - playStart, video::durationOf(*animation));
+      faps = video::fapValuesAt(*animation, seconds);
+    }
+    // One header per group, in the order the standard first names it; the jaw and inner lip open at start.
+    std::vector<std::string_view> groups;
+    for (int number = 3; number <= face::kNumFaps; ++number)
+      if (face.supports(number) && std::find(groups.begin(), groups.end(), face::fapDefinition(number).group) == groups.end())
+        groups.push_back(face::fapDefinition(number).group);
+    ImGui::PushItemWidth(-190.0f);
+    for (std::string_view group : groups) {
+      const bool openAtStart = group == "jaw" || group == "inner lip";
+      if (!ImGui::CollapsingHeader(std::string(group).c_str(), openAtStart ? ImGuiTreeNodeFlags_DefaultOpen : 0)) continue;
+      for (int number = 3; number <= face::kNumFaps; ++number) {
+        const face::FapDefinition& fap = face::fapDefinition(number);
+        if (!face.supports(number) || fap.group != group) continue;
+        float value = static_cast<float>(faps[static_cast<std::size_t>(number)]);
+        const auto [low, high] = sliderRange(fap);
+        char label[64];
+        std::snprintf(label, sizeof label, "%d %s", number, std::string(fap.name).c_str());
+        if (ImGui::SliderFloat(label, &value, low, high, fap.unit == face::Fapu::kAngle ? "%.0f AU" : "%.0f")) {
+          faps[static_cast<std::size_t>(number)] = value;
+          playing = false;
+        }
+      }
+    }
+    ImGui::PopItemWidth();
+    ImGui::End();
+    ImGui::Render();
+
+    if (faps != shown) {
+      renderer.setPositions(face.deform(faps));
+      shown = faps;
+    }
+    renderer.render(camera);
+    window.makeCurrent();
+    renderer.present(size);
+    ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+    if (!arguments.screenshot.empty() && ++frame >= arguments.frames) {
+      render::writePng(arguments.screenshot, grabWindow(size));
+      std::cout << "wrote " << arguments.screenshot << '\n';
+      break;
+    }
+    window.swapBuffers();
+  }
+  ImGui_ImplOpenGL3_Shutdown();
+  ImGui_ImplGlfw_Shutdown();
+  ImGui::DestroyContext();
+}
+
+}  // namespace
+
+void addShowCommand(CLI::App& app) {
+  auto arguments = std::make_shared<ShowArguments>();
+  CLI::App* show = app.add_subcommand("show", "The face in a window: orbit it, move every FAP with sliders, play an animation");
+  show->add_option("--anim", arguments->animation, "Animation to play (.csv, .json, .fap)");
+  show->add_option("--screenshot", arguments->screenshot, "Save the window as PNG after --frames frames and quit");
+  show->add_option("--frames", arguments->frames, "Frames before the screenshot")->check(CLI::Range(1, 10000))->capture_default_str();
+  show->add_option("--width", arguments->width, "Window width")->check(CLI::Range(320, 7680))->capture_default_str();
+  show->add_option("--height", arguments->height, "Window height")->check(CLI::Range(240, 4320))->capture_default_str();
+  show->callback([arguments] { runShow(*arguments); });
+}
+
+}  // namespace th::app

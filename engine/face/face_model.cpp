@@ -1,0 +1,374 @@
+#include "face/face_model.h"
+
+#include <Eigen/Dense>
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <string>
+
+#include "core/error.h"
+#include "face/fap.h"
+
+namespace th::face {
+namespace {
+
+double smoothstep(double edge0, double edge1, double x) {
+  const double t = std::clamp((x - edge0) / (edge1 - edge0), 0.0, 1.0);
+  return t * t * (3.0 - 2.0 * t);
+}
+
+// Which part of the mouth a lip FAP belongs to: the upper and lower lip touch at rest, so their fields are
+// kept apart by how far the jaw carries a vertex (upper lip ≈ 0.05, lower ≈ 0.9, corners ≈ 0.5).
+enum class Lip { kNone, kUpper, kLower, kCorner };
+enum class Side { kMiddle, kLeft, kRight };
+
+struct LinearFap {
+  int number;
+  Lip lip;
+  double radius;  // fall-off radius across the face, as a fraction of `unitForRadius`
+  Fapu unitForRadius;
+};
+
+// The linear FAPs and their fall-off. Radii are fractions of the face's own FAPU distances (×1024), so the
+// fields scale with the face: a lip field reaches about a fifth of the mouth's width.
+constexpr LinearFap kLinearFaps[] = {
+    {4, Lip::kUpper, 0.2, Fapu::kMw},   {5, Lip::kLower, 0.2, Fapu::kMw},   {6, Lip::kCorner, 0.2, Fapu::kMw},
+    {7, Lip::kCorner, 0.2, Fapu::kMw},  {8, Lip::kUpper, 0.2, Fapu::kMw},   {9, Lip::kUpper, 0.2, Fapu::kMw},
+    {10, Lip::kLower, 0.2, Fapu::kMw},  {11, Lip::kLower, 0.2, Fapu::kMw},  {12, Lip::kCorner, 0.2, Fapu::kMw},
+    {13, Lip::kCorner, 0.2, Fapu::kMw}, {16, Lip::kLower, 0.3, Fapu::kMw},  {17, Lip::kUpper, 0.3, Fapu::kMw},
+    {18, Lip::kLower, 0.3, Fapu::kMw},  {31, Lip::kNone, 0.25, Fapu::kEs},  {32, Lip::kNone, 0.25, Fapu::kEs},
+    {33, Lip::kNone, 0.25, Fapu::kEs},  {34, Lip::kNone, 0.25, Fapu::kEs},  {35, Lip::kNone, 0.25, Fapu::kEs},
+    {36, Lip::kNone, 0.25, Fapu::kEs},  {37, Lip::kNone, 0.25, Fapu::kEs},  {38, Lip::kNone, 0.25, Fapu::kEs},
+    {39, Lip::kNone, 0.3, Fapu::kEs},   {40, Lip::kNone, 0.3, Fapu::kEs},   {41, Lip::kNone, 0.3, Fapu::kEs},
+    {42, Lip::kNone, 0.3, Fapu::kEs},   {51, Lip::kUpper, 0.2, Fapu::kMw},  {52, Lip::kLower, 0.2, Fapu::kMw},
+    {53, Lip::kCorner, 0.2, Fapu::kMw}, {54, Lip::kCorner, 0.2, Fapu::kMw}, {55, Lip::kUpper, 0.2, Fapu::kMw},
+    {56, Lip::kUpper, 0.2, Fapu::kMw},  {57, Lip::kLower, 0.2, Fapu::kMw},  {58, Lip::kLower, 0.2, Fapu::kMw},
+    {59, Lip::kCorner, 0.2, Fapu::kMw}, {60, Lip::kCorner, 0.2, Fapu::kMw}, {61, Lip::kNone, 0.25, Fapu::kEns},
+    {62, Lip::kNone, 0.25, Fapu::kEns}, {63, Lip::kNone, 0.25, Fapu::kEns}, {64, Lip::kNone, 0.25, Fapu::kEns},
+};
+
+Side sideOf(const FapDefinition& fap) {
+  // The standard's names say it: "_l_"/"_lm" on the face's left, "_r_"/"_rm" on its right.
+  const std::string_view name = fap.name;
+  if (name.find("_l_") != std::string_view::npos || name.ends_with("_l") || name.find("_lm") != std::string_view::npos)
+    return Side::kLeft;
+  if (name.find("_r_") != std::string_view::npos || name.ends_with("_r") || name.find("_rm") != std::string_view::npos)
+    return Side::kRight;
+  return Side::kMiddle;
+}
+
+Eigen::Vector3d directionOf(const FapDefinition& fap) { return {fap.direction[0], fap.direction[1], fap.direction[2]}; }
+
+// Least-squares sphere through points (algebraic fit: |p|² = 2c·p + (r² − |c|²) is linear in c and r² − |c|²).
+std::pair<Eigen::Vector3d, double> fitSphere(const Eigen::Matrix3Xd& positions, const std::vector<int>& vertices) {
+  Eigen::MatrixXd a(static_cast<Eigen::Index>(vertices.size()), 4);
+  Eigen::VectorXd b(static_cast<Eigen::Index>(vertices.size()));
+  for (std::size_t i = 0; i < vertices.size(); ++i) {
+    const Eigen::Vector3d p = positions.col(vertices[i]);
+    a.row(static_cast<Eigen::Index>(i)) << 2 * p.x(), 2 * p.y(), 2 * p.z(), 1.0;
+    b[static_cast<Eigen::Index>(i)] = p.squaredNorm();
+  }
+  const Eigen::Vector4d solution = a.colPivHouseholderQr().solve(b);
+  const Eigen::Vector3d centre = solution.head<3>();
+  return {centre, std::sqrt(solution[3] + centre.squaredNorm())};
+}
+
+// The skin vertex nearest to (x, y) seen from the front: the front-most among those close in x and y.
+int frontVertexNear(const Eigen::Matrix3Xd& positions, const std::vector<int>& skin, double x, double y, double tolerance) {
+  int best = -1;
+  double bestScore = std::numeric_limits<double>::infinity();
+  for (int v : skin) {
+    const double distance = std::hypot(positions(0, v) - x, positions(1, v) - y);
+    if (distance > tolerance) continue;
+    const double score = distance - 0.01 * positions(2, v);  // prefer the front surface among near ones
+    if (score < bestScore) bestScore = score, best = v;
+  }
+  if (best < 0) throw Error("face model: no skin vertex near a feature point the standard needs");
+  return best;
+}
+
+Eigen::Matrix3d headRotation(double pitch, double yaw, double roll) {
+  // As the head model's angles: R = Ry(yaw)·Rx(pitch)·Rz(roll); FAP 48 positive pitches down about +x, 49 yaws
+  // to the face's left about +y, 50 rolls to its right about +z (face/fap.cpp).
+  return (Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitY()) * Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitX()) *
+          Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitZ()))
+      .toRotationMatrix();
+}
+
+}  // namespace
+
+FaceModel FaceModel::build(const FaceAssets& assets, const FaceModelOptions& options) {
+  FaceModel model;
+  model.mesh_ = assets.neutral;
+  model.points_ = assets.points;
+  const Eigen::Matrix3Xd& rest = model.mesh_.positions;
+  model.units_ = measureFapUnits(model.points_, rest);
+  const FapUnits& u = model.units_;
+  const double mw = u.mw * 1024, mns = u.mns * 1024, es = u.es * 1024, irisd = u.irisd * 1024;
+  const std::vector<int> face = model.mesh_.verticesOf("M_Face");
+  if (face.empty()) throw Error("face model: the mesh has no M_Face material (the skin)");
+  // All the skin: the face and the rest of the head (which meets it at the temples, forehead and neck).
+  std::vector<int> skin = face;
+  for (int v : model.mesh_.verticesOf("M_BackHead")) skin.push_back(v);
+  std::sort(skin.begin(), skin.end());
+  skin.erase(std::unique(skin.begin(), skin.end()), skin.end());
+
+  // Feature points the landmarks do not give, placed from those that they do.
+  const auto at = [&](std::string_view id) { return model.points_.position(rest, id); };
+  {
+    const Eigen::Vector3d lowerLip = at("8.2"), chin = at("2.1");
+    int boss = -1;  // 2.10, the chin boss: the front-most midline point between the lower lip and the chin
+    for (int v : skin)
+      if (std::abs(rest(0, v)) < 0.03 * mw && rest(1, v) < lowerLip.y() && rest(1, v) > chin.y() &&
+          (boss < 0 || rest(2, v) > rest(2, boss)))
+        boss = v;
+    if (boss < 0) throw Error("face model: no chin between the lower lip and the chin point");
+    model.points_.set("2.10", {boss});
+    for (const auto& [side, eyeCorner, mouthCorner] :
+         {std::tuple{"l", "3.7", "8.3"}, std::tuple{"r", "3.8", "8.4"}}) {
+      const Eigen::Vector3d eye = at(eyeCorner), mouth = at(mouthCorner);
+      const bool left = std::string_view(side) == "l";
+      // 5.3/5.4: the cheekbone, below the eye's outer corner; 5.1/5.2: the cheek beside the mouth corner.
+      model.points_.set(left ? "5.3" : "5.4",
+                        {frontVertexNear(rest, skin, 0.9 * eye.x(), eye.y() - 0.35 * (eye.y() - mouth.y()), 0.1 * mw)});
+      model.points_.set(left ? "5.1" : "5.2",
+                        {frontVertexNear(rest, skin, eye.x(), mouth.y() + 0.2 * (eye.y() - mouth.y()), 0.1 * mw)});
+    }
+  }
+
+  // The jaw.
+  const std::vector<int> lowerTeeth = movedVertices(rest, assets.jawOpen, model.mesh_.verticesOf("M_Teeth"));
+  model.jaw_ = fitJawHinge(rest, assets.jawOpen, lowerTeeth);
+  model.jawFollow_ = jawFollowWeights(rest, assets.jawOpen, model.jaw_);
+  for (Eigen::Index v = 0; v < model.jawFollow_.size(); ++v)
+    if (model.jawFollow_[v] > 0.0) model.jawVertices_.push_back(static_cast<int>(v));
+  double chinShare = 0.0;
+  for (int v : model.points_.vertices("2.1")) chinShare += model.jawFollow_[v];
+  model.chinFollow_ = chinShare / static_cast<double>(model.points_.vertices("2.1").size());
+
+  // The Bézier lattice around the face, and the linear FAP fields through it. All skin inside the lattice is
+  // embedded; the fields vanish on the lattice's surface, so skin outside it (the back of the head) meets the
+  // moving skin inside without a crack.
+  const auto positionsOf = [&](const std::vector<int>& vertices) {
+    Eigen::Matrix3Xd positions(3, static_cast<Eigen::Index>(vertices.size()));
+    for (std::size_t i = 0; i < vertices.size(); ++i) positions.col(static_cast<Eigen::Index>(i)) = rest.col(vertices[i]);
+    return positions;
+  };
+  model.lattice_ = BezierLattice::enclosing(positionsOf(face), 0.1 * mw, options.lattice);
+  model.embedding_ = model.lattice_.embed(positionsOf(skin));
+  for (int& index : model.embedding_.points) index = skin[static_cast<std::size_t>(index)];  // mesh vertex numbers
+  const Eigen::Vector3d eyeLeft = at("3.5"), eyeRight = at("3.6");
+  const double eyeLevel = 0.5 * (eyeLeft.y() + eyeRight.y());
+  const double sideWidth = 0.1 * mw;  // how softly the left side of the face hands over to the right
+  double spacing = 0.0;  // the lattice's control-point spacing across the face (x and y)
+  {
+    const Eigen::Vector3d extent = model.lattice_.controlPoints().colwise().maxCoeff() - model.lattice_.controlPoints().colwise().minCoeff();
+    for (int d = 0; d < 2; ++d)
+      spacing = std::max(spacing, extent[d] / (options.lattice.degree * options.lattice.volumes[static_cast<std::size_t>(d)]));
+  }
+  for (const LinearFap& linear : kLinearFaps) {
+    const FapDefinition& fap = fapDefinition(linear.number);
+    const Eigen::Vector3d centre = at(fap.featurePoint);
+    const Eigen::Vector3d direction = directionOf(fap);
+    const double radius = linear.radius * 1024 * u.of(linear.unitForRadius);
+    const double depthRadius = radius;
+    // The lattice blends (n + 1)³ control points into each vertex, which widens the Gaussian by about one
+    // control-point spacing; 3.5 of the widened radii is where the field has faded (a brow's reaches twice as
+    // far upwards, see below).
+    const double widest = fap.group == "eyebrow" ? 2.0 * radius : radius;
+    model.reach_[static_cast<std::size_t>(fap.number)] = 3.5 * std::hypot(widest, spacing);
+    // D_k: a Gaussian fall-off over the control points around the feature point (a little wider in depth, so
+    // a lip moves front and back together), times the direction.
+    Eigen::VectorXd falloff(model.lattice_.numControlPoints());
+    for (Eigen::Index c = 0; c < falloff.size(); ++c) {
+      Eigen::Vector3d d = model.lattice_.controlPoints().row(c).transpose() - centre;
+      // A raised brow takes the forehead with it: the skin above a brow follows over a longer distance.
+      if (fap.group == "eyebrow" && d.y() > 0.0) d.y() /= 2.0;
+      const double g = std::exp(-(d.x() * d.x() + d.y() * d.y()) / (2 * radius * radius) - d.z() * d.z() / (2 * depthRadius * depthRadius));
+      falloff[c] = g > 1e-4 && !model.lattice_.onBoundary(static_cast<int>(c)) ? g : 0.0;
+    }
+    const Eigen::VectorXd spread = model.embedding_.basis * falloff;  // B·D_k per unit direction
+    const Side side = sideOf(fap);
+    const auto mask = [&](int vertex) {
+      const Eigen::Vector3d p = rest.col(vertex);
+      double m = 1.0;
+      // Brows hand over more softly at the middle of the forehead: both brows' fields meet there.
+      const double width = fap.group == "eyebrow" ? 3.0 * sideWidth : sideWidth;
+      if (side == Side::kLeft) m *= smoothstep(-width, width, p.x());
+      if (side == Side::kRight) m *= 1.0 - smoothstep(-width, width, p.x());
+      const double carried = model.jawFollow_[vertex];
+      if (linear.lip == Lip::kUpper) m *= std::clamp((0.7 - carried) / 0.4, 0.0, 1.0);
+      if (linear.lip == Lip::kLower) m *= std::clamp((carried - 0.3) / 0.4, 0.0, 1.0);
+      // Brows and the forehead, fading out down the skin above the eye so the upper lid (which turns with the
+      // eyelid FAPs) is not pulled up with them.
+      if (fap.group == "eyebrow") m *= smoothstep(eyeLevel + 0.4 * irisd, centre.y(), p.y());
+      return m;
+    };
+    std::vector<double> raw(model.embedding_.points.size());
+    for (std::size_t i = 0; i < raw.size(); ++i) raw[i] = mask(model.embedding_.points[i]) * spread[static_cast<Eigen::Index>(i)];
+    // Normalise on the feature point itself: the mean of its vertices' motion is exactly one FAPU.
+    double atPoint = 0.0;
+    const std::vector<int>& pointVertices = model.points_.vertices(fap.featurePoint);
+    for (int v : pointVertices) {
+      const auto found = std::find(model.embedding_.points.begin(), model.embedding_.points.end(), v);
+      if (found == model.embedding_.points.end()) throw Error("face model: feature point " + std::string(fap.featurePoint) + " is outside the lattice");
+      atPoint += raw[static_cast<std::size_t>(found - model.embedding_.points.begin())];
+    }
+    atPoint /= static_cast<double>(pointVertices.size());
+    if (!(atPoint > 1e-6)) throw Error("face model: FAP " + std::to_string(fap.number) + "'s field does not reach its feature point");
+    const double scale = u.of(fap.unit) / atPoint;
+    for (std::size_t i = 0; i < raw.size(); ++i) {
+      const double amount = raw[i] * scale;
+      if (std::abs(amount) > 1e-4 * u.of(fap.unit))
+        model.linear_[static_cast<std::size_t>(fap.number)].push_back(
+            {model.embedding_.points[i], (amount * direction).cast<float>()});
+    }
+  }
+
+  // Eyes: a sphere fitted to each sclera; the ball (sclera and iris) turns rigidly about its centre, and the
+  // lids turn about the same centre.
+  for (int e = 0; e < 2; ++e) {
+    const bool left = e == 0;
+    Eye& eye = model.eyes_[static_cast<std::size_t>(e)];
+    const std::vector<int> sclera = model.mesh_.verticesOf(left ? "M_ScleraLeft" : "M_ScleraRight");
+    const std::vector<int> iris = model.mesh_.verticesOf(left ? "M_IrisLeft" : "M_IrisRight");
+    if (sclera.size() < 10 || iris.empty()) throw Error("face model: the mesh's eyes need sclera and iris materials");
+    std::tie(eye.centre, eye.radius) = fitSphere(rest, sclera);
+    eye.ball = sclera;
+    eye.ball.insert(eye.ball.end(), iris.begin(), iris.end());
+    const Eigen::Vector3d outer = at(left ? "3.7" : "3.8"), inner = at(left ? "3.11" : "3.12");
+    const Eigen::Vector3d upper = at(left ? "3.1" : "3.2"), lower = at(left ? "3.3" : "3.4");
+    const double middleX = 0.5 * (outer.x() + inner.x()), halfWidth = 0.5 * std::abs(outer.x() - inner.x());
+    const double cornerY = 0.5 * (outer.y() + inner.y());
+    std::vector<int> lidVertices = skin;
+    const std::vector<int> lashes = model.mesh_.verticesOf("M_EyeLashes");
+    lidVertices.insert(lidVertices.end(), lashes.begin(), lashes.end());
+    for (int v : lidVertices) {
+      const Eigen::Vector3d p = rest.col(v);
+      if ((p.x() > 0) != left) continue;
+      const double across = std::abs(p.x() - middleX) / halfWidth;
+      const double horizontal = 1.0 - smoothstep(0.85, 1.35, across);
+      if (horizontal <= 0.0) continue;
+      // Each lid's margin, a parabola through the corners and the lid's middle.
+      const double shape = 1.0 - std::min(1.0, across * across);
+      if (p.y() >= cornerY) {
+        const double margin = cornerY + (upper.y() - cornerY) * shape;
+        const double w = horizontal * (1.0 - smoothstep(margin + 0.3 * irisd, margin + 1.2 * irisd, p.y()));
+        if (w > 1e-3) eye.upperLid.emplace_back(v, static_cast<float>(w));
+      } else {
+        const double margin = cornerY + (lower.y() - cornerY) * shape;
+        const double w = horizontal * (1.0 - smoothstep(margin - 0.3 * irisd, margin - 1.0 * irisd, p.y()));
+        if (w > 1e-3) eye.lowerLid.emplace_back(v, static_cast<float>(w));
+      }
+    }
+  }
+  model.pupilRadius_ = 0.25 * irisd;
+
+  // The head turns about the top of the spine: level with the jaw's hinge, behind it by a quarter of the eye
+  // separation; the neck below the chin hands over to the body.
+  model.neckPivot_ = Eigen::Vector3d(0.0, model.jaw_.pivot.y() - 0.15 * es, model.jaw_.pivot.z() - 0.4 * es);
+  const double bottom = rest.row(1).minCoeff();
+  const double chinY = at("2.1").y();
+  model.headShare_.resize(static_cast<std::size_t>(rest.cols()));
+  for (Eigen::Index v = 0; v < rest.cols(); ++v)
+    model.headShare_[static_cast<std::size_t>(v)] =
+        static_cast<float>(smoothstep(bottom + 0.2 * (chinY - bottom), chinY - 0.05 * mns, rest(1, v)));
+  return model;
+}
+
+bool FaceModel::supports(int fap) const {
+  if (fap < 1 || fap > kNumFaps) return false;
+  if (!linear_[static_cast<std::size_t>(fap)].empty()) return true;
+  return fap == 3 || fap == 14 || fap == 15 || (fap >= 19 && fap <= 30) || (fap >= 48 && fap <= 50);
+}
+
+double FaceModel::jawAngleFor(double openJaw) const {
+  if (openJaw <= 0.0) return 0.0;  // unidirectional: the jaw does not close past rest
+  const double target = std::max(0.0, openJaw) * units_.mns;
+  const Eigen::Vector3d chin = points_.position(mesh_.positions, "2.1");
+  const auto drop = [&](double angle) { return chinFollow_ * (chin.y() - jaw_.rotate(chin, angle).y()); };
+  // The drop grows with the angle up to where the chin passes below the hinge; bisect within that.
+  double low = 0.0, high = std::numbers::pi / 3;
+  if (target >= drop(high)) return high;
+  for (int i = 0; i < 60; ++i) {
+    const double middle = 0.5 * (low + high);
+    (drop(middle) < target ? low : high) = middle;
+  }
+  return 0.5 * (low + high);
+}
+
+std::array<double, 2> FaceModel::pupilScale(const FapValues& faps) const {
+  return {std::max(0.1, 1.0 + faps[29] * units_.irisd / pupilRadius_), std::max(0.1, 1.0 + faps[30] * units_.irisd / pupilRadius_)};
+}
+
+Eigen::Matrix3Xd FaceModel::deform(const FapValues& faps) const {
+  Eigen::Matrix3Xd v = mesh_.positions;
+  const Eigen::Matrix3Xd& rest = mesh_.positions;
+  for (int fap = 1; fap <= kNumFaps; ++fap) {
+    const double value = faps[static_cast<std::size_t>(fap)];
+    if (value == 0.0) continue;
+    for (const FieldEntry& entry : linear_[static_cast<std::size_t>(fap)])
+      v.col(entry.vertex) += value * entry.displacement.cast<double>();
+  }
+
+  // Jaw: each vertex turns by its share of the angle and slides by its share of the thrust and shift. The
+  // slide is scaled so that the chin point, whose share is chinFollow_, moves by exactly value × FAPU.
+  const double angle = jawAngleFor(faps[3]);
+  const Eigen::Vector3d slide = (std::max(0.0, faps[14]) * units_.mns * Eigen::Vector3d::UnitZ() +
+                                 faps[15] * units_.mw * -Eigen::Vector3d::UnitX()) / chinFollow_;
+  if (angle != 0.0 || slide.squaredNorm() > 0.0) {
+    for (int vertex : jawVertices_) {
+      const double share = jawFollow_[vertex];
+      v.col(vertex) = jaw_.pivot + Eigen::AngleAxisd(share * angle, jaw_.axis) * (v.col(vertex) - jaw_.pivot) + share * slide;
+    }
+  }
+
+  // Eyelids and eyeballs.
+  for (int e = 0; e < 2; ++e) {
+    const Eye& eye = eyes_[static_cast<std::size_t>(e)];
+    const bool left = e == 0;
+    const double closeUpper = faps[left ? 19 : 20], closeLower = faps[left ? 21 : 22];
+    const auto lidAngle = [&](std::string_view point, double drop) {
+      // The angle about the eye's x axis that moves the lid's middle vertically by `drop` (down positive).
+      const Eigen::Vector3d p = points_.position(rest, point) - eye.centre;
+      const double radius = std::hypot(p.y(), p.z());
+      const double elevation = std::atan2(p.y(), p.z());
+      const double target = std::clamp((p.y() - drop) / radius, -1.0, 1.0);
+      return elevation - std::asin(target);  // positive turns the front downwards (about +x)
+    };
+    if (closeUpper != 0.0) {
+      const double turn = lidAngle(left ? "3.1" : "3.2", closeUpper * units_.irisd);
+      for (const auto& [vertex, share] : eye.upperLid)
+        v.col(vertex) = eye.centre + Eigen::AngleAxisd(share * turn, Eigen::Vector3d::UnitX()) * (v.col(vertex) - eye.centre);
+    }
+    if (closeLower != 0.0) {
+      const double turn = lidAngle(left ? "3.3" : "3.4", -closeLower * units_.irisd);
+      for (const auto& [vertex, share] : eye.lowerLid)
+        v.col(vertex) = eye.centre + Eigen::AngleAxisd(share * turn, Eigen::Vector3d::UnitX()) * (v.col(vertex) - eye.centre);
+    }
+    const double yaw = faps[left ? 23 : 24] * kAngleUnit, pitch = faps[left ? 25 : 26] * kAngleUnit;
+    const double thrust = faps[left ? 27 : 28] * units_.es;
+    if (yaw != 0.0 || pitch != 0.0 || thrust != 0.0) {
+      const Eigen::Matrix3d turn = (Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitY()) *
+                                    Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitX())).toRotationMatrix();
+      for (int vertex : eye.ball)
+        v.col(vertex) = eye.centre + turn * (v.col(vertex) - eye.centre) + thrust * Eigen::Vector3d::UnitZ();
+    }
+  }
+
+  // Head.
+  const double pitch = faps[48] * kAngleUnit, yaw = faps[49] * kAngleUnit, roll = faps[50] * kAngleUnit;
+  if (pitch != 0.0 || yaw != 0.0 || roll != 0.0) {
+    const Eigen::Matrix3d full = headRotation(pitch, yaw, roll);
+    for (Eigen::Index vertex = 0; vertex < v.cols(); ++vertex) {
+      const float share = headShare_[static_cast<std::size_t>(vertex)];
+      if (share <= 0.0f) continue;
+      const Eigen::Matrix3d turn = share >= 1.0f ? full : headRotation(share * pitch, share * yaw, share * roll);
+      v.col(vertex) = neckPivot_ + turn * (v.col(vertex) - neckPivot_);
+    }
+  }
+  return v;
+}
+
+}  // namespace th::face

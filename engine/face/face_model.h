@@ -1,0 +1,105 @@
+// The animated face: the reference head's mesh deformed by MPEG-4 FAP values and turned by the head FAPs.
+//
+//   th::face::FaceModel face = th::face::FaceModel::build(th::face::loadIctFace(th::face::ictFaceDirectory()));
+//   th::face::FapValues faps{};                 // index = FAP number (1..68), values in FAPU counts
+//   faps[3] = 400;                              // open the jaw: the chin drops 400 MNS
+//   faps[49] = 20 * std::numbers::pi / 180 / 1e-5;   // turn the head 20° to its left
+//   Eigen::Matrix3Xd positions = face.deform(faps);  // 3 x V, the mesh's vertex order
+//
+// How each FAP moves the mesh (fields built once, from the neutral mesh, its feature points and its jawOpen
+// shape; every field is normalised so that the feature point the standard names moves by exactly
+// value × FAPU in the standard's direction):
+// - Linear FAPs (lips 4–13, 16, 17, 51–60; chin 18; brows 31–38; cheeks 39–42; nose 61–64): piecewise Bézier
+//   volume deformation (bezier_volume.h). FAP k displaces the lattice's control points by D_k, a Gaussian
+//   fall-off around its feature point times its direction, so the skin moves by B·D_k: smooth, and zero far
+//   away. A per-vertex mask confines each field to the skin of its own side and lip (the upper and lower lip
+//   touch at rest, so no smooth field alone could move one without the other): the lips are told apart by how
+//   far the jaw carries each vertex (jaw.h).
+// - The jaw (FAP 3) is a hinge (jaw.h): every vertex turns about it by its share of the angle (lower teeth
+//   and tongue fully, chin and lower lip mostly, the upper lip hardly); the angle is the one that drops the
+//   chin point by value × MNS. FAPs 14 and 15 move the same vertices by the same shares, straight forward or
+//   sideways. A rotation, because a jaw turns: a linear field would stretch the teeth.
+// - Eyelids (19–22) turn about the eyeball's centre (a sphere fitted to the sclera), so the lid slides over the
+//   eye instead of cutting into it; a value of 1024 (one IRISD) brings the upper lid's middle down onto the
+//   lower lid's. Eyeballs (23–26) turn rigidly about the same centres; 27/28 push them forward; 29/30 (pupil
+//   size) are passed to the renderer (pupilScale).
+// - The head (48–50) turns rigidly about a neck pivot, blended into the neck so the base of the neck stays.
+// Order: linear fields, then jaw, then eyelids and eyeballs, then the head, so lip FAPs ride on the jaw.
+// FAPs this mesh cannot show (visemes and expressions 1–2, the tongue 43–47, the ears 65–68) are ignored;
+// `supports` says which.
+// Thread contract: a FaceModel is immutable after build(); deform() is const and safe from any thread.
+#pragma once
+
+#include <Eigen/Core>
+#include <array>
+#include <memory>
+#include <vector>
+
+#include "face/bezier_volume.h"
+#include "face/feature_points.h"
+#include "face/jaw.h"
+#include "face/mesh.h"
+
+namespace th::face {
+
+using FapValues = std::array<double, kNumFaps + 1>;  // [0] unused; [n] is FAP n
+
+struct FaceModelOptions {
+  BezierLatticeOptions lattice{.volumes = {12, 15, 4}, .degree = 3, .bend = 0.04};
+};
+
+class FaceModel {
+ public:
+  static FaceModel build(const FaceAssets& assets, const FaceModelOptions& options = {});
+
+  Eigen::Matrix3Xd deform(const FapValues& faps) const;
+
+  bool supports(int fap) const;
+  const Mesh& mesh() const { return mesh_; }
+  const FeaturePointMap& points() const { return points_; }
+  const FapUnits& units() const { return units_; }
+  const JawHinge& jaw() const { return jaw_; }
+  // The pupils' size relative to rest for FAPs 29 (left) and 30 (right): 1 + value / 1024 · IRISD / pupil.
+  std::array<double, 2> pupilScale(const FapValues& faps) const;
+  // The jaw angle (radians) that a FAP 3 value asks for.
+  double jawAngleFor(double openJaw) const;
+  const Eigen::Vector3d& neckPivot() const { return neckPivot_; }
+  const BezierLattice& lattice() const { return lattice_; }
+  const Embedding& embedding() const { return embedding_; }
+
+  // The displacement field of a linear FAP per unit value: (vertex, displacement) pairs; empty for others.
+  struct FieldEntry {
+    int vertex;
+    Eigen::Vector3f displacement;
+  };
+  const std::vector<FieldEntry>& linearField(int fap) const { return linear_[static_cast<std::size_t>(fap)]; }
+  // How far a linear FAP's field reaches: beyond this distance from its feature point it is negligible (3.5
+  // fall-off radii, widened by the lattice's control-point spacing); 0 for other FAPs.
+  double reach(int fap) const { return reach_[static_cast<std::size_t>(fap)]; }
+
+ private:
+  struct Eye {
+    Eigen::Vector3d centre;
+    double radius = 0.0;
+    std::vector<int> ball;                 // vertices that turn with the eyeball
+    std::vector<std::pair<int, float>> upperLid, lowerLid;  // vertex, share of the lid's angle
+  };
+
+  Mesh mesh_;
+  FeaturePointMap points_;
+  FapUnits units_;
+  JawHinge jaw_;
+  Eigen::VectorXd jawFollow_;             // per vertex
+  std::vector<int> jawVertices_;          // vertices with a jaw share > 0
+  double chinFollow_ = 1.0;
+  BezierLattice lattice_;
+  Embedding embedding_;
+  std::array<std::vector<FieldEntry>, kNumFaps + 1> linear_;
+  std::array<double, kNumFaps + 1> reach_{};
+  std::array<Eye, 2> eyes_;               // 0 left (+x), 1 right
+  Eigen::Vector3d neckPivot_ = Eigen::Vector3d::Zero();
+  std::vector<float> headShare_;          // per vertex, 0..1
+  double pupilRadius_ = 0.0;
+};
+
+}  // namespace th::face

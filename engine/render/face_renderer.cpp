@@ -1,0 +1,609 @@
+#include "render/face_renderer.h"
+
+#include <glad/gl.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <string>
+
+#include "core/error.h"
+#include "gl_program.h"
+#include "render/fxaa.h"
+#include "render/occlusion.h"
+#include "render/surfaces.h"
+#include "shader_sources.h"
+
+namespace th::render {
+namespace {
+
+// The variants face.frag is compiled in (see its head comment).
+enum class Program : int { kSkin = 0, kSclera, kIris, kPlain };
+constexpr int kNumPrograms = 4;
+constexpr const char* kProgramDefine[kNumPrograms] = {"SKIN", "SCLERA", "IRIS", "PLAIN"};
+
+Program programOf(Surface s) {
+  switch (s) {
+    case Surface::kSkin:
+      return Program::kSkin;
+    case Surface::kSclera:
+      return Program::kSclera;
+    case Surface::kIris:
+      return Program::kIris;
+    default:
+      return Program::kPlain;
+  }
+}
+
+// The order of drawing: opaque surfaces first (the backdrop follows them, see render()); then the sclera,
+// whose clear cornea is blended over the iris; the lashes and the see-through eye layers last.
+int drawRank(Surface s) {
+  switch (s) {
+    case Surface::kSkin:
+      return 0;
+    case Surface::kOther:
+      return 1;
+    case Surface::kTeeth:
+      return 2;
+    case Surface::kGums:
+      return 3;
+    case Surface::kIris:
+      return 4;
+    case Surface::kSclera:
+      return 5;
+    case Surface::kLashes:
+      return 6;
+    case Surface::kEyeLayer:
+      return 7;
+  }
+  return 8;
+}
+
+bool isBlended(Surface s) {
+  return s == Surface::kSclera || s == Surface::kLashes || s == Surface::kEyeLayer;
+}
+
+Eigen::Vector3f srgbToLinear(const Eigen::Vector3f& c) {
+  Eigen::Vector3f out;
+  for (int k = 0; k < 3; ++k)
+    out[k] = c[k] <= 0.04045f ? c[k] / 12.92f : std::pow((c[k] + 0.055f) / 1.055f, 2.4f);
+  return out;
+}
+
+float cosDegrees(float degrees) {
+  return std::cos(degrees * std::numbers::pi_v<float> / 180.0f);
+}
+
+void setVector(GLint location, const Eigen::Vector3f& v) {
+  glUniform3f(location, v.x(), v.y(), v.z());
+}
+
+// Which surfaces' triangles block a receiving surface's sky (ambient occlusion). The see-through layers and
+// the lash cards block nothing; the mouth's inside (teeth, gums, tongue) is blocked only by itself: with the
+// neutral face's closed lips counted, the front teeth would stay dark when the mouth opens.
+std::uint32_t occludersOf(Surface receiver) {
+  const auto bit = [](Surface s) { return 1U << static_cast<unsigned>(s); };
+  switch (receiver) {
+    case Surface::kTeeth:
+    case Surface::kGums:
+      return bit(Surface::kTeeth) | bit(Surface::kGums);
+    case Surface::kLashes:
+    case Surface::kEyeLayer:
+      return 0;
+    default:
+      return bit(Surface::kSkin) | bit(Surface::kOther) | bit(Surface::kSclera) | bit(Surface::kIris) |
+             bit(Surface::kTeeth) | bit(Surface::kGums);
+  }
+}
+
+// The material of a draw, from the appearance (known surfaces) or the MTL file (others).
+struct Shading {
+  Eigen::Vector3f albedo = Eigen::Vector3f::Constant(0.5f);  // linear
+  Eigen::Vector3f specular = Eigen::Vector3f::Constant(0.04f);
+  float shininess = 16.0f;
+  float opacity = 1.0f;
+};
+
+Shading shadingOf(Surface surface, const face::Material* material, const Appearance& look) {
+  Shading s;
+  switch (surface) {
+    case Surface::kSkin:
+      s.albedo = srgbToLinear(look.skin);
+      // Skin reflects about 3 % at normal incidence; a little more here stands in for its oily sheen.
+      s.specular = Eigen::Vector3f::Constant(0.05f);
+      s.shininess = 28.0f;
+      break;
+    case Surface::kSclera:
+      s.albedo = srgbToLinear(look.sclera);
+      s.specular = Eigen::Vector3f::Constant(0.04f);
+      s.shininess = 120.0f;
+      break;
+    case Surface::kIris:
+      s.albedo = srgbToLinear(look.iris);
+      s.specular = Eigen::Vector3f::Zero();  // the cornea above it shines instead
+      s.shininess = 30.0f;
+      break;
+    case Surface::kTeeth:
+      s.albedo = srgbToLinear(look.teeth);
+      s.specular = Eigen::Vector3f::Constant(0.05f);
+      s.shininess = 60.0f;
+      break;
+    case Surface::kGums:
+      s.albedo = srgbToLinear(look.gums);
+      s.specular = Eigen::Vector3f::Constant(0.05f);
+      s.shininess = 80.0f;  // wet
+      break;
+    case Surface::kLashes:
+      s.albedo = srgbToLinear(look.lashes);
+      s.specular = Eigen::Vector3f::Constant(0.02f);
+      s.shininess = 20.0f;
+      break;
+    case Surface::kEyeLayer:
+    case Surface::kOther:
+      if (material != nullptr) {
+        s.albedo = material->diffuse;
+        s.specular = material->specular.cwiseMin(0.08f);
+        s.shininess = std::max(material->shininess, 1.0f);
+      }
+      s.opacity = surface == Surface::kEyeLayer ? 0.25f : 1.0f;
+      break;
+  }
+  return s;
+}
+
+}  // namespace
+
+struct FaceRenderer::Draw {
+  Surface surface = Surface::kOther;
+  std::size_t firstIndex = 0;
+  GLsizei count = 0;
+  GLuint lowest = 0;  // vertex index range, so the driver need not scan the indices
+  GLuint highest = 0;
+  int eye = -1;  // sclera and iris: index into eyes_
+  Shading shading;
+};
+
+struct FaceRenderer::Eye : EyeRig {};
+
+struct FaceRenderer::Gl {
+  GLuint vao = 0;
+  GLuint emptyVao = 0;
+  GLuint dynamicBuffer = 0;  // position + normal, per frame
+  GLuint staticBuffer = 0;   // openness + (lip weight or opacity)
+  GLuint indexBuffer = 0;
+  GLuint backgroundProgram = 0;
+  GLuint msaaFramebuffer = 0;
+  GLuint msaaColour = 0;
+  GLuint msaaDepth = 0;
+  GLuint resolveFramebuffer = 0;
+  GLuint resolveColour = 0;
+  GLuint resolveDepth = 0;  // only without MSAA or FXAA, when drawing straight into the resolve target
+  bool resolved = false;    // the resolve target holds the last render
+
+  struct FaceProgram {
+    GLuint id = 0;
+    GLint viewProjection, cameraPosition, lightDirection, lightColour, skyAmbient, groundAmbient, exposure;
+    GLint albedo, lipAlbedo, specular, shininess, opacity, eyeCentre, eyeAxis, eyeCosines, irisColour,
+        scleraColour;
+  };
+  FaceProgram face[kNumPrograms] = {};
+  struct {
+    GLint top, bottom, aspect;
+  } background{};
+
+  void release() {
+    glDeleteFramebuffers(1, &msaaFramebuffer);
+    glDeleteRenderbuffers(1, &msaaColour);
+    glDeleteRenderbuffers(1, &msaaDepth);
+    glDeleteFramebuffers(1, &resolveFramebuffer);
+    glDeleteRenderbuffers(1, &resolveColour);
+    glDeleteRenderbuffers(1, &resolveDepth);
+    msaaFramebuffer = msaaColour = msaaDepth = resolveFramebuffer = resolveColour = resolveDepth = 0;
+  }
+  void releaseAll() {
+    release();
+    for (FaceProgram& p : face) glDeleteProgram(p.id);
+    glDeleteProgram(backgroundProgram);
+    glDeleteBuffers(1, &dynamicBuffer);
+    glDeleteBuffers(1, &staticBuffer);
+    glDeleteBuffers(1, &indexBuffer);
+    glDeleteVertexArrays(1, &vao);
+    glDeleteVertexArrays(1, &emptyVao);
+  }
+};
+
+FaceRenderer::FaceRenderer(GlContext& context, const face::Mesh& mesh, RenderOptions options)
+    : context_(context), options_(std::move(options)), numVertices_(mesh.numVertices()), normalSolver_(mesh) {
+  if (numVertices_ == 0 || mesh.triangles.empty()) throw Error("FaceRenderer: the mesh is empty");
+  if (mesh.triangleMaterial.size() != mesh.triangles.size())
+    throw Error("FaceRenderer: the mesh needs one material index per triangle");
+  if (options_.width <= 0 || options_.height <= 0)
+    throw Error("FaceRenderer: the image size must be positive, not " + std::to_string(options_.width) + "x" +
+                std::to_string(options_.height));
+  const Appearance& look = options_.appearance;
+  const SurfaceMap map = classifySurfaces(mesh);
+
+  // Triangles sorted into draw calls: by drawing rank, then material.
+  std::vector<std::size_t> order(mesh.triangles.size());
+  for (std::size_t t = 0; t < order.size(); ++t) order[t] = t;
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    const int ra = drawRank(map.ofTriangle[a]);
+    const int rb = drawRank(map.ofTriangle[b]);
+    return ra != rb ? ra < rb : mesh.triangleMaterial[a] < mesh.triangleMaterial[b];
+  });
+  std::vector<std::uint32_t> indices;
+  indices.reserve(order.size() * 3);
+  for (std::size_t i = 0; i < order.size();) {
+    const int material = mesh.triangleMaterial[order[i]];
+    std::size_t j = i;
+    while (j < order.size() && mesh.triangleMaterial[order[j]] == material) {
+      for (int v : mesh.triangles[order[j]]) indices.push_back(static_cast<std::uint32_t>(v));
+      ++j;
+    }
+    Draw draw;
+    draw.surface = map.ofTriangle[order[i]];
+    draw.firstIndex = i * 3;
+    draw.count = static_cast<GLsizei>((j - i) * 3);
+    const auto [lowest, highest] =
+        std::minmax_element(indices.begin() + static_cast<std::ptrdiff_t>(i * 3), indices.end());
+    draw.lowest = *lowest;
+    draw.highest = *highest;
+    draw.shading = shadingOf(
+        draw.surface, material >= 0 ? &mesh.materials[static_cast<std::size_t>(material)] : nullptr, look);
+    if (draw.surface != Surface::kEyeLayer || look.drawEyeLayers) draws_.push_back(draw);
+    i = j;
+  }
+
+  // Eyes; each sclera and iris draw takes the eye nearest to it.
+  for (EyeRig& rig : findEyes(mesh, map)) eyes_.push_back(Eye{std::move(rig)});
+  for (Draw& draw : draws_) {
+    if ((draw.surface != Surface::kSclera && draw.surface != Surface::kIris) || eyes_.empty()) continue;
+    Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+    for (std::size_t i = draw.firstIndex; i < draw.firstIndex + static_cast<std::size_t>(draw.count); ++i)
+      mean += mesh.positions.col(indices[i]);
+    const Eigen::Vector3f centre = (mean / static_cast<double>(draw.count)).cast<float>();
+    int best = 0;
+    for (std::size_t e = 1; e < eyes_.size(); ++e)
+      if ((eyes_[e].centre - centre).norm() < (eyes_[static_cast<std::size_t>(best)].centre - centre).norm())
+        best = static_cast<int>(e);
+    draw.eye = best;
+  }
+
+  context_.makeCurrent();
+  gl_ = std::make_unique<Gl>();
+  Gl& g = *gl_;
+  try {
+    // Per-vertex detail from the mesh at rest.
+    normalSolver_.compute(mesh.positions, normals_);
+    std::vector<int> triangleGroup(mesh.triangles.size());
+    for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
+      triangleGroup[t] = static_cast<int>(map.ofTriangle[t]);
+    std::vector<std::uint32_t> occludedBy(static_cast<std::size_t>(numVertices_));
+    for (std::size_t v = 0; v < occludedBy.size(); ++v) occludedBy[v] = occludersOf(map.ofVertex[v]);
+    openness_ = computeOpenness(mesh.positions, normals_, mesh.triangles, triangleGroup, occludedBy);
+    lipWeight_ = th::render::lipWeight(mesh, map, openness_);
+    darkenMouthInterior(mesh, map, openness_);
+    const Eigen::VectorXf opacity = lashOpacity(mesh, map);
+
+    // Programs.
+    // Each variant: the #version line, its #define, the shared lighting code, then the stage's own source.
+    const auto variant = [](const char* source, const char* define) {
+      const std::string text = source;
+      return std::string("#version 330 core\n#define ") + define + " 1\n" + shaders::kLighting_glsl +
+             "#line 2\n" + text.substr(text.find('\n') + 1);
+    };
+    for (int p = 0; p < kNumPrograms; ++p) {
+      Gl::FaceProgram& f = g.face[p];
+      f.id = linkProgram(variant(shaders::kFace_vert, kProgramDefine[p]).c_str(),
+                         variant(shaders::kFace_frag, kProgramDefine[p]).c_str(),
+                         (std::string("face/") + kProgramDefine[p]).c_str());
+      const auto at = [&](const char* name) { return glGetUniformLocation(f.id, name); };
+      f.viewProjection = at("uViewProjection");
+      f.cameraPosition = at("uCameraPosition");
+      f.lightDirection = at("uLightDirection");
+      f.lightColour = at("uLightColour");
+      f.skyAmbient = at("uSkyAmbient");
+      f.groundAmbient = at("uGroundAmbient");
+      f.exposure = at("uExposure");
+      f.albedo = at("uAlbedo");
+      f.lipAlbedo = at("uLipAlbedo");
+      f.specular = at("uSpecular");
+      f.shininess = at("uShininess");
+      f.opacity = at("uOpacity");
+      f.eyeCentre = at("uEyeCentre");
+      f.eyeAxis = at("uEyeAxis");
+      f.eyeCosines = at("uEyeCosines");
+      f.irisColour = at("uIrisColour");
+      f.scleraColour = at("uScleraColour");
+    }
+    g.backgroundProgram = linkProgram(shaders::kBackground_vert, shaders::kBackground_frag, "background");
+    g.background = {glGetUniformLocation(g.backgroundProgram, "uTop"),
+                    glGetUniformLocation(g.backgroundProgram, "uBottom"),
+                    glGetUniformLocation(g.backgroundProgram, "uAspect")};
+
+    // Buffers.
+    glGenVertexArrays(1, &g.vao);
+    glGenVertexArrays(1, &g.emptyVao);
+    glBindVertexArray(g.vao);
+    glGenBuffers(1, &g.dynamicBuffer);
+    glBindBuffer(GL_ARRAY_BUFFER, g.dynamicBuffer);
+    vertexData_.resize(static_cast<std::size_t>(numVertices_) * 6);
+    glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(vertexData_.size() * sizeof(float)), nullptr,
+                 GL_STREAM_DRAW);
+    glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 6 * sizeof(float), nullptr);
+    glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, 6 * sizeof(float),
+                          reinterpret_cast<const void*>(3 * sizeof(float)));  // GL's offset-as-pointer idiom
+    glEnableVertexAttribArray(0);
+    glEnableVertexAttribArray(1);
+    // Detail: openness, then the lip weight on skin or the opacity elsewhere (one channel serves both: no
+    // vertex is skin and lash at once).
+    std::vector<float> detail(static_cast<std::size_t>(numVertices_) * 2);
+    for (Eigen::Index v = 0; v < numVertices_; ++v) {
+      detail[static_cast<std::size_t>(2 * v)] = openness_[v];
+      detail[static_cast<std::size_t>(2 * v + 1)] =
+          map.ofVertex[static_cast<std::size_t>(v)] == Surface::kSkin ? lipWeight_[v] : opacity[v];
+    }
+    glGenBuffers(1, &g.staticBuffer);
+    glBindBuffer(GL_ARRAY_BUFFER, g.staticBuffer);
+    glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(detail.size() * sizeof(float)), detail.data(),
+                 GL_STATIC_DRAW);
+    glVertexAttribPointer(2, 2, GL_FLOAT, GL_FALSE, 2 * sizeof(float), nullptr);
+    glEnableVertexAttribArray(2);
+    glGenBuffers(1, &g.indexBuffer);
+    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, g.indexBuffer);
+    glBufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(indices.size() * sizeof(std::uint32_t)),
+                 indices.data(), GL_STATIC_DRAW);
+    glBindVertexArray(0);
+
+    createTargets();
+    setPositions(mesh.positions);
+  } catch (...) {
+    g.releaseAll();
+    throw;
+  }
+}
+
+FaceRenderer::~FaceRenderer() {
+  if (!gl_) return;
+  try {
+    context_.makeCurrent();
+  } catch (...) {
+    return;  // the context has gone wrong: there is nothing to release the objects with
+  }
+  gl_->releaseAll();
+}
+
+void FaceRenderer::createTargets() {
+  Gl& g = *gl_;
+  GLint maxSamples = 1;
+  glGetIntegerv(GL_MAX_SAMPLES, &maxSamples);
+  samples_ = std::clamp(options_.samples, 1, std::max(1, maxSamples));
+  const GLsizei w = options_.width;
+  const GLsizei h = options_.height;
+  const std::string size = std::to_string(w) + "x" + std::to_string(h);
+
+  glGenFramebuffers(1, &g.resolveFramebuffer);
+  glBindFramebuffer(GL_FRAMEBUFFER, g.resolveFramebuffer);
+  glGenRenderbuffers(1, &g.resolveColour);
+  glBindRenderbuffer(GL_RENDERBUFFER, g.resolveColour);
+  glRenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, w, h);
+  glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, g.resolveColour);
+  if (samples_ == 1) {
+    glGenRenderbuffers(1, &g.resolveDepth);
+    glBindRenderbuffer(GL_RENDERBUFFER, g.resolveDepth);
+    glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT24, w, h);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, g.resolveDepth);
+  }
+  if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+    throw Error("FaceRenderer: the " + size + " framebuffer is incomplete");
+
+  if (samples_ > 1) {
+    glGenFramebuffers(1, &g.msaaFramebuffer);
+    glBindFramebuffer(GL_FRAMEBUFFER, g.msaaFramebuffer);
+    glGenRenderbuffers(1, &g.msaaColour);
+    glBindRenderbuffer(GL_RENDERBUFFER, g.msaaColour);
+    glRenderbufferStorageMultisample(GL_RENDERBUFFER, samples_, GL_RGBA8, w, h);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, g.msaaColour);
+    glGenRenderbuffers(1, &g.msaaDepth);
+    glBindRenderbuffer(GL_RENDERBUFFER, g.msaaDepth);
+    glRenderbufferStorageMultisample(GL_RENDERBUFFER, samples_, GL_DEPTH_COMPONENT24, w, h);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, g.msaaDepth);
+    if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+      throw Error("FaceRenderer: the " + size + " framebuffer with " + std::to_string(samples_) +
+                  " samples is incomplete");
+  }
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  g.resolved = false;
+}
+
+void FaceRenderer::resize(int width, int height) {
+  if (width <= 0 || height <= 0)
+    throw Error("FaceRenderer: the image size must be positive, not " + std::to_string(width) + "x" +
+                std::to_string(height));
+  if (width == options_.width && height == options_.height) return;
+  context_.makeCurrent();
+  gl_->release();
+  options_.width = width;
+  options_.height = height;
+  createTargets();
+}
+
+void FaceRenderer::setPositions(const Eigen::Matrix3Xd& positions) {
+  if (positions.cols() != numVertices_)
+    throw Error("FaceRenderer: " + std::to_string(positions.cols()) + " positions for a mesh of " +
+                std::to_string(numVertices_) + " vertices");
+  normalSolver_.compute(positions, normals_);
+  for (Eye& eye : eyes_) eye.track(positions);
+  float* out = vertexData_.data();
+  for (Eigen::Index v = 0; v < numVertices_; ++v, out += 6) {
+    out[0] = static_cast<float>(positions(0, v));
+    out[1] = static_cast<float>(positions(1, v));
+    out[2] = static_cast<float>(positions(2, v));
+    out[3] = normals_(0, v);
+    out[4] = normals_(1, v);
+    out[5] = normals_(2, v);
+  }
+  context_.makeCurrent();
+  glBindBuffer(GL_ARRAY_BUFFER, gl_->dynamicBuffer);
+  glBufferSubData(GL_ARRAY_BUFFER, 0, static_cast<GLsizeiptr>(vertexData_.size() * sizeof(float)),
+                  vertexData_.data());
+}
+
+void FaceRenderer::render(const OrbitCamera& camera) {
+  context_.makeCurrent();
+  Gl& g = *gl_;
+  const float aspect = static_cast<float>(options_.width) / static_cast<float>(options_.height);
+  glBindFramebuffer(GL_FRAMEBUFFER, samples_ > 1 ? g.msaaFramebuffer : g.resolveFramebuffer);
+  glViewport(0, 0, options_.width, options_.height);
+  glDisable(GL_BLEND);
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LEQUAL);
+  glDepthMask(GL_TRUE);
+  // Only depth: the backdrop covers every pixel the head leaves.
+  glClearDepth(1.0);
+  glClear(GL_DEPTH_BUFFER_BIT);
+
+  // Per-frame uniforms, the same in every face program. Lights are given in camera space: the view's inverse
+  // rotation turns them into world space.
+  const Eigen::Matrix4f view = camera.view();
+  const Eigen::Matrix4f viewProjection = camera.projection(aspect) * view;
+  const Eigen::Vector3f eyePosition = camera.eye();
+  const Eigen::Matrix3f toWorld = view.topLeftCorner<3, 3>().transpose();
+  const Lighting& light = options_.lighting;
+  const Light* lights[3] = {&light.key, &light.fill, &light.rim};
+  float directions[9];
+  float colours[9];
+  for (int i = 0; i < 3; ++i) {
+    const Eigen::Vector3f d = (toWorld * lights[i]->direction.normalized()).normalized();
+    for (int k = 0; k < 3; ++k) {
+      directions[3 * i + k] = d[k];
+      colours[3 * i + k] = lights[i]->colour[k];
+    }
+  }
+  const Appearance& look = options_.appearance;
+  for (const Gl::FaceProgram& f : g.face) {
+    glUseProgram(f.id);
+    glUniformMatrix4fv(f.viewProjection, 1, GL_FALSE, viewProjection.data());  // Eigen is column-major, as GL
+    setVector(f.cameraPosition, eyePosition);
+    glUniform3fv(f.lightDirection, 3, directions);
+    glUniform3fv(f.lightColour, 3, colours);
+    setVector(f.skyAmbient, light.skyAmbient);
+    setVector(f.groundAmbient, light.groundAmbient);
+    glUniform1f(f.exposure, light.exposure);
+    setVector(f.lipAlbedo, srgbToLinear(look.lips));
+    setVector(f.irisColour, srgbToLinear(look.iris));
+    setVector(f.scleraColour, srgbToLinear(look.sclera));
+    glUniform3f(f.eyeCosines, cosDegrees(look.pupilDegrees), cosDegrees(look.irisDegrees),
+                cosDegrees(look.corneaDegrees));
+  }
+
+  glBindVertexArray(g.vao);
+  bool backdropDrawn = false;
+  for (const Draw& draw : draws_) {
+    const bool blended = isBlended(draw.surface);
+    if (blended && !backdropDrawn) {
+      // The backdrop after the opaque head, on the far plane with GL_LEQUAL: only the samples the head left
+      // empty are shaded. Before the blended surfaces, which need what lies behind them.
+      glDepthMask(GL_FALSE);
+      glUseProgram(g.backgroundProgram);
+      setVector(g.background.top, options_.backgroundTop);
+      setVector(g.background.bottom, options_.backgroundBottom);
+      glUniform1f(g.background.aspect, aspect);
+      glDisable(GL_CULL_FACE);
+      glBindVertexArray(g.emptyVao);
+      glDrawArrays(GL_TRIANGLES, 0, 3);
+      glBindVertexArray(g.vao);
+      backdropDrawn = true;
+    }
+    if (blended) {
+      glEnable(GL_BLEND);
+      glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA);  // premultiplied: the cornea adds its glints
+    } else {
+      glDisable(GL_BLEND);
+    }
+    // Cards (lashes) and thin layers are seen from both sides; closed surfaces only from outside.
+    if (draw.surface == Surface::kLashes || draw.surface == Surface::kEyeLayer)
+      glDisable(GL_CULL_FACE);
+    else
+      glEnable(GL_CULL_FACE);
+    // Unsorted see-through cards and layers must not hide one another; the cornea may (it is one surface).
+    glDepthMask(draw.surface == Surface::kLashes || draw.surface == Surface::kEyeLayer ? GL_FALSE : GL_TRUE);
+    const Gl::FaceProgram& f = g.face[static_cast<int>(programOf(draw.surface))];
+    glUseProgram(f.id);
+    setVector(f.albedo, draw.shading.albedo);
+    setVector(f.specular, draw.shading.specular);
+    glUniform1f(f.shininess, draw.shading.shininess);
+    glUniform1f(f.opacity, draw.shading.opacity);
+    if (draw.eye >= 0) {
+      const Eye& eye = eyes_[static_cast<std::size_t>(draw.eye)];
+      setVector(f.eyeCentre, eye.centre);
+      setVector(f.eyeAxis, eye.axis);
+    }
+    glDrawRangeElements(
+        GL_TRIANGLES, draw.lowest, draw.highest, draw.count, GL_UNSIGNED_INT,
+        reinterpret_cast<const void*>(draw.firstIndex * sizeof(std::uint32_t)));  // offset-as-pointer
+  }
+  if (!backdropDrawn) {
+    glDepthMask(GL_FALSE);
+    glUseProgram(g.backgroundProgram);
+    setVector(g.background.top, options_.backgroundTop);
+    setVector(g.background.bottom, options_.backgroundBottom);
+    glUniform1f(g.background.aspect, aspect);
+    glBindVertexArray(g.emptyVao);
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+  }
+  glBindVertexArray(0);
+  glDisable(GL_BLEND);
+  glDisable(GL_CULL_FACE);
+  glDepthMask(GL_TRUE);
+  g.resolved = samples_ == 1;
+}
+
+void FaceRenderer::resolve() {
+  Gl& g = *gl_;
+  if (g.resolved) return;
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, g.msaaFramebuffer);
+  glBindFramebuffer(GL_DRAW_FRAMEBUFFER, g.resolveFramebuffer);
+  glBlitFramebuffer(0, 0, options_.width, options_.height, 0, 0, options_.width, options_.height,
+                    GL_COLOR_BUFFER_BIT, GL_NEAREST);
+  g.resolved = true;
+}
+
+void FaceRenderer::readPixels(Image& image) {
+  context_.makeCurrent();
+  resolve();
+  const int w = options_.width;
+  const int h = options_.height;
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, gl_->resolveFramebuffer);
+  glReadBuffer(GL_COLOR_ATTACHMENT0);
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  rgba_.resize(static_cast<std::size_t>(w) * static_cast<std::size_t>(h) * 4);
+  // RGBA is the renderbuffer's own layout (a plain copy in Mesa); dropping alpha here is cheaper than GL's.
+  glReadPixels(0, 0, w, h, GL_RGBA, GL_UNSIGNED_BYTE, rgba_.data());
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  // GL's rows run bottom-up; the image's top-down.
+  if (samples_ == 1 && options_.fxaa)
+    fxaaToImage(rgba_.data(), w, h, image, luma_);
+  else
+    copyToImage(rgba_.data(), w, h, image);
+}
+
+Image FaceRenderer::renderImage(const OrbitCamera& camera) {
+  render(camera);
+  Image image;
+  readPixels(image);
+  return image;
+}
+
+void FaceRenderer::present(std::pair<int, int> framebufferSize) {
+  context_.makeCurrent();
+  resolve();
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, gl_->resolveFramebuffer);
+  glBindFramebuffer(GL_DRAW_FRAMEBUFFER, 0);
+  const bool same = framebufferSize.first == options_.width && framebufferSize.second == options_.height;
+  glBlitFramebuffer(0, 0, options_.width, options_.height, 0, 0, framebufferSize.first,
+                    framebufferSize.second, GL_COLOR_BUFFER_BIT, same ? GL_NEAREST : GL_LINEAR);
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+}
+
+}  // namespace th::render

@@ -1,0 +1,118 @@
+#include "render/fxaa.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace th::render {
+namespace {
+
+struct Rgb {
+  float r = 0.0f;
+  float g = 0.0f;
+  float b = 0.0f;
+};
+
+float lumaOf(const Rgb& c) {
+  return 0.299f * c.r + 0.587f * c.g + 0.114f * c.b;
+}
+
+// Bilinear sample at (u, v) in pixel units (pixel centres at .5), clamped to the edges; GL's orientation.
+Rgb sample(const std::uint8_t* rgba, int width, int height, float u, float v) {
+  const float x = std::clamp(u - 0.5f, 0.0f, static_cast<float>(width - 1));
+  const float y = std::clamp(v - 0.5f, 0.0f, static_cast<float>(height - 1));
+  const int x0 = static_cast<int>(x);
+  const int y0 = static_cast<int>(y);
+  const int x1 = std::min(x0 + 1, width - 1);
+  const int y1 = std::min(y0 + 1, height - 1);
+  const float fx = x - static_cast<float>(x0);
+  const float fy = y - static_cast<float>(y0);
+  const auto at = [&](int px, int py) {
+    return rgba +
+           (static_cast<std::size_t>(py) * static_cast<std::size_t>(width) + static_cast<std::size_t>(px)) *
+               4;
+  };
+  const std::uint8_t* a = at(x0, y0);
+  const std::uint8_t* b = at(x1, y0);
+  const std::uint8_t* c = at(x0, y1);
+  const std::uint8_t* d = at(x1, y1);
+  const float wa = (1.0f - fx) * (1.0f - fy);
+  const float wb = fx * (1.0f - fy);
+  const float wc = (1.0f - fx) * fy;
+  const float wd = fx * fy;
+  const float scale = 1.0f / 255.0f;
+  return {(wa * a[0] + wb * b[0] + wc * c[0] + wd * d[0]) * scale,
+          (wa * a[1] + wb * b[1] + wc * c[1] + wd * d[1]) * scale,
+          (wa * a[2] + wb * b[2] + wc * c[2] + wd * d[2]) * scale};
+}
+
+std::uint8_t toByte(float v) {
+  return static_cast<std::uint8_t>(std::clamp(v * 255.0f + 0.5f, 0.0f, 255.0f));
+}
+
+}  // namespace
+
+void copyToImage(const std::uint8_t* rgba, int width, int height, Image& out) {
+  if (out.width != width || out.height != height) out.resize(width, height);
+  for (int y = 0; y < height; ++y) {
+    const std::uint8_t* in =
+        rgba + static_cast<std::size_t>(height - 1 - y) * static_cast<std::size_t>(width) * 4;
+    std::uint8_t* o = out.pixel(0, y);
+    for (int x = 0; x < width; ++x, in += 4, o += 3) {
+      o[0] = in[0];
+      o[1] = in[1];
+      o[2] = in[2];
+    }
+  }
+}
+
+void fxaaToImage(const std::uint8_t* rgba, int width, int height, Image& out, std::vector<float>& luma) {
+  copyToImage(rgba, width, height, out);
+  if (width < 3 || height < 3) return;
+  const std::size_t w = static_cast<std::size_t>(width);
+  // Luma in 1/255 steps, and a first test in integers: most pixels sit in flat regions and leave there.
+  luma.resize(w * static_cast<std::size_t>(height));
+  for (std::size_t i = 0; i < luma.size(); ++i)
+    luma[i] = (0.299f * rgba[4 * i] + 0.587f * rgba[4 * i + 1] + 0.114f * rgba[4 * i + 2]) * (1.0f / 255.0f);
+  // Rows and columns of GL's orientation (y up); the border pixels are left as copied.
+  for (int y = 1; y + 1 < height; ++y) {
+    const float* row = luma.data() + static_cast<std::size_t>(y) * w;
+    const float* up = row + w;
+    const float* down = row - w;
+    std::uint8_t* o = out.pixel(1, height - 1 - y);
+    for (int x = 1; x + 1 < width; ++x, o += 3) {
+      const float lumaM = row[x];
+      const float lumaNW = up[x - 1];
+      const float lumaNE = up[x + 1];
+      const float lumaSW = down[x - 1];
+      const float lumaSE = down[x + 1];
+      const float lumaMin = std::min(std::min(lumaM, lumaNW), std::min(std::min(lumaNE, lumaSW), lumaSE));
+      const float lumaMax = std::max(std::max(lumaM, lumaNW), std::max(std::max(lumaNE, lumaSW), lumaSE));
+      if (lumaMax - lumaMin < std::max(1.0f / 24.0f, lumaMax * 0.125f)) continue;
+      // The edge runs across the steepest luma change; step along it.
+      float dx = -((lumaNW + lumaNE) - (lumaSW + lumaSE));
+      float dy = (lumaNW + lumaSW) - (lumaNE + lumaSE);
+      const float reduce = std::max((lumaNW + lumaNE + lumaSW + lumaSE) * (0.25f / 8.0f), 1.0f / 128.0f);
+      const float scale = 1.0f / (std::min(std::abs(dx), std::abs(dy)) + reduce);
+      dx = std::clamp(dx * scale, -8.0f, 8.0f);
+      dy = std::clamp(dy * scale, -8.0f, 8.0f);
+      const float u = static_cast<float>(x) + 0.5f;
+      const float v = static_cast<float>(y) + 0.5f;
+      const auto at = [&](float t) { return sample(rgba, width, height, u + dx * t, v + dy * t); };
+      const Rgb a = at(1.0f / 3.0f - 0.5f);
+      const Rgb b = at(2.0f / 3.0f - 0.5f);
+      const Rgb near{0.5f * (a.r + b.r), 0.5f * (a.g + b.g), 0.5f * (a.b + b.b)};
+      const Rgb c = at(-0.5f);
+      const Rgb d = at(0.5f);
+      const Rgb wide{0.5f * near.r + 0.25f * (c.r + d.r), 0.5f * near.g + 0.25f * (c.g + d.g),
+                     0.5f * near.b + 0.25f * (c.b + d.b)};
+      const float lumaWide = lumaOf(wide);
+      // The wide blend may reach across another edge: then keep the near one.
+      const Rgb& result = lumaWide < lumaMin || lumaWide > lumaMax ? near : wide;
+      o[0] = toByte(result.r);
+      o[1] = toByte(result.g);
+      o[2] = toByte(result.b);
+    }
+  }
+}
+
+}  // namespace th::render

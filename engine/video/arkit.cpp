@@ -1,0 +1,106 @@
+#include "video/arkit.h"
+
+#include <algorithm>
+#include <cstdio>
+
+#include "core/atomic_file.h"
+#include "core/error.h"
+#include "face/face_model.h"
+
+namespace th::video {
+namespace {
+
+int indexOf(std::string_view name) {
+  for (std::size_t i = 0; i < kArkitNames.size(); ++i)
+    if (kArkitNames[i] == name) return static_cast<int>(i);
+  throw Error("ARKit: no shape named " + std::string(name));
+}
+
+}  // namespace
+
+ArkitScale arkitScaleFor(const face::FaceModel& face) {
+  ArkitScale scale;
+  // The FAP 3 value whose jaw angle is the jawOpen shape's: invert jawAngleFor by bisection.
+  const double target = face.jaw().shapeAngle;
+  double low = 0.0, high = 8192.0;
+  for (int i = 0; i < 60; ++i) {
+    const double middle = 0.5 * (low + high);
+    (face.jawAngleFor(middle) < target ? low : high) = middle;
+  }
+  scale.jawOpen = 0.5 * (low + high);
+  return scale;
+}
+
+Eigen::MatrixXd arkitWeights(const Animation& animation, const ArkitScale& scale) {
+  Eigen::MatrixXd weights = Eigen::MatrixXd::Zero(animation.numFrames(), static_cast<Eigen::Index>(kArkitNames.size()));
+  for (int t = 0; t < animation.numFrames(); ++t) {
+    const auto fap = [&](int number) {
+      const int column = animation.columnOf(number);
+      return column >= 0 ? animation.values(t, column) : 0.0;
+    };
+    const auto pair = [&](int inner, int outer) { return 0.5 * (fap(inner) + fap(outer)); };
+    const auto set = [&](std::string_view name, double value, double full) {
+      weights(t, indexOf(name)) = std::clamp(value / full, 0.0, 1.0);
+    };
+    set("jawOpen", fap(3), scale.jawOpen);
+    set("jawForward", fap(14), scale.jaw);
+    set("jawRight", fap(15), scale.jaw);  // FAP 15 is positive to the face's right
+    set("jawLeft", -fap(15), scale.jaw);
+    for (const bool left : {true, false}) {
+      const std::string_view side = left ? "Left" : "Right";
+      const auto name = [&](std::string_view stem) { return std::string(stem) + std::string(side); };
+      set(name("eyeBlink"), fap(left ? 19 : 20), scale.blink);
+      set(name("eyeWide"), -fap(left ? 19 : 20), 0.5 * scale.blink);
+      set(name("eyeSquint"), fap(left ? 21 : 22), 0.5 * scale.blink);
+      // Yaw is positive towards the face's left: outwards for the left eye, inwards for the right.
+      const double yaw = fap(left ? 23 : 24), pitch = fap(left ? 25 : 26);
+      set(name("eyeLookOut"), left ? yaw : -yaw, scale.lookSideways);
+      set(name("eyeLookIn"), left ? -yaw : yaw, scale.lookSideways);
+      set(name("eyeLookDown"), pitch, scale.lookVertical);
+      set(name("eyeLookUp"), -pitch, scale.lookVertical);
+      const double cornerUp = pair(left ? 12 : 13, left ? 59 : 60);
+      set(name("mouthSmile"), cornerUp, scale.lip);
+      set(name("mouthFrown"), -cornerUp, scale.lip);
+      set(name("mouthStretch"), pair(left ? 6 : 7, left ? 53 : 54), scale.lip);
+      set(name("mouthLowerDown"), -pair(left ? 10 : 11, left ? 57 : 58), scale.lip);
+      set(name("mouthUpperUp"), -pair(left ? 8 : 9, left ? 55 : 56), scale.lip);
+      set(name("browDown"), -(fap(left ? 31 : 32) + fap(left ? 33 : 34) + fap(left ? 35 : 36)) / 3.0, scale.brow);
+      set(name("browOuterUp"), fap(left ? 35 : 36), scale.brow);
+      set(name("cheekSquint"), fap(left ? 41 : 42), scale.cheek);
+      set(name("noseSneer"), fap(left ? 61 : 62), scale.nose);
+    }
+    set("browInnerUp", 0.5 * (fap(31) + fap(32)), scale.brow);
+    set("cheekPuff", 0.5 * (fap(39) + fap(40)), scale.cheek);
+    // Both corners moving towards one side of the face moves the mouth there; stretch is positive outwards.
+    const double towardsLeft = 0.5 * (pair(6, 53) - pair(7, 54));
+    set("mouthLeft", towardsLeft, scale.lip);
+    set("mouthRight", -towardsLeft, scale.lip);
+    // Narrowing corners pucker; lips pushed forward funnel; lips pressed together against an open jaw close.
+    set("mouthPucker", -0.5 * (pair(6, 53) + pair(7, 54)), scale.lip);
+    set("mouthFunnel", 0.5 * (fap(16) + fap(17)), scale.lip);
+    set("mouthClose", 0.5 * (pair(4, 51) + pair(5, 52)), scale.lip);
+  }
+  return weights;
+}
+
+void writeArkitCsv(const std::filesystem::path& path, const Animation& animation, const ArkitScale& scale) {
+  if (!(animation.framesPerSecond > 0.0)) throw fileError(path, "the animation has no frame rate");
+  const Eigen::MatrixXd weights = arkitWeights(animation, scale);
+  AtomicFile out(path);
+  out.stream() << "time_s";
+  for (std::string_view name : kArkitNames) out.stream() << ',' << name;
+  out.stream() << '\n';
+  char buffer[32];
+  for (Eigen::Index t = 0; t < weights.rows(); ++t) {
+    std::snprintf(buffer, sizeof buffer, "%.6f", static_cast<double>(t) / animation.framesPerSecond);
+    out.stream() << buffer;
+    for (Eigen::Index k = 0; k < weights.cols(); ++k) {
+      std::snprintf(buffer, sizeof buffer, ",%.4f", weights(t, k));
+      out.stream() << buffer;
+    }
+    out.stream() << '\n';
+  }
+  out.commit();
+}
+
+}  // namespace th::video

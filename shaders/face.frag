@@ -1,0 +1,105 @@
+#version 330 core
+// Shading of the head. The renderer compiles this source once per kind of surface, with one of SKIN, SCLERA,
+// IRIS or PLAIN defined after the #version line (and lighting.glsl after that): a software rasteriser
+// (llvmpipe) runs every branch of a shader, so each program holds only what its surface needs. Light is
+// summed in linear space and encoded as sRGB at the end. No textures: the look comes from the materials, the
+// per-vertex ambient openness (dark mouth, nostrils, sockets) and, for the eyes, from the angle round each
+// eye's axis.
+in vec3 vPosition;
+in vec3 vNormal;
+in vec2 vDetail;  // x: ambient openness (1 open, 0 enclosed); y: lip weight (skin) or opacity (plain)
+#if defined(SKIN) || defined(PLAIN)
+in vec3 vDiffuse;
+in vec3 vSpecular;
+#endif
+
+out vec4 fragColour;
+
+uniform vec3 uCameraPosition;
+uniform float uExposure;
+uniform vec3 uAlbedo;      // linear
+uniform vec3 uLipAlbedo;   // linear, mixed in by the lip weight (skin)
+uniform vec3 uSpecular;    // linear reflectance at normal incidence
+uniform float uShininess;  // Blinn-Phong exponent
+uniform float uOpacity;
+
+// The eye of this draw (sclera and iris): its centre, its axis (where it looks) and the cosines of the
+// pupil's, the iris's and the cornea's angular radii seen from the centre.
+uniform vec3 uEyeCentre;
+uniform vec3 uEyeAxis;
+uniform vec3 uEyeCosines;    // x pupil, y iris, z cornea
+uniform vec3 uIrisColour;    // linear
+uniform vec3 uScleraColour;  // linear
+
+// sRGB encoding from square roots (cheap in SIMD), within 0.3 % of the exact curve above 0.0031308.
+vec3 toSrgb(vec3 c) {
+  c = clamp(c, 0.0, 1.0);
+  vec3 s1 = sqrt(c);
+  vec3 s2 = sqrt(s1);
+  vec3 s3 = sqrt(s2);
+  vec3 curve = 0.585122381 * s1 + 0.783140355 * s2 - 0.368262736 * s3;
+  return mix(12.92 * c, curve, step(vec3(0.0031308), c));
+}
+
+// Identity up to the knee, then a soft shoulder towards 1: highlights roll off instead of clipping flat.
+vec3 shoulder(vec3 c) {
+  const float knee = 0.8;
+  vec3 over = max(c - knee, 0.0);
+  return min(c, vec3(knee)) + over * (1.0 - knee) / (over + (1.0 - knee));
+}
+
+vec3 finish(vec3 linear) { return toSrgb(shoulder(linear * uExposure)); }
+
+void main() {
+#if defined(SKIN)
+  vec3 albedo = mix(uAlbedo, uLipAlbedo, vDetail.y);
+  fragColour = vec4(finish(albedo * vDiffuse + vSpecular), 1.0);
+#elif defined(PLAIN)
+  float alpha = uOpacity * vDetail.y;
+  fragColour = vec4(finish(uAlbedo * vDiffuse + vSpecular) * alpha, alpha);
+#else
+  vec3 n = normalize(vNormal);
+  if (!gl_FrontFacing) n = -n;
+  vec3 v = normalize(uCameraPosition - vPosition);
+  float open = openness(vDetail.x);
+  vec3 d = normalize(vPosition - uEyeCentre);
+  float c = dot(d, uEyeAxis);
+  vec3 albedo;
+#if defined(SCLERA)
+  if (c > uEyeCosines.z) {
+    // The cornea: clear. Only its reflections are drawn, added over the iris (premultiplied blending): sharp
+    // glints of the lights and a faint sheen of the surroundings.
+    vec3 glint = specularLight(n, v, 900.0, vec3(0.03)) * 2.0;
+    glint += ambientLight(reflect(-v, n)) * (0.03 + 0.97 * schlick(dot(n, v))) * 0.5;
+    fragColour = vec4(finish(glint * open), 0.0);
+    return;
+  }
+  // The white of the eye: slightly warmer and darker towards the corners.
+  albedo = mix(uAlbedo, uAlbedo * vec3(0.93, 0.78, 0.74), smoothstep(0.55, 0.05, c));
+#else  // IRIS
+  if (c > uEyeCosines.y) {
+    float angle = acos(clamp(c, -1.0, 1.0));
+    float pupil = acos(uEyeCosines.x);
+    float iris = acos(uEyeCosines.y);
+    float t = clamp((angle - pupil) / max(iris - pupil, 1e-4), 0.0, 1.0);
+    // Radial fibres: the angle round the axis, in a frame that does not depend on the eye's roll.
+    vec3 side = normalize(cross(uEyeAxis, abs(uEyeAxis.y) < 0.9 ? vec3(0.0, 1.0, 0.0) : vec3(1.0, 0.0, 0.0)));
+    vec3 up = cross(side, uEyeAxis);
+    float around = atan(dot(d, up), dot(d, side));
+    float fibres = 0.5 + 0.5 * sin(around * 41.0 + 3.0 * sin(around * 7.0) + 9.0 * t);
+    vec3 inner = uIrisColour * vec3(1.4, 1.2, 0.75);  // a warmer ring round the pupil
+    albedo = mix(inner, uIrisColour, smoothstep(0.1, 0.45, t)) * (0.72 + 0.4 * fibres);
+    albedo *= 1.0 - 0.7 * smoothstep(0.7, 1.0, t);  // the dark limbal ring
+    float edge = fwidth(angle) * 1.5;
+    albedo = mix(vec3(0.003), albedo, smoothstep(pupil - edge, pupil + edge, angle));
+  } else {
+    // The eyeball round the iris, mostly hidden by the sclera; its back half is only ever seen through the
+    // pupil (ICT FaceKit's pupil is a hole in the iris): the dark inside of the eye.
+    albedo = c > 0.0 ? uScleraColour * 0.8 : vec3(0.0);
+  }
+#endif
+  vec3 colour = albedo * (diffuseLight(n, vec3(0.0)) * directOcclusion(open) + ambientLight(n) * open);
+  colour += specularLight(n, v, uShininess, uSpecular) * open;
+  fragColour = vec4(finish(colour), 1.0);
+#endif
+}

@@ -1,0 +1,534 @@
+// The rendering stage: off-screen images of the ICT FaceKit head (coverage, colours, eyes), determinism,
+// motion, normals of a deformed mesh, PNG files, and the window context's error without a display. With
+// TALKINGHEAD_RENDER_SNAPSHOTS=DIR the views rendered here are also written to DIR as PNG, to look at.
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <numbers>
+#include <string>
+
+#include "core/error.h"
+#include "face/feature_points.h"
+#include "face/mesh.h"
+#include "render/camera.h"
+#include "render/face_renderer.h"
+#include "render/fxaa.h"
+#include "render/gl_context.h"
+#include "render/image.h"
+#include "render/normals.h"
+#include "render/surfaces.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+using th::render::FaceRenderer;
+using th::render::Image;
+using th::render::OrbitCamera;
+
+const th::face::Mesh& neutral() {
+  static const th::face::Mesh mesh =
+      th::face::loadObjMesh(th::face::ictFaceDirectory() / "generic_neutral_mesh.obj");
+  return mesh;
+}
+
+// One context and renderer for the tests that draw the neutral head at 640x480 (the set-up costs a second).
+struct Scene {
+  th::render::OffscreenContext context;
+  FaceRenderer renderer{context, neutral()};
+  OrbitCamera camera = th::render::frameHead(neutral().positions, 640.0 / 480.0);
+};
+
+Scene& scene() {
+  static Scene s;
+  return s;
+}
+
+void snapshot(const Image& image, const std::string& name) {
+  const char* dir = std::getenv("TALKINGHEAD_RENDER_SNAPSHOTS");
+  if (dir == nullptr || *dir == '\0') return;
+  th::render::writePng(fs::path(dir) / (name + ".png"), image);
+}
+
+// Where the head is: pixels that differ clearly from the backdrop's colour at the same row (the backdrop is a
+// smooth vertical gradient with a soft pool of light, so its left and right edges are a good reference).
+struct Coverage {
+  double fraction = 0.0;
+  double centreX = 0.0;
+  double centreY = 0.0;
+};
+
+Coverage coverage(const Image& image) {
+  Coverage c;
+  long count = 0;
+  for (int y = 0; y < image.height; ++y) {
+    const std::uint8_t* edge = image.pixel(2, y);
+    for (int x = 0; x < image.width; ++x) {
+      const std::uint8_t* p = image.pixel(x, y);
+      const int d = std::abs(p[0] - edge[0]) + std::abs(p[1] - edge[1]) + std::abs(p[2] - edge[2]);
+      // The backdrop's pool of light brightens its middle by up to ~25 levels per channel and keeps it grey.
+      const bool grey = std::abs((p[0] - edge[0]) - (p[2] - edge[2])) < 6 &&
+                        std::abs((p[1] - edge[1]) - (p[2] - edge[2])) < 6;
+      if (d > 45 && !(grey && d < 80)) {
+        ++count;
+        c.centreX += x;
+        c.centreY += y;
+      }
+    }
+  }
+  if (count > 0) {
+    c.centreX /= static_cast<double>(count);
+    c.centreY /= static_cast<double>(count);
+  }
+  c.fraction = static_cast<double>(count) / (static_cast<double>(image.width) * image.height);
+  return c;
+}
+
+bool skinLike(const std::uint8_t* p) {
+  const int r = p[0];
+  const int g = p[1];
+  const int b = p[2];
+  return r > 90 && r > g + 10 && g >= b - 5 && r - b > 25;
+}
+
+// The pixel where a world point lands.
+std::pair<int, int> project(const OrbitCamera& camera, const Eigen::Vector3d& point, int width, int height) {
+  const Eigen::Vector4f clip = camera.projection(static_cast<float>(width) / static_cast<float>(height)) *
+                               camera.view() *
+                               Eigen::Vector4f(static_cast<float>(point.x()), static_cast<float>(point.y()),
+                                               static_cast<float>(point.z()), 1.0f);
+  const float x = (clip.x() / clip.w() * 0.5f + 0.5f) * static_cast<float>(width);
+  const float y = (0.5f - clip.y() / clip.w() * 0.5f) * static_cast<float>(height);
+  return {static_cast<int>(std::lround(x)), static_cast<int>(std::lround(y))};
+}
+
+// The middle of the iris disc: the mean of the iris mesh's frontmost vertices (the eyes look ahead, +z).
+Eigen::Vector3d pupilOf(const th::face::Mesh& mesh, const char* material) {
+  const std::vector<int> vertices = mesh.verticesOf(material);
+  double front = -1e9;
+  for (int v : vertices) front = std::max(front, mesh.positions(2, v));
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  int count = 0;
+  for (int v : vertices)
+    if (mesh.positions(2, v) > front - 0.15) {
+      sum += mesh.positions.col(v);
+      ++count;
+    }
+  return sum / count;
+}
+
+TEST(FaceRenderer, NeutralHeadFillsTheFrameWithSkinAndLivelyEyes) {
+  Scene& s = scene();
+  s.renderer.setPositions(neutral().positions);
+  const Image image = s.renderer.renderImage(s.camera);
+  snapshot(image, "front");
+  ASSERT_EQ(image.width, 640);
+  ASSERT_EQ(image.height, 480);
+  EXPECT_GE(s.renderer.samples(), 4);
+
+  const Coverage c = coverage(image);
+  EXPECT_GT(c.fraction, 0.20);  // a portrait: the head is the subject
+  EXPECT_LT(c.fraction, 0.60);  // and there is room round it
+  EXPECT_NEAR(c.centreX, 320.0, 20.0);
+
+  // The middle of the face (cheeks, nose, mouth): mostly skin.
+  int skin = 0;
+  int total = 0;
+  const auto [noseX, noseY] = project(s.camera, Eigen::Vector3d(0.0, -1.0, 11.0), 640, 480);
+  for (int y = noseY - 40; y <= noseY + 40; ++y)
+    for (int x = noseX - 50; x <= noseX + 50; ++x) {
+      skin += skinLike(image.pixel(x, y)) ? 1 : 0;
+      ++total;
+    }
+  EXPECT_GT(static_cast<double>(skin) / total, 0.8);
+
+  // Each eye: a white of the eye and a dark pupil within a box round the iris.
+  for (const char* iris : {"M_IrisLeft", "M_IrisRight"}) {
+    const auto [ex, ey] = project(s.camera, pupilOf(neutral(), iris), 640, 480);
+    int light = 0;
+    int dark = 0;
+    for (int y = ey - 8; y <= ey + 8; ++y)
+      for (int x = ex - 16; x <= ex + 16; ++x) {
+        const std::uint8_t* p = image.pixel(x, y);
+        const int luma = (2 * p[0] + 5 * p[1] + p[2]) / 8;
+        if (luma > 170 && std::abs(p[0] - p[2]) < 40) ++light;
+        if (luma < 40) ++dark;
+      }
+    EXPECT_GE(light, 8) << iris;
+    EXPECT_GE(dark, 4) << iris;
+    // The pupil is at the iris's centre (the darkest pixel near the projected centre of the iris disc).
+    int darkest = 255;
+    for (int y = ey - 1; y <= ey + 1; ++y)
+      for (int x = ex - 1; x <= ex + 1; ++x) {
+        const std::uint8_t* p = image.pixel(x, y);
+        darkest = std::min(darkest, (2 * p[0] + 5 * p[1] + p[2]) / 8);
+      }
+    EXPECT_LT(darkest, 50) << iris;
+  }
+}
+
+TEST(FaceRenderer, OtherViewsShowTheHeadToo) {
+  Scene& s = scene();
+  s.renderer.setPositions(neutral().positions);
+  for (const auto& [name, yaw, pitch] :
+       {std::tuple{"three_quarter", 35.0f, 8.0f}, std::tuple{"profile", 90.0f, 0.0f},
+        std::tuple{"back", 180.0f, 10.0f}, std::tuple{"below", 20.0f, -25.0f}}) {
+    OrbitCamera camera = s.camera;
+    camera.yawDegrees = yaw;
+    camera.pitchDegrees = pitch;
+    const Image image = s.renderer.renderImage(camera);
+    snapshot(image, name);
+    const Coverage c = coverage(image);
+    EXPECT_GT(c.fraction, 0.15) << name;
+    EXPECT_LT(c.fraction, 0.6) << name;
+  }
+}
+
+TEST(FaceRenderer, RenderingTwiceGivesTheSamePixels) {
+  Scene& s = scene();
+  s.renderer.setPositions(neutral().positions);
+  Image first;
+  s.renderer.render(s.camera);
+  s.renderer.readPixels(first);
+  Image second;
+  s.renderer.render(s.camera);
+  s.renderer.readPixels(second);
+  EXPECT_TRUE(first == second);
+}
+
+TEST(FaceRenderer, MovingTheMeshMovesTheFace) {
+  Scene& s = scene();
+  s.renderer.setPositions(neutral().positions);
+  const Coverage before = coverage(s.renderer.renderImage(s.camera));
+  Eigen::Matrix3Xd moved = neutral().positions;
+  moved.row(0).array() +=
+      2.0;  // 2 cm towards the face's left, which is the image's right seen from the front
+  s.renderer.setPositions(moved);
+  const Image image = s.renderer.renderImage(s.camera);
+  const Coverage after = coverage(image);
+  // 2 cm at the head's distance, in pixels: the projection of the shift at the target's depth.
+  const auto [x0, y0] = project(s.camera, s.camera.target.cast<double>(), 640, 480);
+  const auto [x1, y1] =
+      project(s.camera, s.camera.target.cast<double>() + Eigen::Vector3d(2.0, 0.0, 0.0), 640, 480);
+  EXPECT_NEAR(after.centreX - before.centreX, x1 - x0, 3.0);
+  EXPECT_NEAR(after.centreY, before.centreY, 2.0);
+  EXPECT_GT(x1 - x0, 10);
+  EXPECT_EQ(y1, y0);
+  // Normals are recomputed from the new positions: a translation leaves them as they were...
+  const Eigen::Matrix3Xf movedNormals = s.renderer.normals();
+  s.renderer.setPositions(neutral().positions);
+  EXPECT_TRUE(movedNormals.isApprox(s.renderer.normals(), 1e-5f));
+  // ...and a deformation (the head flattened front to back) turns them as the normals of the deformed mesh.
+  Eigen::Matrix3Xd flat = neutral().positions;
+  flat.row(2) *= 0.5;
+  s.renderer.setPositions(flat);
+  Eigen::Matrix3Xf expected;
+  th::render::VertexNormals(neutral()).compute(flat, expected);
+  EXPECT_TRUE(s.renderer.normals().isApprox(expected, 1e-6f));
+  EXPECT_FALSE(s.renderer.normals().isApprox(movedNormals, 1e-2f));
+  s.renderer.setPositions(neutral().positions);
+}
+
+TEST(FaceRenderer, PerVertexDetailDarkensCavitiesAndReddensTheLips) {
+  const FaceRenderer& r = scene().renderer;
+  const th::face::Mesh& mesh = neutral();
+  Eigen::Index tip = 0;
+  mesh.positions.row(2).maxCoeff(&tip);  // the nose's tip sees most of the sky
+  EXPECT_GT(r.openness()[tip], 0.6f);
+  const auto meanOver = [&](const Eigen::VectorXf& values, const char* material) {
+    double sum = 0.0;
+    const std::vector<int> vertices = mesh.verticesOf(material);
+    for (int v : vertices) sum += values[v];
+    return sum / static_cast<double>(vertices.size());
+  };
+  EXPECT_LT(meanOver(r.openness(), "M_GumsTongue"), 0.5);  // inside the mouth
+  EXPECT_LT(meanOver(r.openness(), "M_Teeth"), 0.6);
+  // Lips: the skin between the mouth's corners just above and below the slit; nothing on the forehead or
+  // neck.
+  EXPECT_GT(r.lipWeight().maxCoeff(), 0.9f);
+  Eigen::Index forehead = 0;
+  mesh.positions.row(1).maxCoeff(&forehead);
+  EXPECT_EQ(r.lipWeight()[forehead], 0.0f);
+  for (Eigen::Index v = 0; v < mesh.numVertices(); ++v)
+    if (r.lipWeight()[v] > 0.5f) {
+      EXPECT_LT(mesh.positions(1, v), -0.5) << v;  // below the nose (the slit is near y = -3)
+      EXPECT_GT(mesh.positions(1, v), -6.0) << v;
+      EXPECT_LT(std::abs(mesh.positions(0, v)), 3.5) << v;
+    }
+}
+
+TEST(EyeRig, FollowsARotatedHead) {
+  const th::face::Mesh& mesh = neutral();
+  const th::render::SurfaceMap map = th::render::classifySurfaces(mesh);
+  std::vector<th::render::EyeRig> eyes = th::render::findEyes(mesh, map);
+  ASSERT_EQ(eyes.size(), 2u);
+  for (const auto& eye : eyes) {
+    EXPECT_GT(eye.axis.z(), 0.95f);                   // looking ahead
+    EXPECT_NEAR(std::abs(eye.centre.x()), 3.2, 0.3);  // eyes about 6.3 cm apart
+    EXPECT_NEAR(eye.centre.y(), 3.6, 0.3);
+  }
+  // Turn the head 30 degrees about +y (and move it): the eyes' centres and axes turn with it.
+  const Eigen::Matrix3d turn =
+      Eigen::AngleAxisd(30.0 * std::numbers::pi / 180.0, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  const Eigen::Vector3d shift(1.0, -2.0, 0.5);
+  const Eigen::Matrix3Xd turned = (turn * mesh.positions).colwise() + shift;
+  for (auto& eye : eyes) {
+    const Eigen::Vector3f centre = eye.centre;
+    const Eigen::Vector3f axis = eye.axis;
+    eye.track(turned);
+    EXPECT_TRUE(eye.centre.isApprox((turn.cast<float>() * centre + shift.cast<float>()), 1e-4f));
+    EXPECT_TRUE(eye.axis.isApprox(turn.cast<float>() * axis, 1e-4f));
+  }
+}
+
+TEST(FaceRenderer, ResizeAndWrongPositionCount) {
+  th::render::OffscreenContext context;
+  FaceRenderer renderer(context, neutral(), {.width = 320, .height = 200, .samples = 1});
+  EXPECT_EQ(renderer.samples(), 1);
+  Image image = renderer.renderImage(th::render::frameHead(neutral().positions, 1.6));
+  EXPECT_EQ(image.width, 320);
+  EXPECT_EQ(image.height, 200);
+  EXPECT_GT(coverage(image).fraction, 0.15);
+  renderer.resize(160, 120);
+  renderer.render(th::render::frameHead(neutral().positions, 160.0 / 120.0));
+  renderer.readPixels(image);
+  EXPECT_EQ(image.width, 160);
+  EXPECT_EQ(image.pixels.size(), 160u * 120u * 3u);
+  EXPECT_THROW(renderer.setPositions(Eigen::Matrix3Xd::Zero(3, 10)), th::Error);
+}
+
+// Sum of squared differences between neighbouring pixels: a hard (aliased) step counts more than the same
+// step spread over two pixels.
+double variation(const Image& image) {
+  double sum = 0.0;
+  for (int y = 0; y + 1 < image.height; ++y)
+    for (int x = 0; x + 1 < image.width; ++x)
+      for (int k = 0; k < 3; ++k) {
+        const int p = image.pixel(x, y)[k];
+        const int dx = p - image.pixel(x + 1, y)[k];
+        const int dy = p - image.pixel(x, y + 1)[k];
+        sum += dx * dx + dy * dy;
+      }
+  return sum;
+}
+
+TEST(FaceRenderer, FxaaSmoothsTheEdgesOfASingleSampleImage) {
+  th::render::OffscreenContext context;
+  const OrbitCamera camera = th::render::frameHead(neutral().positions, 320.0 / 240.0);
+  FaceRenderer plain(context, neutral(), {.width = 320, .height = 240, .samples = 1});
+  FaceRenderer smooth(context, neutral(), {.width = 320, .height = 240, .samples = 1, .fxaa = true});
+  FaceRenderer msaa(context, neutral(), {.width = 320, .height = 240, .samples = 4});
+  const Image a = plain.renderImage(camera);
+  const Image b = smooth.renderImage(camera);
+  const Image c = msaa.renderImage(camera);
+  snapshot(b, "fxaa_320x240");
+  EXPECT_LT(variation(b), 0.9 * variation(a));
+  EXPECT_LT(variation(c), 0.9 * variation(a));
+  // Only edges change: the picture as a whole stays the same.
+  EXPECT_NEAR(coverage(b).fraction, coverage(a).fraction, 0.01);
+  long changed = 0;
+  for (std::size_t i = 0; i < a.pixels.size(); ++i) changed += a.pixels[i] != b.pixels[i] ? 1 : 0;
+  EXPECT_LT(static_cast<double>(changed) / static_cast<double>(a.pixels.size()), 0.2);
+}
+
+TEST(Fxaa, BlendsHardEdgesOnlyAndFlipsRows) {
+  // GL's orientation: row 0 is the bottom. Left of a slanted edge black, right of it white; a flat grey band
+  // along the top.
+  const int w = 16;
+  const int h = 12;
+  std::vector<std::uint8_t> rgba(static_cast<std::size_t>(w * h * 4), 255);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      std::uint8_t* p = rgba.data() + (y * w + x) * 4;
+      const std::uint8_t v = y >= 9 ? 128 : (2 * x < y + 8 ? 0 : 255);
+      p[0] = p[1] = p[2] = v;
+    }
+  Image plain;
+  th::render::copyToImage(rgba.data(), w, h, plain);
+  EXPECT_EQ(plain.pixel(0, 0)[0], 128);  // the top row of the image is GL's last row
+  EXPECT_EQ(plain.pixel(0, h - 1)[0], 0);
+  Image smooth;
+  std::vector<float> luma;
+  th::render::fxaaToImage(rgba.data(), w, h, smooth, luma);
+  int between = 0;
+  for (int y = 4; y < h - 1; ++y)
+    for (int x = 1; x < w - 1; ++x) {
+      const int v = smooth.pixel(x, y)[0];
+      between += v > 20 && v < 235 ? 1 : 0;
+      EXPECT_EQ(smooth.pixel(x, y)[0], smooth.pixel(x, y)[2]);  // grey stays grey
+    }
+  EXPECT_GE(between, 6);                    // the staircase got intermediate tones
+  EXPECT_EQ(smooth.pixel(8, 1)[0], 128);    // the flat band is untouched
+  EXPECT_EQ(smooth.pixel(1, h - 2)[0], 0);  // far from the edge: as it was
+  EXPECT_EQ(smooth.pixel(w - 2, h - 2)[0], 255);
+}
+
+// ---- normals ----
+
+// A square pyramid without a base, apex up (+z), 5 vertices.
+// `height`: the apex's; `stretch`: scales x; `corner`: the x of the base corner (1, 1) before stretching.
+Eigen::Matrix3Xd pyramidPositions(double height, double stretch, double corner) {
+  Eigen::Matrix3Xd p(3, 5);
+  p.col(0) << 0, 0, height;  // apex
+  p.col(1) << corner * stretch, 1, 0;
+  p.col(2) << -stretch, 1, 0;
+  p.col(3) << -stretch, -1, 0;
+  p.col(4) << stretch, -1, 0;
+  return p;
+}
+
+th::face::Mesh pyramid() {
+  th::face::Mesh mesh;
+  mesh.positions = pyramidPositions(1.0, 1.0, 1.0);
+  mesh.triangles = {{0, 1, 2}, {0, 2, 3}, {0, 3, 4}, {0, 4, 1}};
+  mesh.triangleMaterial = {0, 0, 0, 0};
+  mesh.materials = {th::face::Material{.name = "M"}};
+  return mesh;
+}
+
+TEST(VertexNormals, AreaWeightedSmoothNormalsFollowTheDeformation) {
+  const th::face::Mesh mesh = pyramid();
+  const th::render::VertexNormals solver(mesh);
+  EXPECT_EQ(solver.numWelded(), 0);
+  Eigen::Matrix3Xf n;
+  solver.compute(mesh.positions, n);
+  EXPECT_TRUE(n.col(0).isApprox(Eigen::Vector3f::UnitZ(), 1e-6f));  // the apex, by symmetry
+  // A base corner: mean of its two faces' normals, (1,0,1)/sqrt2 and (0,1,1)/sqrt2 for corner (1,1).
+  EXPECT_TRUE(n.col(1).isApprox(Eigen::Vector3f(1, 1, 2).normalized(), 1e-5f));
+
+  // Deform: raise the apex and stretch in x. Normals must be recomputed from the new positions.
+  Eigen::Matrix3Xd moved = pyramidPositions(3.0, 2.0, 1.0);
+  solver.compute(moved, n);
+  // Check against the area-weighted sum of the faces' normals, computed directly.
+  for (int v = 0; v < 5; ++v) {
+    Eigen::Vector3d expected = Eigen::Vector3d::Zero();
+    for (const auto& t : mesh.triangles)
+      if (t[0] == v || t[1] == v || t[2] == v)
+        expected += (moved.col(t[1]) - moved.col(t[0])).cross(moved.col(t[2]) - moved.col(t[0]));
+    EXPECT_TRUE(n.col(v).isApprox(expected.normalized().cast<float>(), 1e-5f)) << v;
+  }
+  // Area weighting: round the apex, the faces' cross products add up to twice the base's vector area, so with
+  // a flat base the apex normal stays perpendicular to it however unevenly the base is stretched. A plain
+  // mean of the faces' unit normals would lean.
+  moved = pyramidPositions(1.0, 1.0, 6.0);
+  solver.compute(moved, n);
+  EXPECT_TRUE(n.col(0).isApprox(Eigen::Vector3f::UnitZ(), 1e-5f));
+  Eigen::Vector3d unweighted = Eigen::Vector3d::Zero();
+  for (const auto& t : mesh.triangles)
+    unweighted += (moved.col(t[1]) - moved.col(t[0])).cross(moved.col(t[2]) - moved.col(t[0])).normalized();
+  EXPECT_GT(std::abs(unweighted.normalized().x()), 0.05);
+  for (int v = 0; v < 5; ++v) EXPECT_NEAR(n.col(v).norm(), 1.0f, 1e-5f);
+}
+
+TEST(VertexNormals, CoincidentSeamVerticesOfOneMaterialShareANormal) {
+  // Two triangles folded along the y axis, their shared edge split into two copies each (a UV seam).
+  th::face::Mesh mesh;
+  mesh.positions.resize(3, 6);
+  mesh.positions.col(0) << 0, 0, 0;
+  mesh.positions.col(1) << 0, 1, 0;
+  mesh.positions.col(2) << -1, 0, 1;  // left wing, tilted
+  mesh.positions.col(3) << 0, 0, 0;   // copy of 0
+  mesh.positions.col(4) << 1, 0, 1;   // right wing
+  mesh.positions.col(5) << 0, 1, 0;   // copy of 1
+  mesh.triangles = {{0, 1, 2}, {3, 4, 5}};
+  mesh.triangleMaterial = {0, 0};
+  mesh.materials = {th::face::Material{.name = "M"}};
+  const th::render::VertexNormals welded(mesh);
+  EXPECT_EQ(welded.numWelded(), 2);
+  Eigen::Matrix3Xf n;
+  welded.compute(mesh.positions, n);
+  EXPECT_TRUE(n.col(0).isApprox(n.col(3)));
+  EXPECT_TRUE(n.col(1).isApprox(n.col(5)));
+  // Without welding, the copies would keep their own wing's normal: a crease.
+  const th::render::VertexNormals plain(6, mesh.triangles);
+  Eigen::Matrix3Xf m;
+  plain.compute(mesh.positions, m);
+  EXPECT_LT(m.col(0).dot(m.col(3)), 0.5f);
+  // Different materials are not welded.
+  mesh.triangleMaterial = {0, 1};
+  mesh.materials.push_back(th::face::Material{.name = "N"});
+  EXPECT_EQ(th::render::VertexNormals(mesh).numWelded(), 0);
+}
+
+TEST(VertexNormals, IctHeadHasNoCreasesAtItsSeams) {
+  const th::render::VertexNormals solver(neutral());
+  // ICT FaceKit's positions have no UV seams; only its eyelash cards have coincident copies.
+  EXPECT_GT(solver.numWelded(), 0);
+  EXPECT_LT(solver.numWelded(), 300);
+  Eigen::Matrix3Xf n;
+  solver.compute(neutral().positions, n);
+  // The tip of the nose (the frontmost face vertex) faces the viewer.
+  Eigen::Index tip = 0;
+  neutral().positions.row(2).maxCoeff(&tip);
+  EXPECT_GT(n(2, tip), 0.8f);
+}
+
+// ---- images ----
+
+TEST(Png, RoundTripAndErrors) {
+  Image image(5, 3);
+  for (std::size_t i = 0; i < image.pixels.size(); ++i) image.pixels[i] = static_cast<std::uint8_t>(i * 17);
+  const fs::path dir = fs::temp_directory_path() / ("th_render_png_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const fs::path file = dir / "small.png";
+  th::render::writePng(file, image);
+  EXPECT_TRUE(image == th::render::readPng(file));
+
+  const fs::path impossible = dir / "no_such_folder" / "x.png";
+  try {
+    th::render::writePng(impossible, image);
+    ADD_FAILURE() << "no error";
+  } catch (const th::Error& e) {
+    const std::string message = e.what();
+    EXPECT_NE(message.find(impossible.string()), std::string::npos) << message;
+    EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+  }
+  EXPECT_FALSE(fs::exists(impossible));
+  EXPECT_FALSE(fs::exists(impossible.parent_path()));
+
+  // Reading: a missing file, and a file that is not a PNG, each name the file.
+  EXPECT_THROW(th::render::readPng(dir / "missing.png"), th::Error);
+  { std::ofstream(dir / "text.png") << "not a png"; }
+  try {
+    th::render::readPng(dir / "text.png");
+    ADD_FAILURE() << "no error";
+  } catch (const th::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("text.png"), std::string::npos);
+  }
+  EXPECT_THROW(th::render::writePng(dir / "empty.png", Image{}), th::Error);
+  fs::remove_all(dir);
+  // Nothing but the target is written: no temporary files left next to it (checked by the folder's removal).
+}
+
+// ---- window ----
+
+TEST(WindowContext, WithoutADisplayIsAClearError) {
+  const char* display = std::getenv("DISPLAY");
+  const std::string saved = display != nullptr ? display : "";
+  const char* wayland = std::getenv("WAYLAND_DISPLAY");
+  const std::string savedWayland = wayland != nullptr ? wayland : "";
+  ::unsetenv("DISPLAY");
+  ::unsetenv("WAYLAND_DISPLAY");
+  try {
+    th::render::WindowContext window;
+    ADD_FAILURE() << "a window without a display";
+  } catch (const th::Error& e) {
+    const std::string message = e.what();
+    EXPECT_NE(message.find("display"), std::string::npos) << message;
+    EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+  }
+  // A display that does not exist: GLFW's own failure, also a th::Error.
+  ::setenv("DISPLAY", ":987", 1);
+  EXPECT_THROW(th::render::WindowContext window, th::Error);
+  if (!saved.empty())
+    ::setenv("DISPLAY", saved.c_str(), 1);
+  else
+    ::unsetenv("DISPLAY");
+  if (!savedWayland.empty()) ::setenv("WAYLAND_DISPLAY", savedWayland.c_str(), 1);
+}
+
+}  // namespace

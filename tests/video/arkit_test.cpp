@@ -1,0 +1,90 @@
+// ARKit blendshape weights from FAPs.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <fstream>
+#include <set>
+#include <string>
+
+#include "core/error.h"
+#include "core/temporary_file.h"
+#include "face/face_model.h"
+#include "video/arkit.h"
+
+namespace {
+
+using th::video::Animation;
+
+double weight(const Eigen::MatrixXd& weights, int frame, std::string_view name) {
+  for (std::size_t i = 0; i < th::video::kArkitNames.size(); ++i)
+    if (th::video::kArkitNames[i] == name) return weights(frame, static_cast<Eigen::Index>(i));
+  ADD_FAILURE() << name;
+  return -1;
+}
+
+Animation oneFrame(std::vector<int> faps, std::vector<double> values) {
+  Animation anim;
+  anim.faps = std::move(faps);
+  anim.values = Eigen::Map<Eigen::RowVectorXd>(values.data(), static_cast<Eigen::Index>(values.size()));
+  return anim;
+}
+
+TEST(Arkit, FiftyTwoDistinctNames) {
+  const std::set<std::string_view> names(th::video::kArkitNames.begin(), th::video::kArkitNames.end());
+  EXPECT_EQ(names.size(), 52u);
+}
+
+TEST(Arkit, EachSideAndDirectionFeedsItsOwnShape) {
+  // Left lid half closed, left eye to the face's left, right eye to the face's left too, jaw to the right.
+  const Animation anim = oneFrame({15, 19, 23, 24}, {100, 512, 17453, 17453});
+  const Eigen::MatrixXd w = th::video::arkitWeights(anim);
+  EXPECT_DOUBLE_EQ(weight(w, 0, "eyeBlinkLeft"), 0.5);
+  EXPECT_DOUBLE_EQ(weight(w, 0, "eyeBlinkRight"), 0.0);
+  EXPECT_NEAR(weight(w, 0, "eyeLookOutLeft"), 1.0 / 3.0, 1e-3);  // 10° of 30°
+  EXPECT_DOUBLE_EQ(weight(w, 0, "eyeLookInLeft"), 0.0);
+  EXPECT_NEAR(weight(w, 0, "eyeLookInRight"), 1.0 / 3.0, 1e-3);
+  EXPECT_DOUBLE_EQ(weight(w, 0, "eyeLookOutRight"), 0.0);
+  EXPECT_DOUBLE_EQ(weight(w, 0, "jawRight"), 0.5);
+  EXPECT_DOUBLE_EQ(weight(w, 0, "jawLeft"), 0.0);
+  EXPECT_DOUBLE_EQ(weight(w, 0, "tongueOut"), 0.0);
+}
+
+TEST(Arkit, SymmetricLipsNeitherShiftTheMouthNorTellLeftFromRight) {
+  const Animation anim = oneFrame({6, 7, 12, 13, 53, 54, 59, 60}, {150, 150, 300, 300, 150, 150, 300, 300});
+  const Eigen::MatrixXd w = th::video::arkitWeights(anim);
+  EXPECT_DOUBLE_EQ(weight(w, 0, "mouthLeft"), 0.0);
+  EXPECT_DOUBLE_EQ(weight(w, 0, "mouthRight"), 0.0);
+  EXPECT_DOUBLE_EQ(weight(w, 0, "mouthSmileLeft"), 1.0);
+  EXPECT_DOUBLE_EQ(weight(w, 0, "mouthSmileRight"), 1.0);
+  EXPECT_DOUBLE_EQ(weight(w, 0, "mouthStretchLeft"), 0.5);
+  EXPECT_DOUBLE_EQ(weight(w, 0, "mouthFrownLeft"), 0.0);
+  EXPECT_DOUBLE_EQ(weight(w, 0, "mouthPucker"), 0.0);
+}
+
+TEST(Arkit, JawOpenIsFullAtTheReferenceFacesJawOpenShape) {
+  const th::face::FaceModel face = th::face::FaceModel::build(th::face::loadIctFace(th::face::ictFaceDirectory()));
+  const th::video::ArkitScale scale = th::video::arkitScaleFor(face);
+  EXPECT_NEAR(face.jawAngleFor(scale.jawOpen), face.jaw().shapeAngle, 1e-6);
+  const Animation anim = oneFrame({3}, {0.5 * scale.jawOpen});
+  EXPECT_NEAR(weight(th::video::arkitWeights(anim, scale), 0, "jawOpen"), 0.5, 1e-9);
+}
+
+TEST(Arkit, CsvHasTimeAndTheFiftyTwoNames) {
+  const th::TemporaryFolder folder;
+  Animation anim = oneFrame({19}, {1024});
+  anim.values.conservativeResize(2, 1);
+  anim.values(1, 0) = 0.0;
+  th::video::writeArkitCsv(folder.path() / "a.csv", anim);
+  std::ifstream in(folder.path() / "a.csv");
+  std::string header, first, second;
+  std::getline(in, header);
+  std::getline(in, first);
+  std::getline(in, second);
+  EXPECT_EQ(header.rfind("time_s,eyeBlinkLeft,eyeLookDownLeft,", 0), 0u) << header;
+  EXPECT_EQ(std::count(header.begin(), header.end(), ','), 52);
+  EXPECT_EQ(first.rfind("0.000000,1.0000,", 0), 0u) << first;
+  EXPECT_EQ(second.rfind("0.033333,0.0000,", 0), 0u) << second;
+  EXPECT_THROW(th::video::writeArkitCsv(folder.path() / "missing" / "a.csv", anim), th::Error);
+}
+
+}  // namespace
