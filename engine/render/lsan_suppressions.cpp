@@ -18,3 +18,7 @@ extern "C" const char* __lsan_default_suppressions() {
          "leak:libX11.so\n"
          "leak:libglfw.so\n";
 }
+
+// Without this LSan lists the suppressions it used on stderr at exit, which would break the CLI's promise of
+// exactly one line of error output.
+extern "C" const char* __lsan_default_options() { return "print_suppressions=0"; }

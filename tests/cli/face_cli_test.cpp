@@ -149,7 +149,10 @@ TEST_F(FaceCliTest, AnInterruptedExportLeavesNoFile) {
 // and quits after the screenshot.
 TEST_F(FaceCliTest, ShowDrawsTheFaceAndItsPanelInAWindow) {
   const fs::path shot = out() / "show.png";
-  const std::string command = "xvfb-run -a -s '-screen 0 1280x800x24' " + std::string(TALKINGHEAD_CLI) +
+  // In sanitizer builds leak checking is off for this one process: Mesa's GLX driver is unloaded at exit, so
+  // its per-display records show up as leaks from an "<unknown module>" that no suppression can name. Memory
+  // errors are still caught.
+  const std::string command = "ASAN_OPTIONS=detect_leaks=0 xvfb-run -a -s '-screen 0 1280x800x24' " + std::string(TALKINGHEAD_CLI) +
                               " show --screenshot " + shot.string() + " --frames 3 > " + (logs() / "show.txt").string() + " 2>&1";
   ASSERT_EQ(std::system(command.c_str()), 0) << th::test::readText(logs() / "show.txt");
   const th::render::Image image = th::render::readPng(shot);
