@@ -77,6 +77,12 @@ void runShow(const ShowArguments& arguments) {
   ImGui_ImplGlfw_InitForOpenGL(window.window(), true);
   ImGui_ImplOpenGL3_Init("#version 330 core");
 
+  // One panel header per FAP group, in the order the standard first names it.
+  std::vector<std::string_view> groups;
+  for (int number = 3; number <= face::kNumFaps; ++number)
+    if (face.supports(number) && std::find(groups.begin(), groups.end(), face::fapDefinition(number).group) == groups.end())
+      groups.push_back(face::fapDefinition(number).group);
+
   face::FapValues faps{};
   face::FapValues shown{};
   shown[1] = 1.0;  // differs from faps: the first frame deforms
@@ -129,11 +135,7 @@ void runShow(const ShowArguments& arguments) {
       const double seconds = std::fmod(glfwGetTime() - playStart, video::durationOf(*animation));
       faps = video::fapValuesAt(*animation, seconds);
     }
-    // One header per group, in the order the standard first names it; the jaw and inner lip open at start.
-    std::vector<std::string_view> groups;
-    for (int number = 3; number <= face::kNumFaps; ++number)
-      if (face.supports(number) && std::find(groups.begin(), groups.end(), face::fapDefinition(number).group) == groups.end())
-        groups.push_back(face::fapDefinition(number).group);
+    // The jaw and the inner lip open at start.
     ImGui::PushItemWidth(-190.0f);
     for (std::string_view group : groups) {
       const bool openAtStart = group == "jaw" || group == "inner lip";

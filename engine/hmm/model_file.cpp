@@ -17,6 +17,7 @@
 
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "core/text_files.h"
 
 namespace th::hmm {
 namespace {
@@ -32,7 +33,6 @@ constexpr std::string_view kFormatName = "talkinghead-hmm";
 constexpr std::size_t kMaxStates = 10000;
 constexpr std::size_t kMaxComponents = 1000;
 constexpr std::size_t kMaxDimension = 10000;
-constexpr std::size_t kMaxFileBytes = std::size_t{1} << 30;
 // The model itself nests 7 deep; "training" may nest a little more. Deeper input is refused while parsing, so
 // nothing later (nlohmann's dump() recurses) can run out of stack on a forged file.
 constexpr int kMaxNestingDepth = 64;
@@ -48,28 +48,6 @@ std::string formatNumber(double value) {
   std::array<char, 32> buffer{};
   std::snprintf(buffer.data(), buffer.size(), "%.10g", value);
   return buffer.data();
-}
-
-// Text from the file (keys, names) in an error message: one line, and not too long.
-std::string printable(std::string_view text, std::size_t maxLength = 40) {
-  std::string out;
-  for (char c : text.substr(0, maxLength)) {
-    const auto byte = static_cast<unsigned char>(c);
-    out += byte < 0x20 || byte == 0x7f ? '?' : c;
-  }
-  if (text.size() > maxLength) out += "...";
-  return out;
-}
-
-// An nlohmann exception's message without its "[json.exception.parse_error.101] " tag and without the raw
-// bytes it quotes ("; last read: '...'" can be long), on one line.
-std::string jsonReason(const std::string& what) {
-  std::string_view reason = what;
-  if (const auto tagEnd = reason.find("] "); reason.starts_with("[json.exception.") && tagEnd != reason.npos) {
-    reason.remove_prefix(tagEnd + 2);
-  }
-  if (const auto lastRead = reason.find("; last read"); lastRead != reason.npos) reason = reason.substr(0, lastRead);
-  return printable(reason, 200);
 }
 
 std::string kindOf(const Json& value) {
@@ -569,26 +547,7 @@ HmmModel parseModel(std::string_view text, const std::string& nameForErrors, std
 }
 
 HmmModel loadModel(const std::filesystem::path& path, std::string* trainingJson) {
-  std::error_code error;
-  const auto status = std::filesystem::status(path, error);
-  if (!std::filesystem::exists(status)) {
-    if (error && error != std::errc::no_such_file_or_directory && error != std::errc::not_a_directory) {
-      throw fileError(path, "cannot be read: " + error.message());
-    }
-    throw fileError(path, "does not exist");
-  }
-  if (std::filesystem::is_directory(status)) throw fileError(path, "is a directory, not a model file");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw fileError(path, "cannot be read (permission denied?)");
-  std::string text;
-  std::vector<char> buffer(std::size_t{1} << 16);
-  // Chunks, not the size from stat: a pipe has none, and a file larger than the cap is refused before it is all
-  // in memory.
-  while (in.read(buffer.data(), static_cast<std::streamsize>(buffer.size())) || in.gcount() > 0) {
-    text.append(buffer.data(), static_cast<std::size_t>(in.gcount()));
-    if (text.size() > kMaxFileBytes) throw fileError(path, "is larger than 1 GiB, which no model file is");
-  }
-  if (in.bad()) throw fileError(path, "cannot be read (an I/O error)");
+  const std::string text = readTextFile(path, "model file");
   return parseModel(text, path.string(), trainingJson);
 }
 

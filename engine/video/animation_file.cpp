@@ -17,6 +17,7 @@
 
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "core/text_files.h"
 #include "face/fap.h"
 
 namespace th::video {
@@ -34,24 +35,12 @@ constexpr std::string_view kFapVersion = "2.1";
 constexpr double kSpacingTolerance = 1e-4;
 // Refused before it is all in memory: an hour of all 68 FAPs at 30 fps is 7 million values, some 150 MB of
 // text at most.
-constexpr std::size_t kMaxFileBytes = std::size_t{1} << 30;
 // The document nests 3 deep (root, frames, a frame); deeper input is refused while parsing, before a forged
 // file can build a deep tree.
 constexpr int kMaxJsonDepth = 8;
 // Xface and Greta read .fap values as 32-bit ints; a value is written only if its rounding fits one.
 constexpr double kFapValueBelow = -2147483648.5;
 constexpr double kFapValueAbove = 2147483647.5;
-
-// Text from a file (names, fields) in an error message: one line, and not too long.
-std::string printable(std::string_view text, std::size_t maxLength = 40) {
-  std::string out;
-  for (char c : text.substr(0, maxLength)) {
-    const auto byte = static_cast<unsigned char>(c);
-    out += byte < 0x20 || byte == 0x7f ? '?' : c;
-  }
-  if (text.size() > maxLength) out += "...";
-  return out;
-}
 
 // A number in a message: short, and enough digits to tell values within the spacing tolerance apart.
 std::string formatNumber(double value) {
@@ -150,7 +139,7 @@ class Lines {
   }
 
   std::string_view rest_;
-  int number_ = 0;  // the file is at most kMaxFileBytes, so its lines fit an int
+  int number_ = 0;  // the file is at most kMaxTextFileBytes, so its lines fit an int
 };
 
 // The fields of a line. Only the first `keep` are stored (a line of a forged file can hold millions); all are
@@ -556,20 +545,6 @@ std::string describe(const Json& value) {
   return kindOf(value);
 }
 
-// An nlohmann exception's message without its "[json.exception.parse_error.101] " tag and without the raw
-// bytes it quotes ("; last read: '...'" can be long), on one line.
-std::string jsonReason(const std::string& what) {
-  std::string_view reason = what;
-  if (const auto tagEnd = reason.find("] ");
-      reason.starts_with("[json.exception.") && tagEnd != reason.npos) {
-    reason.remove_prefix(tagEnd + 2);
-  }
-  if (const auto lastRead = reason.find("; last read"); lastRead != reason.npos) {
-    reason = reason.substr(0, lastRead);
-  }
-  return printable(reason, 200);
-}
-
 Json parseJsonText(std::string_view text, const fs::path& path) {
   if (text.find_first_not_of(" \t\r\n") == std::string_view::npos) throw fileError(path, "is empty");
   const Json::parser_callback_t limitDepth = [&](int depth, Json::parse_event_t event, Json&) {
@@ -792,32 +767,6 @@ void writeJson(std::ostream& out, const Animation& animation) {
   out << "\n  ]\n}\n";
 }
 
-std::string readText(const fs::path& path) {
-  std::error_code error;
-  const auto status = fs::status(path, error);
-  if (!fs::exists(status)) {
-    if (error && error != std::errc::no_such_file_or_directory && error != std::errc::not_a_directory) {
-      throw fileError(path, "cannot be read: " + error.message());
-    }
-    throw fileError(path, "does not exist");
-  }
-  if (fs::is_directory(status)) throw fileError(path, "is a directory, not an animation file");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw fileError(path, "cannot be read (permission denied?)");
-  std::string text;
-  std::vector<char> buffer(std::size_t{1} << 16);
-  // Chunks, not the size from stat: a pipe has none, and a file beyond the cap is refused before it is all in
-  // memory.
-  while (in.read(buffer.data(), static_cast<std::streamsize>(buffer.size())) || in.gcount() > 0) {
-    text.append(buffer.data(), static_cast<std::size_t>(in.gcount()));
-    if (text.size() > kMaxFileBytes) {
-      throw fileError(path, "is larger than 1 GiB, which no animation file is");
-    }
-  }
-  if (in.bad()) throw fileError(path, "cannot be read (an I/O error)");
-  return text;
-}
-
 }  // namespace
 
 int Animation::columnOf(int fap) const {
@@ -857,7 +806,7 @@ void writeAnimation(const fs::path& path, const Animation& animation) {
 
 Animation readAnimation(const fs::path& path) {
   const AnimationFormat format = animationFormatOf(path);
-  const std::string text = readText(path);
+  const std::string text = readTextFile(path, "animation file");
   Animation animation;
   switch (format) {
     case AnimationFormat::kCsv:
