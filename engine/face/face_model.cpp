@@ -4,6 +4,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <string>
 
@@ -88,6 +89,23 @@ int frontVertexNear(const Eigen::Matrix3Xd& positions, const std::vector<int>& s
   return best;
 }
 
+// Area-weighted vertex normals of the triangles drawn with the given materials (outward: the triangles are
+// counter-clockwise seen from outside); zero for vertices of no such triangle.
+Eigen::Matrix3Xd vertexNormals(const Mesh& mesh, std::initializer_list<std::string_view> materials) {
+  std::vector<int> wanted;
+  for (std::string_view name : materials) wanted.push_back(mesh.materialIndex(name));
+  Eigen::Matrix3Xd normals = Eigen::Matrix3Xd::Zero(3, mesh.positions.cols());
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    if (std::find(wanted.begin(), wanted.end(), mesh.triangleMaterial[t]) == wanted.end()) continue;
+    const auto& [a, b, c] = mesh.triangles[t];
+    const Eigen::Vector3d n = (mesh.positions.col(b) - mesh.positions.col(a)).cross(mesh.positions.col(c) - mesh.positions.col(a));
+    for (int v : mesh.triangles[t]) normals.col(v) += n;
+  }
+  for (Eigen::Index v = 0; v < normals.cols(); ++v)
+    if (normals.col(v).squaredNorm() > 0.0) normals.col(v).normalize();
+  return normals;
+}
+
 Eigen::Matrix3d headRotation(double pitch, double yaw, double roll) {
   // As the head model's angles: R = Ry(yaw)·Rx(pitch)·Rz(roll); FAP 48 positive pitches down about +x, 49 yaws
   // to the face's left about +y, 50 rolls to its right about +z (face/fap.cpp).
@@ -167,6 +185,15 @@ FaceModel FaceModel::build(const FaceAssets& assets, const FaceModelOptions& opt
     for (int d = 0; d < 2; ++d)
       spacing = std::max(spacing, extent[d] / (options.lattice.degree * options.lattice.volumes[static_cast<std::size_t>(d)]));
   }
+  const Eigen::Matrix3Xd skinNormals = vertexNormals(model.mesh_, {"M_Face", "M_BackHead"});
+  // The brow raisers (31–36): each side's inner, middle and outer brow points, in that order (x grows outwards
+  // on the left, the face's +x, and shrinks on the right).
+  const std::array<std::array<Eigen::Vector3d, 3>, 2> browLines{{{at("4.1"), at("4.3"), at("4.5")}, {at("4.2"), at("4.4"), at("4.6")}}};
+  const double innerBrowX = std::min(std::abs(at("4.1").x()), std::abs(at("4.2").x()));
+  // The highest control points that may move (the row below the lattice's top surface, which must stay).
+  double topRow = -std::numeric_limits<double>::infinity();
+  for (int c = 0; c < model.lattice_.numControlPoints(); ++c)
+    if (!model.lattice_.onBoundary(c)) topRow = std::max(topRow, model.lattice_.controlPoints()(c, 1));
   for (const LinearFap& linear : kLinearFaps) {
     const FapDefinition& fap = fapDefinition(linear.number);
     const Eigen::Vector3d centre = at(fap.featurePoint);
@@ -175,17 +202,56 @@ FaceModel FaceModel::build(const FaceAssets& assets, const FaceModelOptions& opt
     const double depthRadius = radius;
     // The lattice blends (n + 1)³ control points into each vertex, which widens the Gaussian by about one
     // control-point spacing; 3.5 of the widened radii is where the field has faded (a brow's reaches twice as
-    // far upwards, see below).
+    // far upwards, see below; a raiser's ends sooner, at the lattice's top row, 6–7 cm above the ICT head's brows).
     const double widest = fap.group == "eyebrow" ? 2.0 * radius : radius;
     model.reach_[static_cast<std::size_t>(fap.number)] = 3.5 * std::hypot(widest, spacing);
     // D_k: a Gaussian fall-off over the control points around the feature point (a little wider in depth, so
     // a lip moves front and back together), times the direction.
+    //
+    // A brow raiser's fall-off is measured from its side's brow line (through the inner, middle and outer brow
+    // points; from the outer point on, outwards as from a point) rather than from its own point, and the three
+    // raisers of a side share it out by a partition of unity across the face (`browShare`): each is 1 at its
+    // own point and 0 at its neighbours'. Separate Gaussians about each point overlap instead, so raising the
+    // whole brow by v moved it by up to 1.56 v (the middle point got its neighbours' fields as well), and
+    // the forehead above had to be squeezed up to 3 cm into the few centimetres below the lattice's top.
+    const bool raiser = fap.number >= 31 && fap.number <= 36;
+    const std::array<Eigen::Vector3d, 3>& browLine = browLines[raiser ? static_cast<std::size_t>((fap.number - 31) % 2) : 0];
+    const int browIndex = raiser ? (fap.number - 31) / 2 : 0;  // 0 inner, 1 middle, 2 outer
+    const double outwards = fap.number % 2 == 1 ? 1.0 : -1.0;  // left (odd) brows: +x is outwards
+    const auto browShare = [&](double x) {
+      const double across = outwards * x;
+      const double rise1 = smoothstep(outwards * browLine[0].x(), outwards * browLine[1].x(), across);
+      const double rise2 = smoothstep(outwards * browLine[1].x(), outwards * browLine[2].x(), across);
+      return browIndex == 0 ? 1.0 - rise1 : browIndex == 1 ? rise1 * (1.0 - rise2) : rise2;
+    };
+    const auto browLineAt = [&](double x) -> Eigen::Vector3d {  // the brow line's point at x (its ends beyond)
+      const double across = outwards * x;
+      if (across <= outwards * browLine[0].x()) return {x, browLine[0].y(), browLine[0].z()};
+      if (across >= outwards * browLine[2].x()) return browLine[2];
+      const int i = across < outwards * browLine[1].x() ? 0 : 1;
+      const double t = (x - browLine[i].x()) / (browLine[i + 1].x() - browLine[i].x());
+      Eigen::Vector3d point = (1.0 - t) * browLine[i] + t * browLine[i + 1];
+      point.x() = x;
+      return point;
+    };
     Eigen::VectorXd falloff(model.lattice_.numControlPoints());
     for (Eigen::Index c = 0; c < falloff.size(); ++c) {
-      Eigen::Vector3d d = model.lattice_.controlPoints().row(c).transpose() - centre;
-      // A raised brow takes the forehead with it: the skin above a brow follows over a longer distance.
-      if (fap.group == "eyebrow" && d.y() > 0.0) d.y() /= 2.0;
-      const double g = std::exp(-(d.x() * d.x() + d.y() * d.y()) / (2 * radius * radius) - d.z() * d.z() / (2 * depthRadius * depthRadius));
+      const Eigen::Vector3d controlPoint = model.lattice_.controlPoints().row(c).transpose();
+      const Eigen::Vector3d from = raiser ? browLineAt(controlPoint.x()) : centre;
+      Eigen::Vector3d d = controlPoint - from;
+      double upwards = 1.0;
+      if (raiser && d.y() > 0.0) {
+        // A raised brow takes the forehead with it, fading linearly up to the highest control points that may
+        // move. Linear: the forehead between the brow and the top takes the raise up evenly, the least
+        // squeezing anywhere for a given raise; a Gaussian (as the other FAPs have) would squeeze it most a
+        // little way above the brow and then be cut off by the lattice's fixed top, a step in the field's
+        // slope where it meets the boundary.
+        upwards = std::max(0.0, 1.0 - d.y() / (topRow - from.y()));
+        d.y() = 0.0;
+      } else if (fap.group == "eyebrow" && d.y() > 0.0) {
+        d.y() /= 2.0;  // the squeezers' (37, 38): the skin above a brow follows over a longer distance
+      }
+      const double g = upwards * std::exp(-(d.x() * d.x() + d.y() * d.y()) / (2 * radius * radius) - d.z() * d.z() / (2 * depthRadius * depthRadius));
       falloff[c] = g > 1e-4 && !model.lattice_.onBoundary(static_cast<int>(c)) ? g : 0.0;
     }
     const Eigen::VectorXd spread = model.embedding_.basis * falloff;  // B·D_k per unit direction
@@ -193,8 +259,10 @@ FaceModel FaceModel::build(const FaceAssets& assets, const FaceModelOptions& opt
     const auto mask = [&](int vertex) {
       const Eigen::Vector3d p = rest.col(vertex);
       double m = 1.0;
-      // Brows hand over more softly at the middle of the forehead: both brows' fields meet there.
-      const double width = fap.group == "eyebrow" ? 3.0 * sideWidth : sideWidth;
+      // Brows hand over more softly at the middle of the forehead: both brows' fields meet there. The hand-over
+      // ends at the inner brow points, so that neither brow's field reaches the other's inner point and raising
+      // both moves each by just its own value.
+      const double width = fap.group == "eyebrow" ? std::min(3.0 * sideWidth, innerBrowX) : sideWidth;
       if (side == Side::kLeft) m *= smoothstep(-width, width, p.x());
       if (side == Side::kRight) m *= 1.0 - smoothstep(-width, width, p.x());
       const double carried = model.jawFollow_[vertex];
@@ -203,6 +271,7 @@ FaceModel FaceModel::build(const FaceAssets& assets, const FaceModelOptions& opt
       // Brows and the forehead, fading out down the skin above the eye so the upper lid (which turns with the
       // eyelid FAPs) is not pulled up with them.
       if (fap.group == "eyebrow") m *= smoothstep(eyeLevel + 0.4 * irisd, centre.y(), p.y());
+      if (raiser) m *= browShare(p.x());
       return m;
     };
     std::vector<double> raw(model.embedding_.points.size());
@@ -218,11 +287,26 @@ FaceModel FaceModel::build(const FaceAssets& assets, const FaceModelOptions& opt
     atPoint /= static_cast<double>(pointVertices.size());
     if (!(atPoint > 1e-6)) throw Error("face model: FAP " + std::to_string(fap.number) + "'s field does not reach its feature point");
     const double scale = u.of(fap.unit) / atPoint;
+    // Above the brow the forehead slides over the skull rather than moving straight up: the field's direction
+    // turns into the neutral skin's tangent plane there (keeping its length). Straight up, the forehead, which
+    // leans back more the higher it is, would be pushed out of its own surface by the upward motion times the
+    // normal's upward tilt, and sink back where the field fades under the lattice's top, a soft bulge. The
+    // turn starts at the feature point's height (where the skin is nearly vertical and the point must move
+    // along the standard's direction) and is complete one fall-off radius higher.
+    const auto along = [&](int vertex) -> Eigen::Vector3d {
+      if (fap.group != "eyebrow") return direction;
+      const Eigen::Vector3d n = skinNormals.col(vertex);
+      const double slide = smoothstep(centre.y(), centre.y() + radius, rest(1, vertex));
+      const Eigen::Vector3d tangent = direction - slide * direction.dot(n) * n;
+      // Unit length, except where the skin faces up (the top of the head, beyond the field's reach): there
+      // the tangent's length goes smoothly to zero instead of the direction turning abruptly.
+      return tangent / std::max(tangent.norm(), 0.5);
+    };
     for (std::size_t i = 0; i < raw.size(); ++i) {
       const double amount = raw[i] * scale;
+      const int vertex = model.embedding_.points[i];
       if (std::abs(amount) > 1e-4 * u.of(fap.unit))
-        model.linear_[static_cast<std::size_t>(fap.number)].push_back(
-            {model.embedding_.points[i], (amount * direction).cast<float>()});
+        model.linear_[static_cast<std::size_t>(fap.number)].push_back({vertex, (amount * along(vertex)).cast<float>()});
     }
   }
 

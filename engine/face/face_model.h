@@ -12,7 +12,10 @@
 // - Linear FAPs (lips 4–13, 16, 17, 51–60; chin 18; brows 31–38; cheeks 39–42; nose 61–64): piecewise Bézier
 //   volume deformation (bezier_volume.h). FAP k displaces the lattice's control points by D_k, a Gaussian
 //   fall-off around its feature point times its direction, so the skin moves by B·D_k: smooth, and zero far
-//   away. A per-vertex mask confines each field to the skin of its own side and lip (the upper and lower lip
+//   away. The brow raisers (31–36) differ: the three of a side share its brow line (each is 1 at its own point
+//   and 0 at its neighbours', so raising all six lifts every brow point by exactly the value), fade linearly
+//   up the forehead to the lattice's top, and turn into the skin's tangent plane above the brow, so a large
+//   raise slides the forehead over the skull instead of bulging it out. A per-vertex mask confines each field to the skin of its own side and lip (the upper and lower lip
 //   touch at rest, so no smooth field alone could move one without the other): the lips are told apart by how
 //   far the jaw carries each vertex (jaw.h).
 // - The jaw (FAP 3) is a hinge (jaw.h): every vertex turns about it by its share of the angle (lower teeth
