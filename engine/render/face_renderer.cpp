@@ -2,6 +2,8 @@
 
 #include <glad/gl.h>
 
+#include <Eigen/Geometry>
+
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -9,6 +11,7 @@
 
 #include "core/error.h"
 #include "gl_program.h"
+#include "render/backdrop.h"
 #include "render/fxaa.h"
 #include "render/occlusion.h"
 #include "render/surfaces.h"
@@ -61,6 +64,11 @@ int drawRank(Surface s) {
 
 bool isBlended(Surface s) {
   return s == Surface::kSclera || s == Surface::kLashes || s == Surface::kEyeLayer;
+}
+
+// Cards (lashes) and thin layers are seen from both sides; closed surfaces only from outside.
+bool isTwoSided(Surface s) {
+  return s == Surface::kLashes || s == Surface::kEyeLayer;
 }
 
 Eigen::Vector3f srgbToLinear(const Eigen::Vector3f& c) {
@@ -157,20 +165,25 @@ struct FaceRenderer::Draw {
   Surface surface = Surface::kOther;
   std::size_t firstIndex = 0;
   GLsizei count = 0;
+  std::size_t visibleFirst = 0;  // this frame's front-facing triangles, in visibleIndices_ (see render())
+  GLsizei visibleCount = 0;
   GLuint lowest = 0;  // vertex index range, so the driver need not scan the indices
   GLuint highest = 0;
   int eye = -1;  // sclera and iris: index into eyes_
   Shading shading;
 };
 
-struct FaceRenderer::Eye : EyeRig {};
+struct FaceRenderer::Eye : EyeRig {
+  int side = 0;             // 0: the face's left (+x, FAP 29), 1: its right (FAP 30)
+  float pupilScale = 1.0f;  // the pupil's radius relative to rest
+};
 
 struct FaceRenderer::Gl {
   GLuint vao = 0;
   GLuint emptyVao = 0;
   GLuint dynamicBuffer = 0;  // position + normal, per frame
   GLuint staticBuffer = 0;   // openness + (lip weight or opacity)
-  GLuint indexBuffer = 0;
+  GLuint indexBuffer = 0;    // the front-facing triangles, per frame
   GLuint backgroundProgram = 0;
   GLuint msaaFramebuffer = 0;
   GLuint msaaColour = 0;
@@ -231,7 +244,7 @@ FaceRenderer::FaceRenderer(GlContext& context, const face::Mesh& mesh, RenderOpt
     const int rb = drawRank(map.ofTriangle[b]);
     return ra != rb ? ra < rb : mesh.triangleMaterial[a] < mesh.triangleMaterial[b];
   });
-  std::vector<std::uint32_t> indices;
+  std::vector<std::uint32_t>& indices = indices_;
   indices.reserve(order.size() * 3);
   for (std::size_t i = 0; i < order.size();) {
     const int material = mesh.triangleMaterial[order[i]];
@@ -256,6 +269,11 @@ FaceRenderer::FaceRenderer(GlContext& context, const face::Mesh& mesh, RenderOpt
 
   // Eyes; each sclera and iris draw takes the eye nearest to it.
   for (EyeRig& rig : findEyes(mesh, map)) eyes_.push_back(Eye{std::move(rig)});
+  if (!eyes_.empty()) {
+    float meanX = 0.0f;
+    for (const Eye& eye : eyes_) meanX += eye.centre.x() / static_cast<float>(eyes_.size());
+    for (Eye& eye : eyes_) eye.side = eye.centre.x() >= meanX ? 0 : 1;
+  }
   for (Draw& draw : draws_) {
     if ((draw.surface != Surface::kSclera && draw.surface != Surface::kIris) || eyes_.empty()) continue;
     Eigen::Vector3d mean = Eigen::Vector3d::Zero();
@@ -280,7 +298,8 @@ FaceRenderer::FaceRenderer(GlContext& context, const face::Mesh& mesh, RenderOpt
       triangleGroup[t] = static_cast<int>(map.ofTriangle[t]);
     std::vector<std::uint32_t> occludedBy(static_cast<std::size_t>(numVertices_));
     for (std::size_t v = 0; v < occludedBy.size(); ++v) occludedBy[v] = occludersOf(map.ofVertex[v]);
-    openness_ = computeOpenness(mesh.positions, normals_, mesh.triangles, triangleGroup, occludedBy);
+    openness_ = computeOpennessCached(mesh.positions, normals_, mesh.triangles, triangleGroup, occludedBy,
+                                      detailCacheFolder());
     lipWeight_ = th::render::lipWeight(mesh, map, openness_);
     darkenMouthInterior(mesh, map, openness_);
     const Eigen::VectorXf opacity = lashOpacity(mesh, map);
@@ -352,7 +371,8 @@ FaceRenderer::FaceRenderer(GlContext& context, const face::Mesh& mesh, RenderOpt
     glGenBuffers(1, &g.indexBuffer);
     glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, g.indexBuffer);
     glBufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(indices.size() * sizeof(std::uint32_t)),
-                 indices.data(), GL_STATIC_DRAW);
+                 nullptr, GL_STREAM_DRAW);
+    visibleIndices_.resize(indices.size());
     glBindVertexArray(0);
 
     createTargets();
@@ -414,6 +434,7 @@ void FaceRenderer::createTargets() {
   }
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
   g.resolved = false;
+  backdrop_ = backdropPixels(w, h, options_.backgroundTop, options_.backgroundBottom);
 }
 
 void FaceRenderer::resize(int width, int height) {
@@ -449,6 +470,46 @@ void FaceRenderer::setPositions(const Eigen::Matrix3Xd& positions) {
                   vertexData_.data());
 }
 
+// llvmpipe pays for every triangle it is given (vertex fetch, assembly, the cull test) even when it culls it;
+// half of a closed head faces away from any camera. Dropping those here, with the test GL applies (a
+// triangle faces the viewer when the eye lies on the outer side of its plane), costs a fraction of that.
+// Two-sided surfaces keep every triangle. Edge-on triangles (cover no pixel) are kept, for GL to decide.
+void FaceRenderer::selectFrontFacing(const Eigen::Vector3f& eye) {
+  const float* vertex = vertexData_.data();
+  const auto at = [&](std::uint32_t v) { return Eigen::Map<const Eigen::Vector3f>(vertex + 6 * std::size_t{v}); };
+  std::size_t written = 0;
+  for (Draw& draw : draws_) {
+    draw.visibleFirst = written;
+    const std::uint32_t* triangle = indices_.data() + draw.firstIndex;
+    const std::uint32_t* end = triangle + draw.count;
+    if (isTwoSided(draw.surface) || !options_.cullOnCpu) {
+      std::copy(triangle, end, visibleIndices_.begin() + static_cast<std::ptrdiff_t>(written));
+      written += static_cast<std::size_t>(draw.count);
+    } else {
+      for (; triangle != end; triangle += 3) {
+        const Eigen::Vector3f a = at(triangle[0]);
+        const Eigen::Vector3f ab = at(triangle[1]) - a;
+        const Eigen::Vector3f ac = at(triangle[2]) - a;
+        const Eigen::Vector3f toEye = eye - a;
+        // Relative margin: rounding must never drop a triangle GL would draw.
+        if (ab.cross(ac).dot(toEye) < -1e-4f * ab.norm() * ac.norm() * toEye.norm()) continue;
+        std::copy(triangle, triangle + 3, visibleIndices_.begin() + static_cast<std::ptrdiff_t>(written));
+        written += 3;
+      }
+    }
+    draw.visibleCount = static_cast<GLsizei>(written - draw.visibleFirst);
+  }
+  glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, gl_->indexBuffer);  // (the VAO is not bound: this binds no VAO state)
+  glBindVertexArray(gl_->vao);
+  glBufferSubData(GL_ELEMENT_ARRAY_BUFFER, 0, static_cast<GLsizeiptr>(written * sizeof(std::uint32_t)),
+                  visibleIndices_.data());
+  glBindVertexArray(0);
+}
+
+void FaceRenderer::setPupilScale(const std::array<double, 2>& scale) {
+  for (Eye& eye : eyes_) eye.pupilScale = static_cast<float>(std::max(0.0, scale[static_cast<std::size_t>(eye.side)]));
+}
+
 void FaceRenderer::render(const OrbitCamera& camera) {
   context_.makeCurrent();
   Gl& g = *gl_;
@@ -459,15 +520,17 @@ void FaceRenderer::render(const OrbitCamera& camera) {
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LEQUAL);
   glDepthMask(GL_TRUE);
-  // Only depth: the backdrop covers every pixel the head leaves.
+  // Transparent: the backdrop goes under the head afterwards (render/backdrop.h).
+  glClearColor(0.0f, 0.0f, 0.0f, 0.0f);
   glClearDepth(1.0);
-  glClear(GL_DEPTH_BUFFER_BIT);
+  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
 
   // Per-frame uniforms, the same in every face program. Lights are given in camera space: the view's inverse
   // rotation turns them into world space.
   const Eigen::Matrix4f view = camera.view();
   const Eigen::Matrix4f viewProjection = camera.projection(aspect) * view;
   const Eigen::Vector3f eyePosition = camera.eye();
+  selectFrontFacing(eyePosition);
   const Eigen::Matrix3f toWorld = view.topLeftCorner<3, 3>().transpose();
   const Lighting& light = options_.lighting;
   const Light* lights[3] = {&light.key, &light.fill, &light.rim};
@@ -498,36 +561,19 @@ void FaceRenderer::render(const OrbitCamera& camera) {
   }
 
   glBindVertexArray(g.vao);
-  bool backdropDrawn = false;
+  glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA);  // premultiplied "over": the cornea adds its glints
   for (const Draw& draw : draws_) {
-    const bool blended = isBlended(draw.surface);
-    if (blended && !backdropDrawn) {
-      // The backdrop after the opaque head, on the far plane with GL_LEQUAL: only the samples the head left
-      // empty are shaded. Before the blended surfaces, which need what lies behind them.
-      glDepthMask(GL_FALSE);
-      glUseProgram(g.backgroundProgram);
-      setVector(g.background.top, options_.backgroundTop);
-      setVector(g.background.bottom, options_.backgroundBottom);
-      glUniform1f(g.background.aspect, aspect);
-      glDisable(GL_CULL_FACE);
-      glBindVertexArray(g.emptyVao);
-      glDrawArrays(GL_TRIANGLES, 0, 3);
-      glBindVertexArray(g.vao);
-      backdropDrawn = true;
-    }
-    if (blended) {
+    if (draw.visibleCount == 0) continue;
+    if (isBlended(draw.surface))
       glEnable(GL_BLEND);
-      glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA);  // premultiplied: the cornea adds its glints
-    } else {
+    else
       glDisable(GL_BLEND);
-    }
-    // Cards (lashes) and thin layers are seen from both sides; closed surfaces only from outside.
-    if (draw.surface == Surface::kLashes || draw.surface == Surface::kEyeLayer)
+    if (isTwoSided(draw.surface))
       glDisable(GL_CULL_FACE);
     else
       glEnable(GL_CULL_FACE);
     // Unsorted see-through cards and layers must not hide one another; the cornea may (it is one surface).
-    glDepthMask(draw.surface == Surface::kLashes || draw.surface == Surface::kEyeLayer ? GL_FALSE : GL_TRUE);
+    glDepthMask(isTwoSided(draw.surface) ? GL_FALSE : GL_TRUE);
     const Gl::FaceProgram& f = g.face[static_cast<int>(programOf(draw.surface))];
     glUseProgram(f.id);
     setVector(f.albedo, draw.shading.albedo);
@@ -538,19 +584,16 @@ void FaceRenderer::render(const OrbitCamera& camera) {
       const Eye& eye = eyes_[static_cast<std::size_t>(draw.eye)];
       setVector(f.eyeCentre, eye.centre);
       setVector(f.eyeAxis, eye.axis);
+      // A pupil scaled in radius on the eyeball's sphere: sin of its angle scales; it stays inside the iris.
+      const float rest = std::sin(look.pupilDegrees * std::numbers::pi_v<float> / 180.0f);
+      const float limit = 0.9f * std::sin(look.irisDegrees * std::numbers::pi_v<float> / 180.0f);
+      const float sine = std::clamp(rest * eye.pupilScale, 0.0f, limit);
+      glUniform3f(f.eyeCosines, std::sqrt(1.0f - sine * sine), cosDegrees(look.irisDegrees),
+                  cosDegrees(look.corneaDegrees));
     }
     glDrawRangeElements(
-        GL_TRIANGLES, draw.lowest, draw.highest, draw.count, GL_UNSIGNED_INT,
-        reinterpret_cast<const void*>(draw.firstIndex * sizeof(std::uint32_t)));  // offset-as-pointer
-  }
-  if (!backdropDrawn) {
-    glDepthMask(GL_FALSE);
-    glUseProgram(g.backgroundProgram);
-    setVector(g.background.top, options_.backgroundTop);
-    setVector(g.background.bottom, options_.backgroundBottom);
-    glUniform1f(g.background.aspect, aspect);
-    glBindVertexArray(g.emptyVao);
-    glDrawArrays(GL_TRIANGLES, 0, 3);
+        GL_TRIANGLES, draw.lowest, draw.highest, draw.visibleCount, GL_UNSIGNED_INT,
+        reinterpret_cast<const void*>(draw.visibleFirst * sizeof(std::uint32_t)));  // offset-as-pointer
   }
   glBindVertexArray(0);
   glDisable(GL_BLEND);
@@ -570,22 +613,35 @@ void FaceRenderer::resolve() {
 }
 
 void FaceRenderer::readPixels(Image& image) {
+  readRaw(raw_);
+  finish(raw_, image);
+}
+
+void FaceRenderer::readRaw(RawFrame& frame) {
   context_.makeCurrent();
   resolve();
-  const int w = options_.width;
-  const int h = options_.height;
+  frame.width = options_.width;
+  frame.height = options_.height;
   glBindFramebuffer(GL_READ_FRAMEBUFFER, gl_->resolveFramebuffer);
   glReadBuffer(GL_COLOR_ATTACHMENT0);
   glPixelStorei(GL_PACK_ALIGNMENT, 1);
-  rgba_.resize(static_cast<std::size_t>(w) * static_cast<std::size_t>(h) * 4);
-  // RGBA is the renderbuffer's own layout (a plain copy in Mesa); dropping alpha here is cheaper than GL's.
-  glReadPixels(0, 0, w, h, GL_RGBA, GL_UNSIGNED_BYTE, rgba_.data());
+  frame.rgba.resize(static_cast<std::size_t>(frame.width) * static_cast<std::size_t>(frame.height) * 4);
+  // RGBA is the renderbuffer's own layout (a plain copy in Mesa); dropping alpha later is cheaper than GL's.
+  glReadPixels(0, 0, frame.width, frame.height, GL_RGBA, GL_UNSIGNED_BYTE, frame.rgba.data());
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
+}
+
+void FaceRenderer::finish(RawFrame& frame, Image& image) const {
+  const std::size_t pixels = static_cast<std::size_t>(frame.width) * static_cast<std::size_t>(frame.height);
+  if (frame.rgba.size() != pixels * 4 || backdrop_.size() != pixels * 3)
+    throw Error("FaceRenderer::finish: the frame is not one of this renderer's (" + std::to_string(frame.width) +
+                "x" + std::to_string(frame.height) + ")");
+  compositeUnder(frame.rgba.data(), backdrop_.data(), pixels);
   // GL's rows run bottom-up; the image's top-down.
   if (samples_ == 1 && options_.fxaa)
-    fxaaToImage(rgba_.data(), w, h, image, luma_);
+    fxaaToImage(frame.rgba.data(), frame.width, frame.height, image, frame.luma, frame.edges);
   else
-    copyToImage(rgba_.data(), w, h, image);
+    copyToImage(frame.rgba.data(), frame.width, frame.height, image);
 }
 
 Image FaceRenderer::renderImage(const OrbitCamera& camera) {
@@ -598,6 +654,23 @@ Image FaceRenderer::renderImage(const OrbitCamera& camera) {
 void FaceRenderer::present(std::pair<int, int> framebufferSize) {
   context_.makeCurrent();
   resolve();
+  // The backdrop under the head: GL's "under" blending, colour += (1 - alpha) * backdrop, alpha becomes 1
+  // (again: a second present() of the same frame changes nothing).
+  Gl& g = *gl_;
+  glBindFramebuffer(GL_FRAMEBUFFER, g.resolveFramebuffer);
+  glViewport(0, 0, options_.width, options_.height);
+  glDisable(GL_DEPTH_TEST);
+  glDisable(GL_CULL_FACE);
+  glEnable(GL_BLEND);
+  glBlendFunc(GL_ONE_MINUS_DST_ALPHA, GL_ONE);
+  glUseProgram(g.backgroundProgram);
+  setVector(g.background.top, options_.backgroundTop);
+  setVector(g.background.bottom, options_.backgroundBottom);
+  glUniform1f(g.background.aspect, static_cast<float>(options_.width) / static_cast<float>(options_.height));
+  glBindVertexArray(g.emptyVao);
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+  glBindVertexArray(0);
+  glDisable(GL_BLEND);
   glBindFramebuffer(GL_READ_FRAMEBUFFER, gl_->resolveFramebuffer);
   glBindFramebuffer(GL_DRAW_FRAMEBUFFER, 0);
   const bool same = framebufferSize.first == options_.width && framebufferSize.second == options_.height;

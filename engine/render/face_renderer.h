@@ -82,10 +82,22 @@ struct RenderOptions {
   // shows the frame without it). llvmpipe pays about three times the frame's CPU time for 4x MSAA at 720p,
   // this filter a few milliseconds: the choice for long exports at high resolutions.
   bool fxaa = false;
+  // Drop the triangles that face away from the camera before GL sees them (render()): the same image, a few
+  // milliseconds a frame less on llvmpipe. false leaves culling to GL alone (tests compare the two).
+  bool cullOnCpu = true;
   Eigen::Vector3f backgroundTop{0.36f, 0.40f, 0.46f};     // sRGB, a neutral grey-blue
   Eigen::Vector3f backgroundBottom{0.13f, 0.14f, 0.17f};  // sRGB
   Lighting lighting{};
   Appearance appearance{};
+};
+
+// A frame as GL gives it back (premultiplied RGBA over a transparent background, bottom row first), before
+// the CPU finishes it: what a pipeline hands from the GL thread to another (see FaceRenderer::readRaw).
+struct RawFrame {
+  int width = 0;
+  int height = 0;
+  std::vector<std::uint8_t> rgba;
+  std::vector<std::uint8_t> luma, edges;  // FXAA's working space, kept with the frame: finishing allocates nothing
 };
 
 class FaceRenderer {
@@ -99,11 +111,21 @@ class FaceRenderer {
 
   // New positions (3 x V, the mesh's vertex order): normals are recomputed and both are uploaded.
   void setPositions(const Eigen::Matrix3Xd& positions);
-  // Draws the background and the face into the multisampled target.
+  // The pupils' radii relative to rest: [0] the face's left eye (MPEG-4 FAP 29), [1] its right (FAP 30), as
+  // face::FaceModel::pupilScale gives them. Kept until changed; a pupil never grows past its iris.
+  void setPupilScale(const std::array<double, 2>& scale);
+  // Draws the face into the multisampled target, over a transparent background (the backdrop goes under it
+  // in readPixels()/finish() or present()).
   void render(const OrbitCamera& camera);
   // Resolves the last render() (MSAA or FXAA) and reads it (RGB8, top row first); `image` is resized only
   // when needed.
   void readPixels(Image& image);
+  // readPixels() in two halves, for a pipeline: readRaw() on the context's thread (waits for the frame and
+  // copies it out), finish() on any thread (the backdrop under the head, FXAA if on, rows top-down). finish()
+  // only reads the renderer's settings: it may run on another thread while this one renders the next frame,
+  // as long as nothing calls resize() meanwhile.
+  void readRaw(RawFrame& frame);
+  void finish(RawFrame& frame, Image& image) const;
   // render() + readPixels() into a new image.
   Image renderImage(const OrbitCamera& camera);
   // Resolves the last render() and copies it to the window's back buffer (framebuffer 0), scaled to its size.
@@ -124,6 +146,7 @@ class FaceRenderer {
 
   void createTargets();
   void resolve();
+  void selectFrontFacing(const Eigen::Vector3f& eye);
 
   GlContext& context_;
   RenderOptions options_;
@@ -134,8 +157,10 @@ class FaceRenderer {
   Eigen::VectorXf openness_;
   Eigen::VectorXf lipWeight_;
   std::vector<float> vertexData_;   // interleaved position + normal, reused every frame
-  std::vector<std::uint8_t> rgba_;  // read-back scratch
-  std::vector<float> luma_;         // FXAA scratch
+  RawFrame raw_;  // readPixels()' own
+  std::vector<std::uint8_t> backdrop_;  // RGB, GL's row order, for the size in use
+  std::vector<std::uint32_t> indices_;  // every triangle, in draw order (draws_ index into it)
+  std::vector<std::uint32_t> visibleIndices_;  // this frame's front-facing ones (per frame, no allocation)
   std::vector<Draw> draws_;
   std::vector<Eye> eyes_;
   std::unique_ptr<Gl> gl_;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 namespace th::render {
 namespace {
@@ -65,29 +66,60 @@ void copyToImage(const std::uint8_t* rgba, int width, int height, Image& out) {
   }
 }
 
-void fxaaToImage(const std::uint8_t* rgba, int width, int height, Image& out, std::vector<float>& luma) {
-  copyToImage(rgba, width, height, out);
-  if (width < 3 || height < 3) return;
+void fxaaToImage(const std::uint8_t* rgba, int width, int height, Image& out, std::vector<std::uint8_t>& luma,
+                 std::vector<std::uint8_t>& edges) {
+  if (out.width != width || out.height != height) out.resize(width, height);
   const std::size_t w = static_cast<std::size_t>(width);
-  // Luma in 1/255 steps, and a first test in integers: most pixels sit in flat regions and leave there.
+  // One pass copies the rows (flipped, RGB) and takes each pixel's luma in bytes (BT.601 weights, /256).
   luma.resize(w * static_cast<std::size_t>(height));
-  for (std::size_t i = 0; i < luma.size(); ++i)
-    luma[i] = (0.299f * rgba[4 * i] + 0.587f * rgba[4 * i + 1] + 0.114f * rgba[4 * i + 2]) * (1.0f / 255.0f);
+  for (int y = 0; y < height; ++y) {
+    const std::uint8_t* in = rgba + static_cast<std::size_t>(y) * w * 4;
+    std::uint8_t* o = out.pixel(0, height - 1 - y);
+    std::uint8_t* l = luma.data() + static_cast<std::size_t>(y) * w;
+    for (std::size_t x = 0; x < w; ++x) {  // (two loops: this one vectorises, the RGB copy cannot)
+      l[x] = static_cast<std::uint8_t>(
+          (77U * in[4 * x] + 150U * in[4 * x + 1] + 29U * in[4 * x + 2]) >> 8);
+    }
+    for (std::size_t x = 0; x < w; ++x) {
+      o[3 * x] = in[4 * x];
+      o[3 * x + 1] = in[4 * x + 1];
+      o[3 * x + 2] = in[4 * x + 2];
+    }
+  }
+  if (width < 3 || height < 3) return;
   // Rows and columns of GL's orientation (y up); the border pixels are left as copied.
+  edges.resize(w);
+  std::uint8_t* const edge = edges.data();
   for (int y = 1; y + 1 < height; ++y) {
-    const float* row = luma.data() + static_cast<std::size_t>(y) * w;
-    const float* up = row + w;
-    const float* down = row - w;
-    std::uint8_t* o = out.pixel(1, height - 1 - y);
-    for (int x = 1; x + 1 < width; ++x, o += 3) {
-      const float lumaM = row[x];
-      const float lumaNW = up[x - 1];
-      const float lumaNE = up[x + 1];
-      const float lumaSW = down[x - 1];
-      const float lumaSE = down[x + 1];
-      const float lumaMin = std::min(std::min(lumaM, lumaNW), std::min(std::min(lumaNE, lumaSW), lumaSE));
-      const float lumaMax = std::max(std::max(lumaM, lumaNW), std::max(std::max(lumaNE, lumaSW), lumaSE));
-      if (lumaMax - lumaMin < std::max(1.0f / 24.0f, lumaMax * 0.125f)) continue;
+    const std::uint8_t* row = luma.data() + static_cast<std::size_t>(y) * w;
+    const std::uint8_t* up = row + w;
+    const std::uint8_t* down = row - w;
+    // The first test, for a whole row in a loop the compiler vectorises: most pixels sit in flat regions,
+    // where the contrast is below max(1/24, max/8), i.e. 8 * (max - min) < max(255/3, max).
+    for (std::size_t x = 1; x + 1 < w; ++x) {
+      const std::uint8_t low =
+          std::min(std::min(row[x], up[x - 1]), std::min(std::min(up[x + 1], down[x - 1]), down[x + 1]));
+      const std::uint8_t high =
+          std::max(std::max(row[x], up[x - 1]), std::max(std::max(up[x + 1], down[x - 1]), down[x + 1]));
+      // 8 * range >= max(85, high)  <=>  range >= ceil(max(85, high) / 8) = max(11, ceil(high / 8)).
+      const std::uint8_t needed = std::max<std::uint8_t>(11, static_cast<std::uint8_t>((high >> 3) + ((high & 7) != 0)));
+      edge[x] = static_cast<std::uint8_t>(high - low) >= needed ? 1 : 0;
+    }
+    for (std::size_t x = 1; x + 1 < w; ++x) {
+      // Skip to the next edge pixel (memchr scans in SIMD).
+      const void* next = std::memchr(edge + x, 1, w - 1 - x);
+      if (next == nullptr) break;
+      x = static_cast<std::size_t>(static_cast<const std::uint8_t*>(next) - edge);
+      const unsigned nw = up[x - 1], ne = up[x + 1], sw = down[x - 1], se = down[x + 1];
+      const unsigned low = std::min(std::min(static_cast<unsigned>(row[x]), nw), std::min(std::min(ne, sw), se));
+      const unsigned high = std::max(std::max(static_cast<unsigned>(row[x]), nw), std::max(std::max(ne, sw), se));
+      const float scaleLuma = 1.0f / 255.0f;
+      const float lumaNW = static_cast<float>(nw) * scaleLuma;
+      const float lumaNE = static_cast<float>(ne) * scaleLuma;
+      const float lumaSW = static_cast<float>(sw) * scaleLuma;
+      const float lumaSE = static_cast<float>(se) * scaleLuma;
+      const float lumaMin = static_cast<float>(low) * scaleLuma;
+      const float lumaMax = static_cast<float>(high) * scaleLuma;
       // The edge runs across the steepest luma change; step along it.
       float dx = -((lumaNW + lumaNE) - (lumaSW + lumaSE));
       float dy = (lumaNW + lumaSW) - (lumaNE + lumaSE);
@@ -108,6 +140,7 @@ void fxaaToImage(const std::uint8_t* rgba, int width, int height, Image& out, st
       const float lumaWide = lumaOf(wide);
       // The wide blend may reach across another edge: then keep the near one.
       const Rgb& result = lumaWide < lumaMin || lumaWide > lumaMax ? near : wide;
+      std::uint8_t* o = out.pixel(static_cast<int>(x), height - 1 - y);
       o[0] = toByte(result.r);
       o[1] = toByte(result.g);
       o[2] = toByte(result.b);

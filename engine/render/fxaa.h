@@ -18,7 +18,9 @@ namespace th::render {
 
 // `rgba` holds width * height pixels, bottom row first (as glReadPixels gives them); `out` gets them top row
 // first, RGB, filtered (resized only if its size differs).
-void fxaaToImage(const std::uint8_t* rgba, int width, int height, Image& out, std::vector<float>& luma);
+// `luma` and `edges` are working space.
+void fxaaToImage(const std::uint8_t* rgba, int width, int height, Image& out, std::vector<std::uint8_t>& luma,
+                 std::vector<std::uint8_t>& edges);
 
 // The same copy without filtering.
 void copyToImage(const std::uint8_t* rgba, int width, int height, Image& out);

@@ -3,9 +3,13 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
 #include <map>
 #include <numbers>
 
+#include "core/atomic_file.h"
 #include "core/error.h"
 #include "gl_program.h"
 #include "render/camera.h"
@@ -178,6 +182,87 @@ Eigen::VectorXf computeOpenness(const Eigen::Matrix3Xd& positions, const Eigen::
     open = sum.cwiseQuotient(count);
   }
   return open;
+}
+
+namespace {
+
+// FNV-1a, 64 bits: enough to tell meshes and options apart (not a defence against crafted collisions: the
+// cache is the user's own folder).
+class Fnv1a {
+ public:
+  void add(const void* data, std::size_t bytes) {
+    const auto* p = static_cast<const unsigned char*>(data);
+    for (std::size_t i = 0; i < bytes; ++i) hash_ = (hash_ ^ p[i]) * 1099511628211ULL;
+  }
+  template <typename T>
+  void addValue(const T& value) {
+    add(&value, sizeof value);
+  }
+  std::uint64_t value() const { return hash_; }
+
+ private:
+  std::uint64_t hash_ = 14695981039346656037ULL;
+};
+
+constexpr char kCacheMagic[8] = {'T', 'H', 'O', 'P', 'E', 'N', '0', '1'};  // format version in the last two
+
+}  // namespace
+
+Eigen::VectorXf computeOpennessCached(const Eigen::Matrix3Xd& positions, const Eigen::Matrix3Xf& normals,
+                                      const std::vector<std::array<int, 3>>& triangles,
+                                      const std::vector<int>& triangleGroup,
+                                      const std::vector<std::uint32_t>& occludedBy,
+                                      const std::filesystem::path& folder, const OcclusionOptions& options) {
+  if (folder.empty()) return computeOpenness(positions, normals, triangles, triangleGroup, occludedBy, options);
+  Fnv1a hash;
+  hash.add(kCacheMagic, sizeof kCacheMagic);
+  hash.add(positions.data(), static_cast<std::size_t>(positions.size()) * sizeof(double));
+  hash.add(normals.data(), static_cast<std::size_t>(normals.size()) * sizeof(float));
+  hash.add(triangles.data(), triangles.size() * sizeof(triangles[0]));
+  hash.add(triangleGroup.data(), triangleGroup.size() * sizeof(int));
+  hash.add(occludedBy.data(), occludedBy.size() * sizeof(std::uint32_t));
+  hash.addValue(options.directions);
+  hash.addValue(options.resolution);
+  hash.addValue(options.bias);
+  hash.addValue(options.smoothingPasses);
+  char name[48];
+  std::snprintf(name, sizeof name, "openness-%016llx.bin", static_cast<unsigned long long>(hash.value()));
+  const std::filesystem::path file = folder / name;
+  const std::uint64_t count = static_cast<std::uint64_t>(positions.cols());
+
+  {  // A hit: the magic, the count and every value, finite and in 0..1.
+    std::ifstream in(file, std::ios::binary);
+    char magic[sizeof kCacheMagic] = {};
+    std::uint64_t stored = 0;
+    Eigen::VectorXf open(positions.cols());
+    if (in.read(magic, sizeof magic) && std::equal(magic, magic + sizeof magic, kCacheMagic) &&
+        in.read(reinterpret_cast<char*>(&stored), sizeof stored) && stored == count &&
+        in.read(reinterpret_cast<char*>(open.data()), static_cast<std::streamsize>(count * sizeof(float))) &&
+        in.peek() == std::char_traits<char>::eof() && open.allFinite() && open.minCoeff() >= 0.0f &&
+        open.maxCoeff() <= 1.0f)
+      return open;
+  }
+  Eigen::VectorXf open = computeOpenness(positions, normals, triangles, triangleGroup, occludedBy, options);
+  try {
+    std::filesystem::create_directories(folder);
+    AtomicFile out(file);
+    out.stream().write(kCacheMagic, sizeof kCacheMagic);
+    out.stream().write(reinterpret_cast<const char*>(&count), sizeof count);
+    out.stream().write(reinterpret_cast<const char*>(open.data()), static_cast<std::streamsize>(count * sizeof(float)));
+    out.commit();
+  } catch (const std::exception&) {
+    // An unwritable cache only costs time next run; the result is right either way.
+  }
+  return open;
+}
+
+std::filesystem::path detailCacheFolder() {
+  if (const char* own = std::getenv("TALKINGHEAD_CACHE")) return own;
+  if (const char* xdg = std::getenv("XDG_CACHE_HOME"); xdg != nullptr && *xdg != '\0')
+    return std::filesystem::path(xdg) / "talkinghead";
+  if (const char* home = std::getenv("HOME"); home != nullptr && *home != '\0')
+    return std::filesystem::path(home) / ".cache" / "talkinghead";
+  return {};
 }
 
 }  // namespace th::render

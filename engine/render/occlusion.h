@@ -17,6 +17,7 @@
 #include <Eigen/Core>
 #include <array>
 #include <cstdint>
+#include <filesystem>
 #include <vector>
 
 namespace th::render {
@@ -35,5 +36,21 @@ Eigen::VectorXf computeOpenness(const Eigen::Matrix3Xd& positions, const Eigen::
                                 const std::vector<int>& triangleGroup,
                                 const std::vector<std::uint32_t>& occludedBy,
                                 const OcclusionOptions& options = {});
+
+// The same, remembered on disk: the measurement takes about a second (two sets of 96 views of the whole head
+// on llvmpipe), and a mesh's openness never changes, so each program that draws the face would otherwise pay
+// it again. The file is named by a 64-bit hash of everything the result depends on (positions, triangles,
+// groups, masks, options and this code's format version): a changed mesh or option gets a new file, never a
+// stale one. A missing, unreadable or damaged file is measured again and rewritten (atomically); a folder
+// that cannot be written only costs the time. `folder` empty: no cache.
+Eigen::VectorXf computeOpennessCached(const Eigen::Matrix3Xd& positions, const Eigen::Matrix3Xf& normals,
+                                      const std::vector<std::array<int, 3>>& triangles,
+                                      const std::vector<int>& triangleGroup,
+                                      const std::vector<std::uint32_t>& occludedBy,
+                                      const std::filesystem::path& folder, const OcclusionOptions& options = {});
+
+// Where computed per-mesh detail is kept: $TALKINGHEAD_CACHE if set (empty: nowhere), else
+// $XDG_CACHE_HOME/talkinghead, else ~/.cache/talkinghead; empty if none of these can be named.
+std::filesystem::path detailCacheFolder();
 
 }  // namespace th::render

@@ -1,6 +1,7 @@
 // The rendering stage: off-screen images of the ICT FaceKit head (coverage, colours, eyes), determinism,
 // motion, normals of a deformed mesh, PNG files, and the window context's error without a display. With
 // TALKINGHEAD_RENDER_SNAPSHOTS=DIR the views rendered here are also written to DIR as PNG, to look at.
+#include <glad/gl.h>
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
@@ -13,14 +14,17 @@
 #include <string>
 
 #include "core/error.h"
+#include "core/temporary_file.h"
 #include "face/feature_points.h"
 #include "face/mesh.h"
+#include "render/backdrop.h"
 #include "render/camera.h"
 #include "render/face_renderer.h"
 #include "render/fxaa.h"
 #include "render/gl_context.h"
 #include "render/image.h"
 #include "render/normals.h"
+#include "render/occlusion.h"
 #include "render/surfaces.h"
 
 namespace {
@@ -301,6 +305,147 @@ TEST(FaceRenderer, ResizeAndWrongPositionCount) {
   EXPECT_THROW(renderer.setPositions(Eigen::Matrix3Xd::Zero(3, 10)), th::Error);
 }
 
+TEST(FaceRenderer, CullingOnTheCpuDrawsWhatGlWouldDraw) {
+  th::render::OffscreenContext context;
+  FaceRenderer cpu(context, neutral(), {.width = 320, .height = 240, .samples = 1});
+  FaceRenderer gl(context, neutral(), {.width = 320, .height = 240, .samples = 1, .cullOnCpu = false});
+  // The head turned and bent (as a head FAP would), seen from the front, a side, behind and above.
+  const Eigen::Matrix3d turn =
+      (Eigen::AngleAxisd(0.4, Eigen::Vector3d::UnitY()) * Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitX()))
+          .toRotationMatrix();
+  const Eigen::Matrix3Xd turned = turn * neutral().positions;
+  cpu.setPositions(turned);
+  gl.setPositions(turned);
+  OrbitCamera camera = th::render::frameHead(neutral().positions, 320.0 / 240.0);
+  for (const auto& [yaw, pitch] : {std::pair{0.0f, 0.0f}, {80.0f, 0.0f}, {180.0f, 10.0f}, {30.0f, 60.0f}}) {
+    camera.yawDegrees = yaw;
+    camera.pitchDegrees = pitch;
+    const Image a = cpu.renderImage(camera);
+    const Image b = gl.renderImage(camera);
+    long differing = 0;
+    for (std::size_t i = 0; i < a.pixels.size(); ++i) differing += a.pixels[i] != b.pixels[i] ? 1 : 0;
+    EXPECT_EQ(differing, 0) << "yaw " << yaw << ", pitch " << pitch;
+  }
+}
+
+// Nearly black pixels in the left and the right half of an image (the pupils are the darkest thing in view).
+std::pair<long, long> darkPixels(const Image& image) {
+  std::pair<long, long> count{0, 0};
+  for (int y = 0; y < image.height; ++y)
+    for (int x = 0; x < image.width; ++x) {
+      const std::uint8_t* p = image.pixel(x, y);
+      if (p[0] + p[1] + p[2] < 30) (x < image.width / 2 ? count.first : count.second) += 1;
+    }
+  return count;
+}
+
+TEST(FaceRenderer, PupilsDilateOneEyeAtATime) {
+  th::render::OffscreenContext context;
+  FaceRenderer renderer(context, neutral(), {.width = 480, .height = 240, .samples = 1});
+  // A close view of the eyes: the camera aimed between them, nearer than the whole-head framing.
+  OrbitCamera camera = th::render::frameHead(neutral().positions, 2.0);
+  const std::vector<th::render::EyeRig> eyes = th::render::findEyes(neutral(), th::render::classifySurfaces(neutral()));
+  ASSERT_EQ(eyes.size(), 2u);
+  camera.target = 0.5f * (eyes[0].centre + eyes[1].centre);
+  camera.distance *= 0.3f;
+  const auto rest = darkPixels(renderer.renderImage(camera));
+  renderer.setPupilScale({1.6, 1.0});  // the face's left eye: the image's right
+  const auto left = darkPixels(renderer.renderImage(camera));
+  renderer.setPupilScale({1.0, 0.6});
+  const Image constricted = renderer.renderImage(camera);
+  snapshot(constricted, "pupil_right_0.6");
+  const auto right = darkPixels(constricted);
+  EXPECT_GT(rest.first, 20);
+  EXPECT_GT(rest.second, 20);
+  // A pupil is about 8 pixels across here: 1.6 times wider adds some 30 dark pixels, 0.6 times removes some
+  // 30 (the rest of the count is the dark lid line, which does not change).
+  EXPECT_GT(left.second, rest.second + 15);
+  EXPECT_EQ(left.first, rest.first);
+  EXPECT_LT(right.first, rest.first - 15);
+  EXPECT_EQ(right.second, rest.second);
+}
+
+TEST(FaceRenderer, TheWindowAndTheReadBackShowTheSameBackdrop) {
+  // OffscreenContext's own framebuffer is 16 x 16: present() into it and read it back.
+  th::render::OffscreenContext context;
+  FaceRenderer renderer(context, neutral(), {.width = 16, .height = 16, .samples = 1});
+  renderer.render(th::render::frameHead(neutral().positions, 1.0));
+  Image cpu;
+  renderer.readPixels(cpu);  // composited on the CPU (the GL target keeps its transparent background)
+  renderer.present({16, 16});
+  std::vector<std::uint8_t> window(16 * 16 * 4);
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  glReadPixels(0, 0, 16, 16, GL_RGBA, GL_UNSIGNED_BYTE, window.data());
+  int largest = 0;
+
+  for (int y = 0; y < 16; ++y)
+    for (int x = 0; x < 16; ++x)
+      for (int k = 0; k < 3; ++k) {
+        const int shown = window[static_cast<std::size_t>(((15 - y) * 16 + x) * 4 + k)];
+        largest = std::max(largest, std::abs(shown - cpu.pixel(x, y)[k]));
+      }
+  EXPECT_LE(largest, 1);  // GL's 8-bit blending rounds once more
+  EXPECT_GT(coverage(cpu).fraction, 0.1);  // the head is there, not only the backdrop
+  EXPECT_LT(coverage(cpu).fraction, 0.9);
+}
+
+TEST(Backdrop, CompositesUnderPremultipliedColour) {
+  const std::vector<std::uint8_t> backdrop = th::render::backdropPixels(4, 3, {1.0f, 1.0f, 1.0f}, {0.0f, 0.0f, 0.0f});
+  ASSERT_EQ(backdrop.size(), 4u * 3u * 3u);
+  // Bottom row darker than the top, the middle of a row brighter than its ends (the pool of light).
+  EXPECT_LT(backdrop[0], backdrop[2 * 12]);
+  EXPECT_GT(backdrop[12 + 3], backdrop[12]);
+  // Opaque stays, empty takes the backdrop, half-covered adds half of it.
+  std::vector<std::uint8_t> rgba = {10, 20, 30, 255, 0, 0, 0, 0, 50, 60, 70, 128};
+  const std::vector<std::uint8_t> under = {200, 200, 200, 90, 100, 110, 200, 100, 0};
+  th::render::compositeUnder(rgba.data(), under.data(), 3);
+  const std::vector<std::uint8_t> expected = {10, 20, 30, 255, 90, 100, 110, 255, 150, 110, 70, 255};
+  EXPECT_EQ(rgba, expected);
+}
+
+TEST(Occlusion, TheCacheReturnsWhatWasMeasuredAndRemeasuresADamagedFile) {
+  th::render::OffscreenContext context;
+  const th::face::Mesh& mesh = neutral();
+  Eigen::Matrix3Xf normals;
+  th::render::VertexNormals(mesh).compute(mesh.positions, normals);
+  const std::vector<int> groups(mesh.triangles.size(), 0);
+  const std::vector<std::uint32_t> masks(static_cast<std::size_t>(mesh.numVertices()), 1U);
+  const th::render::OcclusionOptions options{.directions = 12, .resolution = 128};
+  const th::TemporaryFolder folder;
+  const fs::path cache = folder.path() / "cache";
+  const Eigen::VectorXf measured = th::render::computeOpenness(mesh.positions, normals, mesh.triangles, groups, masks, options);
+  const auto cached = [&] {
+    return th::render::computeOpennessCached(mesh.positions, normals, mesh.triangles, groups, masks, cache, options);
+  };
+  EXPECT_TRUE(cached().isApprox(measured, 0.0f));  // measured and written
+  std::vector<fs::path> files;
+  for (const auto& entry : fs::directory_iterator(cache)) files.push_back(entry.path());
+  ASSERT_EQ(files.size(), 1u);
+  const auto size = fs::file_size(files[0]);
+  EXPECT_EQ(size, 16u + 4u * static_cast<std::uintmax_t>(mesh.numVertices()));
+  {  // Read, not measured: a doctored file's values come back.
+    std::fstream file(files[0], std::ios::in | std::ios::out | std::ios::binary);
+    const float quarter = 0.25f;
+    file.seekp(16);
+    file.write(reinterpret_cast<const char*>(&quarter), sizeof quarter);
+  }
+  EXPECT_EQ(cached()[0], 0.25f);
+  // Damaged (cut short): measured again and rewritten whole.
+  fs::resize_file(files[0], size / 2);
+  EXPECT_TRUE(cached().isApprox(measured, 0.0f));
+  EXPECT_EQ(fs::file_size(files[0]), size);
+  // Other options, another file.
+  th::render::computeOpennessCached(mesh.positions, normals, mesh.triangles, groups, masks, cache,
+                                    {.directions = 8, .resolution = 128});
+  EXPECT_EQ(std::distance(fs::directory_iterator(cache), fs::directory_iterator{}), 2);
+  // A cache folder that cannot exist (under a file) costs only the time.
+  std::ofstream(folder.path() / "file") << "x";
+  EXPECT_TRUE(th::render::computeOpennessCached(mesh.positions, normals, mesh.triangles, groups, masks,
+                                                folder.path() / "file" / "cache", options)
+                  .isApprox(measured, 0.0f));
+}
+
 // Sum of squared differences between neighbouring pixels: a hard (aliased) step counts more than the same
 // step spread over two pixels.
 double variation(const Image& image) {
@@ -352,8 +497,8 @@ TEST(Fxaa, BlendsHardEdgesOnlyAndFlipsRows) {
   EXPECT_EQ(plain.pixel(0, 0)[0], 128);  // the top row of the image is GL's last row
   EXPECT_EQ(plain.pixel(0, h - 1)[0], 0);
   Image smooth;
-  std::vector<float> luma;
-  th::render::fxaaToImage(rgba.data(), w, h, smooth, luma);
+  std::vector<std::uint8_t> luma, edges;
+  th::render::fxaaToImage(rgba.data(), w, h, smooth, luma, edges);
   int between = 0;
   for (int y = 4; y < h - 1; ++y)
     for (int x = 1; x < w - 1; ++x) {

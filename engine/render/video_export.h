@@ -1,0 +1,48 @@
+// A talking face as a video file: an animation (FAP curves) played on the face model, rendered off-screen and
+// encoded with its sound track as MP4 (H.264 + AAC). What `talkinghead export` and bench/export_bench run.
+//
+//   th::face::FaceModel face = th::face::FaceModel::build(th::face::loadIctFace(th::face::ictFaceDirectory()));
+//   th::render::exportVideo(face, animation, clip.samples, clip.sampleRateHz, "talk.mp4", {.width = 1280});
+//
+// Two threads: the calling one owns an OSMesa context and renders frame f + 1 while a worker finishes frame f
+// (the backdrop under the head, FXAA, rows top-down) and gives it to the encoder, whose own threads compress
+// the frames before. On llvmpipe every stage runs on the CPU: in one thread the cores would idle in turn.
+// At most three frames are in flight (th::SlotQueue), so memory does not grow with the length.
+//
+// The video has as many frames as cover the sound (video::videoFramesFor): the two end within one frame of
+// each other. All or nothing: the file appears only when complete (video::Mp4Writer); an exception from
+// either thread, or from `hooks.check` (an interrupt), stops both threads and leaves no file.
+// Thread contract: call from one thread; the hooks run on the worker thread (progress) and the calling
+// thread (check).
+#pragma once
+
+#include <filesystem>
+#include <functional>
+#include <span>
+#include <string>
+
+#include "face/face_model.h"
+#include "video/animation_file.h"
+
+namespace th::render {
+
+struct VideoExportOptions {
+  int width = 1280;
+  int height = 720;
+  double framesPerSecond = 30.0;
+  int crf = 20;                      // x264 quality (see video::Mp4Options)
+  std::string preset = "veryfast";   // x264 speed/size trade-off
+};
+
+struct VideoExportHooks {
+  std::function<void(int framesDone, int framesTotal)> progress;  // after each frame is encoded (worker thread)
+  std::function<void()> check;  // before each frame is rendered (calling thread); throw to stop
+};
+
+// Renders `animation` on `face` with `samples` (mono, sampleRateHz) as its sound into `output` (.mp4).
+// Returns the number of video frames. Throws th::Error (naming `output` for file problems).
+int exportVideo(const face::FaceModel& face, const video::Animation& animation, std::span<const float> samples,
+                int sampleRateHz, const std::filesystem::path& output, const VideoExportOptions& options,
+                const VideoExportHooks& hooks = {});
+
+}  // namespace th::render
