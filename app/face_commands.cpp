@@ -22,6 +22,7 @@
 #include "render/face_renderer.h"
 #include "render/gl_context.h"
 #include "render/image.h"
+#include "render/video_export.h"
 #include "text_overlay.h"
 #include "video/animation_file.h"
 #include "video/animation_sampling.h"
@@ -91,6 +92,7 @@ struct Stage {
 
   const render::Image& draw(const face::FapValues& faps) {
     renderer.setPositions(face.deform(faps));
+    renderer.setPupilScale(face.pupilScale(faps));
     renderer.render(camera);
     renderer.readPixels(image);
     return image;
@@ -202,29 +204,19 @@ void runExport(const ExportArguments& arguments) {
     animation.name = std::filesystem::path(arguments.input).stem().string();
   }
 
-  // Video: FXAA on one sample instead of 4x MSAA, a third of the CPU per frame on llvmpipe, nearly as smooth.
-  Stage stage({.width = width, .height = height, .samples = 1, .fxaa = true});
+  const face::FaceModel face = face::FaceModel::build(face::loadIctFace(face::ictFaceDirectory()));
   InterruptGuard::check();
   {
-    video::Mp4Writer writer(arguments.output, {.width = width, .height = height, .framesPerSecond = arguments.fps,
-                                               .audioSampleRateHz = clip.sampleRateHz, .crf = arguments.crf,
-                                               .preset = arguments.preset});
-    writer.addAudio(clip.samples);
-    // As many frames as cover the sound: the video ends within one frame of the audio.
-    const auto frames = static_cast<int>(video::videoFramesFor(clip.samples.size(), clip.sampleRateHz, arguments.fps));
-    ProgressBar progress(frames, "export", std::cerr, progressAt(arguments.fps));
-    for (int frame = 0; frame < frames; ++frame) {
-      InterruptGuard::check();
-      const render::Image& image = stage.draw(video::fapValuesAt(animation, frame / arguments.fps));
-      writer.addVideoFrame(image.pixels, image.width * 3);
-      progress.update(frame + 1);
-    }
-    InterruptGuard::check();
-    writer.finish();
+    const auto frames = video::videoFramesFor(clip.samples.size(), clip.sampleRateHz, arguments.fps);
+    ProgressBar progress(static_cast<double>(frames), "export", std::cerr, progressAt(arguments.fps));
+    render::exportVideo(face, animation, clip.samples, clip.sampleRateHz, arguments.output,
+                        {.width = width, .height = height, .framesPerSecond = arguments.fps, .crf = arguments.crf,
+                         .preset = arguments.preset},
+                        {.progress = [&](int done, int) { progress.update(done); }, .check = InterruptGuard::check});
     progress.finish();
   }
   for (const std::string& path : arguments.saveAnimation) video::writeAnimation(path, animation);
-  if (!arguments.arkit.empty()) video::writeArkitCsv(arguments.arkit, animation, video::arkitScaleFor(stage.face));
+  if (!arguments.arkit.empty()) video::writeArkitCsv(arguments.arkit, animation, video::arkitScaleFor(face));
   std::cout << "wrote " << arguments.output << " (" << width << "x" << height << ", " << arguments.fps << " fps, "
             << static_cast<double>(clip.samples.size()) / clip.sampleRateHz << " s)\n";
 }

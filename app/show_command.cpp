@@ -159,6 +159,7 @@ void runShow(const ShowArguments& arguments) {
 
     if (faps != shown) {
       renderer.setPositions(face.deform(faps));
+      renderer.setPupilScale(face.pupilScale(faps));
       shown = faps;
     }
     renderer.render(camera);

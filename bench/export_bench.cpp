@@ -1,5 +1,6 @@
-// Speed of the MP4 export's encoding: H.264 (libx264, the default preset and quality) + AAC through Mp4Writer,
-// on synthetic frames, at 640x480 and 1280x720, 30 fps, with 16 kHz mono audio.
+// Speed of the MP4 export at 640x480 and 1280x720, 30 fps: the whole export on 10 s of real speech (animation,
+// off-screen rendering, encoding: export/face/...), and its encoding alone, H.264 (libx264, the default preset
+// and quality) + AAC through Mp4Writer, on synthetic frames (export/WxH/gradient|textured/...).
 //
 //   build/bench/export_bench            # ~1 min; NOT pinned to one core: x264 is multi-threaded
 //   build/bench/export_bench --quick    # one short pass, a smoke check
@@ -24,8 +25,14 @@
 #include <string>
 #include <vector>
 
+#include "animation/animate.h"
+#include "audio/media_audio.h"
 #include "bench_arguments.h"
+#include "core/data_path.h"
 #include "core/temporary_file.h"
+#include "face/face_model.h"
+#include "face/feature_points.h"
+#include "render/video_export.h"
 #include "video/mp4_writer.h"
 
 namespace {
@@ -129,6 +136,33 @@ void exportClip(benchmark::State& state, const Case& c, double seconds) {
   state.counters["kbit_per_s"] = static_cast<double>(bytes) * 8.0 / 1000.0 / videoSeconds;
 }
 
+// The whole export as `talkinghead export` runs it, on real speech: the face model built, the animation from
+// the shipped models, every frame rendered off-screen (llvmpipe), finished and encoded (exportVideo). Only
+// reading the recording is left out. realtime_factor: seconds of video per wall-clock second.
+void exportFace(benchmark::State& state, int width, int height, double seconds) {
+  th::audio::AudioClip clip = th::audio::readRecording(th::sharedDataPath("beat2/audio_only/2_scott_0_2_2.wav"));
+  clip.samples.resize(std::min(clip.samples.size(), static_cast<std::size_t>(seconds * clip.sampleRateHz)));
+  const auto head = th::animation::loadHeadModel(std::string(TALKINGHEAD_SOURCE_DIR) + "/models/head.json");
+  const auto mouth = th::animation::loadMouthModel(std::string(TALKINGHEAD_SOURCE_DIR) + "/models/mouth.json");
+  th::TemporaryFolder folder;
+  double cpuSeconds = 0.0;
+  int frames = 0;
+  for (auto _ : state) {
+    const double cpuBefore = processCpuSeconds();
+    const th::video::Animation animation = th::animation::animate(clip.samples, &head, &mouth, {});
+    const th::face::FaceModel face =
+        th::face::FaceModel::build(th::face::loadIctFace(th::face::ictFaceDirectory()));
+    frames = th::render::exportVideo(face, animation, clip.samples, clip.sampleRateHz, folder.path() / "face.mp4",
+                                     {.width = width, .height = height});
+    cpuSeconds += processCpuSeconds() - cpuBefore;
+  }
+  const double videoSeconds = static_cast<double>(frames) / kFps;
+  state.counters["realtime_factor"] = benchmark::Counter(videoSeconds, benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["fps"] = benchmark::Counter(static_cast<double>(frames), benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["realtime_factor_per_core"] =
+      videoSeconds * static_cast<double>(state.iterations()) / std::max(cpuSeconds, 1e-9);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -146,6 +180,14 @@ int main(int argc, char** argv) {
                              std::to_string(static_cast<int>(seconds)) + "s/" + c.preset + "/threads:" +
                              (c.threads == 0 ? std::string("auto") : std::to_string(c.threads));
     benchmark::RegisterBenchmark(name.c_str(), exportClip, c, seconds)
+        ->Unit(benchmark::kMillisecond)
+        ->UseRealTime()
+        ->Iterations(arguments.quick ? 1 : 3);
+  }
+  for (const auto& [width, height] : {std::pair{640, 480}, std::pair{1280, 720}}) {
+    const std::string name = "export/face/" + std::to_string(width) + "x" + std::to_string(height) + "/speech/" +
+                             std::to_string(static_cast<int>(seconds)) + "s/veryfast/threads:auto";
+    benchmark::RegisterBenchmark(name.c_str(), exportFace, width, height, seconds)
         ->Unit(benchmark::kMillisecond)
         ->UseRealTime()
         ->Iterations(arguments.quick ? 1 : 3);

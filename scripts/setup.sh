@@ -7,8 +7,9 @@
 # 2. puts the face assets (ICT FaceKit, Candide-3) into the git-ignored assets/ (scripts/fetch-assets.sh: copied
 #    from the shared data, or downloaded from upstream where that is absent),
 # 3. configures and builds the Release build in build/ with Ninja, on all cores,
-# 4. runs the main job on the shipped default input and prints its summary:
-#      build/talkinghead features "$DATA/beat2/2_scott_0_1_1.wav"
+# 4. runs the main job on the shipped default input: the recording spoken by the face, with the shipped models,
+#    rendered off-screen and written as build/demo.mp4 (plus its animation curves, build/demo_animation.csv):
+#      build/talkinghead export "$DATA/beat2/2_scott_0_1_1.wav" -o build/demo.mp4
 #    where DATA is $TALKINGHEAD_DATA, else ../shared/data beside the checkout. Without that recording it says so
 #    and uses a sentence synthesised with espeak-ng instead (build/example.wav).
 #
@@ -40,7 +41,7 @@ fi
 cmake -S . -B "$build_dir" "${generator[@]}" -DCMAKE_BUILD_TYPE=Release
 cmake --build "$build_dir" --parallel "$jobs"
 
-step "Running the main job: features of the default recording"
+step "Running the main job: the default recording spoken by the face, as an MP4 (talkinghead export)"
 input="$data_dir/beat2/2_scott_0_1_1.wav"
 if [[ -r "$input" ]]; then
   echo "input: $input"
@@ -57,12 +58,14 @@ else
     exit 1
   fi
 fi
-"$build_dir/talkinghead" features "$input"
+output="$build_dir/demo.mp4"
+"$build_dir/talkinghead" export "$input" -o "$output" --save-anim "$build_dir/demo_animation.csv"
 
 cat <<EOF
 
-Done. Next:
-  every frame as CSV (or .json):  $build_dir/talkinghead features "$input" -o features.csv
+Done: $output (1280x720, H.264 + AAC) and its animation curves, $build_dir/demo_animation.csv. Next:
+  the face in a window:           $build_dir/talkinghead show
+  speech features as CSV:         $build_dir/talkinghead features "$input" -o features.csv
   the other subcommands:          $build_dir/talkinghead --help
   all tests:                      bash scripts/test.sh
   speed, on one core:             bash scripts/bench.sh
