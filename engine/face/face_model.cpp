@@ -106,6 +106,162 @@ Eigen::Matrix3Xd vertexNormals(const Mesh& mesh, std::initializer_list<std::stri
   return normals;
 }
 
+// Neighbours of each vertex over the triangles drawn with one material.
+std::vector<std::vector<int>> neighboursIn(const Mesh& mesh, std::string_view material) {
+  const int wanted = mesh.materialIndex(material);
+  std::vector<std::vector<int>> neighbours(static_cast<std::size_t>(mesh.numVertices()));
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    if (mesh.triangleMaterial[t] != wanted) continue;
+    const auto& tri = mesh.triangles[t];
+    for (std::size_t i = 0; i < 3; ++i) {
+      const int a = tri[i], b = tri[(i + 1) % 3];
+      neighbours[static_cast<std::size_t>(a)].push_back(b);
+      neighbours[static_cast<std::size_t>(b)].push_back(a);
+    }
+  }
+  return neighbours;
+}
+
+// One ear (auricle) of the head: per-vertex weights (1 on the auricle, fading to 0 where it joins the side of
+// the head) and its feature points. See FaceModel::build for how it is found.
+struct Ear {
+  std::vector<std::pair<int, double>> weights;  // vertex, share of the ear's motion (> 0)
+  int top = -1;     // 10.1/10.2: the highest vertex of the auricle
+  int outer = -1;   // 10.3/10.4: the auricle's outermost vertex (the back of the helix's rim)
+};
+
+// `side` +1 for the face's left (+x), −1 for its right. `low`, `high`: the heights between which the ear is
+// looked for (the chin and the brows); `es`: the eye separation (the scale of every distance here).
+Ear findEar(const Eigen::Matrix3Xd& rest, const std::vector<int>& skin, double side, double low, double high, double es) {
+  Ear ear;
+  // The outermost skin point between chin and brow height: nothing else on the head's side stands out as far
+  // as the auricle (the shoulders, which do, are lower).
+  for (int v : skin)
+    if (rest(1, v) > low && rest(1, v) < high && (ear.outer < 0 || side * rest(0, v) > side * rest(0, ear.outer))) ear.outer = v;
+  if (ear.outer < 0 || side * rest(0, ear.outer) <= 0.0) throw Error("face model: no ear on the head's side");
+  const Eigen::Vector3d outer = rest.col(ear.outer);
+  // The side of the head around it, as a height field across the head (outward distance over y and z): a
+  // quadratic fitted to the skin within 0.8 ES of the outer point (on that side, facing out: farther out than
+  // 0.6 of the outer point, so the back of the head and the face's front stay out), by trimmed least squares:
+  // fit, drop what stands more than 0.05 ES (3 mm) out of the fit (the auricle), refit, until nothing changes.
+  std::vector<int> disk;
+  for (int v : skin)
+    if (side * rest(0, v) > 0.6 * side * outer.x() && std::hypot(rest(1, v) - outer.y(), rest(2, v) - outer.z()) < 0.8 * es)
+      disk.push_back(v);
+  const auto terms = [&](int v) {
+    const double dy = (rest(1, v) - outer.y()) / es, dz = (rest(2, v) - outer.z()) / es;
+    return Eigen::Matrix<double, 6, 1>(1.0, dy, dz, dy * dy, dy * dz, dz * dz);
+  };
+  Eigen::Matrix<double, 6, 1> head = Eigen::Matrix<double, 6, 1>::Zero();
+  const auto protrusion = [&](int v) { return side * rest(0, v) - terms(v).dot(head); };
+  std::vector<int> kept = disk;
+  for (int round = 0; round < 20; ++round) {
+    if (kept.size() < 12) throw Error("face model: too little skin around the ear to fit the side of the head");
+    Eigen::MatrixXd a(static_cast<Eigen::Index>(kept.size()), 6);
+    Eigen::VectorXd b(static_cast<Eigen::Index>(kept.size()));
+    for (std::size_t i = 0; i < kept.size(); ++i) {
+      a.row(static_cast<Eigen::Index>(i)) = terms(kept[i]).transpose();
+      b[static_cast<Eigen::Index>(i)] = side * rest(0, kept[i]);
+    }
+    head = a.colPivHouseholderQr().solve(b);
+    std::vector<int> next;
+    for (int v : disk)
+      if (protrusion(v) < 0.05 * es) next.push_back(v);
+    if (next == kept) break;
+    kept = std::move(next);
+  }
+  // The auricle: what stands out of the head's side. Its weight rises from 0 at 0.02 ES (1.3 mm, the fit's
+  // scatter on the head) out to 1 at 0.12 ES (8 mm), so the rim, the helix and the lobe (1–2.4 cm out) move
+  // whole and the concha's floor and the crease where the auricle joins the head hand over smoothly; and it fades out beyond 0.45–0.6 ES from the auricle's centre
+  // (its size: 5.5 cm tall), so nothing on the side of the head, the face or the neck moves.
+  Eigen::Vector2d centre = Eigen::Vector2d::Zero();
+  double count = 0.0;
+  for (int v : disk)
+    if (protrusion(v) > 0.08 * es) centre += Eigen::Vector2d(rest(1, v), rest(2, v)), count += 1.0;
+  if (count < 10.0) throw Error("face model: the ear does not stand out of the side of the head");
+  centre /= count;
+  for (int v : disk) {
+    const double across = std::hypot(rest(1, v) - centre.x(), rest(2, v) - centre.y());
+    const double w = smoothstep(0.02 * es, 0.12 * es, protrusion(v)) * (1.0 - smoothstep(0.45 * es, 0.6 * es, across));
+    if (w <= 1e-6) continue;
+    ear.weights.emplace_back(v, w);
+    if (w >= 1.0 && (ear.top < 0 || rest(1, v) > rest(1, ear.top))) ear.top = v;
+  }
+  if (ear.top < 0) throw Error("face model: no vertex of the ear moves with it fully");
+  return ear;
+}
+
+// The tongue, told apart from the gums it shares M_GumsTongue with (see FaceModel::build).
+struct TongueBody {
+  std::vector<int> vertices;
+  double level = 0.0;      // the height above which it is told apart from the floor of the mouth
+  double back = 0.0;       // z where it leaves the part of the mouth the jaw carries (its root)
+  int tip = -1, top = -1, leftBorder = -1, rightBorder = -1;  // 6.1, 6.2, 6.3, 6.4
+};
+
+TongueBody findTongue(const Mesh& mesh, const Eigen::VectorXd& jawFollow, double mw, double mns) {
+  const Eigen::Matrix3Xd& rest = mesh.positions;
+  const std::vector<int> mouth = mesh.verticesOf("M_GumsTongue");
+  if (mouth.empty()) throw Error("face model: the mesh has no M_GumsTongue material");
+  const std::vector<std::vector<int>> neighbours = neighboursIn(mesh, "M_GumsTongue");
+  const auto carried = [&](int v) { return jawFollow[v] > 0.5; };
+  const double midline = 0.02 * mw;  // 1 mm: the mesh is mirrored, its mid-line vertices have x = 0
+  TongueBody tongue;
+  // The top of the tongue: the highest mid-line vertex that the jaw carries (above it are only the palate and
+  // the upper gums, which stay with the skull).
+  for (int v : mouth)
+    if (carried(v) && std::abs(rest(0, v)) < midline && (tongue.top < 0 || rest(1, v) > rest(1, tongue.top))) tongue.top = v;
+  if (tongue.top < 0) throw Error("face model: no part of M_GumsTongue moves with the jaw");
+  // The lower gums' front: the front-most vertex the jaw carries (in front of the tongue's tip, between the
+  // lower lip and the roots of the lower incisors). The tongue's sides rest against the lower teeth, so nearness
+  // to the teeth does not tell tongue from gum; being connected to this point above the fold does.
+  int gumFront = -1;
+  for (int v : mouth)
+    if (carried(v) && (gumFront < 0 || rest(2, v) > rest(2, gumFront))) gumFront = v;
+  // Grow from the top over carried vertices no lower than a level; lower the level step by step as long as
+  // the region does not reach the gums. It stops where the tongue's underside folds into the floor of the
+  // mouth, through which the gums would be reached.
+  const auto grow = [&](double level, bool& touchesGums) {
+    std::vector<char> in(static_cast<std::size_t>(rest.cols()), 0);
+    std::vector<int> region{tongue.top}, stack{tongue.top};
+    in[static_cast<std::size_t>(tongue.top)] = 1;
+    touchesGums = false;
+    while (!stack.empty()) {
+      const int v = stack.back();
+      stack.pop_back();
+      for (int n : neighbours[static_cast<std::size_t>(v)]) {
+        if (in[static_cast<std::size_t>(n)] || !carried(n) || rest(1, n) < level) continue;
+        in[static_cast<std::size_t>(n)] = 1;
+        if (n == gumFront) touchesGums = true;
+        region.push_back(n);
+        stack.push_back(n);
+      }
+    }
+    return region;
+  };
+  const double step = 0.01 * mns;
+  for (double level = rest(1, tongue.top) - step; level > rest(1, tongue.top) - mns; level -= step) {
+    bool touchesGums = false;
+    std::vector<int> region = grow(level, touchesGums);
+    if (touchesGums) break;
+    tongue.vertices = std::move(region);
+    tongue.level = level;
+  }
+  if (tongue.vertices.size() < 20) throw Error("face model: the tongue cannot be told apart from the gums");
+  // Its root: the front-most of its vertices that border on mouth the jaw does not carry (the throat).
+  tongue.back = std::numeric_limits<double>::infinity();
+  for (int v : tongue.vertices) tongue.back = std::min(tongue.back, rest(2, v));
+  for (int v : tongue.vertices)
+    for (int n : neighbours[static_cast<std::size_t>(v)])
+      if (!carried(n)) tongue.back = std::max(tongue.back, rest(2, v));
+  for (int v : tongue.vertices) {
+    if (std::abs(rest(0, v)) < midline && (tongue.tip < 0 || rest(2, v) > rest(2, tongue.tip))) tongue.tip = v;
+    if (tongue.leftBorder < 0 || rest(0, v) > rest(0, tongue.leftBorder)) tongue.leftBorder = v;
+    if (tongue.rightBorder < 0 || rest(0, v) < rest(0, tongue.rightBorder)) tongue.rightBorder = v;
+  }
+  return tongue;
+}
+
 Eigen::Matrix3d headRotation(double pitch, double yaw, double roll) {
   // As the head model's angles: R = Ry(yaw)·Rx(pitch)·Rz(roll); FAP 48 positive pitches down about +x, 49 yaws
   // to the face's left about +y, 50 rolls to its right about +z (face/fap.cpp).
@@ -310,6 +466,90 @@ FaceModel FaceModel::build(const FaceAssets& assets, const FaceModelOptions& opt
     }
   }
 
+  // Fields given straight per vertex (not through the lattice): a weight per vertex times the FAP's direction,
+  // normalised so the feature point moves by exactly value × FAPU. `reach` is as far from the feature point as
+  // a moved vertex lies.
+  const auto directField = [&](int number, const std::vector<std::pair<int, double>>& weights) {
+    const FapDefinition& fap = fapDefinition(number);
+    const Eigen::Vector3d centre = at(fap.featurePoint);
+    double atPoint = 0.0;
+    const std::vector<int>& pointVertices = model.points_.vertices(fap.featurePoint);
+    for (int p : pointVertices)
+      for (const auto& [v, w] : weights)
+        if (v == p) atPoint += w;
+    atPoint /= static_cast<double>(pointVertices.size());
+    if (!(atPoint > 0.5)) throw Error("face model: FAP " + std::to_string(number) + "'s field does not carry its feature point");
+    const Eigen::Vector3d unit = u.of(fap.unit) / atPoint * directionOf(fap);
+    double reach = 0.0;
+    for (const auto& [v, w] : weights) {
+      model.linear_[static_cast<std::size_t>(number)].push_back({v, (w * unit).cast<float>()});
+      reach = std::max(reach, (rest.col(v) - centre).norm());
+    }
+    model.reach_[static_cast<std::size_t>(number)] = reach;
+  };
+
+  // The ears (65–68). The ICT head's auricles are part of M_Face, so they lie inside the lattice, but in its
+  // outermost cells, next to its fixed boundary (control points ~0.5 cm apart; the auricle stands 1–1.5 cm off
+  // the side of the head): a control-point Gaussian cannot move the auricle without the side of the head
+  // beside it, the per-vertex mask would do all the work. So they are direct per-vertex fields: `findEar`
+  // fits the side of the head around the ear's outermost point and weighs each vertex by how far it stands
+  // out of it (1 on the auricle, 0 on the head), so raising or pulling an ear moves the auricle as a whole.
+  {
+    const double low = at("2.1").y(), high = std::max(at("4.5").y(), at("4.6").y());
+    for (const bool left : {true, false}) {
+      const Ear ear = findEar(rest, skin, left ? 1.0 : -1.0, low, high, es);
+      model.points_.set(left ? "10.1" : "10.2", {ear.top});
+      model.points_.set(left ? "10.3" : "10.4", {ear.outer});
+      directField(left ? 65 : 66, ear.weights);
+      directField(left ? 67 : 68, ear.weights);
+    }
+  }
+
+  // The tongue (43–47). ICT draws gums and tongue as one material, one connected surface (the tongue's
+  // underside folds into the floor of the mouth, which runs into the lower gums), so `findTongue` tells it
+  // apart by geometry: what the jaw carries above the fold, grown from the top of the tongue. Its fields are
+  // direct per-vertex ones (the mouth is far inside the skin's lattice, which holds only skin), applied before
+  // the jaw turns, so the tongue rides on the jaw. Each fades to 0 down to the fold (`level`) and back to the
+  // root, where the tongue meets the throat, which stays.
+  {
+    const TongueBody tongue = findTongue(model.mesh_, model.jawFollow_, mw, mns);
+    model.points_.set("6.1", {tongue.tip});
+    model.points_.set("6.2", {tongue.top});
+    model.points_.set("6.3", {tongue.leftBorder});
+    model.points_.set("6.4", {tongue.rightBorder});
+    const double tipZ = rest(2, tongue.tip), length = tipZ - tongue.back;
+    if (!(length > 0.0)) throw Error("face model: the tongue's tip is not in front of its root");
+    const double fold = 0.15 * mns;  // the fade above the fold, 3 mm
+    std::vector<std::pair<int, double>> tip, body;
+    for (int v : tongue.vertices) {
+      const double lift = smoothstep(tongue.level, tongue.level + fold, rest(1, v));
+      const double z = rest(2, v);
+      // The tip's FAPs (43–45) move the front third whole and fade out over the middle; raise_tongue (46) lifts
+      // the body and tip, fading out over the back 40 %.
+      const double wTip = lift * smoothstep(tipZ - 0.7 * length, tipZ - 0.3 * length, z);
+      const double wBody = lift * smoothstep(tongue.back, tongue.back + 0.4 * length, z);
+      if (wTip > 1e-6) tip.emplace_back(v, wTip);
+      if (wBody > 1e-6) body.emplace_back(v, wBody);
+    }
+    for (int fap : {43, 44, 45}) directField(fap, tip);
+    directField(46, body);
+    // tongue_roll (47): the sides curl up into a U, each vertex turning about the mid-line's axis (along z, at
+    // the height of the tongue's top) by its share of the angle: 0 on the mid-line, growing to 1 at the
+    // borders (6.3, 6.4), times the body's fade. The border points turn by exactly the angle.
+    model.tongueAxisY_ = rest(1, tongue.top);
+    const double halfWidth = 0.5 * (rest(0, tongue.leftBorder) - rest(0, tongue.rightBorder));
+    const auto bodyShare = [&](int v) {
+      return smoothstep(tongue.level, tongue.level + fold, rest(1, v)) * smoothstep(tongue.back, tongue.back + 0.4 * length, rest(2, v));
+    };
+    const double atBorders = std::min(bodyShare(tongue.leftBorder), bodyShare(tongue.rightBorder));
+    if (!(atBorders > 0.2)) throw Error("face model: the tongue's borders lie too near its root to roll");
+    for (int v : tongue.vertices) {
+      const double x = rest(0, v);
+      const double share = std::min(1.0, smoothstep(0.0, halfWidth, std::abs(x)) * bodyShare(v) / atBorders);
+      if (share > 1e-6) model.tongueRoll_.emplace_back(v, static_cast<float>(x > 0.0 ? share : -share));
+    }
+  }
+
   // Eyes: a sphere fitted to each sclera; the ball (sclera and iris) turns rigidly about its centre, and the
   // lids turn about the same centre.
   for (int e = 0; e < 2; ++e) {
@@ -364,7 +604,8 @@ FaceModel FaceModel::build(const FaceAssets& assets, const FaceModelOptions& opt
 bool FaceModel::supports(int fap) const {
   if (fap < 1 || fap > kNumFaps) return false;
   if (!linear_[static_cast<std::size_t>(fap)].empty()) return true;
-  return fap == 3 || fap == 14 || fap == 15 || (fap >= 19 && fap <= 30) || (fap >= 48 && fap <= 50);
+  return fap == 3 || fap == 14 || fap == 15 || (fap >= 19 && fap <= 30) || (fap == 47 && !tongueRoll_.empty()) ||
+         (fap >= 48 && fap <= 50);
 }
 
 double FaceModel::jawAngleFor(double openJaw) const {
@@ -394,6 +635,18 @@ Eigen::Matrix3Xd FaceModel::deform(const FapValues& faps) const {
     if (value == 0.0) continue;
     for (const FieldEntry& entry : linear_[static_cast<std::size_t>(fap)])
       v.col(entry.vertex) += value * entry.displacement.cast<double>();
+  }
+
+  // Tongue roll (unidirectional: the sides curl up): each side turns about the mid-line's axis, the face's left
+  // (+x) counter-clockwise seen from the front, its right clockwise, so both borders rise.
+  const double tongueRoll = std::max(0.0, faps[47]) * kAngleUnit;
+  if (tongueRoll != 0.0) {
+    for (const auto& [vertex, share] : tongueRoll_) {
+      const double a = share * tongueRoll, c = std::cos(a), s = std::sin(a);
+      const double x = v(0, vertex), y = v(1, vertex) - tongueAxisY_;
+      v(0, vertex) = c * x - s * y;
+      v(1, vertex) = tongueAxisY_ + s * x + c * y;
+    }
   }
 
   // Jaw: each vertex turns by its share of the angle and slides by its share of the thrust and shift. The

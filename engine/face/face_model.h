@@ -9,8 +9,8 @@
 // How each FAP moves the mesh (fields built once, from the neutral mesh, its feature points and its jawOpen
 // shape; every field is normalised so that the feature point the standard names moves by exactly
 // value × FAPU in the standard's direction):
-// - Linear FAPs (lips 4–13, 16, 17, 51–60; chin 18; brows 31–38; cheeks 39–42; nose 61–64): piecewise Bézier
-//   volume deformation (bezier_volume.h). FAP k displaces the lattice's control points by D_k, a Gaussian
+// - Linear FAPs through the lattice (lips 4–13, 16, 17, 51–60; chin 18; brows 31–38; cheeks 39–42; nose
+//   61–64): piecewise Bézier volume deformation (bezier_volume.h). FAP k displaces the lattice's control points by D_k, a Gaussian
 //   fall-off around its feature point times its direction, so the skin moves by B·D_k: smooth, and zero far
 //   away. The brow raisers (31–36) differ: the three of a side share its brow line (each is 1 at its own point
 //   and 0 at its neighbours', so raising all six lifts every brow point by exactly the value), fade linearly
@@ -27,9 +27,24 @@
 //   lower lid's. Eyeballs (23–26) turn rigidly about the same centres; 27/28 push them forward; 29/30 (pupil
 //   size) are passed to the renderer (pupilScale).
 // - The head (48–50) turns rigidly about a neck pivot, blended into the neck so the base of the neck stays.
-// Order: linear fields, then jaw, then eyelids and eyeballs, then the head, so lip FAPs ride on the jaw.
-// FAPs this mesh cannot show (visemes and expressions 1–2, the tongue 43–47, the ears 65–68) are ignored;
-// `supports` says which.
+// - Ears (65–68; points 10.1/10.2 the top of each auricle, its highest fully moving vertex; 10.3/10.4 its
+//   outermost point, the back of the helix's rim): a direct per-vertex field, not through the lattice (the
+//   auricles are M_Face skin inside it, but in its outermost cells, too coarse to move an ear without the side
+//   of the head). The side of the head around the ear is fitted as a quadratic height field (trimmed least
+//   squares, so the ear itself is left out); a vertex's weight grows with how far it stands out of it, 1 on the
+//   auricle and 0 on the head, so raising or pulling moves the whole auricle, fading into the crease where it
+//   joins the head; the face and the other ear do not move.
+// - Tongue (43–46 linear, 47 roll; 6.1 the tip, the front-most mid-line vertex; 6.2 the top of its body; 6.3/6.4
+//   its left and right borders): ICT draws gums and tongue as one connected surface (M_GumsTongue, 2977
+//   vertices), so the tongue is told apart geometrically: the jaw-carried part grown from the top of the tongue
+//   down to the lowest level at which it does not yet reach the lower gums' front (the fold where its underside
+//   meets the floor of the mouth; 322 vertices). Direct per-vertex fields move the tip region (43–45; fading out
+//   over the tongue's middle) or the body (46; fading out towards the root) and fade to 0 at the fold; the roll
+//   turns each side about the mid-line's axis by a share growing from 0 on the mid-line to 1 at the borders.
+//   They act before the jaw, so the tongue rides on it.
+// Order: linear fields (ears and tongue included), tongue roll, then jaw, then eyelids and eyeballs, then the
+// head, so lip and tongue FAPs ride on the jaw. The high-level FAPs 1–2 (visemes, expressions) are not the face
+// model's and are ignored; `supports` says which FAPs are shown (all of 3–68).
 // Thread contract: a FaceModel is immutable after build(); deform() is const and safe from any thread.
 #pragma once
 
@@ -70,14 +85,16 @@ class FaceModel {
   const BezierLattice& lattice() const { return lattice_; }
   const Embedding& embedding() const { return embedding_; }
 
-  // The displacement field of a linear FAP per unit value: (vertex, displacement) pairs; empty for others.
+  // The displacement field of a linear FAP per unit value (lattice fields, and the ears' and tongue's direct
+  // ones, 43–46 and 65–68): (vertex, displacement) pairs; empty for others.
   struct FieldEntry {
     int vertex;
     Eigen::Vector3f displacement;
   };
   const std::vector<FieldEntry>& linearField(int fap) const { return linear_[static_cast<std::size_t>(fap)]; }
   // How far a linear FAP's field reaches: beyond this distance from its feature point it is negligible (3.5
-  // fall-off radii, widened by the lattice's control-point spacing); 0 for other FAPs.
+  // fall-off radii, widened by the lattice's control-point spacing; for a direct field, the farthest vertex it
+  // moves); 0 for other FAPs.
   double reach(int fap) const { return reach_[static_cast<std::size_t>(fap)]; }
 
  private:
@@ -102,6 +119,8 @@ class FaceModel {
   std::array<Eye, 2> eyes_;               // 0 left (+x), 1 right
   Eigen::Vector3d neckPivot_ = Eigen::Vector3d::Zero();
   std::vector<float> headShare_;          // per vertex, 0..1
+  std::vector<std::pair<int, float>> tongueRoll_;  // vertex, signed share of the roll angle (+ on the left)
+  double tongueAxisY_ = 0.0;              // height of the mid-line axis the tongue's sides roll about
   double pupilRadius_ = 0.0;
 };
 

@@ -1,11 +1,15 @@
-// The animated face: every FAP the mesh can show moves its feature point by value × FAPU in the standard's
-// direction and leaves the far face alone; the jaw, lids, eyeballs and head turn as they should.
+// The animated face: every FAP the mesh can show (every low-level one, tongue and ears included) moves its
+// feature point by value × FAPU in the standard's direction and leaves the far face alone; the jaw, lids,
+// eyeballs, tongue and head turn as they should.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <string>
+#include <tuple>
+#include <vector>
 
 #include "face/fap.h"
 #include "face/face_model.h"
@@ -30,12 +34,10 @@ TEST(FaceModel, AllZeroFapsLeaveTheNeutralFace) {
 }
 
 TEST(FaceModel, SupportsTheFapsTheMeshCanShow) {
-  for (int fap : {1, 2, 43, 44, 45, 46, 47, 65, 66, 67, 68}) EXPECT_FALSE(face().supports(fap)) << fap;
-  for (int fap = 3; fap <= 64; ++fap) {
-    if (fap < 43 || fap > 47) {
-      EXPECT_TRUE(face().supports(fap)) << fap;
-    }
-  }
+  // Every low-level FAP: the ICT head has a tongue (43–47) and ears (65–68) too. Only the high-level ones (viseme,
+  // expression) are not the face model's.
+  for (int fap : {0, 1, 2, 69}) EXPECT_FALSE(face().supports(fap)) << fap;
+  for (int fap = 3; fap <= th::face::kNumFaps; ++fap) EXPECT_TRUE(face().supports(fap)) << fap;
 }
 
 class LinearFap : public ::testing::TestWithParam<int> {};
@@ -70,7 +72,8 @@ TEST_P(LinearFap, MovesItsFeaturePointByValueTimesFapuAndLeavesTheFarFaceAlone) 
 
 INSTANTIATE_TEST_SUITE_P(Faps, LinearFap,
                          ::testing::Values(4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 16, 17, 18, 31, 32, 33, 34, 35, 36, 37, 38,
-                                           39, 40, 41, 42, 51, 52, 53, 54, 55, 56, 57, 58, 59, 60, 61, 62, 63, 64),
+                                           39, 40, 41, 42, 43, 44, 45, 46, 51, 52, 53, 54, 55, 56, 57, 58, 59, 60, 61,
+                                           62, 63, 64, 65, 66, 67, 68),
                          [](const auto& test) { return std::string(th::face::fapDefinition(test.param).name); });
 
 // The brows' points, inner to outer, left then right; and their raisers, 31–36.
@@ -241,6 +244,152 @@ TEST(FaceModel, TheHeadTurnsAboutTheNeckAndTheNeckBaseStays) {
       ASSERT_LT((moved.col(v) - rest.col(v)).norm(), 1e-9) << v;
     }
   }
+}
+
+// The ears (65–68) move the auricle as a whole: both of an ear's points move by value × ENS whichever of its
+// FAPs is given (the per-FAP test above checks the FAP's own point, direction and sideways motion), and nothing
+// of the face or the other side of the head moves.
+TEST(FaceModel, EarFapsMoveTheWholeAuricleAndNothingOfTheFaceOrTheOtherEar) {
+  const Eigen::Matrix3Xd& rest = face().mesh().positions;
+  const double ens = face().units().ens;
+  for (const auto& [fap, top, back, axis] : {std::tuple{65, "10.1", "10.3", 1}, std::tuple{66, "10.2", "10.4", 1},
+                                             std::tuple{67, "10.1", "10.3", 0}, std::tuple{68, "10.2", "10.4", 0}}) {
+    const th::face::FapDefinition& definition = th::face::fapDefinition(fap);
+    FapValues faps{};
+    faps[static_cast<std::size_t>(fap)] = 200.0;
+    const Eigen::Matrix3Xd moved = face().deform(faps);
+    const double expected = 200.0 * ens * definition.direction[static_cast<std::size_t>(axis)];
+    for (const char* id : {top, back}) {
+      const Eigen::Vector3d shift = pointIn(moved, id) - pointIn(rest, id);
+      EXPECT_NEAR(shift[axis], expected, 0.02 * std::abs(expected)) << definition.name << " at " << id;
+    }
+    // The face: nose, mouth, chin, eyes and brows stay exactly.
+    for (const char* id : {"9.3", "9.15", "8.3", "8.4", "2.1", "2.2", "3.5", "3.6", "3.7", "3.8", "4.5", "4.6", "5.3", "5.4"})
+      EXPECT_EQ((pointIn(moved, id) - pointIn(rest, id)).norm(), 0.0) << definition.name << " moved " << id;
+    // The other side of the head, its ear included, does not move at all; on this side only the ear moves
+    // (nothing farther from the moved ear's top than the auricle's size, 0.6 ES past its centre).
+    const double side = definition.direction[0] != 0.0 ? definition.direction[0] : (fap == 65 ? 1.0 : -1.0);
+    const Eigen::Vector3d earTop = pointIn(rest, top);
+    double otherSide = 0.0, farAway = 0.0;
+    for (Eigen::Index v = 0; v < rest.cols(); ++v) {
+      const double motion = (moved.col(v) - rest.col(v)).norm();
+      if (side * rest(0, v) <= 0.0) otherSide = std::max(otherSide, motion);
+      if ((rest.col(v) - earTop).norm() > 1.5 * face().units().es * 1024) farAway = std::max(farAway, motion);
+    }
+    EXPECT_EQ(otherSide, 0.0) << definition.name;
+    EXPECT_EQ(farAway, 0.0) << definition.name;
+  }
+}
+
+TEST(FaceModel, EarFeaturePointsSitOnTheAuricle) {
+  const Eigen::Matrix3Xd& rest = face().mesh().positions;
+  for (const auto& [top, back, side] : {std::tuple{"10.1", "10.3", 1.0}, std::tuple{"10.2", "10.4", -1.0}}) {
+    const Eigen::Vector3d t = pointIn(rest, top), b = pointIn(rest, back);
+    // Beside the head, level with the eyes (the ear's top) and behind the eyes' outer corners.
+    EXPECT_GT(side * b.x(), side * pointIn(rest, side > 0 ? "3.7" : "3.8").x() + 3.0) << back;
+    EXPECT_GE(side * b.x(), side * t.x()) << "the outermost point is the ear's outermost";
+    EXPECT_GT(t.y(), pointIn(rest, "9.15").y()) << top;
+    EXPECT_LT(t.z(), pointIn(rest, "3.7").z() - 5.0) << top;
+  }
+  // The mesh is mirrored, so are the points.
+  EXPECT_NEAR(pointIn(rest, "10.1").x(), -pointIn(rest, "10.2").x(), 1e-6);
+  EXPECT_NEAR(pointIn(rest, "10.3").y(), pointIn(rest, "10.4").y(), 1e-6);
+}
+
+// The tongue (43–46 linear, 47 roll): it moves inside the mouth and leaves the teeth, gums and lips alone.
+TEST(FaceModel, TongueFapsMoveTheTongueAndNotTheTeethGumsOrLips) {
+  const th::face::Mesh& mesh = face().mesh();
+  const Eigen::Matrix3Xd& rest = mesh.positions;
+  const std::vector<int> teeth = mesh.verticesOf("M_Teeth");
+  const std::vector<int> mouth = mesh.verticesOf("M_GumsTongue");
+  const Eigen::Vector3d tip = pointIn(rest, "6.1");
+  const double halfWidth = 0.5 * (pointIn(rest, "6.3").x() - pointIn(rest, "6.4").x());
+  for (int fap : {43, 44, 45, 46, 47}) {
+    FapValues faps{};
+    faps[static_cast<std::size_t>(fap)] = fap == 47 ? degrees(20.0) : 150.0;
+    const Eigen::Matrix3Xd moved = face().deform(faps);
+    const std::string name(th::face::fapDefinition(fap).name);
+    double teethMotion = 0.0, gumMotion = 0.0, skinMotion = 0.0;
+    for (int v : teeth) teethMotion = std::max(teethMotion, (moved.col(v) - rest.col(v)).norm());
+    // The gums: everything in front of the tongue's tip (the lower gums behind the incisors) and outside its
+    // borders (the gums along the molars).
+    for (int v : mouth)
+      if (rest(2, v) > tip.z() + 0.05 || std::abs(rest(0, v)) > halfWidth + 0.1)
+        gumMotion = std::max(gumMotion, (moved.col(v) - rest.col(v)).norm());
+    for (int v : mesh.verticesOf("M_Face")) skinMotion = std::max(skinMotion, (moved.col(v) - rest.col(v)).norm());
+    EXPECT_EQ(teethMotion, 0.0) << name;
+    EXPECT_EQ(gumMotion, 0.0) << name;
+    EXPECT_EQ(skinMotion, 0.0) << name << ": lips and face";
+    // The tongue does move: the tip for 43–46 (by value × FAPU, checked above), the borders for the roll.
+    const char* moving = fap == 47 ? "6.3" : "6.1";
+    EXPECT_GT((pointIn(moved, moving) - pointIn(rest, moving)).norm(), 0.1) << name;
+  }
+}
+
+TEST(FaceModel, TongueFeaturePointsSitOnTheTongue) {
+  const Eigen::Matrix3Xd& rest = face().mesh().positions;
+  const Eigen::Vector3d tip = pointIn(rest, "6.1"), top = pointIn(rest, "6.2");
+  // The tip on the mid-line, behind the lower incisors and below the upper lip's inner edge; the body's top
+  // behind it and higher; the borders either side, behind the tip.
+  EXPECT_NEAR(tip.x(), 0.0, 1e-6);
+  EXPECT_NEAR(top.x(), 0.0, 1e-6);
+  EXPECT_LT(tip.z(), pointIn(rest, "2.3").z() - 1.0);
+  EXPECT_LT(tip.y(), pointIn(rest, "2.2").y());
+  EXPECT_GT(top.y(), tip.y());
+  EXPECT_LT(top.z(), tip.z());
+  EXPECT_GT(pointIn(rest, "6.3").x(), 1.0);
+  EXPECT_LT(pointIn(rest, "6.4").x(), -1.0);
+  EXPECT_LT(pointIn(rest, "6.3").z(), tip.z());
+}
+
+TEST(FaceModel, TongueRollCurlsBothSidesUpByTheAngle) {
+  const Eigen::Matrix3Xd& rest = face().mesh().positions;
+  FapValues faps{};
+  faps[47] = degrees(20.0);
+  const Eigen::Matrix3Xd moved = face().deform(faps);
+  // The sides turn about the mid-line (along z, at the tongue's top): each border's elevation about it grows by
+  // the angle; the mid-line (tip, top) stays.
+  const double axisY = pointIn(rest, "6.2").y();
+  for (const char* id : {"6.3", "6.4"}) {
+    const Eigen::Vector3d before = pointIn(rest, id), after = pointIn(moved, id);
+    const double turned = std::atan2(after.y() - axisY, std::abs(after.x())) - std::atan2(before.y() - axisY, std::abs(before.x()));
+    EXPECT_NEAR(turned * 180 / std::numbers::pi, 20.0, 0.02 * 20.0) << id;
+    EXPECT_GT(after.y(), before.y()) << id;
+    EXPECT_NEAR(after.z(), before.z(), 1e-9) << id;
+  }
+  for (const char* id : {"6.1", "6.2"}) EXPECT_LT((pointIn(moved, id) - pointIn(rest, id)).norm(), 1e-9) << id;
+  // Unidirectional: a negative roll does nothing.
+  faps[47] = -degrees(20.0);
+  EXPECT_EQ((face().deform(faps) - rest).cwiseAbs().maxCoeff(), 0.0);
+}
+
+TEST(FaceModel, TheTongueStillRidesOnTheJawWhenItMoves) {
+  // The tongue's fields act before the jaw turns, like the lips': with the jaw open, thrusting the tip moves it
+  // by value × MW along the jaw's turned forward direction, and the tip goes down with the jaw.
+  const Eigen::Matrix3Xd& rest = face().mesh().positions;
+  FapValues open{};
+  open[3] = 400.0;
+  const Eigen::Matrix3Xd opened = face().deform(open);
+  FapValues thrust = open;
+  thrust[45] = 150.0;
+  const Eigen::Matrix3Xd both = face().deform(thrust);
+  const double chinDrop = pointIn(rest, "2.1").y() - pointIn(opened, "2.1").y();
+  EXPECT_GT(pointIn(rest, "6.1").y() - pointIn(opened, "6.1").y(), 0.3 * chinDrop) << "the tip goes down with the jaw";
+  const Eigen::Vector3d shift = pointIn(both, "6.1") - pointIn(opened, "6.1");
+  const double expected = 150.0 * face().units().mw;
+  EXPECT_NEAR(shift.norm(), expected, 0.02 * expected);
+  const double angle = face().jawAngleFor(400.0);
+  const Eigen::Vector3d turnedForward = Eigen::AngleAxisd(angle, face().jaw().axis) * Eigen::Vector3d::UnitZ();
+  EXPECT_LT(std::acos(std::clamp(shift.normalized().dot(turnedForward), -1.0, 1.0)), 0.15 * angle)
+      << "the thrust turns with the jaw (jaw angle " << angle << " rad)";
+  // The rest of the mouth goes on riding on the jaw as before: whatever the thrust's field does not hold is
+  // where the open jaw alone puts it.
+  std::vector<char> inField(static_cast<std::size_t>(rest.cols()), 0);
+  for (const FaceModel::FieldEntry& entry : face().linearField(45)) inField[static_cast<std::size_t>(entry.vertex)] = 1;
+  double same = 0.0;
+  for (int v : face().mesh().verticesOf("M_GumsTongue"))
+    if (!inField[static_cast<std::size_t>(v)]) same = std::max(same, (both.col(v) - opened.col(v)).norm());
+  EXPECT_EQ(same, 0.0);
 }
 
 }  // namespace
