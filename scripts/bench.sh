@@ -7,7 +7,10 @@
 #   bash scripts/bench.sh hmm [ARGS...]         # the HMM engine: taskset -c 0 build/bench/hmm_bench (~2 min)
 #   bash scripts/bench.sh animation [ARGS...]   # head and mouth models' training and synthesis (mouth: batch,
 #                                               # windowed and MMSE): build/bench/animation_bench
-#   bash scripts/bench.sh all                   # all three, one after the other
+#   bash scripts/bench.sh face [ARGS...]        # off-screen rendering (render_bench) and the MP4 export, whole and
+#                                               # encoding alone (export_bench): NOT pinned, these use both cores
+#                                               # (llvmpipe's and x264's threads); run them on an idle machine
+#   bash scripts/bench.sh all                   # all four, one after the other
 #
 # features_bench: speed of the feature extraction against Praat and SPTK RAPT. Prints Google Benchmark's table
 # (realtime_factor = audio seconds per second) and a summary: "ours N× real time, Praat M×, RAPT K×;
@@ -26,7 +29,7 @@ cpu="${BENCH_CPU:-0}"
 
 which="features"
 case "${1:-}" in
-  features | hmm | animation | all)
+  features | hmm | animation | face | all)
     which="$1"
     shift
     ;;
@@ -35,6 +38,7 @@ targets=()
 [[ "$which" == features || "$which" == all ]] && targets+=(features_bench)
 [[ "$which" == hmm || "$which" == all ]] && targets+=(hmm_bench)
 [[ "$which" == animation || "$which" == all ]] && targets+=(animation_bench)
+[[ "$which" == face || "$which" == all ]] && targets+=(render_bench export_bench)
 
 if [[ ! -f "$build_dir/CMakeCache.txt" ]]; then
   cmake -S . -B "$build_dir" -G Ninja -DCMAKE_BUILD_TYPE=Release
@@ -48,6 +52,9 @@ cmake --build "$build_dir" --parallel "$(nproc 2>/dev/null || echo 2)" --target 
 export OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1 MKL_NUM_THREADS=1
 status=0
 for target in "${targets[@]}"; do
-  taskset -c "$cpu" "$build_dir/bench/$target" "$@" || status=$?
+  case "$target" in
+    render_bench | export_bench) "$build_dir/bench/$target" "$@" || status=$? ;;
+    *) taskset -c "$cpu" "$build_dir/bench/$target" "$@" || status=$? ;;
+  esac
 done
 exit "$status"

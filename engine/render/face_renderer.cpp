@@ -631,17 +631,25 @@ void FaceRenderer::readRaw(RawFrame& frame) {
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
 }
 
-void FaceRenderer::finish(RawFrame& frame, Image& image) const {
+// The CPU's share of a frame: the backdrop under the head, then FXAA if on (single-sample targets only).
+void FaceRenderer::prepare(RawFrame& frame) const {
   const std::size_t pixels = static_cast<std::size_t>(frame.width) * static_cast<std::size_t>(frame.height);
-  if (frame.rgba.size() != pixels * 4 || backdrop_.size() != pixels * 3)
+  if (frame.width != options_.width || frame.height != options_.height || frame.rgba.size() != pixels * 4 ||
+      backdrop_.size() != pixels * 3)
     throw Error("FaceRenderer::finish: the frame is not one of this renderer's (" + std::to_string(frame.width) +
                 "x" + std::to_string(frame.height) + ")");
   compositeUnder(frame.rgba.data(), backdrop_.data(), pixels);
-  // GL's rows run bottom-up; the image's top-down.
-  if (samples_ == 1 && options_.fxaa)
-    fxaaToImage(frame.rgba.data(), frame.width, frame.height, image, frame.luma, frame.edges);
-  else
-    copyToImage(frame.rgba.data(), frame.width, frame.height, image);
+  if (samples_ == 1 && options_.fxaa) fxaaInPlace(frame.rgba.data(), frame.width, frame.height, frame.fxaa);
+}
+
+void FaceRenderer::finish(RawFrame& frame, Image& image) const {
+  prepare(frame);
+  copyToImage(frame.rgba.data(), frame.width, frame.height, image);  // GL's rows run bottom-up; the image's top-down
+}
+
+void FaceRenderer::finish(RawFrame& frame, Yuv420Image& image, bool bt709) const {
+  prepare(frame);
+  rgbaToYuv420(frame.rgba.data(), frame.width, frame.height, bt709, image);
 }
 
 Image FaceRenderer::renderImage(const OrbitCamera& camera) {

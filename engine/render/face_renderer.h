@@ -33,9 +33,11 @@
 
 #include "face/mesh.h"
 #include "render/camera.h"
+#include "render/fxaa.h"
 #include "render/gl_context.h"
 #include "render/image.h"
 #include "render/normals.h"
+#include "render/yuv.h"
 
 namespace th::render {
 
@@ -97,7 +99,7 @@ struct RawFrame {
   int width = 0;
   int height = 0;
   std::vector<std::uint8_t> rgba;
-  std::vector<std::uint8_t> luma, edges;  // FXAA's working space, kept with the frame: finishing allocates nothing
+  FxaaScratch fxaa;  // working space, kept with the frame: finishing allocates nothing after the first time
 };
 
 class FaceRenderer {
@@ -126,6 +128,8 @@ class FaceRenderer {
   // as long as nothing calls resize() meanwhile.
   void readRaw(RawFrame& frame);
   void finish(RawFrame& frame, Image& image) const;
+  // The same into Y'CbCr 4:2:0 (limited range, BT.709 or BT.601), as a video encoder takes it (render/yuv.h).
+  void finish(RawFrame& frame, Yuv420Image& image, bool bt709) const;
   // render() + readPixels() into a new image.
   Image renderImage(const OrbitCamera& camera);
   // Resolves the last render() and copies it to the window's back buffer (framebuffer 0), scaled to its size.
@@ -147,6 +151,7 @@ class FaceRenderer {
   void createTargets();
   void resolve();
   void selectFrontFacing(const Eigen::Vector3f& eye);
+  void prepare(RawFrame& frame) const;
 
   GlContext& context_;
   RenderOptions options_;

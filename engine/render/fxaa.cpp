@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <array>
 
 namespace th::render {
 namespace {
@@ -66,30 +67,20 @@ void copyToImage(const std::uint8_t* rgba, int width, int height, Image& out) {
   }
 }
 
-void fxaaToImage(const std::uint8_t* rgba, int width, int height, Image& out, std::vector<std::uint8_t>& luma,
-                 std::vector<std::uint8_t>& edges) {
-  if (out.width != width || out.height != height) out.resize(width, height);
-  const std::size_t w = static_cast<std::size_t>(width);
-  // One pass copies the rows (flipped, RGB) and takes each pixel's luma in bytes (BT.601 weights, /256).
-  luma.resize(w * static_cast<std::size_t>(height));
-  for (int y = 0; y < height; ++y) {
-    const std::uint8_t* in = rgba + static_cast<std::size_t>(y) * w * 4;
-    std::uint8_t* o = out.pixel(0, height - 1 - y);
-    std::uint8_t* l = luma.data() + static_cast<std::size_t>(y) * w;
-    for (std::size_t x = 0; x < w; ++x) {  // (two loops: this one vectorises, the RGB copy cannot)
-      l[x] = static_cast<std::uint8_t>(
-          (77U * in[4 * x] + 150U * in[4 * x + 1] + 29U * in[4 * x + 2]) >> 8);
-    }
-    for (std::size_t x = 0; x < w; ++x) {
-      o[3 * x] = in[4 * x];
-      o[3 * x + 1] = in[4 * x + 1];
-      o[3 * x + 2] = in[4 * x + 2];
-    }
-  }
+void fxaaInPlace(std::uint8_t* rgba, int width, int height, FxaaScratch& scratch) {
   if (width < 3 || height < 3) return;
-  // Rows and columns of GL's orientation (y up); the border pixels are left as copied.
-  edges.resize(w);
-  std::uint8_t* const edge = edges.data();
+  const std::size_t w = static_cast<std::size_t>(width);
+  // Each pixel's luma in bytes (BT.601 weights, /256), in a loop the compiler vectorises.
+  std::vector<std::uint8_t>& luma = scratch.luma;
+  luma.resize(w * static_cast<std::size_t>(height));
+  for (std::size_t i = 0; i < luma.size(); ++i)
+    luma[i] = static_cast<std::uint8_t>((77U * rgba[4 * i] + 150U * rgba[4 * i + 1] + 29U * rgba[4 * i + 2]) >> 8);
+  // The filtered colours are collected first and written at the end: the filter must read unfiltered
+  // neighbours.
+  scratch.fixes.clear();
+  // Rows and columns of GL's orientation (y up); the border pixels are left as they are.
+  scratch.edges.resize(w);
+  std::uint8_t* const edge = scratch.edges.data();
   for (int y = 1; y + 1 < height; ++y) {
     const std::uint8_t* row = luma.data() + static_cast<std::size_t>(y) * w;
     const std::uint8_t* up = row + w;
@@ -140,12 +131,11 @@ void fxaaToImage(const std::uint8_t* rgba, int width, int height, Image& out, st
       const float lumaWide = lumaOf(wide);
       // The wide blend may reach across another edge: then keep the near one.
       const Rgb& result = lumaWide < lumaMin || lumaWide > lumaMax ? near : wide;
-      std::uint8_t* o = out.pixel(static_cast<int>(x), height - 1 - y);
-      o[0] = toByte(result.r);
-      o[1] = toByte(result.g);
-      o[2] = toByte(result.b);
+      scratch.fixes.push_back({static_cast<std::uint32_t>(static_cast<std::size_t>(y) * w + x),
+                               {toByte(result.r), toByte(result.g), toByte(result.b)}});
     }
   }
+  for (const auto& [index, colour] : scratch.fixes) std::copy(colour.begin(), colour.end(), rgba + 4 * std::size_t{index});
 }
 
 }  // namespace th::render

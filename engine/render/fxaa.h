@@ -1,28 +1,36 @@
-// Fast approximate anti-aliasing (after Timothy Lottes' FXAA, its compact "console" form) on the CPU, applied
-// while a single-sample frame is copied out of GL's read-back buffer. Where the local contrast is high it
-// blends along the edge's direction; flat regions (most pixels) are copied after a look at four neighbours.
+// Fast approximate anti-aliasing (after Timothy Lottes' FXAA, its compact "console" form) on the CPU, on a
+// single-sample frame as GL's read-back gives it. Where the local contrast is high it blends along the edge's
+// direction; flat regions (most pixels, found by a vectorised test of four neighbours) are left alone.
 // llvmpipe runs the same filter as a full-screen shader several times slower than this loop (its texture
 // sampling dominates). Internal to the renderer (public for its tests).
 //
-//   fxaaToImage(rgba.data(), width, height, image);   // rgba: GL's rows, bottom-up, 4 bytes a pixel
+//   fxaaInPlace(rgba.data(), width, height, scratch);   // rgba: GL's rows, bottom-up, 4 bytes a pixel
+//   copyToImage(rgba.data(), width, height, image);     // top-down RGB
 //
-// Thread contract: a pure function; `luma` is scratch space, resized as needed.
+// Thread contract: pure functions; the scratch belongs to one call at a time.
 #pragma once
 
+#include <array>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "render/image.h"
 
 namespace th::render {
 
-// `rgba` holds width * height pixels, bottom row first (as glReadPixels gives them); `out` gets them top row
-// first, RGB, filtered (resized only if its size differs).
-// `luma` and `edges` are working space.
-void fxaaToImage(const std::uint8_t* rgba, int width, int height, Image& out, std::vector<std::uint8_t>& luma,
-                 std::vector<std::uint8_t>& edges);
+// Working space, kept between frames so that filtering allocates nothing once it has seen a frame.
+struct FxaaScratch {
+  std::vector<std::uint8_t> luma;
+  std::vector<std::uint8_t> edges;
+  std::vector<std::pair<std::uint32_t, std::array<std::uint8_t, 3>>> fixes;  // pixel, its filtered colour
+};
 
-// The same copy without filtering.
+// Filters `rgba` (width * height pixels, 4 bytes each, any row order) in place; alpha is kept.
+void fxaaInPlace(std::uint8_t* rgba, int width, int height, FxaaScratch& scratch);
+
+// `rgba` (bottom row first, as glReadPixels gives it) into `out`, top row first, RGB (resized only if its size
+// differs).
 void copyToImage(const std::uint8_t* rgba, int width, int height, Image& out);
 
 }  // namespace th::render

@@ -53,12 +53,12 @@ int exportVideo(const face::FaceModel& face, const video::Animation& animation, 
   std::exception_ptr workerError;
   std::thread worker([&] {
     try {
-      Image image;
+      Yuv420Image image;
       int done = 0;
       while (RawFrame* raw = queue.takePublished()) {
-        renderer.finish(*raw, image);
+        renderer.finish(*raw, image, writer.usesBt709());
         queue.release(raw);
-        writer.addVideoFrame(image.pixels, image.width * 3);
+        writer.addVideoFrame(image.planes());
         if (hooks.progress) hooks.progress(++done, frames);
       }
     } catch (...) {

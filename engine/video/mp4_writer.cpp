@@ -281,6 +281,8 @@ struct Mp4Writer::State {
   void openVideo(const AVCodec& encoder);
   void openAudio(const AVCodec& encoder);
   void encodePicture(const std::uint8_t* rgb, int strideBytes);
+  void encodePlanes(const Yuv420Planes& planes);
+  void sendPicture();
   void resample(const float* samples, std::size_t count);
   void encodeAudio(bool final);
   void send(AVCodecContext& codec, AVStream& stream, const AVFrame* frame, const char* what);
@@ -438,6 +440,27 @@ void Mp4Writer::State::encodePicture(const std::uint8_t* rgb, int strideBytes) {
   const int sourceStride[] = {strideBytes, 0, 0, 0};
   const int rows = sws_scale(scaler.get(), source, sourceStride, 0, options.height, picture->data, picture->linesize);
   if (rows != options.height) throw failure("the RGB to YUV conversion failed", rows < 0 ? rows : 0);
+  sendPicture();
+}
+
+void Mp4Writer::State::encodePlanes(const Yuv420Planes& planes) {
+  int result = av_frame_make_writable(picture.get());
+  if (result < 0) throw failure("out of memory for a video frame", result);
+  const auto copyPlane = [](const std::uint8_t* from, int fromStride, std::uint8_t* to, int toStride, int width,
+                            int height) {
+    for (int row = 0; row < height; ++row)
+      std::copy_n(from + static_cast<std::ptrdiff_t>(row) * fromStride, width,
+                  to + static_cast<std::ptrdiff_t>(row) * toStride);
+  };
+  const int chromaWidth = (options.width + 1) / 2;
+  const int chromaHeight = (options.height + 1) / 2;
+  copyPlane(planes.y, planes.yStride, picture->data[0], picture->linesize[0], options.width, options.height);
+  copyPlane(planes.cb, planes.chromaStride, picture->data[1], picture->linesize[1], chromaWidth, chromaHeight);
+  copyPlane(planes.cr, planes.chromaStride, picture->data[2], picture->linesize[2], chromaWidth, chromaHeight);
+  sendPicture();
+}
+
+void Mp4Writer::State::sendPicture() {
   picture->pts = framesIn;
   send(*video, *videoStream, picture.get(), "video");
   ++framesIn;
@@ -525,6 +548,26 @@ void Mp4Writer::addVideoFrame(const std::uint8_t* rgb, int strideBytes) {
     throw;
   }
 }
+
+void Mp4Writer::addVideoFrame(const Yuv420Planes& planes) {
+  State& s = *state_;
+  if (s.status == State::Status::kFinished) throw s.failure("a video frame was added after finish()");
+  if (s.status == State::Status::kFailed) throw s.failure("a video frame was added after an earlier error");
+  if (planes.y == nullptr || planes.cb == nullptr || planes.cr == nullptr)
+    throw s.failure("a video frame without pixels (null pointer)");
+  if (planes.yStride < s.options.width || planes.chromaStride < (s.options.width + 1) / 2)
+    throw s.failure("a Y'CbCr frame's rows are " + std::to_string(planes.yStride) + " and " +
+                    std::to_string(planes.chromaStride) + " bytes apart, less than its " +
+                    std::to_string(s.options.width) + "-pixel rows need");
+  try {
+    s.encodePlanes(planes);
+  } catch (...) {
+    s.status = State::Status::kFailed;
+    throw;
+  }
+}
+
+bool Mp4Writer::usesBt709() const { return state_->options.height >= kHdHeight; }
 
 void Mp4Writer::addVideoFrame(std::span<const std::uint8_t> rgb, int strideBytes) {
   const State& s = *state_;

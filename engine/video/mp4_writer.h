@@ -56,6 +56,18 @@ struct Mp4Options {
   bool unnamedTemporaryFile = true;   // false: always the hidden named temporary file (see above)
 };
 
+// A frame already in the video stream's own format, 8-bit Y'CbCr 4:2:0 in limited ("TV") range with the colour
+// matrix Mp4Writer::usesBt709() names: for callers that convert colour themselves (the face export does it in
+// the pass that finishes each frame), so the writer skips libswscale. Planes top row first; the chroma planes
+// have (width + 1) / 2 x (height + 1) / 2 samples.
+struct Yuv420Planes {
+  const std::uint8_t* y = nullptr;
+  int yStride = 0;
+  const std::uint8_t* cb = nullptr;
+  const std::uint8_t* cr = nullptr;
+  int chromaStride = 0;
+};
+
 // Frames that cover `samples` of audio at `sampleRateHz`: ceil(samples / sampleRateHz * fps), computed exactly
 // with the rational frame rate Mp4Writer uses (30 fps and 16000 samples make 30 frames, not 31).
 std::int64_t videoFramesFor(std::size_t samples, int sampleRateHz, double framesPerSecond);
@@ -74,6 +86,8 @@ class Mp4Writer {
   void addVideoFrame(const std::uint8_t* rgb, int strideBytes);
   // The same, checking that the frame lies within `rgb` (rows strideBytes apart, strideBytes > 0).
   void addVideoFrame(std::span<const std::uint8_t> rgb, int strideBytes);
+  // One frame as Y'CbCr planes (see Yuv420Planes), rows at least width (luma) and width / 2 (chroma) long.
+  void addVideoFrame(const Yuv420Planes& planes);
   // Mono samples at audioSampleRateHz, nominally in [-1, 1]; any amount at a time, in order. Must be finite.
   void addAudio(std::span<const float> mono);
   // Flushes the encoders, pads the audio (see above), writes the index at the front of the file (faststart)
@@ -81,6 +95,9 @@ class Mp4Writer {
   void finish();
 
   int framesWritten() const;
+  // The colour matrix of the stream (its tags, the RGB conversion, and what Yuv420Planes must hold): BT.709 for
+  // heights of 720 and more, else BT.601.
+  bool usesBt709() const;
   double videoSeconds() const;    // framesWritten() / fps
   double audioSeconds() const;    // of the samples given to addAudio so far
   const std::filesystem::path& target() const;

@@ -4,6 +4,10 @@
 #include <glad/gl.h>
 #include <gtest/gtest.h>
 
+extern "C" {
+#include <libswscale/swscale.h>
+}
+
 #include <Eigen/Geometry>
 #include <cmath>
 #include <cstdlib>
@@ -12,6 +16,7 @@
 #include <memory>
 #include <numbers>
 #include <string>
+#include <tuple>
 
 #include "core/error.h"
 #include "core/temporary_file.h"
@@ -26,6 +31,7 @@
 #include "render/normals.h"
 #include "render/occlusion.h"
 #include "render/surfaces.h"
+#include "render/yuv.h"
 
 namespace {
 
@@ -497,8 +503,9 @@ TEST(Fxaa, BlendsHardEdgesOnlyAndFlipsRows) {
   EXPECT_EQ(plain.pixel(0, 0)[0], 128);  // the top row of the image is GL's last row
   EXPECT_EQ(plain.pixel(0, h - 1)[0], 0);
   Image smooth;
-  std::vector<std::uint8_t> luma, edges;
-  th::render::fxaaToImage(rgba.data(), w, h, smooth, luma, edges);
+  th::render::FxaaScratch scratch;
+  th::render::fxaaInPlace(rgba.data(), w, h, scratch);
+  th::render::copyToImage(rgba.data(), w, h, smooth);
   int between = 0;
   for (int y = 4; y < h - 1; ++y)
     for (int x = 1; x < w - 1; ++x) {
@@ -510,6 +517,84 @@ TEST(Fxaa, BlendsHardEdgesOnlyAndFlipsRows) {
   EXPECT_EQ(smooth.pixel(8, 1)[0], 128);    // the flat band is untouched
   EXPECT_EQ(smooth.pixel(1, h - 2)[0], 0);  // far from the edge: as it was
   EXPECT_EQ(smooth.pixel(w - 2, h - 2)[0], 255);
+}
+
+// ---- Y'CbCr ----
+
+// The frame converted by libswscale as video::Mp4Writer converts RGB frames (same matrix, same range).
+th::render::Yuv420Image swscaleYuv(const std::vector<std::uint8_t>& rgba, int w, int h, bool bt709) {
+  SwsContext* context = sws_getContext(w, h, AV_PIX_FMT_RGBA, w, h, AV_PIX_FMT_YUV420P, SWS_BILINEAR, nullptr,
+                                       nullptr, nullptr);
+  const int* matrix = sws_getCoefficients(bt709 ? SWS_CS_ITU709 : SWS_CS_SMPTE170M);
+  sws_setColorspaceDetails(context, matrix, 1, matrix, 0, 0, 1 << 16, 1 << 16);
+  th::render::Yuv420Image out;
+  out.width = w;
+  out.height = h;
+  out.y.resize(static_cast<std::size_t>(w * h));
+  out.cb.resize(static_cast<std::size_t>((w / 2) * (h / 2)));
+  out.cr.resize(out.cb.size());
+  // GL's rows bottom-up: start at the last row with a negative stride.
+  const std::uint8_t* source[] = {rgba.data() + static_cast<std::size_t>((h - 1) * w * 4)};
+  const int sourceStride[] = {-w * 4};
+  std::uint8_t* planes[] = {out.y.data(), out.cb.data(), out.cr.data()};
+  const int strides[] = {w, w / 2, w / 2};
+  sws_scale(context, source, sourceStride, 0, h, planes, strides);
+  sws_freeContext(context);
+  return out;
+}
+
+TEST(Yuv420, MatchesLibswscaleOnARenderedFrame) {
+  // A real frame (skin, eyes, backdrop, edges) and a pattern of saturated colours.
+  th::render::OffscreenContext context;
+  FaceRenderer renderer(context, neutral(), {.width = 320, .height = 240, .samples = 1, .fxaa = true});
+  renderer.render(th::render::frameHead(neutral().positions, 320.0 / 240.0));
+  th::render::RawFrame frame;
+  renderer.readRaw(frame);
+  th::render::Yuv420Image ours;
+  renderer.finish(frame, ours, true);  // frame.rgba now holds the finished RGBA
+  // Saturated gradients across the whole colour cube (smooth: libswscale's chroma filter reaches into the
+  // neighbouring blocks, ours averages each block, and the two agree only where colour varies smoothly).
+  std::vector<std::uint8_t> colours(64 * 32 * 4, 255);
+  for (int y = 0; y < 32; ++y)
+    for (int x = 0; x < 64; ++x) {
+      std::uint8_t* p = colours.data() + (y * 64 + x) * 4;
+      p[0] = static_cast<std::uint8_t>(x * 4);
+      p[1] = static_cast<std::uint8_t>(y * 8);
+      p[2] = static_cast<std::uint8_t>(255 - 2 * (x + y));
+    }
+  for (const bool bt709 : {true, false}) {
+    for (const auto& [rgba, w, h] : {std::tuple{frame.rgba, 320, 240}, std::tuple{colours, 64, 32}}) {
+      th::render::Yuv420Image mine;
+      th::render::rgbaToYuv420(rgba.data(), w, h, bt709, mine);
+      const th::render::Yuv420Image reference = swscaleYuv(rgba, w, h, bt709);
+      const auto largest = [](const std::vector<std::uint8_t>& a, const std::vector<std::uint8_t>& b) {
+        int m = 0;
+        for (std::size_t i = 0; i < a.size(); ++i) m = std::max(m, std::abs(a[i] - b[i]));
+        return m;
+      };
+      const auto mean = [](const std::vector<std::uint8_t>& a, const std::vector<std::uint8_t>& b) {
+        double sum = 0.0;
+        for (std::size_t i = 0; i < a.size(); ++i) sum += std::abs(a[i] - b[i]);
+        return sum / static_cast<double>(a.size());
+      };
+      const std::string what = std::string(bt709 ? "BT.709 " : "BT.601 ") + std::to_string(w) + "x" + std::to_string(h);
+      // The same matrix and range: luma within libswscale's rounding. Chroma: libswscale's filter reaches a
+      // little into the neighbouring blocks, so across the head's sharp edges a few levels apart, and on
+      // average a fraction of one.
+      EXPECT_LE(largest(mine.y, reference.y), 1) << what;
+      EXPECT_LE(largest(mine.cb, reference.cb), 3) << what;
+      EXPECT_LE(largest(mine.cr, reference.cr), 3) << what;
+      EXPECT_LT(mean(mine.cb, reference.cb), 0.5) << what;
+      EXPECT_LT(mean(mine.cr, reference.cr), 0.5) << what;
+    }
+  }
+  // Limited range: black and white land on 16 and 235.
+  std::vector<std::uint8_t> blackWhite = {0, 0, 0, 255, 0, 0, 0, 255, 255, 255, 255, 255, 255, 255, 255, 255};
+  th::render::Yuv420Image bw;
+  th::render::rgbaToYuv420(blackWhite.data(), 2, 2, true, bw);
+  EXPECT_EQ(bw.y, (std::vector<std::uint8_t>{235, 235, 16, 16}));  // GL's bottom row (black) is the image's last
+  EXPECT_EQ(bw.cb[0], 128);
+  EXPECT_EQ(bw.cr[0], 128);
 }
 
 // ---- normals ----

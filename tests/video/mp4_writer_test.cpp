@@ -417,6 +417,46 @@ TEST(Mp4Writer, TakesPaddedRowsAndBottomUpFrames) {
   EXPECT_NEAR(luma(1, options.height - 10), 235, 2);
 }
 
+TEST(Mp4Writer, TakesYCbCrPlanesAsTheyAre) {
+  TemporaryFolder folder;
+  const fs::path path = folder.path() / "planes.mp4";
+  const Mp4Options options = smallOptions();
+  const int w = options.width;
+  const int h = options.height;
+  // Left half Y 60, right half Y 200; Cb 90 on top, Cr 170 throughout; rows padded to check the strides.
+  const int yStride = w + 8;
+  const int cStride = w / 2 + 4;
+  std::vector<std::uint8_t> y(static_cast<std::size_t>(yStride * h)), cb(static_cast<std::size_t>(cStride * h / 2)),
+      cr(cb.size(), 170);
+  for (int row = 0; row < h; ++row)
+    for (int x = 0; x < w; ++x) y[static_cast<std::size_t>(row * yStride + x)] = x < w / 2 ? 60 : 200;
+  for (int row = 0; row < h / 2; ++row)
+    for (int x = 0; x < w / 2; ++x) cb[static_cast<std::size_t>(row * cStride + x)] = row < h / 4 ? 90 : 128;
+  {
+    Mp4Writer writer(path, options);
+    EXPECT_EQ(writer.usesBt709(), h >= 720);
+    writer.addVideoFrame(Yuv420Planes{y.data(), yStride, cb.data(), cr.data(), cStride});
+    writer.addVideoFrame(Yuv420Planes{y.data(), yStride, cb.data(), cr.data(), cStride});
+    EXPECT_THROW(writer.addVideoFrame(Yuv420Planes{y.data(), w - 1, cb.data(), cr.data(), cStride}), Error);
+  }
+  {
+    Mp4Writer writer(path, options);
+    writer.addVideoFrame(Yuv420Planes{y.data(), yStride, cb.data(), cr.data(), cStride});
+    writer.addVideoFrame(Yuv420Planes{y.data(), yStride, cb.data(), cr.data(), cStride});
+    writer.finish();
+  }
+  const DecodedFile file = readBack(path);
+  ASSERT_EQ(file.luma.size(), 2u);
+  const auto at = [](const std::vector<std::uint8_t>& plane, int planeWidth, int x, int row) {
+    return static_cast<int>(plane[static_cast<std::size_t>(row * planeWidth + x)]);
+  };
+  EXPECT_NEAR(at(file.luma[1], w, w / 4, h / 2), 60, 2);
+  EXPECT_NEAR(at(file.luma[1], w, 3 * w / 4, h / 2), 200, 2);
+  EXPECT_NEAR(at(file.chromaU[1], w / 2, w / 4, h / 8), 90, 2);
+  EXPECT_NEAR(at(file.chromaU[1], w / 2, w / 4, 3 * h / 8), 128, 2);
+  EXPECT_NEAR(at(file.chromaV[1], w / 2, w / 4, h / 4), 170, 2);
+}
+
 // ---- unequal lengths and tiny files ----
 
 TEST(Mp4Writer, OneFrameAndAFewMillisecondsOfSound) {
