@@ -88,7 +88,9 @@ struct Stage {
   explicit Stage(render::RenderOptions options)
       : face(face::FaceModel::build(face::loadIctFace(face::ictFaceDirectory()))),
         renderer(context, face.mesh(), options),
-        camera(render::frameHead(face.mesh().positions, static_cast<double>(options.width) / options.height)) {}
+        camera(render::frameHead(face.mesh().positions, static_cast<double>(options.width) / options.height)) {
+    renderer.setMouthOpening(face.innerLipVertices());
+  }
 
   const render::Image& draw(const face::FapValues& faps) {
     renderer.setPositions(face.deform(faps));

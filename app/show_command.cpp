@@ -67,6 +67,7 @@ void runShow(const ShowArguments& arguments) {
   render::WindowContext window({.width = arguments.width, .height = arguments.height, .title = "talkinghead",
                                 .visible = true, .vsync = true});
   render::FaceRenderer renderer(window, face.mesh(), {.width = arguments.width, .height = arguments.height});
+  renderer.setMouthOpening(face.innerLipVertices());
   render::OrbitCamera camera = render::frameHead(face.mesh().positions, static_cast<double>(arguments.width) / arguments.height);
   const render::OrbitCamera home = camera;
 

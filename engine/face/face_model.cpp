@@ -601,6 +601,13 @@ FaceModel FaceModel::build(const FaceAssets& assets, const FaceModelOptions& opt
   return model;
 }
 
+std::vector<int> FaceModel::innerLipVertices() const {
+  std::vector<int> vertices;
+  for (const char* id : {"2.2", "2.3", "2.4", "2.5", "2.6", "2.7", "2.8", "2.9"})
+    for (int v : points_.vertices(id)) vertices.push_back(v);
+  return vertices;
+}
+
 bool FaceModel::supports(int fap) const {
   if (fap < 1 || fap > kNumFaps) return false;
   if (!linear_[static_cast<std::size_t>(fap)].empty()) return true;

@@ -75,6 +75,8 @@ class FaceModel {
   bool supports(int fap) const;
   const Mesh& mesh() const { return mesh_; }
   const FeaturePointMap& points() const { return points_; }
+  // The vertices of the inner lip line (feature points 2.2-2.9): what bounds the mouth's opening.
+  std::vector<int> innerLipVertices() const;
   const FapUnits& units() const { return units_; }
   const JawHinge& jaw() const { return jaw_; }
   // The pupils' size relative to rest for FAPs 29 (left) and 30 (right): 1 + value / 1024 · IRISD / pupil.

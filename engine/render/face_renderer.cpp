@@ -470,18 +470,60 @@ void FaceRenderer::setPositions(const Eigen::Matrix3Xd& positions) {
                   vertexData_.data());
 }
 
-// llvmpipe pays for every triangle it is given (vertex fetch, assembly, the cull test) even when it culls it;
-// half of a closed head faces away from any camera. Dropping those here, with the test GL applies (a
-// triangle faces the viewer when the eye lies on the outer side of its plane), costs a fraction of that.
-// Two-sided surfaces keep every triangle. Edge-on triangles (cover no pixel) are kept, for GL to decide.
-void FaceRenderer::selectFrontFacing(const Eigen::Vector3f& eye) {
+void FaceRenderer::setMouthOpening(std::vector<int> innerLipVertices) {
+  for (int v : innerLipVertices)
+    if (v < 0 || v >= numVertices_)
+      throw Error("FaceRenderer: mouth opening vertex " + std::to_string(v) + " is not one of the mesh's " +
+                  std::to_string(numVertices_));
+  mouthOpening_ = std::move(innerLipVertices);
+}
+
+// llvmpipe pays for every triangle it is given (vertex fetch, assembly, set-up, binning) even when it culls it
+// or the depth test hides all of it. Two kinds of triangles are dropped here, on the CPU, for less:
+// - those facing away from the camera, with the test GL applies (a triangle faces the viewer when the eye lies
+//   on the outer side of its plane); edge-on ones (they cover no pixel) are kept for GL to decide. Two-sided
+//   surfaces keep every triangle.
+// - the mouth's inside (teeth, gums and tongue), where it lies outside the mouth's opening on screen: it is
+//   enclosed by the lips and cheeks, so any of it that shows is seen through the opening, whose projection
+//   lies within the bounding rectangle of the projected inner lip line. The rectangle is widened by a quarter
+//   and 8 pixels (the lip line curves between its vertices). With the lips nearly closed this drops most of
+//   the teeth and gums.
+// Both only drop what GL would not draw: tests compare the images with and without this.
+void FaceRenderer::selectVisible(const Eigen::Vector3f& eye, const Eigen::Matrix4f& viewProjection) {
   const float* vertex = vertexData_.data();
   const auto at = [&](std::uint32_t v) { return Eigen::Map<const Eigen::Vector3f>(vertex + 6 * std::size_t{v}); };
+  // The opening's rectangle in normalised device coordinates; none if any lip vertex is behind the camera.
+  bool opening = options_.cullOnCpu && !mouthOpening_.empty();
+  Eigen::Array2f low = Eigen::Array2f::Constant(1e30f);
+  Eigen::Array2f high = Eigen::Array2f::Constant(-1e30f);
+  const auto project = [&](std::uint32_t v, Eigen::Array2f& ndc) {
+    const Eigen::Vector4f clip = viewProjection * at(v).homogeneous();
+    if (clip.w() <= 1e-6f) return false;
+    ndc = clip.head<2>().array() / clip.w();
+    return true;
+  };
+  for (int v : mouthOpening_) {
+    Eigen::Array2f ndc = Eigen::Array2f::Zero();
+    if (!project(static_cast<std::uint32_t>(v), ndc)) {
+      opening = false;
+      break;
+    }
+    low = low.min(ndc);
+    high = high.max(ndc);
+  }
+  if (opening) {
+    const Eigen::Array2f pixel(2.0f / static_cast<float>(options_.width), 2.0f / static_cast<float>(options_.height));
+    const Eigen::Array2f margin = 0.25f * (high - low) + 8.0f * pixel;
+    low -= margin;
+    high += margin;
+  }
   std::size_t written = 0;
+  trianglesDrawn_ = 0;
   for (Draw& draw : draws_) {
     draw.visibleFirst = written;
     const std::uint32_t* triangle = indices_.data() + draw.firstIndex;
     const std::uint32_t* end = triangle + draw.count;
+    const bool inside = opening && (draw.surface == Surface::kTeeth || draw.surface == Surface::kGums);
     if (isTwoSided(draw.surface) || !options_.cullOnCpu) {
       std::copy(triangle, end, visibleIndices_.begin() + static_cast<std::ptrdiff_t>(written));
       written += static_cast<std::size_t>(draw.count);
@@ -493,11 +535,20 @@ void FaceRenderer::selectFrontFacing(const Eigen::Vector3f& eye) {
         const Eigen::Vector3f toEye = eye - a;
         // Relative margin: rounding must never drop a triangle GL would draw.
         if (ab.cross(ac).dot(toEye) < -1e-4f * ab.norm() * ac.norm() * toEye.norm()) continue;
+        if (inside) {
+          Eigen::Array2f p0 = Eigen::Array2f::Zero(), p1 = p0, p2 = p0;
+          if (project(triangle[0], p0) && project(triangle[1], p1) && project(triangle[2], p2)) {
+            const Eigen::Array2f lo = p0.min(p1).min(p2);
+            const Eigen::Array2f hi = p0.max(p1).max(p2);
+            if ((hi < low).any() || (lo > high).any()) continue;
+          }
+        }
         std::copy(triangle, triangle + 3, visibleIndices_.begin() + static_cast<std::ptrdiff_t>(written));
         written += 3;
       }
     }
     draw.visibleCount = static_cast<GLsizei>(written - draw.visibleFirst);
+    trianglesDrawn_ += draw.visibleCount / 3;
   }
   glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, gl_->indexBuffer);  // (the VAO is not bound: this binds no VAO state)
   glBindVertexArray(gl_->vao);
@@ -530,7 +581,7 @@ void FaceRenderer::render(const OrbitCamera& camera) {
   const Eigen::Matrix4f view = camera.view();
   const Eigen::Matrix4f viewProjection = camera.projection(aspect) * view;
   const Eigen::Vector3f eyePosition = camera.eye();
-  selectFrontFacing(eyePosition);
+  selectVisible(eyePosition, viewProjection);
   const Eigen::Matrix3f toWorld = view.topLeftCorner<3, 3>().transpose();
   const Lighting& light = options_.lighting;
   const Light* lights[3] = {&light.key, &light.fill, &light.rim};

@@ -84,8 +84,9 @@ struct RenderOptions {
   // shows the frame without it). llvmpipe pays about three times the frame's CPU time for 4x MSAA at 720p,
   // this filter a few milliseconds: the choice for long exports at high resolutions.
   bool fxaa = false;
-  // Drop the triangles that face away from the camera before GL sees them (render()): the same image, a few
-  // milliseconds a frame less on llvmpipe. false leaves culling to GL alone (tests compare the two).
+  // Drop the triangles that face away from the camera, and the mouth's inside where it cannot show (see
+  // setMouthOpening), before GL sees them (render()): the same image, several milliseconds a frame less on
+  // llvmpipe. false leaves culling to GL alone (tests compare the two).
   bool cullOnCpu = true;
   Eigen::Vector3f backgroundTop{0.36f, 0.40f, 0.46f};     // sRGB, a neutral grey-blue
   Eigen::Vector3f backgroundBottom{0.13f, 0.14f, 0.17f};  // sRGB
@@ -113,6 +114,9 @@ class FaceRenderer {
 
   // New positions (3 x V, the mesh's vertex order): normals are recomputed and both are uploaded.
   void setPositions(const Eigen::Matrix3Xd& positions);
+  // The mesh's inner lip line (vertex indices, any order; e.g. MPEG-4 feature points 2.2-2.9): the mouth's
+  // inside is then drawn only where it can show through the opening (see render()). Empty: always drawn.
+  void setMouthOpening(std::vector<int> innerLipVertices);
   // The pupils' radii relative to rest: [0] the face's left eye (MPEG-4 FAP 29), [1] its right (FAP 30), as
   // face::FaceModel::pupilScale gives them. Kept until changed; a pupil never grows past its iris.
   void setPupilScale(const std::array<double, 2>& scale);
@@ -139,6 +143,7 @@ class FaceRenderer {
 
   const RenderOptions& options() const { return options_; }
   int samples() const { return samples_; }                       // the MSAA sample count in use
+  int trianglesDrawn() const { return trianglesDrawn_; }          // given to GL by the last render()
   const Eigen::Matrix3Xf& normals() const { return normals_; }   // of the last positions set
   const Eigen::VectorXf& openness() const { return openness_; }  // per-vertex ambient openness, 0..1
   const Eigen::VectorXf& lipWeight() const { return lipWeight_; }
@@ -150,7 +155,7 @@ class FaceRenderer {
 
   void createTargets();
   void resolve();
-  void selectFrontFacing(const Eigen::Vector3f& eye);
+  void selectVisible(const Eigen::Vector3f& eye, const Eigen::Matrix4f& viewProjection);
   void prepare(RawFrame& frame) const;
 
   GlContext& context_;
@@ -165,6 +170,8 @@ class FaceRenderer {
   RawFrame raw_;  // readPixels()' own
   std::vector<std::uint8_t> backdrop_;  // RGB, GL's row order, for the size in use
   std::vector<std::uint32_t> indices_;  // every triangle, in draw order (draws_ index into it)
+  std::vector<int> mouthOpening_;  // inner lip line
+  int trianglesDrawn_ = 0;
   std::vector<std::uint32_t> visibleIndices_;  // this frame's front-facing ones (per frame, no allocation)
   std::vector<Draw> draws_;
   std::vector<Eye> eyes_;

@@ -38,6 +38,7 @@ int exportVideo(const face::FaceModel& face, const video::Animation& animation, 
   // FXAA on one sample instead of 4x MSAA: a third of the CPU per frame on llvmpipe, nearly as smooth.
   FaceRenderer renderer(context, face.mesh(),
                         {.width = options.width, .height = options.height, .samples = 1, .fxaa = true});
+  renderer.setMouthOpening(face.innerLipVertices());
   const OrbitCamera camera =
       frameHead(face.mesh().positions, static_cast<double>(options.width) / static_cast<double>(options.height));
   video::Mp4Writer writer(output, {.width = options.width,

@@ -20,6 +20,7 @@ extern "C" {
 
 #include "core/error.h"
 #include "core/temporary_file.h"
+#include "face/face_model.h"
 #include "face/feature_points.h"
 #include "face/mesh.h"
 #include "render/backdrop.h"
@@ -332,6 +333,55 @@ TEST(FaceRenderer, CullingOnTheCpuDrawsWhatGlWouldDraw) {
     for (std::size_t i = 0; i < a.pixels.size(); ++i) differing += a.pixels[i] != b.pixels[i] ? 1 : 0;
     EXPECT_EQ(differing, 0) << "yaw " << yaw << ", pitch " << pitch;
   }
+}
+
+TEST(FaceRenderer, TheMouthsInsideIsDroppedOnlyWhereItCannotShow) {
+  const th::face::FaceModel face = th::face::FaceModel::build(th::face::loadIctFace(th::face::ictFaceDirectory()));
+  th::render::OffscreenContext context;
+  FaceRenderer cpu(context, face.mesh(), {.width = 480, .height = 360, .samples = 1});
+  FaceRenderer gl(context, face.mesh(), {.width = 480, .height = 360, .samples = 1, .cullOnCpu = false});
+  cpu.setMouthOpening(face.innerLipVertices());
+  EXPECT_THROW(gl.setMouthOpening({face.mesh().numVertices()}), th::Error);
+  OrbitCamera camera = th::render::frameHead(face.mesh().positions, 480.0 / 360.0);
+  // Closed, parted, open and wide open; a smile; a turned, tilted head; seen from the front, a side, below and
+  // above, and close up.
+  struct Pose {
+    double jaw, smile, yaw;
+  };
+  int cases = 0;
+  for (const Pose& pose : {Pose{0, 0, 0}, Pose{40, 0, 0}, Pose{250, 0, 0}, Pose{700, 0, 0}, Pose{120, 250, 0},
+                           Pose{300, 0, 20000}}) {
+    th::face::FapValues faps{};
+    faps[3] = pose.jaw;
+    faps[53] = faps[54] = faps[12] = faps[13] = pose.smile;
+    faps[49] = pose.yaw;
+    faps[48] = pose.yaw / 2;
+    const Eigen::Matrix3Xd positions = face.deform(faps);
+    cpu.setPositions(positions);
+    gl.setPositions(positions);
+    for (const auto& [yaw, pitch, distance] :
+         {std::tuple{0.0f, 0.0f, 1.0f}, {60.0f, 0.0f, 1.0f}, {0.0f, -35.0f, 1.0f}, {-20.0f, 40.0f, 1.0f}, {0.0f, 0.0f, 0.35f}}) {
+      OrbitCamera view = camera;
+      view.yawDegrees = yaw;
+      view.pitchDegrees = pitch;
+      view.distance *= distance;
+      const Image a = cpu.renderImage(view);
+      const Image b = gl.renderImage(view);
+      long differing = 0;
+      for (std::size_t i = 0; i < a.pixels.size(); ++i) differing += a.pixels[i] != b.pixels[i] ? 1 : 0;
+      EXPECT_EQ(differing, 0) << "jaw " << pose.jaw << ", smile " << pose.smile << ", head yaw " << pose.yaw
+                              << "; view yaw " << yaw << ", pitch " << pitch << ", distance x" << distance;
+      ++cases;
+    }
+  }
+  EXPECT_EQ(cases, 30);
+  // It does drop something: with the lips together, most of the teeth and gums.
+  th::face::FapValues closed{};
+  cpu.setPositions(face.deform(closed));
+  gl.setPositions(face.deform(closed));
+  cpu.render(camera);
+  gl.render(camera);
+  EXPECT_LT(cpu.trianglesDrawn(), gl.trianglesDrawn() / 2 + 3000);
 }
 
 // Nearly black pixels in the left and the right half of an image (the pupils are the darkest thing in view).
