@@ -8,8 +8,10 @@
 #   2. release      Release build in build/ (Ninja), then `ctest -j2 --output-on-failure`
 #   3. sanitizers   AddressSanitizer + UBSan build in build-asan/ (Debug at -O1, so asserts and libstdc++'s
 #                   bounds checks are on), then ctest with leak detection; any report fails its test
-#   4. fuzz         scripts/fuzz.sh, if present, for FUZZ_SECONDS (default 60)
-#   5. bench smoke  build/bench/{features,animation,render,export}_bench --quick: one pass of every benchmark (proves it
+#   4. tsan         ThreadSanitizer build in build-tsan/ of the tests labelled `threads` only (the thread hand-off
+#                   the export's pipeline runs on), then those tests; any report fails them
+#   5. fuzz         scripts/fuzz.sh, if present, for FUZZ_SECONDS (default 60)
+#   6. bench smoke  build/bench/{features,animation,render,export}_bench --quick: one pass of every benchmark (proves it
 #                   runs, times nothing)
 # Then a summary of the parts; the last line is "N passed, M failed", the ctest results of both runs together.
 # Exits non-zero if any part failed.
@@ -22,6 +24,7 @@ repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$repo"
 build_dir="${BUILD_DIR:-build}"
 asan_dir="${ASAN_BUILD_DIR:-build-asan}"
+tsan_dir="${TSAN_BUILD_DIR:-build-tsan}"
 jobs="$(nproc 2>/dev/null || echo 2)"
 ctest_timeout="${CTEST_TIMEOUT_SECONDS:-600}"
 export FUZZ_SECONDS="${FUZZ_SECONDS:-60}"
@@ -46,11 +49,13 @@ configure() {
   cmake -S . -B "$dir" "${generator[@]}" "$@"
 }
 
-# run_ctest DIR: all tests of DIR, two at a time; its output is kept in $logs/ctest-DIR.log for counting.
+# run_ctest DIR [ctest options...]: the tests of DIR, two at a time; its output is kept in $logs/ctest-DIR.log for
+# counting.
 run_ctest() {
   local dir="$1"
+  shift
   local log="$logs/ctest-$(basename "$dir").log"
-  ctest --test-dir "$dir" --parallel 2 --output-on-failure --no-tests=error --timeout "$ctest_timeout" 2>&1 |
+  ctest --test-dir "$dir" --parallel 2 --output-on-failure --no-tests=error --timeout "$ctest_timeout" "$@" 2>&1 |
     tee "$log"
   return "${PIPESTATUS[0]}"
 }
@@ -114,7 +119,8 @@ build_release() {
 }
 
 build_sanitized() {
-  configure "$asan_dir" -DCMAKE_BUILD_TYPE=Debug -DTALKINGHEAD_SANITIZE=ON \
+  # No benchmarks here: they run (once, as a smoke test) from the Release build.
+  configure "$asan_dir" -DCMAKE_BUILD_TYPE=Debug -DTALKINGHEAD_SANITIZE=ON -DTALKINGHEAD_BENCHMARKS=OFF \
     -DCMAKE_CXX_FLAGS_DEBUG="-g -O1 -D_GLIBCXX_ASSERTIONS" -DCMAKE_C_FLAGS_DEBUG="-g -O1"
   cmake --build "$asan_dir" --parallel "$jobs"
 }
@@ -122,6 +128,7 @@ build_sanitized() {
 # The sanitizer settings apply to everything after this point, including test discovery at build time.
 export ASAN_OPTIONS="${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=1}"
 export UBSAN_OPTIONS="${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}"
+export TSAN_OPTIONS="${TSAN_OPTIONS:-halt_on_error=1:second_deadlock_stack=1}"
 
 part "packages" bash scripts/install-packages.sh
 
@@ -140,6 +147,19 @@ if ((part_status == 0)); then
   annotate_counts "$asan_dir"
 else
   skip "asan+ubsan tests" "(build failed)"
+fi
+
+build_tsan() {
+  configure "$tsan_dir" -DCMAKE_BUILD_TYPE=Debug -DTALKINGHEAD_TSAN=ON -DCMAKE_CXX_FLAGS_DEBUG="-g -O1" \
+    -DCMAKE_C_FLAGS_DEBUG="-g -O1"
+  cmake --build "$tsan_dir" --parallel "$jobs" --target slot_queue_test
+}
+part "tsan build" build_tsan
+if ((part_status == 0)); then
+  part "tsan tests" run_ctest "$tsan_dir" -L threads
+  annotate_counts "$tsan_dir"
+else
+  skip "tsan tests" "(build failed)"
 fi
 
 # The fuzzer's own output is long (libFuzzer status lines, decoder chatter): it goes to a log in the build
