@@ -91,6 +91,7 @@ struct Stage {
         renderer(context, face.mesh(), options),
         camera(render::frameHead(face.mesh().positions, static_cast<double>(options.width) / options.height)) {
     renderer.setMouthOpening(face.innerLipVertices());
+    renderer.setEyeOpenings(face.eyeLidVertices(0), face.eyeLidVertices(1));
   }
 
   const render::Image& draw(const face::FapValues& faps) {

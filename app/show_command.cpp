@@ -68,6 +68,7 @@ void runShow(const ShowArguments& arguments) {
                                 .visible = true, .vsync = true});
   render::FaceRenderer renderer(window, face.mesh(), {.width = arguments.width, .height = arguments.height});
   renderer.setMouthOpening(face.innerLipVertices());
+  renderer.setEyeOpenings(face.eyeLidVertices(0), face.eyeLidVertices(1));
   render::OrbitCamera camera = render::frameHead(face.mesh().positions, static_cast<double>(arguments.width) / arguments.height);
   const render::OrbitCamera home = camera;
 

@@ -608,6 +608,14 @@ std::vector<int> FaceModel::innerLipVertices() const {
   return vertices;
 }
 
+std::vector<int> FaceModel::eyeLidVertices(int side) const {
+  std::vector<int> vertices;
+  const auto ids = side == 0 ? std::array{"3.1", "3.3", "3.7", "3.11"} : std::array{"3.2", "3.4", "3.8", "3.12"};
+  for (const char* id : ids)
+    for (int v : points_.vertices(id)) vertices.push_back(v);
+  return vertices;
+}
+
 bool FaceModel::supports(int fap) const {
   if (fap < 1 || fap > kNumFaps) return false;
   if (!linear_[static_cast<std::size_t>(fap)].empty()) return true;

@@ -77,6 +77,9 @@ class FaceModel {
   const FeaturePointMap& points() const { return points_; }
   // The vertices of the inner lip line (feature points 2.2-2.9): what bounds the mouth's opening.
   std::vector<int> innerLipVertices() const;
+  // The vertices of an eye's lid line (feature points 3.1/3.3/3.7/3.11 for the face's left eye, side 0;
+  // 3.2/3.4/3.8/3.12 for its right, side 1): what bounds the eye's opening.
+  std::vector<int> eyeLidVertices(int side) const;
   const FapUnits& units() const { return units_; }
   const JawHinge& jaw() const { return jaw_; }
   // The pupils' size relative to rest for FAPs 29 (left) and 30 (right): 1 + value / 1024 · IRISD / pupil.

@@ -470,12 +470,23 @@ void FaceRenderer::setPositions(const Eigen::Matrix3Xd& positions) {
                   vertexData_.data());
 }
 
-void FaceRenderer::setMouthOpening(std::vector<int> innerLipVertices) {
-  for (int v : innerLipVertices)
+void FaceRenderer::checkVertices(const std::vector<int>& vertices, const char* what) const {
+  for (int v : vertices)
     if (v < 0 || v >= numVertices_)
-      throw Error("FaceRenderer: mouth opening vertex " + std::to_string(v) + " is not one of the mesh's " +
-                  std::to_string(numVertices_));
-  mouthOpening_ = std::move(innerLipVertices);
+      throw Error(std::string("FaceRenderer: ") + what + " vertex " + std::to_string(v) +
+                  " is not one of the mesh's " + std::to_string(numVertices_));
+}
+
+void FaceRenderer::setMouthOpening(std::vector<int> innerLipVertices) {
+  checkVertices(innerLipVertices, "mouth opening");
+  openings_[0] = std::move(innerLipVertices);
+}
+
+void FaceRenderer::setEyeOpenings(std::vector<int> leftLidVertices, std::vector<int> rightLidVertices) {
+  checkVertices(leftLidVertices, "eye opening");
+  checkVertices(rightLidVertices, "eye opening");
+  openings_[1] = std::move(leftLidVertices);
+  openings_[2] = std::move(rightLidVertices);
 }
 
 // llvmpipe pays for every triangle it is given (vertex fetch, assembly, set-up, binning) even when it culls it
@@ -483,39 +494,49 @@ void FaceRenderer::setMouthOpening(std::vector<int> innerLipVertices) {
 // - those facing away from the camera, with the test GL applies (a triangle faces the viewer when the eye lies
 //   on the outer side of its plane); edge-on ones (they cover no pixel) are kept for GL to decide. Two-sided
 //   surfaces keep every triangle.
-// - the mouth's inside (teeth, gums and tongue), where it lies outside the mouth's opening on screen: it is
-//   enclosed by the lips and cheeks, so any of it that shows is seen through the opening, whose projection
-//   lies within the bounding rectangle of the projected inner lip line. The rectangle is widened by a quarter
-//   and 8 pixels (the lip line curves between its vertices). With the lips nearly closed this drops most of
-//   the teeth and gums.
+// - the mouth's inside (teeth, gums and tongue) and the eyeballs (sclera, iris), where they lie outside their
+//   opening on screen: they are enclosed by the lips and cheeks, or the lids and the socket, so any of them
+//   that shows is seen through the opening, whose projection lies within the bounding rectangle of the
+//   projected lip or lid line. The rectangle is widened by a quarter and 8 pixels (the line curves between its
+//   vertices). With the lips nearly closed this drops most of the teeth and gums; it always drops the
+//   eyeballs' parts behind the lids.
 // Both only drop what GL would not draw: tests compare the images with and without this.
 void FaceRenderer::selectVisible(const Eigen::Vector3f& eye, const Eigen::Matrix4f& viewProjection) {
   const float* vertex = vertexData_.data();
   const auto at = [&](std::uint32_t v) { return Eigen::Map<const Eigen::Vector3f>(vertex + 6 * std::size_t{v}); };
-  // The opening's rectangle in normalised device coordinates; none if any lip vertex is behind the camera.
-  bool opening = options_.cullOnCpu && !mouthOpening_.empty();
-  Eigen::Array2f low = Eigen::Array2f::Constant(1e30f);
-  Eigen::Array2f high = Eigen::Array2f::Constant(-1e30f);
   const auto project = [&](std::uint32_t v, Eigen::Array2f& ndc) {
     const Eigen::Vector4f clip = viewProjection * at(v).homogeneous();
     if (clip.w() <= 1e-6f) return false;
     ndc = clip.head<2>().array() / clip.w();
     return true;
   };
-  for (int v : mouthOpening_) {
-    Eigen::Array2f ndc = Eigen::Array2f::Zero();
-    if (!project(static_cast<std::uint32_t>(v), ndc)) {
-      opening = false;
-      break;
+  // Each opening's rectangle in normalised device coordinates; none if a vertex of its line is behind the
+  // camera.
+  struct Rectangle {
+    bool valid = false;
+    Eigen::Array2f low, high;
+  };
+  std::array<Rectangle, 3> rectangles;
+  for (std::size_t o = 0; o < openings_.size(); ++o) {
+    Rectangle& r = rectangles[o];
+    r.valid = options_.cullOnCpu && !openings_[o].empty();
+    r.low = Eigen::Array2f::Constant(1e30f);
+    r.high = Eigen::Array2f::Constant(-1e30f);
+    for (int v : openings_[o]) {
+      Eigen::Array2f ndc = Eigen::Array2f::Zero();
+      if (!project(static_cast<std::uint32_t>(v), ndc)) {
+        r.valid = false;
+        break;
+      }
+      r.low = r.low.min(ndc);
+      r.high = r.high.max(ndc);
     }
-    low = low.min(ndc);
-    high = high.max(ndc);
-  }
-  if (opening) {
-    const Eigen::Array2f pixel(2.0f / static_cast<float>(options_.width), 2.0f / static_cast<float>(options_.height));
-    const Eigen::Array2f margin = 0.25f * (high - low) + 8.0f * pixel;
-    low -= margin;
-    high += margin;
+    if (r.valid) {
+      const Eigen::Array2f pixel(2.0f / static_cast<float>(options_.width), 2.0f / static_cast<float>(options_.height));
+      const Eigen::Array2f margin = 0.25f * (r.high - r.low) + 8.0f * pixel;
+      r.low -= margin;
+      r.high += margin;
+    }
   }
   std::size_t written = 0;
   trianglesDrawn_ = 0;
@@ -523,7 +544,13 @@ void FaceRenderer::selectVisible(const Eigen::Vector3f& eye, const Eigen::Matrix
     draw.visibleFirst = written;
     const std::uint32_t* triangle = indices_.data() + draw.firstIndex;
     const std::uint32_t* end = triangle + draw.count;
-    const bool inside = opening && (draw.surface == Surface::kTeeth || draw.surface == Surface::kGums);
+    // The opening this draw is seen through, if any: the mouth's, or its eye's.
+    const Rectangle* opening = nullptr;
+    if (draw.surface == Surface::kTeeth || draw.surface == Surface::kGums)
+      opening = &rectangles[0];
+    else if ((draw.surface == Surface::kSclera || draw.surface == Surface::kIris) && draw.eye >= 0)
+      opening = &rectangles[1 + static_cast<std::size_t>(eyes_[static_cast<std::size_t>(draw.eye)].side)];
+    if (opening != nullptr && !opening->valid) opening = nullptr;
     if (isTwoSided(draw.surface) || !options_.cullOnCpu) {
       std::copy(triangle, end, visibleIndices_.begin() + static_cast<std::ptrdiff_t>(written));
       written += static_cast<std::size_t>(draw.count);
@@ -535,12 +562,12 @@ void FaceRenderer::selectVisible(const Eigen::Vector3f& eye, const Eigen::Matrix
         const Eigen::Vector3f toEye = eye - a;
         // Relative margin: rounding must never drop a triangle GL would draw.
         if (ab.cross(ac).dot(toEye) < -1e-4f * ab.norm() * ac.norm() * toEye.norm()) continue;
-        if (inside) {
+        if (opening != nullptr) {
           Eigen::Array2f p0 = Eigen::Array2f::Zero(), p1 = p0, p2 = p0;
           if (project(triangle[0], p0) && project(triangle[1], p1) && project(triangle[2], p2)) {
             const Eigen::Array2f lo = p0.min(p1).min(p2);
             const Eigen::Array2f hi = p0.max(p1).max(p2);
-            if ((hi < low).any() || (lo > high).any()) continue;
+            if ((hi < opening->low).any() || (lo > opening->high).any()) continue;
           }
         }
         std::copy(triangle, triangle + 3, visibleIndices_.begin() + static_cast<std::ptrdiff_t>(written));

@@ -117,6 +117,8 @@ class FaceRenderer {
   // The mesh's inner lip line (vertex indices, any order; e.g. MPEG-4 feature points 2.2-2.9): the mouth's
   // inside is then drawn only where it can show through the opening (see render()). Empty: always drawn.
   void setMouthOpening(std::vector<int> innerLipVertices);
+  // The same for the eyeballs (sclera and iris): each eye's lid line (the face's left eye first, +x).
+  void setEyeOpenings(std::vector<int> leftLidVertices, std::vector<int> rightLidVertices);
   // The pupils' radii relative to rest: [0] the face's left eye (MPEG-4 FAP 29), [1] its right (FAP 30), as
   // face::FaceModel::pupilScale gives them. Kept until changed; a pupil never grows past its iris.
   void setPupilScale(const std::array<double, 2>& scale);
@@ -157,6 +159,7 @@ class FaceRenderer {
   void resolve();
   void selectVisible(const Eigen::Vector3f& eye, const Eigen::Matrix4f& viewProjection);
   void prepare(RawFrame& frame) const;
+  void checkVertices(const std::vector<int>& vertices, const char* what) const;
 
   GlContext& context_;
   RenderOptions options_;
@@ -170,7 +173,7 @@ class FaceRenderer {
   RawFrame raw_;  // readPixels()' own
   std::vector<std::uint8_t> backdrop_;  // RGB, GL's row order, for the size in use
   std::vector<std::uint32_t> indices_;  // every triangle, in draw order (draws_ index into it)
-  std::vector<int> mouthOpening_;  // inner lip line
+  std::array<std::vector<int>, 3> openings_;  // lines bounding the mouth's opening, the left and right eye's
   int trianglesDrawn_ = 0;
   std::vector<std::uint32_t> visibleIndices_;  // this frame's front-facing ones (per frame, no allocation)
   std::vector<Draw> draws_;

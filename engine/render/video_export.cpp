@@ -39,6 +39,7 @@ int exportVideo(const face::FaceModel& face, const video::Animation& animation, 
   FaceRenderer renderer(context, face.mesh(),
                         {.width = options.width, .height = options.height, .samples = 1, .fxaa = true});
   renderer.setMouthOpening(face.innerLipVertices());
+  renderer.setEyeOpenings(face.eyeLidVertices(0), face.eyeLidVertices(1));
   const OrbitCamera camera =
       frameHead(face.mesh().positions, static_cast<double>(options.width) / static_cast<double>(options.height));
   video::Mp4Writer writer(output, {.width = options.width,
@@ -46,7 +47,8 @@ int exportVideo(const face::FaceModel& face, const video::Animation& animation, 
                                    .framesPerSecond = options.framesPerSecond,
                                    .audioSampleRateHz = sampleRateHz,
                                    .crf = options.crf,
-                                   .preset = options.preset});
+                                   .preset = options.preset,
+                                   .x264Params = options.x264Params});
   writer.addAudio(samples);
   const auto frames = static_cast<int>(video::videoFramesFor(samples.size(), sampleRateHz, options.framesPerSecond));
 

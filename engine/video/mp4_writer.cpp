@@ -351,6 +351,9 @@ void Mp4Writer::State::openVideo(const AVCodec& encoder) {
   if ((output->oformat->flags & AVFMT_GLOBALHEADER) != 0) codec.flags |= AV_CODEC_FLAG_GLOBAL_HEADER;
   av_opt_set(codec.priv_data, "preset", options.preset.c_str(), 0);
   av_opt_set_double(codec.priv_data, "crf", options.crf, 0);
+  if (!options.x264Params.empty() &&
+      av_opt_set(codec.priv_data, "x264-params", options.x264Params.c_str(), 0) < 0)
+    throw failure("cannot pass the x264 settings \"" + options.x264Params + "\"");
   // Lossless coding (crf 0) needs the High 4:4:4 Predictive profile; everything else is plain High.
   if (options.crf > 0) av_opt_set(codec.priv_data, "profile", "high", 0);
   int result = avcodec_open2(&codec, &encoder, nullptr);

@@ -51,6 +51,9 @@ struct Mp4Options {
   int audioBitRate = 96000;           // bits per second of AAC (mono)
   int crf = 20;                       // x264 constant quality, 0 (lossless) ... 51; lower is better and larger
   std::string preset = "veryfast";    // x264 speed/size trade-off: ultrafast ... placebo
+  // Further x264 settings over the preset, "key=value:key=value" (FFmpeg's x264-params). For the program's own
+  // use: libx264 ignores a name it does not know.
+  std::string x264Params;
   int threads = 0;                    // x264 threads; 0: FFmpeg decides from the number of cores
   double keyframeIntervalSeconds = 5.0;  // longest gap between keyframes (seek points)
   bool unnamedTemporaryFile = true;   // false: always the hidden named temporary file (see above)

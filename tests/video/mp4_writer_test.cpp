@@ -565,6 +565,27 @@ TEST(Mp4Writer, LosslessQualityUsesTheHigh444PredictiveProfile) {
   EXPECT_NEAR(mean(file.luma[2]), 16.0 + greyOf(2) * 219.0 / 255.0, 0.6);
 }
 
+TEST(Mp4Writer, X264SettingsApplyOverThePreset) {
+  // Detailed frames (a deterministic noise texture), encoded at the default quality and with a fixed quantiser
+  // of 51 (the coarsest) given as an x264 setting: a far smaller file.
+  TemporaryFolder folder;
+  Mp4Options options = smallOptions();
+  std::vector<std::uint8_t> rgb(static_cast<std::size_t>(options.width * options.height * 3));
+  const auto write = [&](const fs::path& path) {
+    Mp4Writer writer(path, options);
+    for (int f = 0; f < 5; ++f) {
+      for (std::size_t i = 0; i < rgb.size(); ++i) rgb[i] = static_cast<std::uint8_t>((i * 2654435761U + f * 97U) >> 24);
+      writer.addVideoFrame(rgb.data(), options.width * 3);
+    }
+    writer.finish();
+    return fs::file_size(path);
+  };
+  const auto standard = write(folder.path() / "default.mp4");
+  options.x264Params = "qp=51";
+  const auto coarse = write(folder.path() / "coarse.mp4");
+  EXPECT_LT(coarse * 4, standard);
+}
+
 TEST(Mp4Writer, VideoFramesForRoundsUpExactly) {
   EXPECT_EQ(videoFramesFor(16000, 16000, 30.0), 30);
   EXPECT_EQ(videoFramesFor(16001, 16000, 30.0), 31);
