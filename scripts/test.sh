@@ -121,7 +121,7 @@ build_release() {
 build_sanitized() {
   # No benchmarks here: they run (once, as a smoke test) from the Release build.
   configure "$asan_dir" -DCMAKE_BUILD_TYPE=Debug -DTALKINGHEAD_SANITIZE=ON -DTALKINGHEAD_BENCHMARKS=OFF \
-    -DCMAKE_CXX_FLAGS_DEBUG="-g -O1 -D_GLIBCXX_ASSERTIONS" -DCMAKE_C_FLAGS_DEBUG="-g -O1"
+    -DCMAKE_CXX_FLAGS_DEBUG="-g1 -O1 -D_GLIBCXX_ASSERTIONS" -DCMAKE_C_FLAGS_DEBUG="-g1 -O1"
   cmake --build "$asan_dir" --parallel "$jobs"
 }
 
