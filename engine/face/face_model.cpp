@@ -89,23 +89,6 @@ int frontVertexNear(const Eigen::Matrix3Xd& positions, const std::vector<int>& s
   return best;
 }
 
-// Area-weighted vertex normals of the triangles drawn with the given materials (outward: the triangles are
-// counter-clockwise seen from outside); zero for vertices of no such triangle.
-Eigen::Matrix3Xd vertexNormals(const Mesh& mesh, std::initializer_list<std::string_view> materials) {
-  std::vector<int> wanted;
-  for (std::string_view name : materials) wanted.push_back(mesh.materialIndex(name));
-  Eigen::Matrix3Xd normals = Eigen::Matrix3Xd::Zero(3, mesh.positions.cols());
-  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
-    if (std::find(wanted.begin(), wanted.end(), mesh.triangleMaterial[t]) == wanted.end()) continue;
-    const auto& [a, b, c] = mesh.triangles[t];
-    const Eigen::Vector3d n = (mesh.positions.col(b) - mesh.positions.col(a)).cross(mesh.positions.col(c) - mesh.positions.col(a));
-    for (int v : mesh.triangles[t]) normals.col(v) += n;
-  }
-  for (Eigen::Index v = 0; v < normals.cols(); ++v)
-    if (normals.col(v).squaredNorm() > 0.0) normals.col(v).normalize();
-  return normals;
-}
-
 // Neighbours of each vertex over the triangles drawn with one material.
 std::vector<std::vector<int>> neighboursIn(const Mesh& mesh, std::string_view material) {
   const int wanted = mesh.materialIndex(material);

@@ -2,6 +2,8 @@
 
 #include <tiny_obj_loader.h>
 
+#include <Eigen/Geometry>
+
 #include <algorithm>
 #include <cmath>
 #include <system_error>
@@ -96,6 +98,22 @@ Eigen::Matrix3Xd loadObjPositions(const std::filesystem::path& path, int expecte
     throw fileError(path, "has " + std::to_string(positions.cols()) + " vertices, the neutral mesh " +
                               std::to_string(expectedVertices));
   return positions;
+}
+
+Eigen::Matrix3Xd vertexNormals(const Mesh& mesh, std::initializer_list<std::string_view> materials) {
+  std::vector<int> wanted;
+  for (std::string_view name : materials)
+    if (const int index = mesh.materialIndex(name); index >= 0) wanted.push_back(index);
+  Eigen::Matrix3Xd normals = Eigen::Matrix3Xd::Zero(3, mesh.positions.cols());
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    if (std::find(wanted.begin(), wanted.end(), mesh.triangleMaterial[t]) == wanted.end()) continue;
+    const auto& [a, b, c] = mesh.triangles[t];
+    const Eigen::Vector3d n = (mesh.positions.col(b) - mesh.positions.col(a)).cross(mesh.positions.col(c) - mesh.positions.col(a));
+    for (int v : mesh.triangles[t]) normals.col(v) += n;
+  }
+  for (Eigen::Index v = 0; v < normals.cols(); ++v)
+    if (normals.col(v).squaredNorm() > 0.0) normals.col(v).normalize();
+  return normals;
 }
 
 }  // namespace th::face

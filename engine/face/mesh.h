@@ -13,6 +13,7 @@
 #include <Eigen/Core>
 #include <array>
 #include <filesystem>
+#include <initializer_list>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -39,6 +40,10 @@ struct Mesh {
 };
 
 Mesh loadObjMesh(const std::filesystem::path& path);
+
+// Area-weighted vertex normals of the triangles drawn with the given materials (outward: the triangles are
+// counter-clockwise seen from outside); zero for vertices of no such triangle. Absent materials are ignored.
+Eigen::Matrix3Xd vertexNormals(const Mesh& mesh, std::initializer_list<std::string_view> materials);
 
 // The positions alone, for a blend shape of a mesh with `expectedVertices` vertices (checked).
 Eigen::Matrix3Xd loadObjPositions(const std::filesystem::path& path, int expectedVertices);

@@ -15,13 +15,6 @@ namespace th::test {
 
 namespace fs = std::filesystem;
 
-std::string readText(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
 namespace {
 
 CliResult run(const std::vector<std::string>& arguments, const fs::path& logFolder, std::optional<uid_t> asUser,

@@ -15,6 +15,8 @@
 
 #include "core/temporary_file.h"
 
+#include "support/files.h"  // readText, listFolder, expectFileError
+
 namespace th::test {
 
 struct CliResult {
@@ -24,8 +26,6 @@ struct CliResult {
   std::string out;
   std::string err;
 };
-
-std::string readText(const std::filesystem::path& path);
 
 // Runs the CLI with `arguments`, stdout and stderr captured in files under `logFolder`. With `asUser`, the
 // child drops to that user id first (root ignores permission bits, so a read-only folder needs a plain user).

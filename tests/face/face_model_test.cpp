@@ -99,20 +99,7 @@ TEST(FaceModel, RaisingTheWholeBrowMovesEachBrowPointByTheValue) {
 }
 
 // Outward vertex normals of the skin (face and back of the head), from its triangles.
-Eigen::Matrix3Xd skinNormals() {
-  const th::face::Mesh& mesh = face().mesh();
-  Eigen::Matrix3Xd normals = Eigen::Matrix3Xd::Zero(3, mesh.numVertices());
-  const int faceMaterial = mesh.materialIndex("M_Face"), backMaterial = mesh.materialIndex("M_BackHead");
-  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
-    if (mesh.triangleMaterial[t] != faceMaterial && mesh.triangleMaterial[t] != backMaterial) continue;
-    const auto& [a, b, c] = mesh.triangles[t];
-    const Eigen::Vector3d n = (mesh.positions.col(b) - mesh.positions.col(a)).cross(mesh.positions.col(c) - mesh.positions.col(a));
-    for (int v : mesh.triangles[t]) normals.col(v) += n;
-  }
-  for (Eigen::Index v = 0; v < normals.cols(); ++v)
-    if (normals.col(v).squaredNorm() > 0.0) normals.col(v).normalize();
-  return normals;
-}
+Eigen::Matrix3Xd skinNormals() { return th::face::vertexNormals(face().mesh(), {"M_Face", "M_BackHead"}); }
 
 TEST(FaceModel, ARaisedBrowSlidesTheForeheadOverItsSurfaceInsteadOfBulgingOut) {
   // The upper forehead (from one brow fall-off radius, 0.25 ES, above the highest brow point up; across the

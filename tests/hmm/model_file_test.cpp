@@ -27,28 +27,18 @@
 #include "hmm/model_file.h"
 #include "hmm/sampling.h"
 #include "hmm_test_models.h"
+#include "support/files.h"
 
 namespace th::hmm {
 namespace {
+
+using th::test::listFolder;
+using th::test::readText;
 
 namespace fs = std::filesystem;
 using Json = nlohmann::ordered_json;
 
 using TemporaryFolder = th::TemporaryFolder;
-
-std::vector<std::string> listFolder(const fs::path& folder) {
-  std::vector<std::string> names;
-  for (const auto& entry : fs::directory_iterator(folder)) names.push_back(entry.path().filename().string());
-  std::sort(names.begin(), names.end());
-  return names;
-}
-
-std::string readText(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
 
 void writeText(const fs::path& path, const std::string& text) {
   std::ofstream out(path, std::ios::binary);

@@ -20,29 +20,22 @@
 
 #include "core/error.h"
 #include "core/temporary_file.h"
+#include "support/files.h"
 
 namespace th::video {
 namespace {
+
+using th::test::listFolder;
+using th::test::readText;
+using th::test::expectFileError;
+using th::test::listFolder;
+using th::test::readText;
 
 namespace fs = std::filesystem;
 
 void writeText(const fs::path& path, const std::string& text) {
   std::ofstream out(path, std::ios::binary);
   out << text;
-}
-
-std::string readText(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
-std::vector<std::string> listFolder(const fs::path& folder) {
-  std::vector<std::string> names;
-  for (const auto& entry : fs::directory_iterator(folder)) names.push_back(entry.path().filename().string());
-  std::sort(names.begin(), names.end());
-  return names;
 }
 
 // A mask line: 68 flags, 1 for the FAPs given.
@@ -82,12 +75,6 @@ std::string writeError(const fs::path& path, const Animation& animation) {
   return "(no error)";
 }
 
-// One line that starts with the file's name and says what is wrong.
-void expectFileError(const std::string& message, const fs::path& path, const std::string& problem) {
-  EXPECT_EQ(message.rfind(path.string() + ": ", 0), 0u) << message;
-  EXPECT_NE(message.find(problem), std::string::npos) << "expected '" << problem << "' in: " << message;
-  EXPECT_EQ(message.find('\n'), std::string::npos) << message;
-}
 
 // ---- round trips ----
 

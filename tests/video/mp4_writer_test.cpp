@@ -32,29 +32,20 @@ extern "C" {
 #include "core/error.h"
 #include "core/ffmpeg_support.h"
 #include "core/temporary_file.h"
+#include "support/files.h"
 
 namespace th::video {
 namespace {
+
+using th::test::listFolder;
+using th::test::readText;
+using th::test::expectFileError;
 
 namespace fs = std::filesystem;
 
 const int kEndOfFile = AVERROR_EOF;
 const int kTryAgain = AVERROR(EAGAIN);
 const std::int64_t kNoTimestamp = AV_NOPTS_VALUE;
-
-std::vector<std::string> listFolder(const fs::path& folder) {
-  std::vector<std::string> names;
-  for (const auto& entry : fs::directory_iterator(folder)) names.push_back(entry.path().filename().string());
-  std::sort(names.begin(), names.end());
-  return names;
-}
-
-std::string readText(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
 
 // The MP4 file's top-level boxes, in order.
 std::vector<std::string> topLevelBoxes(const fs::path& path) {
@@ -710,11 +701,6 @@ std::string errorOf(const std::function<void()>& act) {
   return "(no error)";
 }
 
-void expectFileError(const std::string& message, const fs::path& path, const std::string& problem) {
-  EXPECT_EQ(message.rfind(path.string() + ": ", 0), 0u) << message;
-  EXPECT_NE(message.find(problem), std::string::npos) << "expected '" << problem << "' in: " << message;
-  EXPECT_EQ(message.find('\n'), std::string::npos) << message;
-}
 
 TEST(Mp4Writer, RefusesBadOptionsBeforeWritingAnything) {
   TemporaryFolder folder;
