@@ -435,6 +435,11 @@ void FaceRenderer::createTargets() {
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
   g.resolved = false;
   backdrop_ = backdropPixels(w, h, options_.backgroundTop, options_.backgroundBottom);
+  std::vector<std::uint8_t> opaque(static_cast<std::size_t>(w) * static_cast<std::size_t>(h) * 4, 255);
+  for (std::size_t i = 0; i * 3 < backdrop_.size(); ++i) std::copy_n(&backdrop_[3 * i], 3, &opaque[4 * i]);
+  rgbaToYuv420(opaque.data(), w, h, false, backdropYuv_[0]);
+  rgbaToYuv420(opaque.data(), w, h, true, backdropYuv_[1]);
+  drawn_ = {0, 0, w, h};  // nothing read yet: a new target holds anything
 }
 
 void FaceRenderer::resize(int width, int height) {
@@ -497,7 +502,9 @@ void FaceRenderer::setEyeOpenings(std::vector<int> leftLidVertices, std::vector<
 // - the mouth's inside (teeth, gums and tongue) and the eyeballs (sclera, iris), where they lie outside their
 //   opening on screen: they are enclosed by the lips and cheeks, or the lids and the socket, so any of them
 //   that shows is seen through the opening, whose projection lies within the bounding rectangle of the
-//   projected lip or lid line. The rectangle is widened by a quarter and 8 pixels (the line curves between its
+//   projected lip or lid line, and within the ellipse inscribed in it: the opening is an almond or an oval
+//   through the line's extreme points (the eye's corners and lid middles), which lie on that rectangle's
+//   sides, not in its corners. The ellipse is widened by a quarter and 8 pixels (the line curves between its
 //   vertices). With the lips nearly closed this drops most of the teeth and gums; it always drops the
 //   eyeballs' parts behind the lids.
 // Both only drop what GL would not draw: tests compare the images with and without this.
@@ -510,15 +517,16 @@ void FaceRenderer::selectVisible(const Eigen::Vector3f& eye, const Eigen::Matrix
     ndc = clip.head<2>().array() / clip.w();
     return true;
   };
-  // Each opening's rectangle in normalised device coordinates; none if a vertex of its line is behind the
-  // camera.
-  struct Rectangle {
+  // Each opening's bounding rectangle, then ellipse, in normalised device coordinates; none if a vertex of
+  // its line is behind the camera.
+  struct Opening {
     bool valid = false;
-    Eigen::Array2f low, high;
+    Eigen::Array2f low, high;  // the bounding rectangle
+    Eigen::Array2f centre, inverseRadii;  // the ellipse
   };
-  std::array<Rectangle, 3> rectangles;
+  std::array<Opening, 3> openings;
   for (std::size_t o = 0; o < openings_.size(); ++o) {
-    Rectangle& r = rectangles[o];
+    Opening& r = openings[o];
     r.valid = options_.cullOnCpu && !openings_[o].empty();
     r.low = Eigen::Array2f::Constant(1e30f);
     r.high = Eigen::Array2f::Constant(-1e30f);
@@ -533,11 +541,20 @@ void FaceRenderer::selectVisible(const Eigen::Vector3f& eye, const Eigen::Matrix
     }
     if (r.valid) {
       const Eigen::Array2f pixel(2.0f / static_cast<float>(options_.width), 2.0f / static_cast<float>(options_.height));
-      const Eigen::Array2f margin = 0.25f * (r.high - r.low) + 8.0f * pixel;
-      r.low -= margin;
-      r.high += margin;
+      const Eigen::Array2f radii = 0.5f * (r.high - r.low) * 1.25f + 8.0f * pixel;
+      r.centre = 0.5f * (r.low + r.high);
+      r.inverseRadii = radii.inverse();
+      r.low = r.centre - radii;
+      r.high = r.centre + radii;
     }
   }
+  // Whether a triangle's bounding box (in normalised device coordinates) reaches into the opening's ellipse:
+  // the box's point nearest the centre, in coordinates where the ellipse is a unit circle.
+  const auto reaches = [](const Opening& r, const Eigen::Array2f& lo, const Eigen::Array2f& hi) {
+    if ((hi < r.low).any() || (lo > r.high).any()) return false;
+    const Eigen::Array2f nearest = r.centre.max(lo).min(hi);
+    return ((nearest - r.centre) * r.inverseRadii).square().sum() <= 1.0f;
+  };
   std::size_t written = 0;
   trianglesDrawn_ = 0;
   for (Draw& draw : draws_) {
@@ -545,11 +562,11 @@ void FaceRenderer::selectVisible(const Eigen::Vector3f& eye, const Eigen::Matrix
     const std::uint32_t* triangle = indices_.data() + draw.firstIndex;
     const std::uint32_t* end = triangle + draw.count;
     // The opening this draw is seen through, if any: the mouth's, or its eye's.
-    const Rectangle* opening = nullptr;
+    const Opening* opening = nullptr;
     if (draw.surface == Surface::kTeeth || draw.surface == Surface::kGums)
-      opening = &rectangles[0];
+      opening = &openings[0];
     else if ((draw.surface == Surface::kSclera || draw.surface == Surface::kIris) && draw.eye >= 0)
-      opening = &rectangles[1 + static_cast<std::size_t>(eyes_[static_cast<std::size_t>(draw.eye)].side)];
+      opening = &openings[1 + static_cast<std::size_t>(eyes_[static_cast<std::size_t>(draw.eye)].side)];
     if (opening != nullptr && !opening->valid) opening = nullptr;
     if (isTwoSided(draw.surface) || !options_.cullOnCpu) {
       std::copy(triangle, end, visibleIndices_.begin() + static_cast<std::ptrdiff_t>(written));
@@ -567,7 +584,7 @@ void FaceRenderer::selectVisible(const Eigen::Vector3f& eye, const Eigen::Matrix
           if (project(triangle[0], p0) && project(triangle[1], p1) && project(triangle[2], p2)) {
             const Eigen::Array2f lo = p0.min(p1).min(p2);
             const Eigen::Array2f hi = p0.max(p1).max(p2);
-            if ((hi < opening->low).any() || (lo > opening->high).any()) continue;
+            if (!reaches(*opening, lo, hi)) continue;
           }
         }
         std::copy(triangle, triangle + 3, visibleIndices_.begin() + static_cast<std::ptrdiff_t>(written));
@@ -584,6 +601,42 @@ void FaceRenderer::selectVisible(const Eigen::Vector3f& eye, const Eigen::Matrix
   glBindVertexArray(0);
 }
 
+// The head's projected vertices' bounding box, widened and aligned as RenderOptions::cropToHead says; the
+// whole frame if a vertex is behind the camera. GL fills a pixel only if its centre lies in a triangle, so
+// the box rounded outwards holds every pixel drawn.
+PixelRegion FaceRenderer::headRegion(const Eigen::Matrix4f& viewProjection) const {
+  const int width = options_.width;
+  const int height = options_.height;
+  const PixelRegion whole{0, 0, width, height};
+  if (!options_.cropToHead) return whole;
+  float lowX = 1e30f, highX = -1e30f, lowY = 1e30f, highY = -1e30f;
+  const float* vertex = vertexData_.data();
+  for (int v = 0; v < numVertices_; ++v, vertex += 6) {
+    const Eigen::Vector4f clip = viewProjection * Eigen::Vector4f(vertex[0], vertex[1], vertex[2], 1.0f);
+    if (clip.w() <= 1e-6f) return whole;
+    const float x = clip.x() / clip.w();
+    const float y = clip.y() / clip.w();
+    lowX = std::min(lowX, x);
+    highX = std::max(highX, x);
+    lowY = std::min(lowY, y);
+    highY = std::max(highY, y);
+  }
+  constexpr int kMargin = 8;  // FXAA's reach: its edge pixels lie next to drawn ones, its samples 4.5 further
+  // Normalised device coordinates to pixels, rows from the top; clamped first, so that the casts stay in range.
+  const auto toPixels = [](float ndc, float size) {
+    return std::clamp((ndc + 1.0f) * 0.5f * size, -1e6f, 1e6f);
+  };
+  const auto fw = static_cast<float>(width);
+  const auto fh = static_cast<float>(height);
+  const auto evenBelow = [](int v) { return v - (v % 2 + 2) % 2; };
+  const int left = std::max(0, evenBelow(static_cast<int>(std::floor(toPixels(lowX, fw))) - kMargin));
+  const int top = std::max(0, evenBelow(static_cast<int>(std::floor(fh - toPixels(highY, fh))) - kMargin));
+  const int right = std::min(width, evenBelow(static_cast<int>(std::ceil(toPixels(highX, fw))) + kMargin + 1));
+  const int bottom = std::min(height, evenBelow(static_cast<int>(std::ceil(fh - toPixels(lowY, fh))) + kMargin + 1));
+  if (right <= left || bottom <= top) return {};  // the head is out of view
+  return {left, top, right - left, bottom - top};
+}
+
 void FaceRenderer::setPupilScale(const std::array<double, 2>& scale) {
   for (Eye& eye : eyes_) eye.pupilScale = static_cast<float>(std::max(0.0, scale[static_cast<std::size_t>(eye.side)]));
 }
@@ -598,16 +651,19 @@ void FaceRenderer::render(const OrbitCamera& camera) {
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LEQUAL);
   glDepthMask(GL_TRUE);
-  // Transparent: the backdrop goes under the head afterwards (render/backdrop.h).
-  glClearColor(0.0f, 0.0f, 0.0f, 0.0f);
-  glClearDepth(1.0);
-  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-
-  // Per-frame uniforms, the same in every face program. Lights are given in camera space: the view's inverse
-  // rotation turns them into world space.
   const Eigen::Matrix4f view = camera.view();
   const Eigen::Matrix4f viewProjection = camera.projection(aspect) * view;
   const Eigen::Vector3f eyePosition = camera.eye();
+  // Transparent: the backdrop goes under the head afterwards (render/backdrop.h). The whole target: llvmpipe
+  // clears a tile with a memset, where a clear held to the head's region (a scissor) would be drawn as a quad,
+  // at twice the cost. Only the region is read back and finished (RenderOptions::cropToHead).
+  glClearColor(0.0f, 0.0f, 0.0f, 0.0f);
+  glClearDepth(1.0);
+  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  drawn_ = headRegion(viewProjection);
+
+  // Per-frame uniforms, the same in every face program. Lights are given in camera space: the view's inverse
+  // rotation turns them into world space.
   selectVisible(eyePosition, viewProjection);
   const Eigen::Matrix3f toWorld = view.topLeftCorner<3, 3>().transpose();
   const Lighting& light = options_.lighting;
@@ -700,34 +756,71 @@ void FaceRenderer::readRaw(RawFrame& frame) {
   resolve();
   frame.width = options_.width;
   frame.height = options_.height;
+  frame.region = drawn_;
+  const PixelRegion& r = frame.region;
   glBindFramebuffer(GL_READ_FRAMEBUFFER, gl_->resolveFramebuffer);
   glReadBuffer(GL_COLOR_ATTACHMENT0);
   glPixelStorei(GL_PACK_ALIGNMENT, 1);
-  frame.rgba.resize(static_cast<std::size_t>(frame.width) * static_cast<std::size_t>(frame.height) * 4);
+  frame.rgba.resize(static_cast<std::size_t>(r.width) * static_cast<std::size_t>(r.height) * 4);
   // RGBA is the renderbuffer's own layout (a plain copy in Mesa); dropping alpha later is cheaper than GL's.
-  glReadPixels(0, 0, frame.width, frame.height, GL_RGBA, GL_UNSIGNED_BYTE, frame.rgba.data());
+  if (!frame.rgba.empty())
+    glReadPixels(r.left, frame.height - r.top - r.height, r.width, r.height, GL_RGBA, GL_UNSIGNED_BYTE,
+                 frame.rgba.data());
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
 }
 
-// The CPU's share of a frame: the backdrop under the head, then FXAA if on (single-sample targets only).
+// The CPU's share of a frame, over its region: the backdrop under the head, then FXAA if on (single-sample
+// targets only). FXAA's luma is taken row by row as the row is composited, while it is in cache.
 void FaceRenderer::prepare(RawFrame& frame) const {
-  const std::size_t pixels = static_cast<std::size_t>(frame.width) * static_cast<std::size_t>(frame.height);
-  if (frame.width != options_.width || frame.height != options_.height || frame.rgba.size() != pixels * 4 ||
-      backdrop_.size() != pixels * 3)
+  const PixelRegion& r = frame.region;
+  const std::size_t regionPixels = static_cast<std::size_t>(r.width) * static_cast<std::size_t>(r.height);
+  const std::size_t pixels = static_cast<std::size_t>(options_.width) * static_cast<std::size_t>(options_.height);
+  if (frame.width != options_.width || frame.height != options_.height || r.left < 0 || r.top < 0 ||
+      r.width < 0 || r.height < 0 || r.left + r.width > frame.width || r.top + r.height > frame.height ||
+      frame.rgba.size() != regionPixels * 4 || backdrop_.size() != pixels * 3)
     throw Error("FaceRenderer::finish: the frame is not one of this renderer's (" + std::to_string(frame.width) +
                 "x" + std::to_string(frame.height) + ")");
-  compositeUnder(frame.rgba.data(), backdrop_.data(), pixels);
-  if (samples_ == 1 && options_.fxaa) fxaaInPlace(frame.rgba.data(), frame.width, frame.height, frame.fxaa);
+  const bool fxaa = samples_ == 1 && options_.fxaa;
+  if (fxaa) frame.fxaa.luma.resize(regionPixels);
+  const std::size_t w = static_cast<std::size_t>(r.width);
+  const int bottomRow = frame.height - r.top - r.height;  // the region's first row in GL's order
+  for (int y = 0; y < r.height; ++y) {
+    std::uint8_t* row = frame.rgba.data() + static_cast<std::size_t>(y) * w * 4;
+    const std::uint8_t* under =
+        backdrop_.data() + (static_cast<std::size_t>(bottomRow + y) * static_cast<std::size_t>(frame.width) +
+                            static_cast<std::size_t>(r.left)) * 3;
+    compositeUnder(row, under, w);
+    if (fxaa) fxaaLuma(row, w, frame.fxaa.luma.data() + static_cast<std::size_t>(y) * w);
+  }
+  if (fxaa) fxaaWithLuma(frame.rgba.data(), r.width, r.height, frame.fxaa);
 }
 
 void FaceRenderer::finish(RawFrame& frame, Image& image) const {
   prepare(frame);
-  copyToImage(frame.rgba.data(), frame.width, frame.height, image);  // GL's rows run bottom-up; the image's top-down
+  if (image.width != frame.width || image.height != frame.height) image.resize(frame.width, frame.height);
+  // Rows top-down (GL's run bottom-up): the backdrop, with the region's pixels in their place.
+  const PixelRegion& r = frame.region;
+  const std::size_t rowBytes = static_cast<std::size_t>(frame.width) * 3;
+  for (int y = 0; y < frame.height; ++y) {
+    std::uint8_t* out = image.pixel(0, y);
+    std::copy_n(backdrop_.data() + static_cast<std::size_t>(frame.height - 1 - y) * rowBytes, rowBytes, out);
+    if (y < r.top || y >= r.top + r.height) continue;
+    const std::uint8_t* in =
+        frame.rgba.data() + static_cast<std::size_t>(r.top + r.height - 1 - y) * static_cast<std::size_t>(r.width) * 4;
+    out += static_cast<std::size_t>(r.left) * 3;
+    for (int x = 0; x < r.width; ++x, in += 4, out += 3) {
+      out[0] = in[0];
+      out[1] = in[1];
+      out[2] = in[2];
+    }
+  }
 }
 
 void FaceRenderer::finish(RawFrame& frame, Yuv420Image& image, bool bt709) const {
   prepare(frame);
-  rgbaToYuv420(frame.rgba.data(), frame.width, frame.height, bt709, image);
+  image = backdropYuv_[bt709 ? 1 : 0];  // the same size every frame: a copy into the planes already there
+  rgbaToYuv420(frame.rgba.data(), frame.region.width, frame.region.height, bt709, image, frame.region.left,
+               frame.region.top);
 }
 
 Image FaceRenderer::renderImage(const OrbitCamera& camera) {

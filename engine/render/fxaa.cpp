@@ -4,6 +4,9 @@
 #include <cmath>
 #include <cstring>
 #include <array>
+#include <string>
+
+#include "core/error.h"
 
 namespace th::render {
 namespace {
@@ -18,16 +21,27 @@ float lumaOf(const Rgb& c) {
   return 0.299f * c.r + 0.587f * c.g + 0.114f * c.b;
 }
 
-// Bilinear sample at (u, v) in pixel units (pixel centres at .5), clamped to the edges; GL's orientation.
-Rgb sample(const std::uint8_t* rgba, int width, int height, float u, float v) {
-  const float x = std::clamp(u - 0.5f, 0.0f, static_cast<float>(width - 1));
-  const float y = std::clamp(v - 0.5f, 0.0f, static_cast<float>(height - 1));
-  const int x0 = static_cast<int>(x);
-  const int y0 = static_cast<int>(y);
+// Bilinear sample at (x + ox, y + oy) in pixels, clamped to the frame's edges; GL's orientation. The whole
+// and fractional parts are taken from the offsets alone, so that the result does not depend on where in a
+// larger image the frame lies (float rounding of x + ox would).
+Rgb sample(const std::uint8_t* rgba, int width, int height, int x, int y, float ox, float oy) {
+  const float floorX = std::floor(ox);
+  const float floorY = std::floor(oy);
+  int x0 = x + static_cast<int>(floorX);
+  int y0 = y + static_cast<int>(floorY);
+  float fx = ox - floorX;
+  float fy = oy - floorY;
+  // Beyond an edge: the edge pixel itself.
+  if (x0 < 0 || x0 >= width - 1) {
+    x0 = std::clamp(x0, 0, width - 1);
+    fx = 0.0f;
+  }
+  if (y0 < 0 || y0 >= height - 1) {
+    y0 = std::clamp(y0, 0, height - 1);
+    fy = 0.0f;
+  }
   const int x1 = std::min(x0 + 1, width - 1);
   const int y1 = std::min(y0 + 1, height - 1);
-  const float fx = x - static_cast<float>(x0);
-  const float fy = y - static_cast<float>(y0);
   const auto at = [&](int px, int py) {
     return rgba +
            (static_cast<std::size_t>(py) * static_cast<std::size_t>(width) + static_cast<std::size_t>(px)) *
@@ -67,14 +81,27 @@ void copyToImage(const std::uint8_t* rgba, int width, int height, Image& out) {
   }
 }
 
+void fxaaLuma(const std::uint8_t* rgba, std::size_t pixels, std::uint8_t* luma) {
+  // BT.601 weights, /256, in a loop the compiler vectorises.
+  for (std::size_t i = 0; i < pixels; ++i)
+    luma[i] = static_cast<std::uint8_t>((77U * rgba[4 * i] + 150U * rgba[4 * i + 1] + 29U * rgba[4 * i + 2]) >> 8);
+}
+
 void fxaaInPlace(std::uint8_t* rgba, int width, int height, FxaaScratch& scratch) {
   if (width < 3 || height < 3) return;
+  const std::size_t pixels = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
+  scratch.luma.resize(pixels);
+  fxaaLuma(rgba, pixels, scratch.luma.data());
+  fxaaWithLuma(rgba, width, height, scratch);
+}
+
+void fxaaWithLuma(std::uint8_t* rgba, int width, int height, FxaaScratch& scratch) {
+  if (width < 3 || height < 3) return;
   const std::size_t w = static_cast<std::size_t>(width);
-  // Each pixel's luma in bytes (BT.601 weights, /256), in a loop the compiler vectorises.
-  std::vector<std::uint8_t>& luma = scratch.luma;
-  luma.resize(w * static_cast<std::size_t>(height));
-  for (std::size_t i = 0; i < luma.size(); ++i)
-    luma[i] = static_cast<std::uint8_t>((77U * rgba[4 * i] + 150U * rgba[4 * i + 1] + 29U * rgba[4 * i + 2]) >> 8);
+  const std::vector<std::uint8_t>& luma = scratch.luma;
+  if (luma.size() != w * static_cast<std::size_t>(height))
+    throw Error("fxaaWithLuma: the luma is not the frame's (" + std::to_string(luma.size()) + " values for " +
+                std::to_string(width) + "x" + std::to_string(height) + ")");
   // The filtered colours are collected first and written at the end: the filter must read unfiltered
   // neighbours.
   scratch.fixes.clear();
@@ -118,9 +145,9 @@ void fxaaInPlace(std::uint8_t* rgba, int width, int height, FxaaScratch& scratch
       const float scale = 1.0f / (std::min(std::abs(dx), std::abs(dy)) + reduce);
       dx = std::clamp(dx * scale, -8.0f, 8.0f);
       dy = std::clamp(dy * scale, -8.0f, 8.0f);
-      const float u = static_cast<float>(x) + 0.5f;
-      const float v = static_cast<float>(y) + 0.5f;
-      const auto at = [&](float t) { return sample(rgba, width, height, u + dx * t, v + dy * t); };
+      const auto at = [&](float t) {
+        return sample(rgba, width, height, static_cast<int>(x), y, dx * t, dy * t);
+      };
       const Rgb a = at(1.0f / 3.0f - 0.5f);
       const Rgb b = at(2.0f / 3.0f - 0.5f);
       const Rgb near{0.5f * (a.r + b.r), 0.5f * (a.g + b.g), 0.5f * (a.b + b.b)};

@@ -29,6 +29,12 @@ struct FxaaScratch {
 // Filters `rgba` (width * height pixels, 4 bytes each, any row order) in place; alpha is kept.
 void fxaaInPlace(std::uint8_t* rgba, int width, int height, FxaaScratch& scratch);
 
+// The filter in two steps, for a caller that already passes over the frame (the renderer composites the
+// backdrop): the luma of `pixels` RGBA pixels as the filter sees it (BT.601 weights, in bytes), computed
+// where the pixels are in cache; then the filter, with scratch.luma holding the whole frame's luma.
+void fxaaLuma(const std::uint8_t* rgba, std::size_t pixels, std::uint8_t* luma);
+void fxaaWithLuma(std::uint8_t* rgba, int width, int height, FxaaScratch& scratch);
+
 // `rgba` (bottom row first, as glReadPixels gives it) into `out`, top row first, RGB (resized only if its size
 // differs).
 void copyToImage(const std::uint8_t* rgba, int width, int height, Image& out);

@@ -29,6 +29,12 @@ class JoinOnExit {
   std::thread& worker_;
 };
 
+int encoderThreadsFor(const VideoExportOptions& options) {
+  if (options.encoderThreads != 0) return options.encoderThreads;  // (Mp4Writer rejects a negative one)
+  const unsigned cores = std::thread::hardware_concurrency();
+  return cores != 0 && cores <= 2 ? 1 : 0;
+}
+
 }  // namespace
 
 int exportVideo(const face::FaceModel& face, const video::Animation& animation, std::span<const float> samples,
@@ -48,7 +54,8 @@ int exportVideo(const face::FaceModel& face, const video::Animation& animation, 
                                    .audioSampleRateHz = sampleRateHz,
                                    .crf = options.crf,
                                    .preset = options.preset,
-                                   .x264Params = options.x264Params});
+                                   .x264Params = options.x264Params,
+                                   .threads = encoderThreadsFor(options)});
   writer.addAudio(samples);
   const auto frames = static_cast<int>(video::videoFramesFor(samples.size(), sampleRateHz, options.framesPerSecond));
 

@@ -32,4 +32,11 @@ struct Yuv420Image {
 // libswscale's default). Rows are flipped to top-down. `out` is resized only if its size differs.
 void rgbaToYuv420(const std::uint8_t* rgba, int width, int height, bool bt709, Yuv420Image& out);
 
+// The same for a block of a larger image: `rgba` (width x height, GL's rows) goes into `out`, which keeps its
+// size and the rest of its planes, with its top-left pixel at (left, top) of the image. The block must cover
+// whole 2 x 2 chroma blocks: left and top even, width and height even unless the block ends at the image's
+// edge. Throws th::Error otherwise.
+void rgbaToYuv420(const std::uint8_t* rgba, int width, int height, bool bt709, Yuv420Image& out, int left,
+                  int top);
+
 }  // namespace th::render

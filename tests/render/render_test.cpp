@@ -335,6 +335,71 @@ TEST(FaceRenderer, CullingOnTheCpuDrawsWhatGlWouldDraw) {
   }
 }
 
+TEST(FaceRenderer, CroppingToTheHeadChangesNoPixel) {
+  th::render::OffscreenContext context;
+  const th::render::RenderOptions whole{.width = 480, .height = 360, .samples = 1, .fxaa = true, .cropToHead = false};
+  th::render::RenderOptions cropping = whole;
+  cropping.cropToHead = true;
+  FaceRenderer cropped(context, neutral(), cropping);
+  FaceRenderer full(context, neutral(), whole);
+  const OrbitCamera framed = th::render::frameHead(neutral().positions, 480.0 / 360.0);
+  // One renderer through a sequence: the head turning and moving (each frame must clear what the last one
+  // drew outside its own region), seen from the side, close up (the head fills the frame), moved out of view,
+  // and with the camera inside the head (vertices behind it: the whole frame). Both read-backs compared.
+  struct Step {
+    double yaw;
+    Eigen::Vector3d shift;
+    float cameraYaw, distance;
+  };
+  const float d = framed.distance;
+  int croppedFrames = 0;
+  th::render::RawFrame rawCropped, rawFull;
+  for (const Step& step : {Step{0.0, {0, 0, 0}, 0, d}, Step{0.35, {6, 2, 0}, 0, d}, Step{-0.3, {-8, 0, 0}, 0, d},
+                           Step{0.0, {0, 0, 0}, 80, d}, Step{0.1, {0, 0, 0}, 0, 0.35f * d}, Step{0.0, {500, 0, 0}, 0, d},
+                           Step{0.0, {0, 0, 0}, 0, 2.0f}, Step{-0.2, {3, -3, 0}, 20, d}}) {
+    const Eigen::Matrix3Xd positions =
+        (Eigen::AngleAxisd(step.yaw, Eigen::Vector3d::UnitY()).toRotationMatrix() * neutral().positions).colwise() +
+        step.shift;
+    OrbitCamera camera = framed;
+    camera.yawDegrees = step.cameraYaw;
+    camera.distance = step.distance;
+    const std::string what = "yaw " + std::to_string(step.yaw) + ", camera " + std::to_string(step.cameraYaw) +
+                             " at " + std::to_string(step.distance);
+    // The GL targets themselves (what present() shows in a window) hold the same: the cropped one too is
+    // transparent wherever the head is not, after frames that drew elsewhere. render() leaves its target bound.
+    std::array<std::vector<std::uint8_t>, 2> targets;
+    for (int i = 0; i < 2; ++i) {
+      FaceRenderer& r = i == 0 ? cropped : full;
+      r.setPositions(positions);
+      r.render(camera);
+      GLint target = 0;
+      glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &target);
+      glBindFramebuffer(GL_READ_FRAMEBUFFER, static_cast<GLuint>(target));
+      glPixelStorei(GL_PACK_ALIGNMENT, 1);
+      targets[static_cast<std::size_t>(i)].resize(480 * 360 * 4);
+      glReadPixels(0, 0, 480, 360, GL_RGBA, GL_UNSIGNED_BYTE, targets[static_cast<std::size_t>(i)].data());
+    }
+    EXPECT_TRUE(targets[0] == targets[1]) << what;
+    const th::render::PixelRegion region = cropped.drawnRegion();
+    if (region.width * region.height < 480 * 360) ++croppedFrames;
+    EXPECT_EQ(full.drawnRegion(), (th::render::PixelRegion{0, 0, 480, 360})) << what;
+    cropped.readRaw(rawCropped);
+    full.readRaw(rawFull);
+    th::render::Yuv420Image yuvCropped, yuvFull;
+    th::render::RawFrame again = rawCropped;
+    cropped.finish(again, yuvCropped, true);
+    full.finish(rawFull, yuvFull, true);
+    EXPECT_TRUE(yuvCropped.y == yuvFull.y && yuvCropped.cb == yuvFull.cb && yuvCropped.cr == yuvFull.cr) << what;
+    const Image a = cropped.renderImage(camera);
+    const Image b = full.renderImage(camera);
+    long differing = 0;
+    for (std::size_t i = 0; i < a.pixels.size(); ++i) differing += a.pixels[i] != b.pixels[i] ? 1 : 0;
+    EXPECT_EQ(differing, 0) << what;
+  }
+  // The sequence did crop: the framed, turned and out-of-view steps (the last with nothing to draw).
+  EXPECT_GE(croppedFrames, 5);
+}
+
 TEST(FaceRenderer, TheMouthsInsideAndTheEyeballsAreDroppedOnlyWhereTheyCannotShow) {
   const th::face::FaceModel face = th::face::FaceModel::build(th::face::loadIctFace(th::face::ictFaceDirectory()));
   th::render::OffscreenContext context;
@@ -604,7 +669,8 @@ th::render::Yuv420Image swscaleYuv(const std::vector<std::uint8_t>& rgba, int w,
 TEST(Yuv420, MatchesLibswscaleOnARenderedFrame) {
   // A real frame (skin, eyes, backdrop, edges) and a pattern of saturated colours.
   th::render::OffscreenContext context;
-  FaceRenderer renderer(context, neutral(), {.width = 320, .height = 240, .samples = 1, .fxaa = true});
+  // The whole frame in the read-back, not only the head's region.
+  FaceRenderer renderer(context, neutral(), {.width = 320, .height = 240, .samples = 1, .fxaa = true, .cropToHead = false});
   renderer.render(th::render::frameHead(neutral().positions, 320.0 / 240.0));
   th::render::RawFrame frame;
   renderer.readRaw(frame);
@@ -653,6 +719,30 @@ TEST(Yuv420, MatchesLibswscaleOnARenderedFrame) {
   EXPECT_EQ(bw.y, (std::vector<std::uint8_t>{235, 235, 16, 16}));  // GL's bottom row (black) is the image's last
   EXPECT_EQ(bw.cb[0], 128);
   EXPECT_EQ(bw.cr[0], 128);
+  // A block converted into its place in a larger image is that image's conversion there; the block must cover
+  // whole 2 x 2 chroma blocks.
+  th::render::Yuv420Image whole;
+  th::render::rgbaToYuv420(colours.data(), 64, 32, true, whole);
+  th::render::Yuv420Image pieced = whole;
+  std::fill(pieced.y.begin(), pieced.y.end(), 0);
+  std::fill(pieced.cb.begin(), pieced.cb.end(), 0);
+  std::fill(pieced.cr.begin(), pieced.cr.end(), 0);
+  // Rows 0-19 (top-down) are GL's rows 12-31: the upper block; rows 20-31 the lower, columns in two halves.
+  const auto block = [&](int left, int top, int w, int h) {
+    std::vector<std::uint8_t> part(static_cast<std::size_t>(w * h * 4));
+    for (int y = 0; y < h; ++y)  // GL's row y of the block is the image's row top + h - 1 - y
+      std::copy_n(colours.data() + ((32 - top - h + y) * 64 + left) * 4, w * 4, part.data() + y * w * 4);
+    th::render::rgbaToYuv420(part.data(), w, h, true, pieced, left, top);
+  };
+  block(0, 0, 64, 20);
+  block(0, 20, 32, 12);
+  block(32, 20, 32, 12);
+  EXPECT_EQ(pieced.y, whole.y);
+  EXPECT_EQ(pieced.cb, whole.cb);
+  EXPECT_EQ(pieced.cr, whole.cr);
+  EXPECT_THROW(block(1, 0, 32, 12), th::Error);   // an odd column
+  EXPECT_THROW(block(0, 20, 31, 12), th::Error);  // ends mid-block
+  EXPECT_THROW(block(40, 20, 32, 12), th::Error); // beyond the image
 }
 
 // ---- normals ----
