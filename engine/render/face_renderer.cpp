@@ -14,6 +14,7 @@
 #include "render/backdrop.h"
 #include "render/fxaa.h"
 #include "render/occlusion.h"
+#include "render/simplify.h"
 #include "render/surfaces.h"
 #include "shader_sources.h"
 
@@ -246,23 +247,32 @@ FaceRenderer::FaceRenderer(GlContext& context, const face::Mesh& mesh, RenderOpt
   });
   std::vector<std::uint32_t>& indices = indices_;
   indices.reserve(order.size() * 3);
+  std::vector<std::uint32_t> material;
   for (std::size_t i = 0; i < order.size();) {
-    const int material = mesh.triangleMaterial[order[i]];
+    const int materialIndex = mesh.triangleMaterial[order[i]];
+    const Surface surface = map.ofTriangle[order[i]];
     std::size_t j = i;
-    while (j < order.size() && mesh.triangleMaterial[order[j]] == material) {
-      for (int v : mesh.triangles[order[j]]) indices.push_back(static_cast<std::uint32_t>(v));
+    material.clear();
+    while (j < order.size() && mesh.triangleMaterial[order[j]] == materialIndex) {
+      for (int v : mesh.triangles[order[j]]) material.push_back(static_cast<std::uint32_t>(v));
       ++j;
     }
+    // The iris keeps more of its shape: its pupil is a hole, which a coarser disc turns into a keyhole.
+    if (options_.simplifyEyeballs && surface == Surface::kSclera)
+      material = simplifyTriangles(material, mesh.positions, {.keep = 0.25f, .error = 0.01f});
+    if (options_.simplifyEyeballs && surface == Surface::kIris)
+      material = simplifyTriangles(material, mesh.positions, {.keep = 0.25f, .error = 0.002f});
     Draw draw;
-    draw.surface = map.ofTriangle[order[i]];
-    draw.firstIndex = i * 3;
-    draw.count = static_cast<GLsizei>((j - i) * 3);
+    draw.surface = surface;
+    draw.firstIndex = indices.size();
+    draw.count = static_cast<GLsizei>(material.size());
+    indices.insert(indices.end(), material.begin(), material.end());
     const auto [lowest, highest] =
-        std::minmax_element(indices.begin() + static_cast<std::ptrdiff_t>(i * 3), indices.end());
+        std::minmax_element(indices.begin() + static_cast<std::ptrdiff_t>(draw.firstIndex), indices.end());
     draw.lowest = *lowest;
     draw.highest = *highest;
     draw.shading = shadingOf(
-        draw.surface, material >= 0 ? &mesh.materials[static_cast<std::size_t>(material)] : nullptr, look);
+        draw.surface, materialIndex >= 0 ? &mesh.materials[static_cast<std::size_t>(materialIndex)] : nullptr, look);
     if (draw.surface != Surface::kEyeLayer || look.drawEyeLayers) draws_.push_back(draw);
     i = j;
   }

@@ -1,5 +1,7 @@
 #include "render/video_export.h"
 
+#include <algorithm>
+#include <cmath>
 #include <exception>
 #include <thread>
 
@@ -56,8 +58,13 @@ int exportVideo(const face::FaceModel& face, const video::Animation& animation, 
                                    .preset = options.preset,
                                    .x264Params = options.x264Params,
                                    .threads = encoderThreadsFor(options)});
-  writer.addAudio(samples);
   const auto frames = static_cast<int>(video::videoFramesFor(samples.size(), sampleRateHz, options.framesPerSecond));
+  // The sound is encoded by the worker as the video reaches it (frame by frame), not all before the first
+  // frame: then it costs no time of its own on two busy cores.
+  const auto samplesUntil = [&](int videoFrames) {
+    const double seconds = videoFrames / options.framesPerSecond;
+    return std::min(samples.size(), static_cast<std::size_t>(std::ceil(seconds * sampleRateHz)));
+  };
 
   SlotQueue<RawFrame> queue(3);
   std::exception_ptr workerError;
@@ -65,10 +72,14 @@ int exportVideo(const face::FaceModel& face, const video::Animation& animation, 
     try {
       Yuv420Image image;
       int done = 0;
+      std::size_t audioDone = 0;
       while (RawFrame* raw = queue.takePublished()) {
         renderer.finish(*raw, image, writer.usesBt709());
         queue.release(raw);
         writer.addVideoFrame(image.planes());
+        const std::size_t audioEnd = done + 1 == frames ? samples.size() : samplesUntil(done + 1);
+        writer.addAudio(samples.subspan(audioDone, audioEnd - audioDone));
+        audioDone = audioEnd;
         if (hooks.progress) hooks.progress(++done, frames);
       }
     } catch (...) {

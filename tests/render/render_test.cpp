@@ -31,6 +31,7 @@ extern "C" {
 #include "render/image.h"
 #include "render/normals.h"
 #include "render/occlusion.h"
+#include "render/simplify.h"
 #include "render/surfaces.h"
 #include "render/yuv.h"
 
@@ -398,6 +399,98 @@ TEST(FaceRenderer, CroppingToTheHeadChangesNoPixel) {
   }
   // The sequence did crop: the framed, turned and out-of-view steps (the last with nothing to draw).
   EXPECT_GE(croppedFrames, 5);
+}
+
+TEST(Simplify, FewerTrianglesOverTheSameVerticesOnTheSameSurfaceWithItsBorderKept) {
+  // A dense hemisphere of radius 1 (an open surface: its rim is a border), 48 x 24 quads.
+  constexpr int kAround = 48;
+  constexpr int kDown = 24;
+  Eigen::Matrix3Xd positions(3, kAround * (kDown + 1) + 1);
+  positions.col(0) = Eigen::Vector3d::UnitZ();  // the pole
+  for (int j = 1; j <= kDown + 1; ++j)
+    for (int i = 0; i < kAround; ++i) {
+      const double polar = std::numbers::pi / 2 * j / (kDown + 1);
+      const double azimuth = 2 * std::numbers::pi * i / kAround;
+      positions.col(1 + (j - 1) * kAround + i) << std::sin(polar) * std::cos(azimuth),
+          std::sin(polar) * std::sin(azimuth), std::cos(polar);
+    }
+  const auto at = [](int ring, int i) { return static_cast<std::uint32_t>(1 + (ring - 1) * kAround + (i % kAround)); };
+  std::vector<std::uint32_t> triangles;
+  for (int i = 0; i < kAround; ++i) triangles.insert(triangles.end(), {0U, at(1, i), at(1, i + 1)});
+  for (int j = 1; j <= kDown; ++j)
+    for (int i = 0; i < kAround; ++i)
+      triangles.insert(triangles.end(), {at(j, i), at(j + 1, i), at(j + 1, i + 1), at(j, i), at(j + 1, i + 1), at(j, i + 1)});
+  const auto area = [&](const std::vector<std::uint32_t>& t) {
+    double sum = 0.0;
+    for (std::size_t k = 0; k < t.size(); k += 3)
+      sum += 0.5 * (positions.col(t[k + 1]) - positions.col(t[k])).cross(positions.col(t[k + 2]) - positions.col(t[k])).norm();
+    return sum;
+  };
+  const std::vector<std::uint32_t> fewer = th::render::simplifyTriangles(triangles, positions, {.keep = 0.25f, .error = 0.01f});
+  ASSERT_EQ(fewer.size() % 3, 0U);
+  EXPECT_LT(fewer.size(), triangles.size() * 35 / 100);
+  EXPECT_GT(fewer.size(), triangles.size() / 10);
+  // No hole, nothing folded over: the same area within 2 %, every triangle still facing outwards, and its
+  // centre within the 1 % error of the sphere (chords lie a little inside it).
+  EXPECT_NEAR(area(fewer), area(triangles), 0.02 * area(triangles));
+  for (std::size_t k = 0; k < fewer.size(); k += 3) {
+    const Eigen::Vector3d a = positions.col(fewer[k]), b = positions.col(fewer[k + 1]), c = positions.col(fewer[k + 2]);
+    const Eigen::Vector3d centre = (a + b + c) / 3.0;
+    EXPECT_GT((b - a).cross(c - a).dot(centre), 0.0) << "triangle " << k / 3;
+    EXPECT_GT(centre.norm(), 0.97) << "triangle " << k / 3;
+  }
+  // The rim stays: every one of its vertices is still used.
+  for (int i = 0; i < kAround; ++i)
+    EXPECT_NE(std::find(fewer.begin(), fewer.end(), at(kDown + 1, i)), fewer.end()) << "rim vertex " << i;
+  EXPECT_THROW(th::render::simplifyTriangles({0, 1}, positions), th::Error);
+  EXPECT_THROW(th::render::simplifyTriangles({0, 1, 100000}, positions), th::Error);
+}
+
+TEST(FaceRenderer, SimplifiedEyeballsLookTheSame) {
+  const th::face::FaceModel face = th::face::FaceModel::build(th::face::loadIctFace(th::face::ictFaceDirectory()));
+  th::render::OffscreenContext context;
+  const th::render::RenderOptions options{.width = 1280, .height = 720, .samples = 1, .fxaa = true};
+  th::render::RenderOptions full = options;
+  full.simplifyEyeballs = false;
+  FaceRenderer simplified(context, face.mesh(), options);
+  FaceRenderer original(context, face.mesh(), full);
+  const OrbitCamera camera = th::render::frameHead(face.mesh().positions, 1280.0 / 720.0);
+  // Looking ahead, aside and up, the head turned; the pupils wide.
+  for (const double gaze : {0.0, 40000.0, -40000.0}) {
+    th::face::FapValues faps{};
+    faps[23] = faps[24] = gaze;
+    faps[25] = faps[26] = gaze / 2;
+    faps[49] = gaze / 2;
+    faps[29] = faps[30] = gaze == 0.0 ? 0.0 : 300.0;
+    const Eigen::Matrix3Xd positions = face.deform(faps);
+    simplified.setPositions(positions);
+    original.setPositions(positions);
+    simplified.setPupilScale(face.pupilScale(faps));
+    original.setPupilScale(face.pupilScale(faps));
+    const Image a = simplified.renderImage(camera);
+    const Image b = original.renderImage(camera);
+    EXPECT_LT(simplified.trianglesDrawn(), original.trianglesDrawn() - 2000);
+    long changed = 0;
+    double sum = 0.0;
+    for (std::size_t i = 0; i < a.pixels.size(); ++i) {
+      const int d = std::abs(a.pixels[i] - b.pixels[i]);
+      changed += d > 16 ? 1 : 0;
+      sum += d;
+    }
+    // Some hundreds of values along the eyes' edges (a frame holds 2.8 million).
+    EXPECT_LT(changed, 2500) << "gaze " << gaze;
+    EXPECT_LT(sum / static_cast<double>(a.pixels.size()), 0.05) << "gaze " << gaze;
+    // The pupils keep their size and shape: a coarser iris disc opens its pupil hole into a keyhole, where
+    // the dark inside of the eye shows.
+    const auto darkPixels = [](const Image& image) {
+      long dark = 0;
+      for (std::size_t i = 0; i < image.pixels.size(); i += 3)
+        dark += image.pixels[i] < 30 && image.pixels[i + 1] < 30 && image.pixels[i + 2] < 30 ? 1 : 0;
+      return dark;
+    };
+    EXPECT_NEAR(static_cast<double>(darkPixels(a)), static_cast<double>(darkPixels(b)), 0.05 * static_cast<double>(darkPixels(b)))
+        << "gaze " << gaze;
+  }
 }
 
 TEST(FaceRenderer, TheMouthsInsideAndTheEyeballsAreDroppedOnlyWhereTheyCannotShow) {
