@@ -344,9 +344,9 @@ TEST(FaceRenderer, CroppingToTheHeadChangesNoPixel) {
   FaceRenderer cropped(context, neutral(), cropping);
   FaceRenderer full(context, neutral(), whole);
   const OrbitCamera framed = th::render::frameHead(neutral().positions, 480.0 / 360.0);
-  // One renderer through a sequence: the head turning and moving (each frame must clear what the last one
-  // drew outside its own region), seen from the side, close up (the head fills the frame), moved out of view,
-  // and with the camera inside the head (vertices behind it: the whole frame). Both read-backs compared.
+  // One renderer through a sequence: the head turning and moving, seen from the side, close up (the head fills
+  // the frame), moved out of view, and with the camera inside the head (vertices behind it: the whole frame).
+  // Both read-backs compared.
   struct Step {
     double yaw;
     Eigen::Vector3d shift;
@@ -366,8 +366,8 @@ TEST(FaceRenderer, CroppingToTheHeadChangesNoPixel) {
     camera.distance = step.distance;
     const std::string what = "yaw " + std::to_string(step.yaw) + ", camera " + std::to_string(step.cameraYaw) +
                              " at " + std::to_string(step.distance);
-    // The GL targets themselves (what present() shows in a window) hold the same: the cropped one too is
-    // transparent wherever the head is not, after frames that drew elsewhere. render() leaves its target bound.
+    // The GL targets themselves (what present() shows in a window) hold the same: cropping changes only what
+    // is read back. render() leaves its target bound.
     std::array<std::vector<std::uint8_t>, 2> targets;
     for (int i = 0; i < 2; ++i) {
       FaceRenderer& r = i == 0 ? cropped : full;
