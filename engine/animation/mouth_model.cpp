@@ -2,6 +2,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
+#include <string>
+
 #include "core/error.h"
 #include "hmm/model_file.h"
 #include "hmm/training.h"
@@ -187,6 +190,55 @@ Eigen::MatrixXd synthesiseMouth(const MouthModel& model, const Eigen::MatrixXd& 
 }  // namespace th::animation
 
 namespace th::animation {
+
+MouthSynthesiser::MouthSynthesiser(const MouthModel& model, const MouthSynthesisOptions& options)
+    : model_(model),
+      inverter_(model.hmm, {.maxIterations = options.maxIterations, .start = options.start, .seed = options.seed}),
+      stream_(inverter_,
+              options.method == MouthMethod::kMmse ? hmm::StreamingInverter::Method::kMmse
+                                                   : hmm::StreamingInverter::Method::kInversion,
+              options.windowFrames) {
+  const Eigen::Index width = 2 * model.contextFrames + 1;
+  if (inverter_.audioDimension() % width != 0)
+    throw Error("mouth synthesis: the model's audio block is not " + std::to_string(width) + " frames of MFCCs");
+  recent_.resize(inverter_.audioDimension() / width, width);
+}
+
+void MouthSynthesiser::acceptMfcc(const Eigen::Ref<const Eigen::VectorXd>& mfcc) {
+  if (finished_) throw Error("mouth synthesis: MFCCs after finish()");
+  if (mfcc.size() != recent_.rows())
+    throw Error("mouth synthesis: " + std::to_string(mfcc.size()) + " MFCCs a frame, the model has " +
+                std::to_string(recent_.rows()));
+  recent_.col(received_ % recent_.cols()) = mfcc;
+  ++received_;
+  // Frame t's context reaches t + tc.
+  while (stacked_ + model_.contextFrames < received_) stackFrame(stacked_++);
+}
+
+void MouthSynthesiser::finish() {
+  if (finished_) return;
+  finished_ = true;
+  while (stacked_ < received_) stackFrame(stacked_++);
+  stream_.finish();
+}
+
+bool MouthSynthesiser::next(Eigen::VectorXd& components) { return stream_.next(components); }
+
+int MouthSynthesiser::lookaheadFrames() const {
+  return model_.contextFrames + std::max(stream_.windowFrames(), 1) - 1;
+}
+
+void MouthSynthesiser::stackFrame(Eigen::Index t) {
+  // As stackContext: frames before the first and after the last (known only at finish()) repeat them.
+  const Eigen::Index rows = recent_.rows();
+  const int tc = model_.contextFrames;
+  Eigen::VectorXd stacked(rows * (2 * tc + 1));
+  for (int offset = -tc; offset <= tc; ++offset) {
+    const Eigen::Index source = std::clamp<Eigen::Index>(t + offset, 0, received_ - 1);
+    stacked.segment(rows * (offset + tc), rows) = recent_.col(source % recent_.cols());
+  }
+  stream_.accept(stacked);
+}
 
 Eigen::RowVectorXd jawOpeningOf(const MouthModel& model, const Eigen::MatrixXd& components) {
   // Row 0 of the visual parameters is the jaw opening (mouth_data.h).

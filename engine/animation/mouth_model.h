@@ -67,6 +67,34 @@ struct MouthSynthesisOptions {
 Eigen::MatrixXd synthesiseMouth(const MouthModel& model, const Eigen::MatrixXd& mfcc,
                                 const MouthSynthesisOptions& options = {}, int* iterations = nullptr);
 
+// synthesiseMouth with a window (windowFrames > 0) as a stream, for the live pipeline: MFCC frames in one at a
+// time, visual components out in order, the same values as the batch call on the whole input. Frame t waits
+// for frame t + tc (its context) and then for the rest of its inversion window. Ready frames are kept only
+// until taken. Thread contract: one thread per instance; the model must outlive it.
+class MouthSynthesiser {
+ public:
+  MouthSynthesiser(const MouthModel& model, const MouthSynthesisOptions& options);  // windowFrames >= 1
+  MouthSynthesiser(const MouthSynthesiser&) = delete;
+  MouthSynthesiser& operator=(const MouthSynthesiser&) = delete;
+
+  void acceptMfcc(const Eigen::Ref<const Eigen::VectorXd>& mfcc);  // c1..c11 of the next frame
+  void finish();                                                   // the last tc frames, the last window
+  bool next(Eigen::VectorXd& components);                          // K values, if a frame is ready
+  int lookaheadFrames() const;  // the most frames a frame waits past its own: tc + window - 1
+  int lastIterations() const { return stream_.lastIterations(); }
+
+ private:
+  void stackFrame(Eigen::Index t);  // frame t of the context-stacked audio into the inverter
+
+  const MouthModel& model_;
+  hmm::HmmInverter inverter_;
+  hmm::StreamingInverter stream_;
+  Eigen::MatrixXd recent_;  // the last 2 tc + 1 MFCC frames, circular by frame number
+  Eigen::Index received_ = 0;
+  Eigen::Index stacked_ = 0;
+  bool finished_ = false;
+};
+
 // The jaw opening (degrees, row 0 of the visual parameters) that K x T components reconstruct.
 Eigen::RowVectorXd jawOpeningOf(const MouthModel& model, const Eigen::MatrixXd& components);
 

@@ -2,8 +2,10 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/LU>
+#include <algorithm>
 #include <cmath>
 #include <random>
+#include <string>
 
 #include "core/error.h"
 #include "hmm/forward_backward.h"
@@ -114,8 +116,57 @@ Eigen::MatrixXd HmmInverter::conditionalMean(const Eigen::Ref<const Eigen::Matri
 
 Eigen::MatrixXd HmmInverter::mmse(const Eigen::Ref<const Eigen::MatrixXd>& audio) const {
   if (audio.rows() != audioSize_) throw Error("HMM inversion: audio has the wrong dimension");
-  if (audio.cols() == 0) return Eigen::MatrixXd(visualSize_, 0);
-  return conditionalMean(audio, componentPosteriors(audioModel_, audio, nullptr, nullptr, nullptr));
+  const Eigen::Index numFrames = audio.cols();
+  Eigen::MatrixXd visual(visualSize_, numFrames);
+  const Eigen::Index window = options_.windowFrames > 0 ? options_.windowFrames : std::max<Eigen::Index>(numFrames, 1);
+  Eigen::VectorXd carried;
+  Eigen::VectorXd next;
+  for (Eigen::Index start = 0; start < numFrames; start += window) {
+    const Eigen::Index length = std::min(window, numFrames - start);
+    visual.middleCols(start, length) = mmseWindow(audio.middleCols(start, length), start > 0 ? &carried : nullptr, next);
+    carried = next;
+  }
+  return visual;
+}
+
+Eigen::MatrixXd HmmInverter::mmseWindow(const Eigen::Ref<const Eigen::MatrixXd>& audio, const Eigen::VectorXd* carried,
+                                        Eigen::VectorXd& next) const {
+  if (audio.rows() != audioSize_) throw Error("HMM inversion: audio has the wrong dimension");
+  if (audio.cols() == 0) throw Error("HMM inversion: an empty window");
+  Eigen::VectorXd last;
+  Eigen::MatrixXd visual = conditionalMean(audio, componentPosteriors(audioModel_, audio, carried, nullptr, &last));
+  next = nextWindowStart(last);
+  return visual;
+}
+
+Eigen::VectorXd HmmInverter::nextWindowStart(const Eigen::VectorXd& lastFrameDistribution) const {
+  // One step of the chain from the window's last frame.
+  Eigen::VectorXd next = jointModel_.transition.transpose() * lastFrameDistribution;
+  return next / next.sum();
+}
+
+Eigen::MatrixXd HmmInverter::invertWindow(const Eigen::Ref<const Eigen::MatrixXd>& audio, const Eigen::VectorXd* carried,
+                                          Eigen::VectorXd& next, std::mt19937& random, int* iterations,
+                                          std::vector<double>* logLikelihoods) const {
+  if (audio.rows() != audioSize_) throw Error("HMM inversion: audio has the wrong dimension");
+  if (audio.cols() == 0) throw Error("HMM inversion: an empty window");
+  Eigen::MatrixXd initial;
+  if (options_.start == InversionStart::kRandom) {
+    std::normal_distribution<double> gaussian(0.0, 1.0);
+    initial = Eigen::MatrixXd::NullaryExpr(visualSize_, audio.cols(), [&](Eigen::Index row, Eigen::Index) {
+      return visualMean_[row] + visualSpread_[row] * gaussian(random);
+    });
+  } else {
+    initial = conditionalMean(audio, componentPosteriors(audioModel_, audio, carried, nullptr, nullptr));
+  }
+  int count = 0;
+  std::vector<double> values;
+  Eigen::VectorXd last;
+  Eigen::MatrixXd visual = runEm(audio, std::move(initial), carried, values, count, &last);
+  next = nextWindowStart(last);
+  if (iterations) *iterations = count;
+  if (logLikelihoods) *logLikelihoods = std::move(values);
+  return visual;
 }
 
 Eigen::MatrixXd HmmInverter::runEm(const Eigen::Ref<const Eigen::MatrixXd>& audio, Eigen::MatrixXd visual,
@@ -163,36 +214,62 @@ InversionResult HmmInverter::invert(const Eigen::Ref<const Eigen::MatrixXd>& aud
   if (numFrames == 0) return result;
   const Eigen::Index window = options_.windowFrames > 0 ? options_.windowFrames : numFrames;
   std::mt19937 random(options_.seed);
-  std::normal_distribution<double> gaussian(0.0, 1.0);
   Eigen::VectorXd carried;
+  Eigen::VectorXd next;
   int totalIterations = 0;
   int windows = 0;
   for (Eigen::Index start = 0; start < numFrames; start += window) {
     const Eigen::Index length = std::min(window, numFrames - start);
-    const auto block = audio.middleCols(start, length);
-    Eigen::MatrixXd initial;
-    if (options_.start == InversionStart::kRandom) {
-      initial = Eigen::MatrixXd::NullaryExpr(visualSize_, length, [&](Eigen::Index row, Eigen::Index) {
-        return visualMean_[row] + visualSpread_[row] * gaussian(random);
-      });
-    } else {
-      initial = conditionalMean(block, componentPosteriors(audioModel_, block, start > 0 ? &carried : nullptr,
-                                                           nullptr, nullptr));
-    }
     int iterations = 0;
     std::vector<double> logLikelihoods;
-    Eigen::VectorXd lastDistribution;
-    result.visual.middleCols(start, length) =
-        runEm(block, std::move(initial), start > 0 ? &carried : nullptr, logLikelihoods, iterations, &lastDistribution);
-    // The next window's first frame: one step of the chain from this window's last frame.
-    carried = jointModel_.transition.transpose() * lastDistribution;
-    carried /= carried.sum();
+    result.visual.middleCols(start, length) = invertWindow(audio.middleCols(start, length),
+                                                           start > 0 ? &carried : nullptr, next, random,
+                                                           &iterations, &logLikelihoods);
+    carried = next;
     if (start == 0 || options_.windowFrames <= 0) result.logLikelihoods = logLikelihoods;
     totalIterations += iterations;
     ++windows;
   }
   result.iterations = static_cast<int>(std::lround(static_cast<double>(totalIterations) / windows));
   return result;
+}
+
+StreamingInverter::StreamingInverter(const HmmInverter& inverter, Method method, int windowFrames)
+    : inverter_(inverter), method_(method), windowFrames_(windowFrames), random_(inverter.options().seed) {
+  if (windowFrames < 1) throw Error("streaming inversion: the window must be at least one frame, not " + std::to_string(windowFrames));
+  window_.resize(inverter.audioDimension(), windowFrames);
+}
+
+void StreamingInverter::accept(const Eigen::Ref<const Eigen::VectorXd>& audioFrame) {
+  if (audioFrame.size() != inverter_.audioDimension())
+    throw Error("streaming inversion: an audio frame of " + std::to_string(audioFrame.size()) + " values, not " +
+                std::to_string(inverter_.audioDimension()));
+  window_.col(filled_++) = audioFrame;
+  if (filled_ == windowFrames_) decode();
+}
+
+void StreamingInverter::finish() {
+  if (filled_ > 0) decode();
+}
+
+bool StreamingInverter::next(Eigen::VectorXd& visual) {
+  if (ready_.empty()) return false;
+  visual = std::move(ready_.front());
+  ready_.pop_front();
+  return true;
+}
+
+void StreamingInverter::decode() {
+  const auto audio = window_.leftCols(filled_);
+  Eigen::VectorXd next;
+  const Eigen::VectorXd* carried = first_ ? nullptr : &carried_;
+  const Eigen::MatrixXd visual = method_ == Method::kMmse
+                                     ? inverter_.mmseWindow(audio, carried, next)
+                                     : inverter_.invertWindow(audio, carried, next, random_, &lastIterations_);
+  carried_ = std::move(next);
+  first_ = false;
+  filled_ = 0;
+  for (Eigen::Index t = 0; t < visual.cols(); ++t) ready_.push_back(visual.col(t));
 }
 
 }  // namespace th::hmm

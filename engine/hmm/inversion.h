@@ -18,6 +18,8 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <deque>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -48,9 +50,22 @@ class HmmInverter {
   HmmInverter(const HmmModel& jointModel, const InversionOptions& options);
 
   InversionResult invert(const Eigen::Ref<const Eigen::MatrixXd>& audio) const;
+  // With windowFrames > 0, window by window as invert() (forward-backward within each window, the state
+  // distribution carried from one to the next); else over the whole sequence.
   Eigen::MatrixXd mmse(const Eigen::Ref<const Eigen::MatrixXd>& audio) const;
 
+  // One window of the windowed forms, as invert() and mmse() run them one after another. `carried`: the state
+  // distribution at the window's first frame (null: the model's start, π); `next` receives the one for the
+  // next window's first frame; `random` draws the random start. `iterations` and `logLikelihoods` (if not
+  // null) receive the EM count and the joint log-likelihood of each iteration.
+  Eigen::MatrixXd invertWindow(const Eigen::Ref<const Eigen::MatrixXd>& audio, const Eigen::VectorXd* carried,
+                               Eigen::VectorXd& next, std::mt19937& random, int* iterations = nullptr,
+                               std::vector<double>* logLikelihoods = nullptr) const;
+  Eigen::MatrixXd mmseWindow(const Eigen::Ref<const Eigen::MatrixXd>& audio, const Eigen::VectorXd* carried,
+                             Eigen::VectorXd& next) const;
+
   const HmmModel& audioModel() const { return audioModel_; }
+  const InversionOptions& options() const { return options_; }
   int audioDimension() const { return audioSize_; }
   int visualDimension() const { return visualSize_; }
 
@@ -73,6 +88,7 @@ class HmmInverter {
   Eigen::MatrixXd componentPosteriors(const HmmModel& model, const Eigen::Ref<const Eigen::MatrixXd>& frames,
                                       const Eigen::VectorXd* carried, double* logLikelihood,
                                       Eigen::VectorXd* lastFrameDistribution) const;
+  Eigen::VectorXd nextWindowStart(const Eigen::VectorXd& lastFrameDistribution) const;
   Eigen::MatrixXd conditionalMean(const Eigen::Ref<const Eigen::MatrixXd>& audio, const Eigen::MatrixXd& posteriors) const;
 
   HmmModel jointModel_;
@@ -86,6 +102,37 @@ class HmmInverter {
   int maxComponents_ = 0;
   Eigen::VectorXd visualMean_;         // for the random start: the model's overall visual mean and spread
   Eigen::VectorXd visualSpread_;
+};
+
+// The windowed inversion (or MMSE estimate) as a stream, for the live pipeline: audio frames go in one at a
+// time, visual frames come out a window at a time, the same values as HmmInverter::invert() or mmse() with
+// that window over the whole input. A window is decoded when its last frame arrives: the look-ahead is up to
+// windowFrames - 1 frames. Ready frames are kept until taken, so memory does not grow with the stream.
+// Thread contract: one thread per instance; the inverter is shared read-only and must outlive it.
+class StreamingInverter {
+ public:
+  enum class Method { kInversion, kMmse };
+  StreamingInverter(const HmmInverter& inverter, Method method, int windowFrames);
+
+  void accept(const Eigen::Ref<const Eigen::VectorXd>& audioFrame);  // d_a values
+  void finish();                        // decodes the last, partial window
+  bool next(Eigen::VectorXd& visual);   // the next visual frame (d_v), if one is ready
+  int lastIterations() const { return lastIterations_; }  // EM iterations of the last window decoded
+  int windowFrames() const { return windowFrames_; }
+
+ private:
+  void decode();
+
+  const HmmInverter& inverter_;
+  Method method_;
+  int windowFrames_;
+  Eigen::MatrixXd window_;  // d_a x windowFrames, filled up to `filled_`
+  int filled_ = 0;
+  Eigen::VectorXd carried_;
+  bool first_ = true;
+  std::mt19937 random_;
+  std::deque<Eigen::VectorXd> ready_;
+  int lastIterations_ = 0;
 };
 
 }  // namespace th::hmm

@@ -104,6 +104,36 @@ TEST(MouthModel, RecoversTheVisualPartFromAudioOnHeldOutData) {
   EXPECT_THROW(synthesiseMouth(model, Eigen::MatrixXd::Zero(5, 10)), Error) << "audio of the wrong dimension";
 }
 
+TEST(MouthSynthesiser, StreamsTheWindowedSynthesisFrameByFrame) {
+  const MouthRecording train = synthetic(2000, 3);
+  const MouthRecording test = synthetic(250, 4);
+  const MouthModel model = trainMouthModel({train}, {.states = 3, .mixtures = 2, .contextFrames = 2});
+  for (const MouthMethod method : {MouthMethod::kInversion, MouthMethod::kMmse}) {
+    for (const int window : {1, 4, 30}) {
+      const MouthSynthesisOptions options{.method = method, .windowFrames = window, .maxIterations = 20};
+      const Eigen::MatrixXd batch = synthesiseMouth(model, test.mfcc, options);
+      MouthSynthesiser stream(model, options);
+      EXPECT_EQ(stream.lookaheadFrames(), 2 + window - 1);
+      Eigen::MatrixXd streamed(batch.rows(), batch.cols());
+      Eigen::Index out = 0;
+      Eigen::VectorXd frame;
+      for (Eigen::Index t = 0; t < test.mfcc.cols(); ++t) {
+        stream.acceptMfcc(test.mfcc.col(t));
+        while (stream.next(frame)) streamed.col(out++) = frame;
+        EXPECT_GE(out, t + 1 - stream.lookaheadFrames()) << "frame " << t;
+      }
+      stream.finish();
+      while (stream.next(frame)) streamed.col(out++) = frame;
+      ASSERT_EQ(out, batch.cols());
+      EXPECT_LT((streamed - batch).cwiseAbs().maxCoeff(), 1e-12)
+          << (method == MouthMethod::kMmse ? "MMSE" : "inversion") << ", window " << window;
+    }
+  }
+  EXPECT_THROW(MouthSynthesiser(model, {.windowFrames = 0}), Error) << "batch is not a stream";
+  MouthSynthesiser stream(model, {.windowFrames = 3});
+  EXPECT_THROW(stream.acceptMfcc(Eigen::VectorXd::Zero(5)), Error) << "MFCCs of the wrong size";
+}
+
 TEST(MouthModel, FileRoundTripAndRefusals) {
   const MouthModelOptions options{.states = 3, .mixtures = 1, .contextFrames = 1};
   const MouthModel model = trainMouthModel({synthetic(1500, 3)}, options);

@@ -128,11 +128,18 @@ TEST_F(AnimateCliTest, VariantsAndPartsAreSelectable) {
   ASSERT_EQ(a.numFrames(), b.numFrames());
   ASSERT_EQ(a.numFrames(), c.numFrames());
   // A short decoding lag forces early decisions that batch Viterbi revises; with a lag longer than any
-  // disagreement the online decoder finds the batch path exactly. The MMSE mouth has no online form to differ.
+  // disagreement the online decoder finds the batch path exactly. The online MMSE mouth works window by window
+  // (forward-backward within each): it differs from the whole-recording estimate but follows it closely.
   const int yaw = a.columnOf(49);
   EXPECT_GT((a.values.col(yaw) - b.values.col(yaw)).cwiseAbs().maxCoeff(), 1.0);
   EXPECT_LT((a.values.col(yaw) - c.values.col(yaw)).cwiseAbs().maxCoeff(), 1e-3);
-  EXPECT_LT((a.values.col(a.columnOf(3)) - b.values.col(b.columnOf(3))).cwiseAbs().maxCoeff(), 1e-3);
+  const Eigen::VectorXd jawBatch = a.values.col(a.columnOf(3));
+  const Eigen::VectorXd jawOnline = b.values.col(b.columnOf(3));
+  EXPECT_GT((jawBatch - jawOnline).cwiseAbs().maxCoeff(), 1e-3);
+  const auto centred = [](const Eigen::VectorXd& v) { return Eigen::VectorXd(v.array() - v.mean()); };
+  const double correlation = centred(jawBatch).dot(centred(jawOnline)) / (centred(jawBatch).norm() * centred(jawOnline).norm());
+  std::printf("[ INFO     ] online (30-frame windows) against batch MMSE jaw: correlation %.4f\n", correlation);
+  EXPECT_GT(correlation, 0.9);
 
   const fs::path headOnly = out() / "head.csv";
   ASSERT_EQ(runCli({"animate", speech().string(), "-o", headOnly.string(), "--mouth", "none"}, logs()).exitCode, 0);

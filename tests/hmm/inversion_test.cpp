@@ -159,6 +159,42 @@ TEST_P(InversionOnSampledData, WindowedApproachesBatchAsTheWindowGrows) {
   EXPECT_LT((whole - batch).cwiseAbs().maxCoeff(), 1e-12);
 }
 
+TEST_P(InversionOnSampledData, StreamingGivesTheWindowedValuesFrameByFrame) {
+  const HmmModel model = audioVisualModel(GetParam(), 29, 4);
+  std::mt19937 random(29);
+  const Eigen::MatrixXd audio = sampleHmm(model, 301, random).frames.topRows(4);  // a partial last window
+  for (const InversionStart start : {InversionStart::kConditionalMean, InversionStart::kRandom}) {
+    for (const int window : {1, 7, 30}) {
+      const HmmInverter inverter(model, {.start = start, .windowFrames = window});
+      for (const auto method : {StreamingInverter::Method::kInversion, StreamingInverter::Method::kMmse}) {
+        const bool mmse = method == StreamingInverter::Method::kMmse;
+        if (mmse && start == InversionStart::kRandom) continue;  // MMSE has no start
+        const Eigen::MatrixXd batch = mmse ? inverter.mmse(audio) : inverter.invert(audio).visual;
+        StreamingInverter stream(inverter, method, window);
+        Eigen::MatrixXd streamed(2, audio.cols());
+        Eigen::Index out = 0;
+        Eigen::VectorXd frame;
+        for (Eigen::Index t = 0; t < audio.cols(); ++t) {
+          stream.accept(audio.col(t));
+          while (stream.next(frame)) streamed.col(out++) = frame;
+          // Frame t is out once its window is complete: at most window - 1 frames behind.
+          EXPECT_GE(out, t + 1 - (window - 1)) << "frame " << t;
+        }
+        stream.finish();
+        while (stream.next(frame)) streamed.col(out++) = frame;
+        ASSERT_EQ(out, audio.cols());
+        EXPECT_LT((streamed - batch).cwiseAbs().maxCoeff(), 1e-12)
+            << (mmse ? "MMSE" : "inversion") << ", window " << window;
+      }
+    }
+  }
+  // Windowed MMSE is causal within its windows: with one frame a window it is the filtered (forward-only)
+  // estimate, which differs from the whole-sequence one.
+  const Eigen::MatrixXd filtered = HmmInverter(model, {.windowFrames = 1}).mmse(audio);
+  EXPECT_GT((filtered - HmmInverter(model, {}).mmse(audio)).cwiseAbs().maxCoeff(), 1e-3);
+  EXPECT_THROW(StreamingInverter(HmmInverter(model, {}), StreamingInverter::Method::kMmse, 0), th::Error);
+}
+
 INSTANTIATE_TEST_SUITE_P(Covariances, InversionOnSampledData,
                          ::testing::Values(CovarianceType::kFull, CovarianceType::kDiagonal),
                          [](const auto& testInfo) { return testInfo.param == CovarianceType::kFull ? "full" : "diagonal"; });

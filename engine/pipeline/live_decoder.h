@@ -1,0 +1,89 @@
+// Speech in, animation frames out, as a stream: what the live pipeline's worker thread runs.
+//
+//   th::pipeline::LiveDecoder decoder(&head, &mouth, {});      // models from animation/head_model.h, mouth_model.h
+//   decoder.acceptWaveform(chunk);                             // 16 kHz mono, chunks of any size
+//   th::pipeline::AnimationFrame frame;
+//   while (decoder.next(frame)) show(frame);                   // in order, frame i at i / 30 s
+//   decoder.inputFinished();                                   // then the last frames
+//
+// One feature extractor (running energy normalisation, no context: the mouth model stacks its own) feeds both
+// models: prosody → the head model's online decoder → rotations → FAPs 48–50; MFCC → the mouth model's
+// streaming inversion → jaw opening → FAP 3 and the lip FAPs. A frame is out once both parts have it. The
+// values are those of animation::animate() with the same online options on the whole recording, frame for
+// frame (tests/pipeline). A null model leaves its FAPs at 0.
+//
+// Thread contract: one thread per instance; the models are shared read-only and must outlive it.
+#pragma once
+
+#include <deque>
+#include <memory>
+#include <span>
+
+#include "animation/head_model.h"
+#include "animation/mouth_model.h"
+#include "animation/prosody.h"
+#include "face/face_model.h"
+#include "features/online_features.h"
+
+namespace th::pipeline {
+
+struct LiveDecoderOptions {
+  // Online decoding: Viterbi with a bounded lag, then the smooth trajectory through the decided states.
+  animation::HeadSynthesisOptions head{.variant = animation::HeadVariant::kTrajectory, .maxLagFrames = 6};
+  // Inversion on short windows: the window is look-ahead.
+  animation::MouthSynthesisOptions mouth{.method = animation::MouthMethod::kInversion, .windowFrames = 2, .maxIterations = 20};
+};
+
+struct AnimationFrame {
+  int index = 0;              // frame number from the start of the stream
+  double timeSeconds = 0.0;   // index / 30: the speech this frame shows
+  face::FapValues faps{};     // head (48–50), jaw (3) and lip FAPs; the rest 0
+  double f0Hz = 0.0;          // of this frame (0: unvoiced), for plots
+  double energy = 0.0;        // normalised log energy
+  Eigen::Vector3d headDegrees = Eigen::Vector3d::Zero();  // pitch, yaw, roll relative to the mean pose
+  double jawDegrees = 0.0;
+};
+
+// How far past a frame's time the input must reach before the frame is out, part by part.
+struct DecoderLookahead {
+  double featuresMs = 0.0;  // the extractor's (F0, MFCC window, deltas)
+  int headFrames = 0;       // the head decoder's lag and trajectory look-ahead
+  int mouthFrames = 0;      // the MFCC context and the inversion window
+  double totalMs = 0.0;     // features + the slower of head and mouth
+};
+
+class LiveDecoder {
+ public:
+  // Throws th::Error if both models are null, the mouth model has no FAP map, or an option cannot stream
+  // (a batch head, maxLagFrames < 0, or a mouth window below 1).
+  LiveDecoder(const animation::HeadModel* head, const animation::MouthModel* mouth, const LiveDecoderOptions& options);
+  ~LiveDecoder();
+  LiveDecoder(const LiveDecoder&) = delete;
+  LiveDecoder& operator=(const LiveDecoder&) = delete;
+
+  void acceptWaveform(std::span<const float> samples16k);
+  void inputFinished();
+  bool next(AnimationFrame& frame);  // the next frame, if ready
+
+  DecoderLookahead lookahead() const;
+  const LiveDecoderOptions& options() const { return options_; }
+
+ private:
+  void pull();
+
+  const animation::HeadModel* head_;
+  const animation::MouthModel* mouth_;
+  LiveDecoderOptions options_;
+  features::OnlineFeatureExtractor extractor_;
+  animation::ProsodyTracker prosody_;
+  std::unique_ptr<animation::HeadSynthesiser> headStream_;
+  std::unique_ptr<animation::MouthSynthesiser> mouthStream_;
+  std::vector<float> row_;
+  int featureFrames_ = 0;  // rows taken from the extractor
+  int headTaken_ = 0;      // rotations taken from the head synthesiser
+  std::deque<AnimationFrame> pending_;  // frames with their features, waiting for head and mouth
+  std::deque<Eigen::Vector3d> rotations_;
+  std::deque<double> jaws_;
+};
+
+}  // namespace th::pipeline

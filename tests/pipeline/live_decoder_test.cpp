@@ -1,0 +1,105 @@
+// LiveDecoder: the live pipeline's decoding, a stream in, FAP frames out, held to the batch animate().
+#include <gtest/gtest.h>
+
+#include <random>
+#include <string>
+#include <vector>
+
+#include "animation/animate.h"
+#include "audio/media_audio.h"
+#include "core/data_path.h"
+#include "core/error.h"
+#include "pipeline/live_decoder.h"
+
+namespace {
+
+using th::pipeline::AnimationFrame;
+using th::pipeline::LiveDecoder;
+using th::pipeline::LiveDecoderOptions;
+
+struct Models {
+  th::animation::HeadModel head = th::animation::loadHeadModel(std::string(TALKINGHEAD_SOURCE_DIR) + "/models/head.json");
+  th::animation::MouthModel mouth = th::animation::loadMouthModel(std::string(TALKINGHEAD_SOURCE_DIR) + "/models/mouth.json");
+};
+
+const Models& models() {
+  static const Models loaded;
+  return loaded;
+}
+
+std::vector<float> speech(double seconds) {
+  const auto clip = th::audio::readRecording(th::sharedDataPath("beat2/audio_only/2_scott_0_4_4.wav"));
+  return {clip.samples.begin(), clip.samples.begin() + static_cast<long>(seconds * clip.sampleRateHz)};
+}
+
+TEST(LiveDecoder, GivesTheBatchAnimationFrameByFrameWhateverTheChunks) {
+  const std::vector<float> samples = speech(12.0);
+  for (const bool mmse : {false, true}) {
+    LiveDecoderOptions options;
+    if (mmse) options.mouth.method = th::animation::MouthMethod::kMmse;
+    const th::video::Animation batch =
+        th::animation::animate(samples, &models().head, &models().mouth, {.head = options.head, .mouth = options.mouth});
+    LiveDecoder decoder(&models().head, &models().mouth, options);
+    const th::pipeline::DecoderLookahead lookahead = decoder.lookahead();
+    EXPECT_EQ(lookahead.headFrames, 6 + 3);
+    EXPECT_EQ(lookahead.mouthFrames, models().mouth.contextFrames + 1);
+    std::mt19937 random(5);
+    std::uniform_int_distribution<std::size_t> chunkSize(1, 3000);
+    std::vector<AnimationFrame> frames;
+    AnimationFrame frame;
+    for (std::size_t at = 0; at < samples.size();) {
+      const std::size_t n = std::min(chunkSize(random), samples.size() - at);
+      decoder.acceptWaveform(std::span<const float>(samples).subspan(at, n));
+      at += n;
+      while (decoder.next(frame)) frames.push_back(frame);
+      // Frames come out no later than the look-ahead says (one frame of rounding).
+      const double heard = static_cast<double>(at) / 16000.0;
+      const double due = (heard - lookahead.totalMs / 1000.0) * 30.0 - 1.0;
+      EXPECT_GE(static_cast<double>(frames.size()), due) << "after " << heard << " s";
+    }
+    decoder.inputFinished();
+    while (decoder.next(frame)) frames.push_back(frame);
+    ASSERT_EQ(static_cast<Eigen::Index>(frames.size()), batch.numFrames());
+    double largest = 0.0;
+    for (std::size_t f = 0; f < frames.size(); ++f) {
+      EXPECT_EQ(frames[f].index, static_cast<int>(f));
+      EXPECT_DOUBLE_EQ(frames[f].timeSeconds, static_cast<double>(f) / 30.0);
+      for (std::size_t c = 0; c < batch.faps.size(); ++c) {
+        const double expected = batch.values(static_cast<Eigen::Index>(f), static_cast<Eigen::Index>(c));
+        largest = std::max(largest, std::abs(frames[f].faps[static_cast<std::size_t>(batch.faps[c])] - expected));
+      }
+    }
+    EXPECT_LT(largest, 1e-9) << (mmse ? "MMSE" : "inversion");
+    // The frames carry what the plots show.
+    double voiced = 0.0;
+    for (const AnimationFrame& f : frames) voiced += f.f0Hz > 0.0 ? 1.0 : 0.0;
+    EXPECT_GT(voiced / static_cast<double>(frames.size()), 0.3);
+  }
+}
+
+TEST(LiveDecoder, RefusesWhatCannotStream) {
+  LiveDecoderOptions batchHead;
+  batchHead.head.maxLagFrames = -1;
+  EXPECT_THROW(LiveDecoder(&models().head, nullptr, batchHead), th::Error);
+  LiveDecoderOptions batchMouth;
+  batchMouth.mouth.windowFrames = 0;
+  EXPECT_THROW(LiveDecoder(nullptr, &models().mouth, batchMouth), th::Error);
+  EXPECT_THROW(LiveDecoder(nullptr, nullptr, {}), th::Error);
+  th::animation::MouthModel sweep = models().mouth;
+  sweep.fapMap.reset();
+  EXPECT_THROW(LiveDecoder(nullptr, &sweep, {}), th::Error);
+  // One model alone: its FAPs only.
+  LiveDecoder headOnly(&models().head, nullptr, {});
+  const std::vector<float> samples = speech(2.0);
+  headOnly.acceptWaveform(samples);
+  headOnly.inputFinished();
+  AnimationFrame frame;
+  int count = 0;
+  while (headOnly.next(frame)) {
+    EXPECT_EQ(frame.faps[3], 0.0);
+    ++count;
+  }
+  EXPECT_NEAR(count, 60, 1);
+}
+
+}  // namespace
