@@ -16,5 +16,6 @@ void addTrainMouthCommand(CLI::App& train);  // `train mouth`, registered by add
 void addAnimateCommand(CLI::App& app);
 void addFaceCommands(CLI::App& app);  // render, poses, export
 void addShowCommand(CLI::App& app);
+void addLiveCommand(CLI::App& app);  // live (headless for now)
 
 }  // namespace th::app

@@ -16,6 +16,7 @@ int main(int argc, char** argv) {
   th::app::addAnimateCommand(app);
   th::app::addFaceCommands(app);
   th::app::addShowCommand(app);
+  th::app::addLiveCommand(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -9,7 +9,8 @@
 #   3. sanitizers   AddressSanitizer + UBSan build in build-asan/ (Debug at -O1, so asserts and libstdc++'s
 #                   bounds checks are on), then ctest with leak detection; any report fails its test
 #   4. tsan         ThreadSanitizer build in build-tsan/ of the tests labelled `threads` only (the thread hand-off
-#                   the export's pipeline runs on), then those tests; any report fails them
+#                   the export's pipeline runs on, the live session's ring, worker and frame queue), then those
+#                   tests; any report fails them
 #   5. fuzz         scripts/fuzz.sh, if present, for FUZZ_SECONDS (default 60)
 #   6. bench smoke  build/bench/{features,animation,render,export}_bench --quick: one pass of every benchmark (proves it
 #                   runs, times nothing)
@@ -152,7 +153,7 @@ fi
 build_tsan() {
   configure "$tsan_dir" -DCMAKE_BUILD_TYPE=Debug -DTALKINGHEAD_TSAN=ON -DCMAKE_CXX_FLAGS_DEBUG="-g -O1" \
     -DCMAKE_C_FLAGS_DEBUG="-g -O1"
-  cmake --build "$tsan_dir" --parallel "$jobs" --target slot_queue_test
+  cmake --build "$tsan_dir" --parallel "$jobs" --target slot_queue_test live_session_test
 }
 part "tsan build" build_tsan
 if ((part_status == 0)); then

@@ -22,8 +22,8 @@
 #include "animation/head_model.h"
 #include "animation/mouth_model.h"
 #include "animation/prosody.h"
-#include "face/face_model.h"
 #include "features/online_features.h"
+#include "pipeline/animation_frame.h"
 
 namespace th::pipeline {
 
@@ -34,16 +34,6 @@ struct LiveDecoderOptions {
   animation::MouthSynthesisOptions mouth{.method = animation::MouthMethod::kInversion, .windowFrames = 2, .maxIterations = 20};
 };
 
-struct AnimationFrame {
-  int index = 0;              // frame number from the start of the stream
-  double timeSeconds = 0.0;   // index / 30: the speech this frame shows
-  face::FapValues faps{};     // head (48–50), jaw (3) and lip FAPs; the rest 0
-  double f0Hz = 0.0;          // of this frame (0: unvoiced), for plots
-  double energy = 0.0;        // normalised log energy
-  Eigen::Vector3d headDegrees = Eigen::Vector3d::Zero();  // pitch, yaw, roll relative to the mean pose
-  double jawDegrees = 0.0;
-};
-
 // How far past a frame's time the input must reach before the frame is out, part by part.
 struct DecoderLookahead {
   double featuresMs = 0.0;  // the extractor's (F0, MFCC window, deltas)
@@ -52,18 +42,18 @@ struct DecoderLookahead {
   double totalMs = 0.0;     // features + the slower of head and mouth
 };
 
-class LiveDecoder {
+class LiveDecoder : public FrameDecoder {
  public:
   // Throws th::Error if both models are null, the mouth model has no FAP map, or an option cannot stream
   // (a batch head, maxLagFrames < 0, or a mouth window below 1).
   LiveDecoder(const animation::HeadModel* head, const animation::MouthModel* mouth, const LiveDecoderOptions& options);
-  ~LiveDecoder();
+  ~LiveDecoder() override;
   LiveDecoder(const LiveDecoder&) = delete;
   LiveDecoder& operator=(const LiveDecoder&) = delete;
 
-  void acceptWaveform(std::span<const float> samples16k);
-  void inputFinished();
-  bool next(AnimationFrame& frame);  // the next frame, if ready
+  void acceptWaveform(std::span<const float> samples16k) override;
+  void inputFinished() override;
+  bool next(AnimationFrame& frame) override;  // the next frame, if ready
 
   DecoderLookahead lookahead() const;
   const LiveDecoderOptions& options() const { return options_; }

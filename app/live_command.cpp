@@ -1,0 +1,164 @@
+// `talkinghead live --headless`: the live pipeline without a window. A recording is played into the session
+// at real-time pace (or faster), the worker decodes it, and a display loop at 60 Hz takes the frames, as the
+// window's render thread will; what it received can be dumped as an animation file, with the session's
+// counters and the per-frame decoding delay on stdout.
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <iostream>
+#include <map>
+#include <memory>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "animation/animate.h"
+#include "animation/fap_mapping.h"
+#include "audio/media_audio.h"
+#include "commands.h"
+#include "core/atomic_file.h"
+#include "core/error.h"
+#include "pipeline/live_decoder.h"
+#include "pipeline/live_session.h"
+#include "video/animation_file.h"
+
+namespace th::app {
+namespace {
+
+struct LiveArguments {
+  bool headless = false;
+  std::string input;
+  double speed = 1.0;
+  double duration = 0.0;
+  std::string dump;
+  std::string headVariant = "trajectory";
+  std::string mouthMethod = "inversion";
+  int lagFrames = 6;
+  int windowFrames = 2;
+  int iterations = 20;
+  std::string headModel = std::string(TALKINGHEAD_SOURCE_DIR) + "/models/head.json";
+  std::string mouthModel = std::string(TALKINGHEAD_SOURCE_DIR) + "/models/mouth.json";
+};
+
+double percentile(std::vector<double> values, double p) {
+  if (values.empty()) return 0.0;
+  std::sort(values.begin(), values.end());
+  const auto at = static_cast<std::size_t>(p / 100.0 * static_cast<double>(values.size() - 1) + 0.5);
+  return values[std::min(at, values.size() - 1)];
+}
+
+void runLive(const LiveArguments& arguments) {
+  if (!arguments.dump.empty()) {
+    video::animationFormatOf(arguments.dump);
+    checkOutputTarget(arguments.dump);
+  }
+  pipeline::LiveDecoderOptions options;
+  options.head.variant = arguments.headVariant == "paper" ? animation::HeadVariant::kStateMeans
+                                                          : animation::HeadVariant::kTrajectory;
+  options.head.maxLagFrames = arguments.lagFrames;
+  options.mouth.method = arguments.mouthMethod == "mmse" ? animation::MouthMethod::kMmse : animation::MouthMethod::kInversion;
+  options.mouth.windowFrames = arguments.windowFrames;
+  options.mouth.maxIterations = arguments.iterations;
+  std::unique_ptr<animation::HeadModel> head;
+  std::unique_ptr<animation::MouthModel> mouth;
+  if (arguments.headVariant != "none") head = std::make_unique<animation::HeadModel>(animation::loadHeadModel(arguments.headModel));
+  if (arguments.mouthMethod != "none") {
+    mouth = std::make_unique<animation::MouthModel>(animation::loadMouthModel(arguments.mouthModel));
+    if (!mouth->fapMap) throw fileError(arguments.mouthModel, "has no FAP map (a sweep model?); make one with `talkinghead train mouth`");
+  }
+  if (!head && !mouth) throw Error("live: --head none and --mouth none leave nothing to animate");
+
+  audio::AudioClip clip = audio::readRecording(arguments.input);
+  if (clip.samples.empty()) throw fileError(arguments.input, "has no samples");
+  if (arguments.duration > 0.0)
+    clip.samples.resize(std::min(clip.samples.size(), static_cast<std::size_t>(arguments.duration * clip.sampleRateHz)));
+
+  auto decoder = std::make_unique<pipeline::LiveDecoder>(head.get(), mouth.get(), options);
+  const pipeline::DecoderLookahead lookahead = decoder->lookahead();
+  pipeline::LiveSession session(std::move(decoder));
+  session.start();
+  pipeline::FileFeeder feeder(session, clip.samples, arguments.speed);
+
+  // The display loop: 60 Hz in the recording's time (faster when it plays faster; at full speed as often as
+  // it can), taking whatever the worker has decoded.
+  std::vector<pipeline::AnimationFrame> shown;
+  std::vector<double> decodeMs;
+  pipeline::AnimationFrame frame;
+  const auto tick = std::chrono::microseconds(
+      arguments.speed > 0.0 ? static_cast<long>(16667.0 / std::max(arguments.speed, 1.0)) : 500L);
+  auto next = std::chrono::steady_clock::now();
+  while (!session.done()) {
+    while (session.nextFrame(frame)) {
+      decodeMs.push_back(static_cast<double>(frame.decodedNs - frame.inputReadNs) * 1e-6);
+      shown.push_back(frame);
+    }
+    next += tick;
+    std::this_thread::sleep_until(next);
+  }
+  while (session.nextFrame(frame)) shown.push_back(frame);
+  session.rethrowError();
+
+  const pipeline::SessionCounters counters = session.counters();
+  std::printf("live (headless): %s, %.2f s of sound at %s real time\n", arguments.input.c_str(),
+              static_cast<double>(clip.samples.size()) / clip.sampleRateHz,
+              arguments.speed > 0.0 ? (std::to_string(arguments.speed) + "x").c_str() : "as fast as possible,");
+  std::printf("  frames: %llu decoded, %zu shown, %llu dropped; samples: %llu in, %llu overrun\n",
+              static_cast<unsigned long long>(counters.framesDecoded), shown.size(),
+              static_cast<unsigned long long>(counters.framesDropped), static_cast<unsigned long long>(counters.samplesIn),
+              static_cast<unsigned long long>(counters.overrunSamples));
+  std::printf("  look-ahead: features %.1f ms, head %d frames, mouth %d frames: %.1f ms\n", lookahead.featuresMs,
+              lookahead.headFrames, lookahead.mouthFrames, lookahead.totalMs);
+  std::printf("  decoding, from the read to the frame out: median %.2f ms, 95th percentile %.2f ms, max %.2f ms\n",
+              percentile(decodeMs, 50), percentile(decodeMs, 95), percentile(decodeMs, 100));
+
+  if (!arguments.dump.empty()) {
+    video::Animation animation;
+    animation.name = std::filesystem::path(arguments.input).stem().string();
+    animation.framesPerSecond = animation::kAnimationFramesPerSecond;
+    if (mouth) animation.faps = animation::mouthFapNumbers(*mouth->fapMap);
+    if (head) animation.faps.insert(animation.faps.end(), animation::kHeadFaps.begin(), animation::kHeadFaps.end());
+    std::sort(animation.faps.begin(), animation.faps.end());
+    animation.values.resize(static_cast<Eigen::Index>(shown.size()), static_cast<Eigen::Index>(animation.faps.size()));
+    for (std::size_t f = 0; f < shown.size(); ++f)
+      for (std::size_t c = 0; c < animation.faps.size(); ++c)
+        animation.values(static_cast<Eigen::Index>(f), static_cast<Eigen::Index>(c)) =
+            shown[f].faps[static_cast<std::size_t>(animation.faps[c])];
+    video::writeAnimation(arguments.dump, animation);
+    std::printf("wrote %s: %zu frames\n", arguments.dump.c_str(), shown.size());
+  }
+}
+
+}  // namespace
+
+void addLiveCommand(CLI::App& app) {
+  auto arguments = std::make_shared<LiveArguments>();
+  CLI::App* live = app.add_subcommand("live", "The live pipeline: speech in real time -> animation frames");
+  live->add_flag("--headless", arguments->headless, "Without a window: decode, and report or dump what a display would get")
+      ->required();
+  live->add_option("--input", arguments->input, "Recording to play into the pipeline (WAV, FLAC, ... or a video's audio)")
+      ->required();
+  live->add_option("--speed", arguments->speed, "Times real time (0: as fast as the worker decodes)")
+      ->check(CLI::Range(0.0, 1000.0))
+      ->capture_default_str();
+  live->add_option("--duration", arguments->duration, "Seconds of the recording to play (0: all)")
+      ->check(CLI::Range(0.0, 1e6));
+  live->add_option("--dump", arguments->dump, "Write the frames the display received: .csv, .json or .fap");
+  live->add_option("--head", arguments->headVariant, "Head: trajectory (smooth), paper (Viterbi state means), none")
+      ->check(CLI::IsMember({"trajectory", "paper", "none"}))
+      ->capture_default_str();
+  live->add_option("--mouth", arguments->mouthMethod, "Mouth: inversion, mmse, none")
+      ->check(CLI::IsMember({"inversion", "mmse", "none"}))
+      ->capture_default_str();
+  live->add_option("--lag", arguments->lagFrames, "Head decoding lag, frames")->check(CLI::Range(0, 300))->capture_default_str();
+  live->add_option("--window", arguments->windowFrames, "Mouth inversion window, frames")
+      ->check(CLI::Range(1, 300))
+      ->capture_default_str();
+  live->add_option("--iterations", arguments->iterations, "Mouth inversion: most EM iterations a window")
+      ->check(CLI::Range(1, 1000))
+      ->capture_default_str();
+  live->add_option("--head-model", arguments->headModel, "Head model file")->capture_default_str();
+  live->add_option("--mouth-model", arguments->mouthModel, "Mouth model file")->capture_default_str();
+  live->callback([arguments] { runLive(*arguments); });
+}
+
+}  // namespace th::app

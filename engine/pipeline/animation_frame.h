@@ -1,0 +1,38 @@
+// What the live pipeline's worker hands to the display: one animation frame (FAPs and what the panel plots),
+// and the interface of the decoder that makes them from speech.
+//
+// Thread contract: an AnimationFrame is a value; a FrameDecoder belongs to one thread.
+#pragma once
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <span>
+
+#include "face/face_model.h"
+
+namespace th::pipeline {
+
+struct AnimationFrame {
+  int index = 0;              // frame number from the start of the stream
+  double timeSeconds = 0.0;   // index / frames per second: the speech this frame shows
+  face::FapValues faps{};     // head (48–50), jaw (3) and lip FAPs; the rest 0
+  double f0Hz = 0.0;          // of this frame (0: unvoiced), for plots
+  double energy = 0.0;        // normalised log energy
+  Eigen::Vector3d headDegrees = Eigen::Vector3d::Zero();  // pitch, yaw, roll relative to the mean pose
+  double jawDegrees = 0.0;
+  // Steady-clock times (ns) set by the live session: when the worker had read the input that released this
+  // frame, and when the frame left the decoder.
+  std::int64_t inputReadNs = 0;
+  std::int64_t decodedNs = 0;
+};
+
+// Speech (16 kHz mono) in as a stream, frames out in order.
+class FrameDecoder {
+ public:
+  virtual ~FrameDecoder() = default;
+  virtual void acceptWaveform(std::span<const float> samples16k) = 0;
+  virtual void inputFinished() = 0;
+  virtual bool next(AnimationFrame& frame) = 0;  // the next frame, if ready
+};
+
+}  // namespace th::pipeline

@@ -1,0 +1,134 @@
+#include "pipeline/live_session.h"
+
+#include <algorithm>
+#include <span>
+#include <string>
+#include <utility>
+
+#include "core/error.h"
+
+namespace th::pipeline {
+
+std::int64_t steadyNanoseconds() {
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+LiveSession::LiveSession(std::unique_ptr<FrameDecoder> decoder, const LiveSessionOptions& options)
+    : options_(options),
+      decoder_(std::move(decoder)),
+      ring_(options.ringSamples),
+      frames_(options.frameQueue),
+      block_(options.readBlock) {
+  if (!decoder_) throw Error("live session: no decoder");
+  if (options.ringSamples == 0 || options.frameQueue == 0 || options.readBlock == 0)
+    throw Error("live session: the ring, the frame queue and the read block need room");
+}
+
+LiveSession::~LiveSession() { stop(); }
+
+void LiveSession::start() {
+  if (worker_.joinable()) throw Error("live session: already started");
+  worker_ = std::thread([this] { run(); });
+}
+
+void LiveSession::endOfInput() { inputEnded_.store(true, std::memory_order_release); }
+
+void LiveSession::stop() {
+  stopping_.store(true, std::memory_order_release);
+  if (worker_.joinable()) worker_.join();
+}
+
+void LiveSession::run() {
+  try {
+    while (!stopping_.load(std::memory_order_acquire)) {
+      // Read the end flag before draining: samples written before endOfInput() are then all in the ring.
+      const bool ended = inputEnded_.load(std::memory_order_acquire);
+      const std::size_t n = ring_.read(block_.data(), block_.size());
+      if (n > 0) {
+        const std::int64_t readNs = steadyNanoseconds();
+        decoder_->acceptWaveform(std::span<const float>(block_.data(), n));
+        deliver(readNs);
+        continue;
+      }
+      if (ended) {
+        const std::int64_t readNs = steadyNanoseconds();
+        decoder_->inputFinished();
+        deliver(readNs);
+        break;
+      }
+      std::this_thread::sleep_for(options_.poll);
+    }
+  } catch (...) {
+    error_ = std::current_exception();
+  }
+  workerDone_.store(true, std::memory_order_release);
+}
+
+void LiveSession::deliver(std::int64_t inputReadNs) {
+  AnimationFrame frame;
+  while (decoder_->next(frame)) {
+    const std::int64_t now = steadyNanoseconds();
+    frame.inputReadNs = inputReadNs;
+    frame.decodedNs = now;
+    decodeNanoseconds_.fetch_add(now - inputReadNs, std::memory_order_relaxed);
+    framesDecoded_.fetch_add(1, std::memory_order_relaxed);
+    if (!frames_.push(frame)) framesDropped_.fetch_add(1, std::memory_order_relaxed);
+  }
+}
+
+bool LiveSession::nextFrame(AnimationFrame& frame) { return frames_.pop(frame); }
+
+bool LiveSession::done() const {
+  return workerDone_.load(std::memory_order_acquire) && frames_.read_available() == 0;
+}
+
+void LiveSession::rethrowError() const {
+  if (workerDone_.load(std::memory_order_acquire) && error_) std::rethrow_exception(error_);
+}
+
+SessionCounters LiveSession::counters() const {
+  SessionCounters c;
+  c.samplesIn = ring_.samplesWritten();
+  c.overrunSamples = ring_.overrunSamples();
+  c.framesDecoded = framesDecoded_.load(std::memory_order_relaxed);
+  c.framesDropped = framesDropped_.load(std::memory_order_relaxed);
+  c.decodeSeconds = static_cast<double>(decodeNanoseconds_.load(std::memory_order_relaxed)) * 1e-9;
+  return c;
+}
+
+FileFeeder::FileFeeder(LiveSession& session, std::vector<float> samples16k, double speed, std::size_t blockSamples) {
+  if (blockSamples == 0) throw Error("file feeder: blocks of 0 samples");
+  if (!(speed >= 0.0)) throw Error("file feeder: the speed must be 0 (as fast as possible) or more");
+  thread_ = std::thread([this, &session, samples = std::move(samples16k), speed, blockSamples] {
+    const auto start = std::chrono::steady_clock::now();
+    std::size_t at = 0;
+    while (at < samples.size() && !stopping_.load(std::memory_order_acquire)) {
+      if (speed > 0.0) {
+        // Block k is due when its first sample would play: at / 16000 / speed seconds after the start.
+        const auto due = start + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                     std::chrono::duration<double>(static_cast<double>(at) / 16000.0 / speed));
+        std::this_thread::sleep_until(due);
+      }
+      const std::size_t n = std::min(blockSamples, samples.size() - at);
+      std::size_t written = 0;
+      while (written < n && !stopping_.load(std::memory_order_acquire)) {
+        // A file can wait for room where a microphone cannot: write what fits, then try again.
+        const std::size_t take = std::min(session.ring().room(), n - written);
+        if (take > 0) written += session.ring().write(samples.data() + at + written, take);
+        if (written < n) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+      }
+      at += n;
+    }
+    session.endOfInput();
+    finished_.store(true, std::memory_order_release);
+  });
+}
+
+FileFeeder::~FileFeeder() { stop(); }
+
+void FileFeeder::stop() {
+  stopping_.store(true, std::memory_order_release);
+  if (thread_.joinable()) thread_.join();
+}
+
+}  // namespace th::pipeline

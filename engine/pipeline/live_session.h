@@ -1,0 +1,106 @@
+// The live pipeline's threads (DESIGN.md, "Live"): a source writes samples into the session's AudioRing (an
+// audio callback, or a FileFeeder); a worker thread reads them, runs the FrameDecoder, and pushes timestamped
+// AnimationFrames into a wait-free SPSC queue; the display (render thread, or a headless dump) takes them.
+//
+//   th::pipeline::LiveSession session(std::make_unique<LiveDecoder>(&head, &mouth, LiveDecoderOptions{}));
+//   session.start();
+//   ... the source calls session.ring().write(samples, n), then session.endOfInput() when it ends ...
+//   AnimationFrame frame;
+//   while (!session.done()) { while (session.nextFrame(frame)) show(frame); wait a display frame; }
+//
+// Nothing blocks the source: samples that do not fit in the ring are dropped and counted (overruns). When the
+// display falls behind and the frame queue is full, the newest frames are dropped and counted (samples are
+// never dropped for the display's sake). An exception in the worker stops it; error() rethrows it.
+//
+// Thread contract: one source thread (ring().write, endOfInput), one display thread (nextFrame, done); start,
+// stop and the counters from the owner's thread. The decoder belongs to the worker once started.
+#pragma once
+
+#include <boost/lockfree/spsc_queue.hpp>
+
+#include <atomic>
+#include <chrono>
+#include <cstdint>
+#include <exception>
+#include <memory>
+#include <thread>
+#include <vector>
+
+#include "pipeline/animation_frame.h"
+#include "pipeline/audio_ring.h"
+
+namespace th::pipeline {
+
+struct LiveSessionOptions {
+  std::size_t ringSamples = 4 * 16000;  // four seconds at 16 kHz
+  std::size_t frameQueue = 64;          // frames waiting for the display: two seconds at 30 fps
+  std::size_t readBlock = 512;          // samples the worker takes at a time (32 ms at 16 kHz)
+  std::chrono::microseconds poll{2000};  // the worker's sleep when the ring is empty
+};
+
+struct SessionCounters {
+  std::uint64_t samplesIn = 0;       // written into the ring
+  std::uint64_t overrunSamples = 0;  // dropped: the ring was full
+  std::uint64_t framesDecoded = 0;
+  std::uint64_t framesDropped = 0;   // dropped: the display's queue was full
+  double decodeSeconds = 0.0;        // the worker's time in the decoder, in all
+};
+
+class LiveSession {
+ public:
+  explicit LiveSession(std::unique_ptr<FrameDecoder> decoder, const LiveSessionOptions& options = {});
+  ~LiveSession();  // stops the worker
+  LiveSession(const LiveSession&) = delete;
+  LiveSession& operator=(const LiveSession&) = delete;
+
+  AudioRing& ring() { return ring_; }
+  void start();
+  void endOfInput();  // the source has written its last sample
+  void stop();        // ends the worker now (what is in the ring is left)
+
+  bool nextFrame(AnimationFrame& frame);  // display thread
+  bool done() const;                      // the input ended, and every frame was decoded and taken
+  bool workerFinished() const { return workerDone_.load(std::memory_order_acquire); }
+  void rethrowError() const;              // the worker's exception, if it stopped on one
+  SessionCounters counters() const;
+
+ private:
+  void run();
+  void deliver(std::int64_t inputReadNs);
+
+  LiveSessionOptions options_;
+  std::unique_ptr<FrameDecoder> decoder_;
+  AudioRing ring_;
+  boost::lockfree::spsc_queue<AnimationFrame> frames_;
+  std::thread worker_;
+  std::atomic<bool> inputEnded_{false};
+  std::atomic<bool> stopping_{false};
+  std::atomic<bool> workerDone_{false};
+  std::exception_ptr error_;  // written by the worker before workerDone_ (release), read after (acquire)
+  std::atomic<std::uint64_t> framesDecoded_{0};
+  std::atomic<std::uint64_t> framesDropped_{0};
+  std::atomic<std::int64_t> decodeNanoseconds_{0};
+  std::vector<float> block_;
+};
+
+// Feeds recorded samples (16 kHz mono) into a session from a thread of its own, in blocks, at `speed` times
+// real time (0: as fast as the ring drains), then ends the session's input. It never overruns the ring: it
+// waits for room, as a file can. Thread contract: owned by one thread; the session must outlive it.
+class FileFeeder {
+ public:
+  FileFeeder(LiveSession& session, std::vector<float> samples16k, double speed, std::size_t blockSamples = 256);
+  ~FileFeeder();  // stops and joins
+  FileFeeder(const FileFeeder&) = delete;
+  FileFeeder& operator=(const FileFeeder&) = delete;
+  void stop();
+  bool finished() const { return finished_.load(std::memory_order_acquire); }
+
+ private:
+  std::atomic<bool> stopping_{false};
+  std::atomic<bool> finished_{false};
+  std::thread thread_;
+};
+
+std::int64_t steadyNanoseconds();
+
+}  // namespace th::pipeline
