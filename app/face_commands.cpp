@@ -14,6 +14,7 @@
 #include "animation/animate.h"
 #include "audio/media_audio.h"
 #include "commands.h"
+#include "interrupt.h"
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/progress.h"
@@ -44,33 +45,6 @@ std::pair<int, int> parseSize(const std::string& text) {
   if (width % 2 != 0 || height % 2 != 0) throw Error("--size " + text + ": both sides must be even (H.264, 4:2:0)");
   return {width, height};
 }
-
-// Interrupts (Ctrl-C, SIGTERM) end a long job cleanly: the loop sees the flag, throws, and the writers'
-// destructors remove their temporary files. The handler only sets the flag (async-signal-safe).
-std::atomic<bool> interrupted{false};
-extern "C" void onInterrupt(int) { interrupted.store(true); }
-
-class InterruptGuard {
- public:
-  InterruptGuard() {
-    interrupted.store(false);
-    previousInt_ = std::signal(SIGINT, onInterrupt);
-    previousTerm_ = std::signal(SIGTERM, onInterrupt);
-  }
-  ~InterruptGuard() {
-    std::signal(SIGINT, previousInt_);
-    std::signal(SIGTERM, previousTerm_);
-  }
-  InterruptGuard(const InterruptGuard&) = delete;
-  InterruptGuard& operator=(const InterruptGuard&) = delete;
-  static void check() {
-    if (interrupted.load()) throw Error("interrupted; no output was written");
-  }
-
- private:
-  void (*previousInt_)(int) = nullptr;
-  void (*previousTerm_)(int) = nullptr;
-};
 
 ProgressOptions progressAt(double framesPerSecond) {
   ProgressOptions options;

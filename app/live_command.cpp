@@ -1,13 +1,15 @@
-// `talkinghead live --headless`: the live pipeline without a window. A recording is played into the session
-// at real-time pace (or faster), the worker decodes it, and a display loop at 60 Hz takes the frames, as the
-// window's render thread will; what it received can be dumped as an animation file, with the session's
-// counters and the per-frame decoding delay on stdout.
+// `talkinghead live --headless`: the live pipeline without a window. The sound comes from a recording played
+// into the session at real-time pace (or faster), or from a sound input through PortAudio (--device); the
+// worker decodes it, and a display loop takes the frames, as the window's render thread will. What it
+// received can be dumped as an animation file; the session's counters and the per-frame decoding delay go to
+// stdout. `--list-devices` lists the sound inputs.
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <iostream>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
@@ -15,7 +17,9 @@
 #include "animation/animate.h"
 #include "animation/fap_mapping.h"
 #include "audio/media_audio.h"
+#include "audio/capture.h"
 #include "commands.h"
+#include "interrupt.h"
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "pipeline/live_decoder.h"
@@ -27,7 +31,9 @@ namespace {
 
 struct LiveArguments {
   bool headless = false;
+  bool listDevices = false;
   std::string input;
+  std::string device;  // "default" or an index
   double speed = 1.0;
   double duration = 0.0;
   std::string dump;
@@ -47,7 +53,38 @@ double percentile(std::vector<double> values, double p) {
   return values[std::min(at, values.size() - 1)];
 }
 
+void listDevices() {
+  const audio::PortAudioSystem system;
+  const std::vector<audio::AudioDevice> inputs = system.inputDevices();
+  if (inputs.empty()) std::printf("no sound input devices\n");
+  for (const audio::AudioDevice& d : inputs)
+    std::printf("%3d  %s%s  (%s, %d channels, %.0f Hz)\n", d.index, d.name.c_str(), d.isDefaultInput ? "  [default]" : "",
+                d.hostApi.c_str(), d.inputChannels, d.defaultRateHz);
+}
+
+std::optional<int> deviceIndexOf(const std::string& text) {
+  if (text == "default") return std::nullopt;
+  std::size_t used = 0;
+  int index = -1;
+  try {
+    index = std::stoi(text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used != text.size() || index < 0)
+    throw Error("--device " + text + ": expected \"default\" or a device number from --list-devices");
+  return index;
+}
+
 void runLive(const LiveArguments& arguments) {
+  if (arguments.listDevices) {
+    listDevices();
+    return;
+  }
+  if (!arguments.headless) throw Error("live: only --headless so far (the window is issue 6's next step)");
+  if (arguments.input.empty() == arguments.device.empty())
+    throw Error("live: give the sound either as --input FILE or as --device (default or a number)");
+  if (!arguments.device.empty() && arguments.speed != 1.0) throw Error("live: --speed is for --input files; a device runs in real time");
   if (!arguments.dump.empty()) {
     video::animationFormatOf(arguments.dump);
     checkOutputTarget(arguments.dump);
@@ -68,16 +105,44 @@ void runLive(const LiveArguments& arguments) {
   }
   if (!head && !mouth) throw Error("live: --head none and --mouth none leave nothing to animate");
 
-  audio::AudioClip clip = audio::readRecording(arguments.input);
-  if (clip.samples.empty()) throw fileError(arguments.input, "has no samples");
-  if (arguments.duration > 0.0)
-    clip.samples.resize(std::min(clip.samples.size(), static_cast<std::size_t>(arguments.duration * clip.sampleRateHz)));
-
+  InterruptGuard interrupts;
   auto decoder = std::make_unique<pipeline::LiveDecoder>(head.get(), mouth.get(), options);
   const pipeline::DecoderLookahead lookahead = decoder->lookahead();
-  pipeline::LiveSession session(std::move(decoder));
-  session.start();
-  pipeline::FileFeeder feeder(session, clip.samples, arguments.speed);
+  // The source: a file played into the ring, or a device's callback writing into it.
+  std::unique_ptr<audio::PortAudioSystem> system;
+  std::unique_ptr<audio::Capture> capture;
+  std::unique_ptr<pipeline::LiveSession> session;
+  std::unique_ptr<pipeline::FileFeeder> feeder;
+  std::string source;
+  double seconds = 0.0;
+  if (!arguments.input.empty()) {
+    audio::AudioClip clip = audio::readRecording(arguments.input);
+    if (clip.samples.empty()) throw fileError(arguments.input, "has no samples");
+    if (arguments.duration > 0.0)
+      clip.samples.resize(std::min(clip.samples.size(), static_cast<std::size_t>(arguments.duration * clip.sampleRateHz)));
+    seconds = static_cast<double>(clip.samples.size()) / clip.sampleRateHz;
+    source = arguments.input;
+    session = std::make_unique<pipeline::LiveSession>(std::move(decoder));
+    session->start();
+    feeder = std::make_unique<pipeline::FileFeeder>(*session, std::move(clip.samples), arguments.speed);
+  } else {
+    system = std::make_unique<audio::PortAudioSystem>();
+    const std::optional<int> index = deviceIndexOf(arguments.device);
+    // The decoder converts the device's rate if it will not run at 16 kHz; the device is opened once the
+    // session (which owns the ring) exists.
+    const double rate = audio::captureRateFor(*system, index, 16000.0);
+    std::unique_ptr<pipeline::FrameDecoder> chain = std::move(decoder);
+    if (rate != 16000.0) chain = std::make_unique<pipeline::ResamplingDecoder>(std::move(chain), rate);
+    pipeline::LiveSessionOptions sessionOptions;
+    sessionOptions.ringSamples = static_cast<std::size_t>(4.0 * rate);
+    session = std::make_unique<pipeline::LiveSession>(std::move(chain), sessionOptions);
+    session->start();
+    capture = std::make_unique<audio::Capture>(*system, index, rate, session->ring());
+    source = "sound input " + std::to_string(capture->device().index) + " (" + capture->device().name + ", " +
+             std::to_string(static_cast<int>(rate)) + " Hz)";
+  }
+  const auto started = std::chrono::steady_clock::now();
+  bool deviceLost = false;
 
   // The display loop: 60 Hz in the recording's time (faster when it plays faster; at full speed as often as
   // it can), taking whatever the worker has decoded.
@@ -87,20 +152,33 @@ void runLive(const LiveArguments& arguments) {
   const auto tick = std::chrono::microseconds(
       arguments.speed > 0.0 ? static_cast<long>(16667.0 / std::max(arguments.speed, 1.0)) : 500L);
   auto next = std::chrono::steady_clock::now();
-  while (!session.done()) {
-    while (session.nextFrame(frame)) {
+  while (!session->done()) {
+    while (session->nextFrame(frame)) {
       decodeMs.push_back(static_cast<double>(frame.decodedNs - frame.inputReadNs) * 1e-6);
       shown.push_back(frame);
+    }
+    if (capture) {
+      // A device runs until --duration, an interrupt, or until it goes away.
+      const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+      const bool lost = !capture->active();
+      if ((arguments.duration > 0.0 && elapsed >= arguments.duration) || InterruptGuard::requested() || lost) {
+        deviceLost = lost;
+        seconds = elapsed;
+        capture.reset();
+        session->endOfInput();
+      }
+    } else if (InterruptGuard::requested()) {
+      feeder->stop();
     }
     next += tick;
     std::this_thread::sleep_until(next);
   }
-  while (session.nextFrame(frame)) shown.push_back(frame);
-  session.rethrowError();
+  while (session->nextFrame(frame)) shown.push_back(frame);
+  session->rethrowError();
+  if (deviceLost) std::fprintf(stderr, "talkinghead: %s: the device went away; stopped\n", source.c_str());
 
-  const pipeline::SessionCounters counters = session.counters();
-  std::printf("live (headless): %s, %.2f s of sound at %s real time\n", arguments.input.c_str(),
-              static_cast<double>(clip.samples.size()) / clip.sampleRateHz,
+  const pipeline::SessionCounters counters = session->counters();
+  std::printf("live (headless): %s, %.2f s of sound at %s real time\n", source.c_str(), seconds,
               arguments.speed > 0.0 ? (std::to_string(arguments.speed) + "x").c_str() : "as fast as possible,");
   std::printf("  frames: %llu decoded, %zu shown, %llu dropped; samples: %llu in, %llu overrun\n",
               static_cast<unsigned long long>(counters.framesDecoded), shown.size(),
@@ -133,14 +211,14 @@ void runLive(const LiveArguments& arguments) {
 void addLiveCommand(CLI::App& app) {
   auto arguments = std::make_shared<LiveArguments>();
   CLI::App* live = app.add_subcommand("live", "The live pipeline: speech in real time -> animation frames");
-  live->add_flag("--headless", arguments->headless, "Without a window: decode, and report or dump what a display would get")
-      ->required();
-  live->add_option("--input", arguments->input, "Recording to play into the pipeline (WAV, FLAC, ... or a video's audio)")
-      ->required();
+  live->add_flag("--headless", arguments->headless, "Without a window: decode, and report or dump what a display would get");
+  live->add_flag("--list-devices", arguments->listDevices, "List the sound inputs and exit");
+  live->add_option("--input", arguments->input, "Recording to play into the pipeline (WAV, FLAC, ... or a video's audio)");
+  live->add_option("--device", arguments->device, "Sound input: default, or a number from --list-devices");
   live->add_option("--speed", arguments->speed, "Times real time (0: as fast as the worker decodes)")
       ->check(CLI::Range(0.0, 1000.0))
       ->capture_default_str();
-  live->add_option("--duration", arguments->duration, "Seconds of the recording to play (0: all)")
+  live->add_option("--duration", arguments->duration, "Seconds to run: of the recording (0: all), or of listening (0: until Ctrl-C)")
       ->check(CLI::Range(0.0, 1e6));
   live->add_option("--dump", arguments->dump, "Write the frames the display received: .csv, .json or .fap");
   live->add_option("--head", arguments->headVariant, "Head: trajectory (smooth), paper (Viterbi state means), none")

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <string>
+#include <utility>
 
 #include "animation/animate.h"
 #include "animation/fap_mapping.h"
@@ -107,6 +108,27 @@ DecoderLookahead LiveDecoder::lookahead() const {
   result.totalMs = result.featuresMs +
                    1000.0 * std::max(result.headFrames, result.mouthFrames) / animation::kAnimationFramesPerSecond;
   return result;
+}
+
+ResamplingDecoder::ResamplingDecoder(std::unique_ptr<FrameDecoder> inner, double inputRateHz)
+    : inner_(std::move(inner)),
+      resampler_(std::make_unique<audio::Resampler>(inputRateHz, features::OnlineFeatureExtractor::kSampleRateHz)) {
+  if (!inner_) throw Error("resampling decoder: no decoder");
+}
+
+ResamplingDecoder::~ResamplingDecoder() = default;
+
+void ResamplingDecoder::acceptWaveform(std::span<const float> samples) {
+  converted_.clear();
+  resampler_->process(samples, converted_);
+  inner_->acceptWaveform(converted_);
+}
+
+void ResamplingDecoder::inputFinished() {
+  converted_.clear();
+  resampler_->finish(converted_);
+  inner_->acceptWaveform(converted_);
+  inner_->inputFinished();
 }
 
 }  // namespace th::pipeline

@@ -22,6 +22,7 @@
 #include "animation/head_model.h"
 #include "animation/mouth_model.h"
 #include "animation/prosody.h"
+#include "audio/resampler.h"
 #include "features/online_features.h"
 #include "pipeline/animation_frame.h"
 
@@ -74,6 +75,22 @@ class LiveDecoder : public FrameDecoder {
   std::deque<AnimationFrame> pending_;  // frames with their features, waiting for head and mouth
   std::deque<Eigen::Vector3d> rotations_;
   std::deque<double> jaws_;
+};
+
+// A decoder behind a sample-rate converter, for a device that will not run at 16 kHz: samples at
+// `inputRateHz` in, converted (libsoxr, streaming) and passed on.
+class ResamplingDecoder : public FrameDecoder {
+ public:
+  ResamplingDecoder(std::unique_ptr<FrameDecoder> inner, double inputRateHz);
+  ~ResamplingDecoder() override;
+  void acceptWaveform(std::span<const float> samples) override;
+  void inputFinished() override;
+  bool next(AnimationFrame& frame) override { return inner_->next(frame); }
+
+ private:
+  std::unique_ptr<FrameDecoder> inner_;
+  std::unique_ptr<audio::Resampler> resampler_;
+  std::vector<float> converted_;
 };
 
 }  // namespace th::pipeline

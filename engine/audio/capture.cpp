@@ -1,0 +1,169 @@
+#include "audio/capture.h"
+
+#include <fcntl.h>
+#include <portaudio.h>
+#include <unistd.h>
+
+#include <cstdio>
+
+#include <algorithm>
+#include <string>
+
+#include "core/error.h"
+
+namespace th::audio {
+namespace {
+
+constexpr unsigned long kFramesPerBuffer = 256;  // 16 ms at 16 kHz: the callback's block
+
+Error portAudioError(const std::string& what, PaError code) {
+  return Error(what + ": " + Pa_GetErrorText(code));
+}
+
+AudioDevice describe(PaDeviceIndex index) {
+  const PaDeviceInfo* info = Pa_GetDeviceInfo(index);
+  AudioDevice device;
+  device.index = index;
+  if (info == nullptr) return device;
+  device.name = info->name != nullptr ? info->name : "";
+  const PaHostApiInfo* host = Pa_GetHostApiInfo(info->hostApi);
+  device.hostApi = host != nullptr && host->name != nullptr ? host->name : "";
+  device.inputChannels = info->maxInputChannels;
+  device.outputChannels = info->maxOutputChannels;
+  device.defaultRateHz = info->defaultSampleRate;
+  device.isDefaultInput = index == Pa_GetDefaultInputDevice();
+  device.isDefaultOutput = index == Pa_GetDefaultOutputDevice();
+  return device;
+}
+
+}  // namespace
+
+PortAudioSystem::PortAudioSystem() {
+  // PortAudio's host APIs print their probing on stderr as they start (ALSA's unknown PCMs, JACK's missing
+  // server): noise to a user, not errors. stderr is pointed at /dev/null meanwhile; PortAudio's own errors
+  // come back as codes.
+  std::fflush(stderr);
+  const int savedStderr = ::dup(STDERR_FILENO);
+  const int devNull = ::open("/dev/null", O_WRONLY | O_CLOEXEC);
+  if (savedStderr >= 0 && devNull >= 0) ::dup2(devNull, STDERR_FILENO);
+  const PaError code = Pa_Initialize();
+  if (savedStderr >= 0 && devNull >= 0) ::dup2(savedStderr, STDERR_FILENO);
+  if (devNull >= 0) ::close(devNull);
+  if (savedStderr >= 0) ::close(savedStderr);
+  if (code != paNoError) throw portAudioError("PortAudio cannot start", code);
+}
+
+PortAudioSystem::~PortAudioSystem() { Pa_Terminate(); }
+
+std::vector<AudioDevice> PortAudioSystem::devices() const {
+  std::vector<AudioDevice> all;
+  const PaDeviceIndex count = Pa_GetDeviceCount();
+  for (PaDeviceIndex i = 0; i < count; ++i) all.push_back(describe(i));
+  return all;
+}
+
+std::vector<AudioDevice> PortAudioSystem::inputDevices() const {
+  std::vector<AudioDevice> inputs;
+  for (AudioDevice& d : devices())
+    if (d.inputChannels > 0) inputs.push_back(std::move(d));
+  return inputs;
+}
+
+std::optional<AudioDevice> PortAudioSystem::defaultInput() const {
+  const PaDeviceIndex index = Pa_GetDefaultInputDevice();
+  if (index == paNoDevice) return std::nullopt;
+  return describe(index);
+}
+
+namespace {
+
+AudioDevice inputDevice(const PortAudioSystem& system, std::optional<int> device) {
+  AudioDevice chosen;
+  if (device) {
+    if (*device < 0 || *device >= Pa_GetDeviceCount())
+      throw Error("sound input " + std::to_string(*device) + ": no such device (" +
+                  std::to_string(Pa_GetDeviceCount()) + " devices; `talkinghead live --list-devices`)");
+    chosen = describe(*device);
+  } else {
+    const std::optional<AudioDevice> fallback = system.defaultInput();
+    if (!fallback) throw Error("no sound input device (no microphone, and no default input)");
+    chosen = *fallback;
+  }
+  if (chosen.inputChannels < 1)
+    throw Error("sound input " + std::to_string(chosen.index) + " (" + chosen.name + "): has no input channels");
+  return chosen;
+}
+
+PaStreamParameters inputParameters(const AudioDevice& device) {
+  PaStreamParameters input{};
+  input.device = device.index;
+  input.channelCount = std::min(device.inputChannels, 2);
+  input.sampleFormat = paFloat32;
+  // At least 20 ms: through PulseAudio's ALSA plugin a stream asked for its 9 ms default took 1.5-2 s to
+  // deliver its first block (measured); at 20 ms it starts within 40 ms, with 32 ms of input latency.
+  input.suggestedLatency = std::max(Pa_GetDeviceInfo(device.index)->defaultLowInputLatency, 0.020);
+  return input;
+}
+
+}  // namespace
+
+double captureRateFor(const PortAudioSystem& system, std::optional<int> device, double wantedHz) {
+  const AudioDevice chosen = inputDevice(system, device);
+  const PaStreamParameters input = inputParameters(chosen);
+  return Pa_IsFormatSupported(&input, nullptr, wantedHz) == paFormatIsSupported ? wantedHz : chosen.defaultRateHz;
+}
+
+Capture::Capture(const PortAudioSystem& system, std::optional<int> device, double rateHz, pipeline::AudioRing& ring)
+    : ring_(ring) {
+  device_ = inputDevice(system, device);
+  const std::string named = "sound input " + std::to_string(device_.index) + " (" + device_.name + ")";
+  const PaStreamParameters input = inputParameters(device_);
+  channels_ = input.channelCount;
+  // The asked rate if the device takes it, else its own (the worker resamples).
+  rateHz_ = Pa_IsFormatSupported(&input, nullptr, rateHz) == paFormatIsSupported ? rateHz : device_.defaultRateHz;
+  mono_.resize(kFramesPerBuffer);
+  PaStream* stream = nullptr;
+  PaError code = Pa_OpenStream(&stream, &input, nullptr, rateHz_, kFramesPerBuffer, paNoFlag, &Capture::callback, this);
+  if (code != paNoError) throw portAudioError(named + ": cannot open", code);
+  stream_ = stream;
+  code = Pa_StartStream(stream);
+  if (code != paNoError) {
+    Pa_CloseStream(stream);
+    stream_ = nullptr;
+    throw portAudioError(named + ": cannot start", code);
+  }
+}
+
+Capture::~Capture() {
+  if (stream_ == nullptr) return;
+  Pa_StopStream(static_cast<PaStream*>(stream_));
+  Pa_CloseStream(static_cast<PaStream*>(stream_));
+}
+
+bool Capture::active() const {
+  return stream_ != nullptr && Pa_IsStreamActive(static_cast<PaStream*>(stream_)) == 1;
+}
+
+int Capture::callback(const void* input, void*, unsigned long frames, const PaStreamCallbackTimeInfo*,
+                      unsigned long statusFlags, void* self) {
+  auto& capture = *static_cast<Capture*>(self);
+  capture.callbacks_.fetch_add(1, std::memory_order_relaxed);
+  if ((statusFlags & paInputOverflow) != 0) capture.overflows_.fetch_add(1, std::memory_order_relaxed);
+  if (input == nullptr) return paContinue;
+  const auto* samples = static_cast<const float*>(input);
+  const int channels = capture.channels_;
+  // Blocks are kFramesPerBuffer long (PortAudio keeps the asked size); a longer one is taken in parts.
+  for (unsigned long done = 0; done < frames;) {
+    const unsigned long n = std::min<unsigned long>(frames - done, capture.mono_.size());
+    for (unsigned long i = 0; i < n; ++i) {
+      float sum = 0.0f;
+      for (int c = 0; c < channels; ++c) sum += samples[(done + i) * static_cast<unsigned long>(channels) + static_cast<unsigned long>(c)];
+      capture.mono_[i] = sum / static_cast<float>(channels);
+    }
+    capture.ring_.write(capture.mono_.data(), n);
+    done += n;
+  }
+  return paContinue;
+}
+
+}  // namespace th::audio
