@@ -7,6 +7,7 @@
 
 #include "animation/animate.h"
 #include "audio/media_audio.h"
+#include "animation_models.h"
 #include "commands.h"
 #include "core/atomic_file.h"
 #include "core/error.h"
@@ -27,8 +28,8 @@ struct AnimateArguments {
   bool online = false;
   int lagFrames = 6;
   int windowFrames = 30;
-  std::string headModel = std::string(TALKINGHEAD_SOURCE_DIR) + "/models/head.json";
-  std::string mouthModel = std::string(TALKINGHEAD_SOURCE_DIR) + "/models/mouth.json";
+  std::string headModel = defaultHeadModel();
+  std::string mouthModel = defaultMouthModel();
 };
 
 const std::map<std::string, HeadVariant> kHeadVariants{
@@ -46,19 +47,15 @@ void runAnimate(const AnimateArguments& arguments) {
   options.mouth.start = arguments.start == "random" ? hmm::InversionStart::kRandom : hmm::InversionStart::kConditionalMean;
   options.mouth.windowFrames = arguments.online ? arguments.windowFrames : 0;
 
-  std::unique_ptr<animation::HeadModel> head;
-  std::unique_ptr<animation::MouthModel> mouth;
-  if (arguments.headVariant != "none") head = std::make_unique<animation::HeadModel>(animation::loadHeadModel(arguments.headModel));
-  if (arguments.mouthMethod != "none") {
-    mouth = std::make_unique<animation::MouthModel>(animation::loadMouthModel(arguments.mouthModel));
-    if (!mouth->fapMap) throw fileError(arguments.mouthModel, "has no FAP map (a sweep model?); make one with `talkinghead train mouth`");
-  }
-  if (!head && !mouth) throw Error("animate: --head none and --mouth none leave nothing to animate");
+  const AnimationModels models = loadAnimationModels("animate", arguments.headVariant, arguments.headModel,
+                                                     arguments.mouthMethod, arguments.mouthModel);
+  const animation::HeadModel* head = models.head.get();
+  const animation::MouthModel* mouth = models.mouth.get();
 
   const audio::AudioClip clip = audio::readRecording(arguments.input);
   video::Animation result;
   try {
-    result = animation::animate(clip.samples, head.get(), mouth.get(), options);
+    result = animation::animate(clip.samples, head, mouth, options);
   } catch (const Error& error) {
     throw fileError(arguments.input, error.what());
   }
@@ -101,8 +98,7 @@ void addAnimateCommand(CLI::App& app) {
   animate->add_option("--window", arguments->windowFrames, "Online: inversion window, frames")
       ->check(CLI::Range(1, 3000))
       ->capture_default_str();
-  animate->add_option("--head-model", arguments->headModel, "Head model file")->capture_default_str();
-  animate->add_option("--mouth-model", arguments->mouthModel, "Mouth model file")->capture_default_str();
+  addModelFileOptions(*animate, arguments->headModel, arguments->mouthModel);
   animate->callback([arguments] { runAnimate(*arguments); });
 }
 

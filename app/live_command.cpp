@@ -18,6 +18,7 @@
 #include "animation/fap_mapping.h"
 #include "audio/media_audio.h"
 #include "audio/capture.h"
+#include "animation_models.h"
 #include "commands.h"
 #include "interrupt.h"
 #include "core/atomic_file.h"
@@ -42,8 +43,8 @@ struct LiveArguments {
   int lagFrames = 6;
   int windowFrames = 2;
   int iterations = 20;
-  std::string headModel = std::string(TALKINGHEAD_SOURCE_DIR) + "/models/head.json";
-  std::string mouthModel = std::string(TALKINGHEAD_SOURCE_DIR) + "/models/mouth.json";
+  std::string headModel = defaultHeadModel();
+  std::string mouthModel = defaultMouthModel();
 };
 
 double percentile(std::vector<double> values, double p) {
@@ -96,18 +97,15 @@ void runLive(const LiveArguments& arguments) {
   options.mouth.method = arguments.mouthMethod == "mmse" ? animation::MouthMethod::kMmse : animation::MouthMethod::kInversion;
   options.mouth.windowFrames = arguments.windowFrames;
   options.mouth.maxIterations = arguments.iterations;
-  std::unique_ptr<animation::HeadModel> head;
-  std::unique_ptr<animation::MouthModel> mouth;
-  if (arguments.headVariant != "none") head = std::make_unique<animation::HeadModel>(animation::loadHeadModel(arguments.headModel));
-  if (arguments.mouthMethod != "none") {
-    mouth = std::make_unique<animation::MouthModel>(animation::loadMouthModel(arguments.mouthModel));
-    if (!mouth->fapMap) throw fileError(arguments.mouthModel, "has no FAP map (a sweep model?); make one with `talkinghead train mouth`");
-  }
-  if (!head && !mouth) throw Error("live: --head none and --mouth none leave nothing to animate");
+  const AnimationModels models = loadAnimationModels("live", arguments.headVariant, arguments.headModel,
+                                                     arguments.mouthMethod, arguments.mouthModel);
+  const animation::HeadModel* head = models.head.get();
+  const animation::MouthModel* mouth = models.mouth.get();
 
   InterruptGuard interrupts;
-  auto decoder = std::make_unique<pipeline::LiveDecoder>(head.get(), mouth.get(), options);
+  auto decoder = std::make_unique<pipeline::LiveDecoder>(head, mouth, options);
   const pipeline::DecoderLookahead lookahead = decoder->lookahead();
+  const std::vector<int> fapNumbers = decoder->fapNumbers();
   // The source: a file played into the ring, or a device's callback writing into it.
   std::unique_ptr<audio::PortAudioSystem> system;
   std::unique_ptr<audio::Capture> capture;
@@ -193,9 +191,7 @@ void runLive(const LiveArguments& arguments) {
     video::Animation animation;
     animation.name = std::filesystem::path(arguments.input).stem().string();
     animation.framesPerSecond = animation::kAnimationFramesPerSecond;
-    if (mouth) animation.faps = animation::mouthFapNumbers(*mouth->fapMap);
-    if (head) animation.faps.insert(animation.faps.end(), animation::kHeadFaps.begin(), animation::kHeadFaps.end());
-    std::sort(animation.faps.begin(), animation.faps.end());
+    animation.faps = fapNumbers;
     animation.values.resize(static_cast<Eigen::Index>(shown.size()), static_cast<Eigen::Index>(animation.faps.size()));
     for (std::size_t f = 0; f < shown.size(); ++f)
       for (std::size_t c = 0; c < animation.faps.size(); ++c)
@@ -234,8 +230,7 @@ void addLiveCommand(CLI::App& app) {
   live->add_option("--iterations", arguments->iterations, "Mouth inversion: most EM iterations a window")
       ->check(CLI::Range(1, 1000))
       ->capture_default_str();
-  live->add_option("--head-model", arguments->headModel, "Head model file")->capture_default_str();
-  live->add_option("--mouth-model", arguments->mouthModel, "Mouth model file")->capture_default_str();
+  addModelFileOptions(*live, arguments->headModel, arguments->mouthModel);
   live->callback([arguments] { runLive(*arguments); });
 }
 

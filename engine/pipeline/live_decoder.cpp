@@ -33,6 +33,7 @@ LiveDecoder::LiveDecoder(const animation::HeadModel* head, const animation::Mout
       throw Error("live decoder: the mouth needs an inversion window of at least one frame, not " +
                   std::to_string(options.mouth.windowFrames));
     mouthStream_ = std::make_unique<animation::MouthSynthesiser>(*mouth, options.mouth);
+    mouthFaps_ = animation::mouthFapNumbers(*mouth->fapMap);
   }
   row_.resize(static_cast<std::size_t>(extractor_.layout().size()));
 }
@@ -93,11 +94,17 @@ bool LiveDecoder::next(AnimationFrame& frame) {
     frame.jawDegrees = jaws_.front();
     jaws_.pop_front();
     const Eigen::MatrixXd faps = animation::mouthFaps(*mouth_->fapMap, Eigen::RowVectorXd::Constant(1, frame.jawDegrees));
-    const std::vector<int> numbers = animation::mouthFapNumbers(*mouth_->fapMap);
-    for (std::size_t i = 0; i < numbers.size(); ++i)
-      frame.faps[static_cast<std::size_t>(numbers[i])] = faps(static_cast<Eigen::Index>(i), 0);
+    for (std::size_t i = 0; i < mouthFaps_.size(); ++i)
+      frame.faps[static_cast<std::size_t>(mouthFaps_[i])] = faps(static_cast<Eigen::Index>(i), 0);
   }
   return true;
+}
+
+std::vector<int> LiveDecoder::fapNumbers() const {
+  std::vector<int> numbers = mouthFaps_;
+  if (headStream_) numbers.insert(numbers.end(), animation::kHeadFaps.begin(), animation::kHeadFaps.end());
+  std::sort(numbers.begin(), numbers.end());
+  return numbers;
 }
 
 DecoderLookahead LiveDecoder::lookahead() const {

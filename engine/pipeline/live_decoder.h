@@ -58,6 +58,7 @@ class LiveDecoder : public FrameDecoder {
 
   DecoderLookahead lookahead() const;
   const LiveDecoderOptions& options() const { return options_; }
+  std::vector<int> fapNumbers() const;  // the FAPs the frames set, in FAP order (as animate()'s columns)
 
  private:
   void pull();
@@ -69,6 +70,7 @@ class LiveDecoder : public FrameDecoder {
   animation::ProsodyTracker prosody_;
   std::unique_ptr<animation::HeadSynthesiser> headStream_;
   std::unique_ptr<animation::MouthSynthesiser> mouthStream_;
+  std::vector<int> mouthFaps_;  // the mouth model's FAP numbers, in its map's order
   std::vector<float> row_;
   int featureFrames_ = 0;  // rows taken from the extractor
   int headTaken_ = 0;      // rotations taken from the head synthesiser

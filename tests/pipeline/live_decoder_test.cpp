@@ -41,6 +41,7 @@ TEST(LiveDecoder, GivesTheBatchAnimationFrameByFrameWhateverTheChunks) {
         th::animation::animate(samples, &models().head, &models().mouth, {.head = options.head, .mouth = options.mouth});
     LiveDecoder decoder(&models().head, &models().mouth, options);
     const th::pipeline::DecoderLookahead lookahead = decoder.lookahead();
+    EXPECT_EQ(decoder.fapNumbers(), batch.faps);
     EXPECT_EQ(lookahead.headFrames, 6 + 3);
     EXPECT_EQ(lookahead.mouthFrames, models().mouth.contextFrames + 1);
     std::mt19937 random(5);
