@@ -43,6 +43,7 @@ struct LiveArguments {
   int lagFrames = 6;
   int windowFrames = 2;
   int iterations = 20;
+  bool waitForHead = false;
   std::string headModel = defaultHeadModel();
   std::string mouthModel = defaultMouthModel();
 };
@@ -97,6 +98,7 @@ void runLive(const LiveArguments& arguments) {
   options.mouth.method = arguments.mouthMethod == "mmse" ? animation::MouthMethod::kMmse : animation::MouthMethod::kInversion;
   options.mouth.windowFrames = arguments.windowFrames;
   options.mouth.maxIterations = arguments.iterations;
+  options.waitForHead = arguments.waitForHead;
   const AnimationModels models = loadAnimationModels("live", arguments.headVariant, arguments.headModel,
                                                      arguments.mouthMethod, arguments.mouthModel);
   const animation::HeadModel* head = models.head.get();
@@ -176,14 +178,18 @@ void runLive(const LiveArguments& arguments) {
   if (deviceLost) std::fprintf(stderr, "talkinghead: %s: the device went away; stopped\n", source.c_str());
 
   const pipeline::SessionCounters counters = session->counters();
-  std::printf("live (headless): %s, %.2f s of sound at %s real time\n", source.c_str(), seconds,
-              arguments.speed > 0.0 ? (std::to_string(arguments.speed) + "x").c_str() : "as fast as possible,");
+  char pace[64] = "as fast as possible, not";
+  if (arguments.speed > 0.0) std::snprintf(pace, sizeof(pace), "%gx", arguments.speed);
+  std::printf("live (headless): %s, %.2f s of sound at %s real time\n", source.c_str(), seconds, pace);
   std::printf("  frames: %llu decoded, %zu shown, %llu dropped; samples: %llu in, %llu overrun\n",
               static_cast<unsigned long long>(counters.framesDecoded), shown.size(),
               static_cast<unsigned long long>(counters.framesDropped), static_cast<unsigned long long>(counters.samplesIn),
               static_cast<unsigned long long>(counters.overrunSamples));
-  std::printf("  look-ahead: features %.1f ms, head %d frames, mouth %d frames: %.1f ms\n", lookahead.featuresMs,
-              lookahead.headFrames, lookahead.mouthFrames, lookahead.totalMs);
+  std::printf("  look-ahead: mouth %.1f ms (features %.1f ms + %d frames), head %.1f ms (features %.1f ms + %d frames)",
+              lookahead.mouthMs, lookahead.mouthFeaturesMs, lookahead.mouthFrames, lookahead.headMs,
+              lookahead.featuresMs, lookahead.headFrames);
+  if (lookahead.headDelayFrames > 0) std::printf(", the head shown %d frames late", lookahead.headDelayFrames);
+  std::printf(": %.1f ms\n", lookahead.totalMs);
   std::printf("  decoding, from the read to the frame out: median %.2f ms, 95th percentile %.2f ms, max %.2f ms\n",
               percentile(decodeMs, 50), percentile(decodeMs, 95), percentile(decodeMs, 100));
 
@@ -227,6 +233,8 @@ void addLiveCommand(CLI::App& app) {
   live->add_option("--window", arguments->windowFrames, "Mouth inversion window, frames")
       ->check(CLI::Range(1, 300))
       ->capture_default_str();
+  live->add_flag("--wait-for-head", arguments->waitForHead,
+                 "Each frame waits for its own head (~400 ms) instead of showing the head late behind a ~110 ms mouth");
   live->add_option("--iterations", arguments->iterations, "Mouth inversion: most EM iterations a window")
       ->check(CLI::Range(1, 1000))
       ->capture_default_str();

@@ -69,7 +69,7 @@ int OnlineFeatureExtractor::pitchFrameFor(long long frame) const {
 
 void OnlineFeatureExtractor::acceptWaveform(std::span<const float> samples) {
   if (finished_) throw Error("features: acceptWaveform after inputFinished");
-  pitch_.acceptWaveform(samples);
+  if (options_.trackPitch) pitch_.acceptWaveform(samples);
   history_.append(samples);
   computeAvailableBaseFrames();
 }
@@ -77,7 +77,7 @@ void OnlineFeatureExtractor::acceptWaveform(std::span<const float> samples) {
 void OnlineFeatureExtractor::inputFinished() {
   if (finished_) return;
   finished_ = true;
-  pitch_.inputFinished();
+  if (options_.trackPitch) pitch_.inputFinished();
   computeAvailableBaseFrames();
   if (options_.energyNormalisation == EnergyNormalisation::kUtterance) normaliseUtterance();
 }
@@ -90,12 +90,16 @@ void OnlineFeatureExtractor::computeAvailableBaseFrames() {
   for (long long frame = static_cast<long long>(f0Hz_.size()); frame < total; ++frame) {
     const long long centre = frameCentreSample(frame);
     if (!finished_ && centre - half + mfcc_.windowLength() > history_.size()) break;
-    int pitchFrame = pitchFrameFor(frame);
-    if (pitchFrame >= pitch_.numFramesReady()) {
-      if (!finished_) break;
-      pitchFrame = pitch_.numFramesReady() - 1;  // the last frame's centre can round past the tracker's end
+    if (options_.trackPitch) {
+      int pitchFrame = pitchFrameFor(frame);
+      if (pitchFrame >= pitch_.numFramesReady()) {
+        if (!finished_) break;
+        pitchFrame = pitch_.numFramesReady() - 1;  // the last frame's centre can round past the tracker's end
+      }
+      f0Hz_.push_back(pitchFrame >= 0 ? pitch_.frame(pitchFrame).f0Hz : 0.0f);
+    } else {
+      f0Hz_.push_back(0.0f);
     }
-    f0Hz_.push_back(pitchFrame >= 0 ? pitch_.frame(pitchFrame).f0Hz : 0.0f);
 
     history_.copy(centre - half, window_);
     mfcc_.compute(window_, coefficients);
@@ -160,6 +164,13 @@ bool OnlineFeatureExtractor::isLastFrame(int frame) const {
   return finished_ && frame == static_cast<int>(f0Hz_.size()) - 1;
 }
 
+void OnlineFeatureExtractor::getMfcc(int frame, std::span<float> mfcc) const {
+  const int numMfcc = layout_.numMfcc;
+  std::copy_n(mfccRows_.begin() + static_cast<long>(frame) * numMfcc, numMfcc, mfcc.begin());
+}
+
+float OnlineFeatureExtractor::getEnergy(int frame) const { return energy_[static_cast<size_t>(frame)]; }
+
 void OnlineFeatureExtractor::getFrame(int frame, std::span<float> row) const {
   const int count = static_cast<int>(f0Hz_.size());
   const auto at = [count](int i) { return static_cast<size_t>(std::clamp(i, 0, count - 1)); };
@@ -199,7 +210,7 @@ FeatureLookahead OnlineFeatureExtractor::lookahead() const {
   const double sampleMs = 1000.0 / kSampleRateHz;
   FeatureLookahead result{};
   // F0 of frame i comes from the pitch frame nearest its time, up to half a pitch hop later.
-  result.f0Ms = (pitch_.lookaheadSamples() + pitch_.hopSamples() / 2.0) * sampleMs;
+  result.f0Ms = options_.trackPitch ? (pitch_.lookaheadSamples() + pitch_.hopSamples() / 2.0) * sampleMs : 0.0;
   result.mfccMs = (mfcc_.windowLength() - mfcc_.windowLength() / 2) * sampleMs;
   result.energyMs = result.mfccMs;
   const double base = std::max(result.f0Ms, result.mfccMs);

@@ -40,6 +40,9 @@ struct FeatureOptions {
   EnergyNormalisation energyNormalisation = EnergyNormalisation::kRunning;
   double runningNormSeconds = 3.0;
   double energyRangeDb = 60.0;     // levels more than this below the loudest frame so far are raised to it
+  // false: no F0 (rows say 0 Hz), and frames wait for nothing but their MFCC window. The live mouth uses
+  // this: its MFCCs then come ~45 ms sooner than behind the pitch tracker's decision lag.
+  bool trackPitch = true;
 
   void check() const;  // throws th::Error naming the bad option
 };
@@ -86,6 +89,11 @@ class OnlineFeatureExtractor {
   int numFramesReady() const;
   bool isLastFrame(int frame) const;
   void getFrame(int frame, std::span<float> row) const;
+  // A frame's own MFCCs and level are final before its row is (the row waits for deltas and context):
+  // frames [0, numBaseFramesReady()) can be read with getMfcc / getEnergy already.
+  int numBaseFramesReady() const { return static_cast<int>(f0Hz_.size()); }
+  void getMfcc(int frame, std::span<float> mfcc) const;  // numMfcc values
+  float getEnergy(int frame) const;                      // as the row's energy (final unless kUtterance)
   double frameTimeSeconds(int frame) const { return frame / options_.framesPerSecond; }
 
   const FeatureLayout& layout() const { return layout_; }

@@ -16,9 +16,12 @@ struct AnimationFrame {
   int index = 0;              // frame number from the start of the stream
   double timeSeconds = 0.0;   // index / frames per second: the speech this frame shows
   face::FapValues faps{};     // head (48–50), jaw (3) and lip FAPs; the rest 0
-  double f0Hz = 0.0;          // of this frame (0: unvoiced), for plots
-  double energy = 0.0;        // normalised log energy
-  Eigen::Vector3d headDegrees = Eigen::Vector3d::Zero();  // pitch, yaw, roll relative to the mean pose
+  // The frame whose prosody the head and F0 show: index, or index - the decoder's head delay when the head is
+  // shown late (negative: no head yet, the rest pose).
+  int prosodyIndex = 0;
+  double f0Hz = 0.0;          // of frame prosodyIndex (0: unvoiced), for plots
+  double energy = 0.0;        // normalised log energy of this frame
+  Eigen::Vector3d headDegrees = Eigen::Vector3d::Zero();  // of frame prosodyIndex: pitch, yaw, roll relative to the mean pose
   double jawDegrees = 0.0;
   // Steady-clock times (ns) set by the live session: when the worker had read the input that released this
   // frame, and when the frame left the decoder.

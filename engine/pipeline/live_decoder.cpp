@@ -1,6 +1,7 @@
 #include "pipeline/live_decoder.h"
 
 #include <algorithm>
+#include <cmath>
 #include <string>
 #include <utility>
 
@@ -11,14 +12,26 @@
 
 namespace th::pipeline {
 
+namespace {
+
+features::FeatureOptions mouthFeatureOptions() {
+  // As the prosody extractor, minus the pitch tracker: the same MFCCs and energy, without its decision lag.
+  features::FeatureOptions options = animation::prosodyFeatureOptions(animation::kAnimationFramesPerSecond);
+  options.trackPitch = false;
+  return options;
+}
+
+}  // namespace
+
 LiveDecoder::LiveDecoder(const animation::HeadModel* head, const animation::MouthModel* mouth,
                          const LiveDecoderOptions& options)
     : head_(head),
       mouth_(mouth),
       options_(options),
-      // The features animate() gives each model: the same extractor settings serve both (the energy's
-      // normalisation does not touch the MFCCs).
-      extractor_(animation::prosodyFeatureOptions(animation::kAnimationFramesPerSecond)),
+      // The features animate() gives each model: the prosody settings serve both (the energy's normalisation
+      // does not touch the MFCCs).
+      prosodyExtractor_(animation::prosodyFeatureOptions(animation::kAnimationFramesPerSecond)),
+      mouthExtractor_(mouthFeatureOptions()),
       prosody_(animation::kAnimationFramesPerSecond, {}) {
   if (head == nullptr && mouth == nullptr) throw Error("live decoder: neither a head nor a mouth model");
   if (mouth != nullptr && !mouth->fapMap)
@@ -35,67 +48,93 @@ LiveDecoder::LiveDecoder(const animation::HeadModel* head, const animation::Mout
     mouthStream_ = std::make_unique<animation::MouthSynthesiser>(*mouth, options.mouth);
     mouthFaps_ = animation::mouthFapNumbers(*mouth->fapMap);
   }
-  row_.resize(static_cast<std::size_t>(extractor_.layout().size()));
+  headDelayFrames_ = lookahead().headDelayFrames;
+  row_.resize(static_cast<std::size_t>(prosodyExtractor_.layout().size()));
+  mfccRow_.resize(static_cast<std::size_t>(mouthExtractor_.layout().numMfcc));
 }
 
 LiveDecoder::~LiveDecoder() = default;
 
 void LiveDecoder::acceptWaveform(std::span<const float> samples16k) {
-  extractor_.acceptWaveform(samples16k);
+  prosodyExtractor_.acceptWaveform(samples16k);
+  if (mouthStream_) mouthExtractor_.acceptWaveform(samples16k);
   pull();
 }
 
 void LiveDecoder::inputFinished() {
-  extractor_.inputFinished();
+  prosodyExtractor_.inputFinished();
+  if (mouthStream_) mouthExtractor_.inputFinished();
   pull();
   if (headStream_) headStream_->finish();
   if (mouthStream_) mouthStream_->finish();
   pull();
+  finished_ = true;
 }
 
 void LiveDecoder::pull() {
   using features::FeatureLayout;
-  const int numMfcc = extractor_.layout().numMfcc;
-  Eigen::VectorXd mfcc(numMfcc);
-  for (; featureFrames_ < extractor_.numFramesReady(); ++featureFrames_) {
-    extractor_.getFrame(featureFrames_, row_);
-    AnimationFrame frame;
-    frame.index = featureFrames_;
-    frame.timeSeconds = extractor_.frameTimeSeconds(featureFrames_);
-    frame.f0Hz = row_[FeatureLayout::kF0Hz];
-    frame.energy = row_[FeatureLayout::kEnergy];
-    pending_.push_back(frame);
+  for (; prosodyRows_ < prosodyExtractor_.numFramesReady(); ++prosodyRows_) {
+    prosodyExtractor_.getFrame(prosodyRows_, row_);
+    prosodyFrames_.push_back({.f0Hz = row_[FeatureLayout::kF0Hz], .energy = row_[FeatureLayout::kEnergy]});
     if (headStream_) headStream_->acceptProsody(prosody_.accept(row_));
-    if (mouthStream_) {
-      for (int k = 0; k < numMfcc; ++k) mfcc[k] = row_[static_cast<std::size_t>(FeatureLayout::kMfccBegin + k)];
-      mouthStream_->acceptMfcc(mfcc);
-    }
   }
   if (headStream_)
-    while (headTaken_ < headStream_->numReady()) rotations_.push_back(headStream_->rotation(headTaken_++));
+    for (; headTaken_ < headStream_->numReady(); ++headTaken_)
+      prosodyFrames_[static_cast<std::size_t>(headTaken_ - prosodyBase_)].headDegrees = headStream_->rotation(headTaken_);
   if (mouthStream_) {
+    Eigen::VectorXd mfcc(static_cast<Eigen::Index>(mfccRow_.size()));
+    for (; mfccFrames_ < mouthExtractor_.numBaseFramesReady(); ++mfccFrames_) {
+      mouthExtractor_.getMfcc(mfccFrames_, mfccRow_);
+      for (Eigen::Index k = 0; k < mfcc.size(); ++k) mfcc[k] = mfccRow_[static_cast<std::size_t>(k)];
+      mouthStream_->acceptMfcc(mfcc);
+    }
     Eigen::VectorXd components;
-    while (mouthStream_->next(components)) jaws_.push_back(animation::jawOpeningOf(*mouth_, components)[0]);
+    while (mouthStream_->next(components)) {
+      const auto frame = static_cast<int>(static_cast<int>(mouthFrames_.size()) + nextIndex_);
+      mouthFrames_.push_back({.energy = mouthExtractor_.getEnergy(frame),
+                              .jawDegrees = animation::jawOpeningOf(*mouth_, components)[0]});
+    }
   }
 }
 
 bool LiveDecoder::next(AnimationFrame& frame) {
-  if (pending_.empty() || (headStream_ && rotations_.empty()) || (mouthStream_ && jaws_.empty())) return false;
-  frame = pending_.front();
-  pending_.pop_front();
+  const int shown = nextIndex_ - headDelayFrames_;  // the prosody frame this frame shows
+  const int decided = headStream_ ? headTaken_ : prosodyRows_;
+  if (mouthStream_) {
+    if (mouthFrames_.empty()) return false;
+    if (shown >= decided && !finished_) return false;  // its head is not decided yet
+  } else if (shown >= decided) {
+    return false;  // the head alone sets the pace
+  }
+  frame = AnimationFrame{};
+  frame.index = nextIndex_;
+  frame.timeSeconds = nextIndex_ / animation::kAnimationFramesPerSecond;
+  frame.prosodyIndex = shown;
+  if (shown >= 0 && shown < decided) {
+    const ProsodyFrame& prosody = prosodyFrames_[static_cast<std::size_t>(shown - prosodyBase_)];
+    frame.f0Hz = prosody.f0Hz;
+    frame.energy = prosody.energy;
+    frame.headDegrees = prosody.headDegrees;
+  }
   if (headStream_) {
-    frame.headDegrees = rotations_.front();
-    rotations_.pop_front();
     const Eigen::MatrixXd faps = animation::headFaps(frame.headDegrees);
     for (std::size_t i = 0; i < animation::kHeadFaps.size(); ++i)
       frame.faps[static_cast<std::size_t>(animation::kHeadFaps[i])] = faps(static_cast<Eigen::Index>(i), 0);
   }
   if (mouthStream_) {
-    frame.jawDegrees = jaws_.front();
-    jaws_.pop_front();
+    const MouthFrame mouth = mouthFrames_.front();
+    mouthFrames_.pop_front();
+    frame.energy = mouth.energy;
+    frame.jawDegrees = mouth.jawDegrees;
     const Eigen::MatrixXd faps = animation::mouthFaps(*mouth_->fapMap, Eigen::RowVectorXd::Constant(1, frame.jawDegrees));
     for (std::size_t i = 0; i < mouthFaps_.size(); ++i)
       frame.faps[static_cast<std::size_t>(mouthFaps_[i])] = faps(static_cast<Eigen::Index>(i), 0);
+  }
+  ++nextIndex_;
+  // Prosody frames before the next frame's are not needed again.
+  while (prosodyBase_ < std::min(nextIndex_ - headDelayFrames_, decided)) {
+    prosodyFrames_.pop_front();
+    ++prosodyBase_;
   }
   return true;
 }
@@ -108,12 +147,20 @@ std::vector<int> LiveDecoder::fapNumbers() const {
 }
 
 DecoderLookahead LiveDecoder::lookahead() const {
+  constexpr double kFrameMs = 1000.0 / animation::kAnimationFramesPerSecond;
   DecoderLookahead result;
-  result.featuresMs = extractor_.lookahead().totalMs;
+  result.featuresMs = prosodyExtractor_.lookahead().totalMs;
+  result.mouthFeaturesMs = mouthExtractor_.lookahead().mfccMs;  // its base frames: no deltas to wait for
   result.headFrames = headStream_ ? headStream_->lookaheadFrames() : 0;
   result.mouthFrames = mouthStream_ ? mouthStream_->lookaheadFrames() : 0;
-  result.totalMs = result.featuresMs +
-                   1000.0 * std::max(result.headFrames, result.mouthFrames) / animation::kAnimationFramesPerSecond;
+  result.headMs = result.featuresMs + result.headFrames * kFrameMs;
+  result.mouthMs = mouthStream_ ? result.mouthFeaturesMs + result.mouthFrames * kFrameMs : 0.0;
+  if (mouthStream_ && !options_.waitForHead) {
+    result.headDelayFrames = std::max(0, static_cast<int>(std::ceil((result.headMs - result.mouthMs) / kFrameMs - 1e-9)));
+    result.totalMs = std::max(result.mouthMs, result.headMs - result.headDelayFrames * kFrameMs);
+  } else {
+    result.totalMs = std::max(result.headMs, result.mouthMs);
+  }
   return result;
 }
 

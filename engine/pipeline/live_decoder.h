@@ -6,11 +6,13 @@
 //   while (decoder.next(frame)) show(frame);                   // in order, frame i at i / 30 s
 //   decoder.inputFinished();                                   // then the last frames
 //
-// One feature extractor (running energy normalisation, no context: the mouth model stacks its own) feeds both
-// models: prosody → the head model's online decoder → rotations → FAPs 48–50; MFCC → the mouth model's
-// streaming inversion → jaw opening → FAP 3 and the lip FAPs. A frame is out once both parts have it. The
-// values are those of animation::animate() with the same online options on the whole recording, frame for
-// frame (tests/pipeline). A null model leaves its FAPs at 0.
+// Two feature extractors run on the same samples: the prosody one (F0, energy, deltas) feeds the head model's
+// online decoder → rotations → FAPs 48–50; an MFCC-only one (no pitch tracker to wait for) feeds the mouth
+// model's streaming inversion → jaw opening → FAP 3 and the lip FAPs. The head waits ~400 ms for its decision
+// lag, the mouth ~110 ms, so by default the mouth sets the pace: frame i carries the mouth of instant i and the
+// head (and F0) of frame i - headDelayFrames, decided by then (lookahead() says how many). With
+// `waitForHead`, a frame waits for its own head instead, and the frames are those of animation::animate() with
+// the same online options, frame for frame (tests/pipeline). A null model leaves its FAPs at 0.
 //
 // Thread contract: one thread per instance; the models are shared read-only and must outlive it.
 #pragma once
@@ -33,14 +35,22 @@ struct LiveDecoderOptions {
   animation::HeadSynthesisOptions head{.variant = animation::HeadVariant::kTrajectory, .maxLagFrames = 6};
   // Inversion on short windows: the window is look-ahead.
   animation::MouthSynthesisOptions mouth{.method = animation::MouthMethod::kInversion, .windowFrames = 2, .maxIterations = 20};
+  // false: frames out as soon as the mouth is decided, the head shown headDelayFrames late (lips need sync,
+  // head motion tolerates a third of a second); true: each frame waits for its own head (file playback, where
+  // the sound can be delayed to match).
+  bool waitForHead = false;
 };
 
 // How far past a frame's time the input must reach before the frame is out, part by part.
 struct DecoderLookahead {
-  double featuresMs = 0.0;  // the extractor's (F0, MFCC window, deltas)
-  int headFrames = 0;       // the head decoder's lag and trajectory look-ahead
-  int mouthFrames = 0;      // the MFCC context and the inversion window
-  double totalMs = 0.0;     // features + the slower of head and mouth
+  double featuresMs = 0.0;       // the prosody extractor's (F0 decision lag, MFCC window, deltas)
+  double mouthFeaturesMs = 0.0;  // the MFCC extractor's (half its window)
+  int headFrames = 0;            // the head decoder's lag and trajectory look-ahead
+  int mouthFrames = 0;           // the MFCC context and the inversion window
+  double headMs = 0.0;           // features + head frames: when a frame's own head is decided
+  double mouthMs = 0.0;          // mouth features + mouth frames: when its mouth is
+  int headDelayFrames = 0;       // how late the head is shown (0 with waitForHead)
+  double totalMs = 0.0;          // what a frame waits for in all
 };
 
 class LiveDecoder : public FrameDecoder {
@@ -63,20 +73,39 @@ class LiveDecoder : public FrameDecoder {
  private:
   void pull();
 
+  // What the prosody side has decided for one frame: its F0, energy and (with a head model) rotation.
+  struct ProsodyFrame {
+    double f0Hz = 0.0;
+    double energy = 0.0;
+    Eigen::Vector3d headDegrees = Eigen::Vector3d::Zero();
+  };
+  struct MouthFrame {
+    double energy = 0.0;
+    double jawDegrees = 0.0;
+  };
+
   const animation::HeadModel* head_;
   const animation::MouthModel* mouth_;
   LiveDecoderOptions options_;
-  features::OnlineFeatureExtractor extractor_;
+  features::OnlineFeatureExtractor prosodyExtractor_;
+  features::OnlineFeatureExtractor mouthExtractor_;
   animation::ProsodyTracker prosody_;
   std::unique_ptr<animation::HeadSynthesiser> headStream_;
   std::unique_ptr<animation::MouthSynthesiser> mouthStream_;
   std::vector<int> mouthFaps_;  // the mouth model's FAP numbers, in its map's order
+  int headDelayFrames_ = 0;
   std::vector<float> row_;
-  int featureFrames_ = 0;  // rows taken from the extractor
-  int headTaken_ = 0;      // rotations taken from the head synthesiser
-  std::deque<AnimationFrame> pending_;  // frames with their features, waiting for head and mouth
-  std::deque<Eigen::Vector3d> rotations_;
-  std::deque<double> jaws_;
+  std::vector<float> mfccRow_;
+  bool finished_ = false;
+  int prosodyRows_ = 0;  // rows taken from the prosody extractor
+  int mfccFrames_ = 0;   // MFCC frames taken from the mouth extractor
+  int headTaken_ = 0;    // rotations taken from the head synthesiser
+  int nextIndex_ = 0;    // the next frame out
+  // Kept until shown: prosody frames from prosodyBase_ on (F0 and energy as the extractor gives them, the
+  // rotation once the head has decided it), mouth frames from nextIndex_ on.
+  int prosodyBase_ = 0;
+  std::deque<ProsodyFrame> prosodyFrames_;
+  std::deque<MouthFrame> mouthFrames_;
 };
 
 // A decoder behind a sample-rate converter, for a device that will not run at 16 kHz: samples at

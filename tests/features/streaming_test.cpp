@@ -2,6 +2,7 @@
 // and frames are released as soon as (and not before) their look-ahead has arrived.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstring>
 #include <random>
 
@@ -105,6 +106,47 @@ TEST(Streaming, FramesAreReleasedOnceTheirLookaheadHasArrived) {
     }
   }
   EXPECT_LE(lookahead.f0Ms, 50.0) << "the F0 tracker's look-ahead budget";
+}
+
+// Without the pitch tracker (the live mouth's extractor), a frame's MFCCs and energy are the same values, and
+// they can be read as soon as the frame's own MFCC window has arrived.
+TEST(Streaming, WithoutPitchTheMfccsComeAsSoonAsTheirWindow) {
+  const auto& speech = test::beat2Speech(4.0);
+  FeatureOptions withPitch;
+  FeatureOptions withoutPitch;
+  withoutPitch.trackPitch = false;
+  OnlineFeatureExtractor reference(withPitch);
+  OnlineFeatureExtractor early(withoutPitch);
+  const double mfccSeconds = early.lookahead().mfccMs / 1000.0;
+  EXPECT_EQ(early.lookahead().f0Ms, 0.0);
+  const int numMfcc = early.layout().numMfcc;
+  std::vector<float> a(static_cast<size_t>(numMfcc));
+  std::vector<float> b(static_cast<size_t>(numMfcc));
+  int compared = 0;
+  for (size_t fed = 0; fed < speech.size();) {
+    const size_t count = std::min<size_t>(160, speech.size() - fed);
+    reference.acceptWaveform(std::span(speech).subspan(fed, count));
+    early.acceptWaveform(std::span(speech).subspan(fed, count));
+    fed += count;
+    const double inputSeconds = static_cast<double>(fed) / OnlineFeatureExtractor::kSampleRateHz;
+    const int ready = early.numBaseFramesReady();
+    // Released no later than its window allows (one chunk of 10 ms), and not before.
+    EXPECT_GE(early.frameTimeSeconds(ready), inputSeconds - mfccSeconds - 0.0101);
+    if (ready > 0) {
+      EXPECT_LE(early.frameTimeSeconds(ready - 1) + mfccSeconds, inputSeconds + 1e-9);
+    }
+    EXPECT_GT(ready, reference.numBaseFramesReady() - 1) << "never later than with the pitch tracker";
+  }
+  reference.inputFinished();
+  early.inputFinished();
+  ASSERT_EQ(early.numBaseFramesReady(), reference.numBaseFramesReady());
+  for (int f = 0; f < early.numBaseFramesReady(); ++f, ++compared) {
+    reference.getMfcc(f, a);
+    early.getMfcc(f, b);
+    ASSERT_EQ(a, b) << "frame " << f;
+    ASSERT_EQ(reference.getEnergy(f), early.getEnergy(f)) << "frame " << f;
+  }
+  EXPECT_EQ(compared, 120);
 }
 
 TEST(Streaming, UtteranceNormalisationReleasesFramesOnlyAtTheEnd) {

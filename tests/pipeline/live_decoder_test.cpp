@@ -1,6 +1,7 @@
 // LiveDecoder: the live pipeline's decoding, a stream in, FAP frames out, held to the batch animate().
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <random>
 #include <string>
 #include <vector>
@@ -36,6 +37,7 @@ TEST(LiveDecoder, GivesTheBatchAnimationFrameByFrameWhateverTheChunks) {
   const std::vector<float> samples = speech(12.0);
   for (const bool mmse : {false, true}) {
     LiveDecoderOptions options;
+    options.waitForHead = true;
     if (mmse) options.mouth.method = th::animation::MouthMethod::kMmse;
     const th::video::Animation batch =
         th::animation::animate(samples, &models().head, &models().mouth, {.head = options.head, .mouth = options.mouth});
@@ -44,6 +46,8 @@ TEST(LiveDecoder, GivesTheBatchAnimationFrameByFrameWhateverTheChunks) {
     EXPECT_EQ(decoder.fapNumbers(), batch.faps);
     EXPECT_EQ(lookahead.headFrames, 6 + 3);
     EXPECT_EQ(lookahead.mouthFrames, models().mouth.contextFrames + 1);
+    EXPECT_EQ(lookahead.headDelayFrames, 0);
+    EXPECT_DOUBLE_EQ(lookahead.totalMs, lookahead.headMs);
     std::mt19937 random(5);
     std::uniform_int_distribution<std::size_t> chunkSize(1, 3000);
     std::vector<AnimationFrame> frames;
@@ -76,6 +80,66 @@ TEST(LiveDecoder, GivesTheBatchAnimationFrameByFrameWhateverTheChunks) {
     for (const AnimationFrame& f : frames) voiced += f.f0Hz > 0.0 ? 1.0 : 0.0;
     EXPECT_GT(voiced / static_cast<double>(frames.size()), 0.3);
   }
+}
+
+// By default the mouth sets the pace: frame i has the batch mouth of frame i and the batch head of frame
+// i - headDelayFrames, and frames come out as soon as the mouth's look-ahead allows.
+TEST(LiveDecoder, ShowsTheMouthAtOnceAndTheHeadLate) {
+  const std::vector<float> samples = speech(12.0);
+  const LiveDecoderOptions options;
+  ASSERT_FALSE(options.waitForHead);
+  const th::video::Animation batch =
+      th::animation::animate(samples, &models().head, &models().mouth, {.head = options.head, .mouth = options.mouth});
+  LiveDecoder decoder(&models().head, &models().mouth, options);
+  const th::pipeline::DecoderLookahead lookahead = decoder.lookahead();
+  EXPECT_LT(lookahead.mouthFeaturesMs, 20.0) << "the mouth's MFCCs wait for neither the pitch tracker nor deltas";
+  EXPECT_LT(lookahead.totalMs, 120.0);
+  EXPECT_GT(lookahead.headMs - lookahead.totalMs, 250.0);
+  const int delay = lookahead.headDelayFrames;
+  EXPECT_GE(delay, 9);
+  // The head's own decisions are due by the time its delayed frame is shown.
+  EXPECT_LE(lookahead.headMs - delay * 1000.0 / 30.0, lookahead.totalMs + 1e-9);
+
+  std::mt19937 random(11);
+  std::uniform_int_distribution<std::size_t> chunkSize(1, 800);
+  std::vector<AnimationFrame> frames;
+  AnimationFrame frame;
+  for (std::size_t at = 0; at < samples.size();) {
+    const std::size_t n = std::min(chunkSize(random), samples.size() - at);
+    decoder.acceptWaveform(std::span<const float>(samples).subspan(at, n));
+    at += n;
+    while (decoder.next(frame)) frames.push_back(frame);
+    const double heard = static_cast<double>(at) / 16000.0;
+    const double due = (heard - lookahead.totalMs / 1000.0) * 30.0 - 1.0;
+    EXPECT_GE(static_cast<double>(frames.size()), due) << "after " << heard << " s";
+  }
+  decoder.inputFinished();
+  while (decoder.next(frame)) frames.push_back(frame);
+  ASSERT_EQ(static_cast<Eigen::Index>(frames.size()), batch.numFrames());
+
+  const auto column = [&](int fap) {
+    return static_cast<Eigen::Index>(std::find(batch.faps.begin(), batch.faps.end(), fap) - batch.faps.begin());
+  };
+  double mouthError = 0.0;
+  double headError = 0.0;
+  double headMoved = 0.0;
+  for (std::size_t f = 0; f < frames.size(); ++f) {
+    const auto i = static_cast<Eigen::Index>(f);
+    EXPECT_EQ(frames[f].prosodyIndex, static_cast<int>(f) - delay);
+    for (int fap : batch.faps) {
+      const double value = frames[f].faps[static_cast<std::size_t>(fap)];
+      if (fap >= 48 && fap <= 50) {
+        const double expected = i >= delay ? batch.values(i - delay, column(fap)) : 0.0;
+        headError = std::max(headError, std::abs(value - expected));
+        headMoved = std::max(headMoved, std::abs(value));
+      } else {
+        mouthError = std::max(mouthError, std::abs(value - batch.values(i, column(fap))));
+      }
+    }
+  }
+  EXPECT_LT(mouthError, 1e-9);
+  EXPECT_LT(headError, 1e-9);
+  EXPECT_GT(headMoved, 1.0) << "the head moves";
 }
 
 TEST(LiveDecoder, RefusesWhatCannotStream) {
