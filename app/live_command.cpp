@@ -20,6 +20,8 @@
 #include "audio/capture.h"
 #include "animation_models.h"
 #include "commands.h"
+#include "live_settings.h"
+#include "live_window.h"
 #include "interrupt.h"
 #include "core/atomic_file.h"
 #include "core/error.h"
@@ -34,18 +36,15 @@ struct LiveArguments {
   bool headless = false;
   bool listDevices = false;
   std::string input;
-  std::string device;  // "default" or an index
   double speed = 1.0;
   double duration = 0.0;
   std::string dump;
-  std::string headVariant = "trajectory";
-  std::string mouthMethod = "inversion";
-  int lagFrames = 6;
-  int windowFrames = 2;
-  int iterations = 20;
-  bool waitForHead = false;
-  std::string headModel = defaultHeadModel();
-  std::string mouthModel = defaultMouthModel();
+  std::string settingsFile;  // the window's saved settings
+  bool noSettings = false;
+  std::string screenshot;    // the window: save it as PNG after `frames` frames and quit
+  int frames = 90;
+  int msaa = 0;
+  LiveSettings given;        // the options as typed (which ones were typed: CLI11's count)
 };
 
 double percentile(std::vector<double> values, double p) {
@@ -78,29 +77,36 @@ std::optional<int> deviceIndexOf(const std::string& text) {
   return index;
 }
 
-void runLive(const LiveArguments& arguments) {
-  if (arguments.listDevices) {
-    listDevices();
-    return;
-  }
-  if (!arguments.headless) throw Error("live: only --headless so far (the window is issue 6's next step)");
-  if (arguments.input.empty() == arguments.device.empty())
-    throw Error("live: give the sound either as --input FILE or as --device (default or a number)");
-  if (!arguments.device.empty() && arguments.speed != 1.0) throw Error("live: --speed is for --input files; a device runs in real time");
+// The settings a run uses: the saved ones (window only), then the preset, then the options typed.
+LiveSettings resolveSettings(const LiveArguments& arguments, const CLI::App& command, const LiveSettings& saved) {
+  LiveSettings settings = saved;
+  const LiveSettings& given = arguments.given;
+  const auto typed = [&](const char* option) { return command.count(option) > 0; };
+  if (typed("--preset")) applyPreset(settings, given.preset);
+  if (typed("--device")) settings.device = given.device;
+  if (typed("--head")) settings.headVariant = given.headVariant;
+  if (typed("--mouth")) settings.mouthMethod = given.mouthMethod;
+  if (typed("--head-model")) settings.headModel = given.headModel;
+  if (typed("--mouth-model")) settings.mouthModel = given.mouthModel;
+  if (typed("--lag")) settings.lagFrames = given.lagFrames;
+  if (typed("--window")) settings.windowFrames = given.windowFrames;
+  if (typed("--iterations")) settings.iterations = given.iterations;
+  if (typed("--wait-for-head")) settings.waitForHead = given.waitForHead;
+  if (typed("--min-f0")) settings.minF0Hz = given.minF0Hz;
+  if (typed("--max-f0")) settings.maxF0Hz = given.maxF0Hz;
+  if (!(settings.minF0Hz < settings.maxF0Hz)) throw Error("live: --min-f0 must be below --max-f0");
+  return settings;
+}
+
+void runHeadless(const LiveArguments& arguments, const LiveSettings& settings, bool fromDevice) {
+  if (fromDevice && arguments.speed != 1.0) throw Error("live: --speed is for --input files; a device runs in real time");
   if (!arguments.dump.empty()) {
     video::animationFormatOf(arguments.dump);
     checkOutputTarget(arguments.dump);
   }
-  pipeline::LiveDecoderOptions options;
-  options.head.variant = arguments.headVariant == "paper" ? animation::HeadVariant::kStateMeans
-                                                          : animation::HeadVariant::kTrajectory;
-  options.head.maxLagFrames = arguments.lagFrames;
-  options.mouth.method = arguments.mouthMethod == "mmse" ? animation::MouthMethod::kMmse : animation::MouthMethod::kInversion;
-  options.mouth.windowFrames = arguments.windowFrames;
-  options.mouth.maxIterations = arguments.iterations;
-  options.waitForHead = arguments.waitForHead;
-  const AnimationModels models = loadAnimationModels("live", arguments.headVariant, arguments.headModel,
-                                                     arguments.mouthMethod, arguments.mouthModel);
+  const pipeline::LiveDecoderOptions options = decoderOptionsOf(settings);
+  const AnimationModels models = loadAnimationModels("live", settings.headVariant, headModelOf(settings),
+                                                     settings.mouthMethod, mouthModelOf(settings));
   const animation::HeadModel* head = models.head.get();
   const animation::MouthModel* mouth = models.mouth.get();
 
@@ -127,7 +133,7 @@ void runLive(const LiveArguments& arguments) {
     feeder = std::make_unique<pipeline::FileFeeder>(*session, std::move(clip.samples), arguments.speed);
   } else {
     system = std::make_unique<audio::PortAudioSystem>();
-    const std::optional<int> index = deviceIndexOf(arguments.device);
+    const std::optional<int> index = deviceIndexOf(settings.device);
     // The decoder converts the device's rate if it will not run at 16 kHz; the device is opened once the
     // session (which owns the ring) exists.
     const double rate = audio::captureRateFor(*system, index, 16000.0);
@@ -208,38 +214,78 @@ void runLive(const LiveArguments& arguments) {
   }
 }
 
+void runLive(const LiveArguments& arguments, const CLI::App& command) {
+  if (arguments.listDevices) {
+    listDevices();
+    return;
+  }
+  const bool typedDevice = command.count("--device") > 0;
+  if (!arguments.input.empty() && typedDevice) throw Error("live: give the sound either as --input FILE or as --device, not both");
+  if (arguments.headless) {
+    if (arguments.input.empty() && !typedDevice)
+      throw Error("live --headless: give the sound either as --input FILE or as --device (default or a number)");
+    if (!arguments.screenshot.empty()) throw Error("live: --screenshot is for the window, not --headless");
+    runHeadless(arguments, resolveSettings(arguments, command, LiveSettings{}), typedDevice);
+    return;
+  }
+  if (!arguments.dump.empty()) throw Error("live: --dump is for --headless runs");
+  if (arguments.speed != 1.0) throw Error("live: --speed is for --headless runs; the window plays in real time");
+  const std::filesystem::path settingsPath =
+      arguments.noSettings ? std::filesystem::path() : (arguments.settingsFile.empty() ? defaultLiveSettingsPath()
+                                                                                       : std::filesystem::path(arguments.settingsFile));
+  const LiveSettings settings = resolveSettings(arguments, command, loadLiveSettings(settingsPath));
+  runLiveWindow({.input = arguments.input, .settingsPath = settingsPath, .screenshot = arguments.screenshot,
+                 .frames = arguments.frames, .duration = arguments.duration, .msaa = arguments.msaa},
+                settings);
+}
+
 }  // namespace
 
 void addLiveCommand(CLI::App& app) {
   auto arguments = std::make_shared<LiveArguments>();
-  CLI::App* live = app.add_subcommand("live", "The live pipeline: speech in real time -> animation frames");
+  LiveSettings& given = arguments->given;
+  CLI::App* live = app.add_subcommand(
+      "live", "Speech in real time -> the face: a window with a panel, or --headless (frames reported or dumped)");
   live->add_flag("--headless", arguments->headless, "Without a window: decode, and report or dump what a display would get");
   live->add_flag("--list-devices", arguments->listDevices, "List the sound inputs and exit");
   live->add_option("--input", arguments->input, "Recording to play into the pipeline (WAV, FLAC, ... or a video's audio)");
-  live->add_option("--device", arguments->device, "Sound input: default, or a number from --list-devices");
-  live->add_option("--speed", arguments->speed, "Times real time (0: as fast as the worker decodes)")
+  live->add_option("--device", given.device, "Sound input: default, or a number from --list-devices");
+  live->add_option("--speed", arguments->speed, "--headless --input: times real time (0: as fast as the worker decodes)")
       ->check(CLI::Range(0.0, 1000.0))
       ->capture_default_str();
   live->add_option("--duration", arguments->duration, "Seconds to run: of the recording (0: all), or of listening (0: until Ctrl-C)")
       ->check(CLI::Range(0.0, 1e6));
-  live->add_option("--dump", arguments->dump, "Write the frames the display received: .csv, .json or .fap");
-  live->add_option("--head", arguments->headVariant, "Head: trajectory (smooth), paper (Viterbi state means), none")
+  live->add_option("--dump", arguments->dump, "--headless: write the frames the display received: .csv, .json or .fap");
+  live->add_option("--preset", given.preset, "default (~85 ms), low-latency (~50 ms, less accurate), accurate (~200 ms, smooth)")
+      ->check(CLI::IsMember({"default", "low-latency", "accurate"}))
+      ->capture_default_str();
+  live->add_option("--head", given.headVariant, "Head: trajectory (smooth), paper (Viterbi state means), none")
       ->check(CLI::IsMember({"trajectory", "paper", "none"}))
       ->capture_default_str();
-  live->add_option("--mouth", arguments->mouthMethod, "Mouth: inversion, mmse, none")
+  live->add_option("--mouth", given.mouthMethod, "Mouth: inversion, mmse, none")
       ->check(CLI::IsMember({"inversion", "mmse", "none"}))
       ->capture_default_str();
-  live->add_option("--lag", arguments->lagFrames, "Head decoding lag, frames")->check(CLI::Range(0, 300))->capture_default_str();
-  live->add_option("--window", arguments->windowFrames, "Mouth inversion window, frames")
-      ->check(CLI::Range(1, 300))
-      ->capture_default_str();
-  live->add_flag("--wait-for-head", arguments->waitForHead,
-                 "Each frame waits for its own head (~400 ms) instead of showing the head late behind a ~110 ms mouth");
-  live->add_option("--iterations", arguments->iterations, "Mouth inversion: most EM iterations a window")
+  live->add_option("--lag", given.lagFrames, "Head decoding lag, frames")->check(CLI::Range(0, 300))->capture_default_str();
+  live->add_option("--window", given.windowFrames, "Mouth inversion window, frames (the preset's by default)")
+      ->check(CLI::Range(1, 300));
+  live->add_flag("--wait-for-head", given.waitForHead,
+                 "Each frame waits for its own head (~400 ms) instead of showing the head late behind the mouth");
+  live->add_option("--iterations", given.iterations, "Mouth inversion: most EM iterations a window")
       ->check(CLI::Range(1, 1000))
       ->capture_default_str();
-  addModelFileOptions(*live, arguments->headModel, arguments->mouthModel);
-  live->callback([arguments] { runLive(*arguments); });
+  live->add_option("--min-f0", given.minF0Hz, "Lowest F0 the prosody tracker searches, Hz")->check(CLI::Range(20.0, 1000.0))->capture_default_str();
+  live->add_option("--max-f0", given.maxF0Hz, "Highest F0, Hz")->check(CLI::Range(40.0, 2000.0))->capture_default_str();
+  live->add_option("--head-model", given.headModel, "Head model file (default models/head.json)");
+  live->add_option("--mouth-model", given.mouthModel, "Mouth model file (default: the preset's, in models/)");
+  live->add_option("--settings", arguments->settingsFile,
+                   "The window's settings file (default $XDG_CONFIG_HOME/talkinghead/live.json or ~/.config/...)");
+  live->add_flag("--no-settings", arguments->noSettings, "Neither read nor save the window's settings");
+  live->add_option("--screenshot", arguments->screenshot, "Window: save it as PNG after --frames frames and quit");
+  live->add_option("--frames", arguments->frames, "Window: frames before the screenshot")->check(CLI::Range(1, 100000))->capture_default_str();
+  live->add_option("--msaa", arguments->msaa, "Window: MSAA samples (0: 4 on a GPU, 1 = none on a software renderer)")
+      ->check(CLI::Range(0, 16))
+      ->capture_default_str();
+  live->callback([arguments, live] { runLive(*arguments, *live); });
 }
 
 }  // namespace th::app

@@ -403,7 +403,7 @@ void addEvalMouthCommand(CLI::App& eval) {
                     "The first this fraction of the BEAT2 take trains, the rest is held out")
       ->check(CLI::Range(0.1, 0.95));
   mouth->add_option("--window", arguments->windowFrames, "Frames per window of the streaming inversion")
-      ->check(CLI::Range(2, 10000));
+      ->check(CLI::Range(1, 10000));
   mouth->add_option("--model", arguments->model, "Evaluate this mouth model instead of the two built-in ones");
   mouth->add_flag("--sweep", arguments->sweep,
                   "Sweep N, M, tc and covariance (fitted on the first 80 % of the training part, chosen on the rest, "

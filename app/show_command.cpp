@@ -28,6 +28,7 @@
 #include "render/image.h"
 #include "video/animation_file.h"
 #include "video/animation_sampling.h"
+#include "window_capture.h"
 
 namespace th::app {
 namespace {
@@ -44,20 +45,6 @@ struct ShowArguments {
 std::pair<float, float> sliderRange(const face::FapDefinition& fap) {
   if (fap.unit == face::Fapu::kAngle) return {-70000.0f, 70000.0f};
   return {fap.bidirectional ? -1024.0f : 0.0f, 1024.0f};
-}
-
-// The window's pixels (face and panel), top row first.
-render::Image grabWindow(std::pair<int, int> size) {
-  render::Image image(size.first, size.second);
-  std::vector<std::uint8_t> rgba(static_cast<std::size_t>(size.first) * static_cast<std::size_t>(size.second) * 4);
-  glReadBuffer(GL_BACK);
-  glReadPixels(0, 0, size.first, size.second, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data());
-  for (int y = 0; y < size.second; ++y)
-    for (int x = 0; x < size.first; ++x) {
-      const std::uint8_t* source = rgba.data() + (static_cast<std::size_t>(size.second - 1 - y) * static_cast<std::size_t>(size.first) + static_cast<std::size_t>(x)) * 4;
-      std::copy_n(source, 3, image.pixel(x, y));
-    }
-  return image;
 }
 
 void runShow(const ShowArguments& arguments) {

@@ -14,6 +14,13 @@ namespace th::pipeline {
 
 namespace {
 
+features::FeatureOptions prosodyOptions(const LiveDecoderOptions& options) {
+  features::FeatureOptions result = animation::prosodyFeatureOptions(animation::kAnimationFramesPerSecond);
+  result.pitch.minF0Hz = options.minF0Hz;
+  result.pitch.maxF0Hz = options.maxF0Hz;
+  return result;
+}
+
 features::FeatureOptions mouthFeatureOptions() {
   // As the prosody extractor, minus the pitch tracker: the same MFCCs and energy, without its decision lag.
   features::FeatureOptions options = animation::prosodyFeatureOptions(animation::kAnimationFramesPerSecond);
@@ -30,7 +37,7 @@ LiveDecoder::LiveDecoder(const animation::HeadModel* head, const animation::Mout
       options_(options),
       // The features animate() gives each model: the prosody settings serve both (the energy's normalisation
       // does not touch the MFCCs).
-      prosodyExtractor_(animation::prosodyFeatureOptions(animation::kAnimationFramesPerSecond)),
+      prosodyExtractor_(prosodyOptions(options)),
       mouthExtractor_(mouthFeatureOptions()),
       prosody_(animation::kAnimationFramesPerSecond, {}) {
   if (head == nullptr && mouth == nullptr) throw Error("live decoder: neither a head nor a mouth model");

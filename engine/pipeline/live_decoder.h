@@ -33,12 +33,15 @@ namespace th::pipeline {
 struct LiveDecoderOptions {
   // Online decoding: Viterbi with a bounded lag, then the smooth trajectory through the decided states.
   animation::HeadSynthesisOptions head{.variant = animation::HeadVariant::kTrajectory, .maxLagFrames = 6};
-  // Inversion on short windows: the window is look-ahead.
-  animation::MouthSynthesisOptions mouth{.method = animation::MouthMethod::kInversion, .windowFrames = 2, .maxIterations = 20};
+  // Inversion on short windows: the window is look-ahead (pipeline/live_presets.h: 1 in the default preset).
+  animation::MouthSynthesisOptions mouth{.method = animation::MouthMethod::kInversion, .windowFrames = 1, .maxIterations = 20};
   // false: frames out as soon as the mouth is decided, the head shown headDelayFrames late (lips need sync,
   // head motion tolerates a third of a second); true: each frame waits for its own head (file playback, where
   // the sound can be delayed to match).
   bool waitForHead = false;
+  // The F0 search range of the prosody features (a voice outside the default 60-500 Hz, or one to hold tighter).
+  double minF0Hz = features::PitchOptions{}.minF0Hz;
+  double maxF0Hz = features::PitchOptions{}.maxF0Hz;
 };
 
 // How far past a frame's time the input must reach before the frame is out, part by part.

@@ -44,6 +44,16 @@ std::int64_t Playout::targetOffsetNs() const {
 }
 
 bool Playout::sample(std::int64_t nowNs, PlayoutSample& out) {
+  if (!options_.interpolate) {
+    if (frames_.empty()) return false;
+    while (frames_.size() > 1) frames_.pop_front();
+    lateness_.clear();
+    out.frame = frames_.back();
+    out.streamSeconds = frames_.back().index / options_.framesPerSecond;
+    out.behindNewestMs = 0.0;
+    out.starved = false;
+    return true;
+  }
   const auto window = static_cast<std::int64_t>(std::llround(options_.windowSeconds * 1e9));
   while (lateness_.size() > 1 && lateness_.front().arrivalNs < nowNs - window) lateness_.pop_front();
   if (frames_.empty() && !started_) return false;

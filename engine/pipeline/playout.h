@@ -12,7 +12,8 @@
 //   if (playout.sample(steadyNanoseconds(), sample)) draw(sample.frame);
 //
 // When the delay has to grow (frames came later than before), the clock holds still until it has; when it can
-// shrink, the clock runs 5 % fast until it has, so the picture never jumps back or skips.
+// shrink, the clock runs 5 % fast until it has, so the picture never jumps back or skips. Without
+// interpolation (options.interpolate = false), the newest frame is shown as it is: lowest latency, 30 fps steps.
 //
 // Thread contract: one thread (the render thread).
 #pragma once
@@ -29,6 +30,9 @@ struct PlayoutOptions {
   double marginMs = 4.0;           // over the latest arrival: scheduling noise of the display thread
   double windowSeconds = 3.0;      // how long a late frame keeps the delay up
   double catchUpRate = 0.05;       // how much faster than real time the clock runs while the delay shrinks
+  // false: no clock and no interpolation, the newest frame is shown as soon as it is there (30 steps a second,
+  // as a 30 fps video plays; the lowest latency: no interpolation frame, no jitter margin).
+  bool interpolate = true;
 };
 
 struct PlayoutSample {

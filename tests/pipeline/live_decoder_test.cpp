@@ -39,13 +39,14 @@ TEST(LiveDecoder, GivesTheBatchAnimationFrameByFrameWhateverTheChunks) {
     LiveDecoderOptions options;
     options.waitForHead = true;
     if (mmse) options.mouth.method = th::animation::MouthMethod::kMmse;
+    options.mouth.windowFrames = mmse ? 1 : 2;
     const th::video::Animation batch =
         th::animation::animate(samples, &models().head, &models().mouth, {.head = options.head, .mouth = options.mouth});
     LiveDecoder decoder(&models().head, &models().mouth, options);
     const th::pipeline::DecoderLookahead lookahead = decoder.lookahead();
     EXPECT_EQ(decoder.fapNumbers(), batch.faps);
     EXPECT_EQ(lookahead.headFrames, 6 + 3);
-    EXPECT_EQ(lookahead.mouthFrames, models().mouth.contextFrames + 1);
+    EXPECT_EQ(lookahead.mouthFrames, models().mouth.contextFrames + options.mouth.windowFrames - 1);
     EXPECT_EQ(lookahead.headDelayFrames, 0);
     EXPECT_DOUBLE_EQ(lookahead.totalMs, lookahead.headMs);
     std::mt19937 random(5);

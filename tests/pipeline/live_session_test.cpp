@@ -20,7 +20,7 @@ namespace {
 class SummingDecoder : public FrameDecoder {
  public:
   static constexpr std::size_t kHop = 160;
-  explicit SummingDecoder(int throwAtFrame = -1) : throwAtFrame_(throwAtFrame) {}
+  explicit SummingDecoder(int throwAtFrame = -1, double scale = 1.0) : throwAtFrame_(throwAtFrame), scale_(scale) {}
   void acceptWaveform(std::span<const float> samples) override {
     for (const float s : samples) {
       sum_ += s;
@@ -42,12 +42,13 @@ class SummingDecoder : public FrameDecoder {
     if (count_ == throwAtFrame_) throw std::runtime_error("decoder failed");
     AnimationFrame frame;
     frame.index = count_++;
-    frame.energy = sum_;
+    frame.energy = scale_ * sum_;
     ready_.push_back(frame);
     sum_ = 0.0;
     inFrame_ = 0;
   }
   int throwAtFrame_;
+  double scale_;
   int count_ = 0;
   std::size_t inFrame_ = 0;
   double sum_ = 0.0;
@@ -167,6 +168,60 @@ TEST(LiveSession, FileFeederKeepsTheRealTimePace) {
   EXPECT_EQ(frames.size(), 20U);
   EXPECT_GE(seconds, 0.18);  // not faster than the sound (one block of slack)
   EXPECT_THROW(FileFeeder(session, {}, -1.0), th::Error);
+}
+
+// Decoders replaced twice while the sound plays: the frames go on without a gap or a repeat, each the sum of
+// its own samples (the new decoder was warmed up on an aligned stretch of the kept speech), by the decoder of
+// the moment (its scale says which). The monitor gives the samples in order.
+TEST(LiveSession, ReplacingTheDecoderKeepsTheFramesGoing) {
+  const std::size_t total = 16000 * 3;
+  LiveSession session(std::make_unique<SummingDecoder>(),
+                      {.readBlock = 256, .framesPerSecond = 16000.0 / SummingDecoder::kHop, .historySeconds = 0.5});
+  session.start();
+  FileFeeder feeder(session, ramp(total), 2.0);
+  std::vector<AnimationFrame> frames;
+  std::vector<float> monitored(4096);
+  float lastMonitored = -1.0f;
+  bool monitorInOrder = true;
+  std::size_t monitoredCount = 0;
+  AnimationFrame frame;
+  const auto start = std::chrono::steady_clock::now();
+  int replaced = 0;
+  while (!session.done()) {
+    const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if ((replaced == 0 && elapsed > 0.3) || (replaced == 1 && elapsed > 0.9)) {
+      ++replaced;
+      session.replaceDecoder(std::make_unique<SummingDecoder>(-1, 1.0 + replaced));
+    }
+    while (session.nextFrame(frame)) frames.push_back(frame);
+    for (std::size_t n = session.readMonitor(monitored.data(), monitored.size()); n > 0;
+         n = session.readMonitor(monitored.data(), monitored.size())) {
+      for (std::size_t i = 0; i < n; ++i) {
+        monitorInOrder = monitorInOrder && monitored[i] > lastMonitored;
+        lastMonitored = monitored[i];
+      }
+      monitoredCount += n;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  while (session.nextFrame(frame)) frames.push_back(frame);
+  session.rethrowError();
+  EXPECT_EQ(session.decodersReplaced(), 2U);
+  ASSERT_EQ(frames.size(), total / SummingDecoder::kHop);
+  double lastScale = 1.0;
+  int byLast = 0;
+  for (std::size_t f = 0; f < frames.size(); ++f) {
+    ASSERT_EQ(frames[f].index, static_cast<int>(f));
+    const double scale = frames[f].energy / expectedSum(static_cast<int>(f), total);
+    EXPECT_TRUE(scale == 1.0 || scale == 2.0 || scale == 3.0) << "frame " << f << ": " << scale;
+    EXPECT_GE(scale, lastScale) << "frame " << f;
+    lastScale = scale;
+    byLast += scale == 3.0 ? 1 : 0;
+  }
+  EXPECT_GT(byLast, 50);
+  EXPECT_TRUE(monitorInOrder);
+  EXPECT_GT(monitoredCount, total / 2);
+  EXPECT_THROW(session.replaceDecoder(nullptr), th::Error);
 }
 
 }  // namespace

@@ -122,4 +122,23 @@ TEST(Playout, HoldsTheNewestFrameWhenStarvedAndStartsAgainAfterReset) {
   EXPECT_THROW(Playout(th::pipeline::PlayoutOptions{.framesPerSecond = 0.0}), th::Error);
 }
 
+TEST(Playout, WithoutInterpolationShowsTheNewestFrameAtOnce) {
+  Playout playout(th::pipeline::PlayoutOptions{.interpolate = false});
+  PlayoutSample sample;
+  EXPECT_FALSE(playout.sample(0, sample));
+  playout.push(rampFrame(0), 100 * kMs);
+  playout.push(rampFrame(1), 110 * kMs);
+  ASSERT_TRUE(playout.sample(111 * kMs, sample));
+  EXPECT_EQ(sample.frame.index, 1);
+  EXPECT_EQ(sample.frame.faps[3], 10.0);
+  EXPECT_EQ(sample.behindNewestMs, 0.0);
+  ASSERT_TRUE(playout.sample(500 * kMs, sample));  // held, not starved: there is no clock to run past it
+  EXPECT_EQ(sample.frame.index, 1);
+  EXPECT_FALSE(sample.starved);
+  playout.push(rampFrame(2), 501 * kMs);
+  ASSERT_TRUE(playout.sample(502 * kMs, sample));
+  EXPECT_EQ(sample.frame.index, 2);
+  EXPECT_EQ(playout.framesBuffered(), 1);
+}
+
 }  // namespace

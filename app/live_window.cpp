@@ -1,0 +1,564 @@
+// glad before GLFW: glad's header stands in for the system GL header that GLFW would otherwise pull in.
+#include <glad/gl.h>
+#include <GLFW/glfw3.h>
+#include <imgui.h>
+#include <imgui_impl_glfw.h>
+#include <imgui_impl_opengl3.h>
+
+#include "live_window.h"
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <deque>
+#include <iostream>
+#include <memory>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "animation/animate.h"
+#include "animation_models.h"
+#include "audio/capture.h"
+#include "audio/media_audio.h"
+#include "core/error.h"
+#include "face/face_model.h"
+#include "face/fap.h"
+#include "interrupt.h"
+#include "pipeline/live_decoder.h"
+#include "pipeline/live_presets.h"
+#include "pipeline/live_session.h"
+#include "pipeline/playout.h"
+#include "render/camera.h"
+#include "render/face_renderer.h"
+#include "render/gl_context.h"
+#include "render/image.h"
+#include "window_capture.h"
+
+namespace th::app {
+namespace {
+
+constexpr double kRetrySeconds = 2.0;   // a lost or missing sound input is tried again this often
+constexpr std::size_t kPlotFrames = 300;  // 10 s of frames in the plots
+constexpr double kWaveformSeconds = 2.0;
+constexpr std::size_t kStatFrames = 150;  // the latency figures are medians over the last 5 s
+
+double secondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+double median(std::deque<double> values) {
+  if (values.empty()) return 0.0;
+  const auto middle = values.begin() + static_cast<long>(values.size() / 2);
+  std::nth_element(values.begin(), middle, values.end());
+  return *middle;
+}
+
+// A decoder that keeps its models alive: after the panel loads other models, the worker may still be running
+// the old decoder until it takes the new one.
+class ModelDecoder final : public pipeline::FrameDecoder {
+ public:
+  ModelDecoder(std::shared_ptr<const AnimationModels> models, const pipeline::LiveDecoderOptions& options)
+      : models_(std::move(models)), decoder_(models_->head.get(), models_->mouth.get(), options) {}
+  void acceptWaveform(std::span<const float> samples16k) override { decoder_.acceptWaveform(samples16k); }
+  void inputFinished() override { decoder_.inputFinished(); }
+  bool next(pipeline::AnimationFrame& frame) override { return decoder_.next(frame); }
+  pipeline::DecoderLookahead lookahead() const { return decoder_.lookahead(); }
+
+ private:
+  std::shared_ptr<const AnimationModels> models_;
+  pipeline::LiveDecoder decoder_;
+};
+
+std::unique_ptr<pipeline::FrameDecoder> makeDecoder(const std::shared_ptr<const AnimationModels>& models,
+                                                    const pipeline::LiveDecoderOptions& options, double rateHz,
+                                                    pipeline::DecoderLookahead& lookahead) {
+  auto decoder = std::make_unique<ModelDecoder>(models, options);
+  lookahead = decoder->lookahead();
+  if (rateHz == features::OnlineFeatureExtractor::kSampleRateHz) return decoder;
+  return std::make_unique<pipeline::ResamplingDecoder>(std::move(decoder), rateHz);
+}
+
+std::optional<int> deviceIndexOf(const std::string& text) {
+  if (text == "default") return std::nullopt;
+  try {
+    std::size_t used = 0;
+    const int index = std::stoi(text, &used);
+    if (used == text.size() && index >= 0) return index;
+  } catch (const std::exception&) {
+  }
+  throw Error("sound input \"" + text + "\": expected \"default\" or a device number");
+}
+
+// Rolling plots: the newest value last.
+struct Curve {
+  std::deque<float> values;
+  void push(double value, std::size_t keep) {
+    values.push_back(static_cast<float>(value));
+    while (values.size() > keep) values.pop_front();
+  }
+  std::vector<float> data() const { return {values.begin(), values.end()}; }
+};
+
+// 4x MSAA costs llvmpipe about three times the frame's CPU time: without a GPU, the 60 frames a second matter
+// more than smooth edges.
+int samplesFor(render::WindowContext& window, int asked) {
+  if (asked > 0) return asked;
+  return window.description().find("llvmpipe") != std::string::npos ? 1 : 4;
+}
+
+class LiveWindow {
+ public:
+  LiveWindow(const LiveWindowArguments& arguments, LiveSettings settings)
+      : arguments_(arguments),
+        settings_(std::move(settings)),
+        face_(face::FaceModel::build(face::loadIctFace(face::ictFaceDirectory()))),
+        window_({.width = 1280, .height = 720, .title = "talkinghead live", .visible = true, .vsync = true}),
+        renderer_(window_, face_.mesh(), {.width = 1280, .height = 720, .samples = samplesFor(window_, arguments.msaa)}),
+        camera_(render::frameHead(face_.mesh().positions, 1280.0 / 720.0)),
+        playout_(pipeline::PlayoutOptions{.interpolate = settings_.interpolate}) {
+    renderer_.setMouthOpening(face_.innerLipVertices());
+    renderer_.setEyeOpenings(face_.eyeLidVertices(0), face_.eyeLidVertices(1));
+    models_ = loadModels(settings_);  // a bad model file is an error before the window is of any use
+    const auto fill = [](std::array<char, 512>& field, const std::string& text) {
+      field.fill('\0');
+      std::copy_n(text.begin(), std::min(text.size(), field.size() - 1), field.begin());
+    };
+    fill(headPath_, headModelOf(settings_));
+    fill(mouthPath_, mouthModelOf(settings_));
+    if (!arguments_.input.empty()) {
+      recording_ = audio::readRecording(arguments_.input).samples;
+      if (recording_.empty()) throw fileError(arguments_.input, "has no samples");
+    }
+    IMGUI_CHECKVERSION();
+    ImGui::CreateContext();
+    ImGui::GetIO().IniFilename = nullptr;  // no imgui.ini in the working folder
+    ImGui::StyleColorsDark();
+    ImGui_ImplGlfw_InitForOpenGL(window_.window(), true);
+    ImGui_ImplOpenGL3_Init("#version 330 core");
+    startSource();
+    std::cout << "live: preset " << settings_.preset << ", head " << settings_.headVariant << " (lag "
+              << settings_.lagFrames << "), mouth " << settings_.mouthMethod << " (window " << settings_.windowFrames
+              << ", " << settings_.iterations << " iterations), " << mouthModelOf(settings_) << "; "
+              << (sourceError_.empty() ? sourceName_ : sourceError_) << std::endl;
+  }
+
+  ~LiveWindow() {
+    stopSource();
+    ImGui_ImplOpenGL3_Shutdown();
+    ImGui_ImplGlfw_Shutdown();
+    ImGui::DestroyContext();
+  }
+
+  LiveWindow(const LiveWindow&) = delete;
+  LiveWindow& operator=(const LiveWindow&) = delete;
+
+  void run() {
+    InterruptGuard interrupts;
+    const auto started = std::chrono::steady_clock::now();
+    int frame = 0;
+    std::pair<int, int> lastSize{0, 0};
+    while (!window_.shouldClose() && !InterruptGuard::requested()) {
+      if (arguments_.duration > 0.0 && secondsSince(started) >= arguments_.duration) break;
+      glfwPollEvents();
+      const auto size = window_.framebufferSize();
+      if (size.first <= 0 || size.second <= 0) {  // minimised: keep the pipeline drained
+        takeFrames();
+        std::this_thread::sleep_for(std::chrono::milliseconds(16));
+        continue;
+      }
+      if (size != lastSize) {
+        renderer_.resize(size.first, size.second);
+        camera_ = render::frameHead(face_.mesh().positions, static_cast<double>(size.first) / size.second);
+        lastSize = size;
+      }
+      superviseSource();
+      takeFrames();
+      const auto drawStart = std::chrono::steady_clock::now();
+      drawFace();
+      const auto faceDone = std::chrono::steady_clock::now();
+      drawPanel(size);
+      const auto panelDone = std::chrono::steady_clock::now();
+      if (!arguments_.screenshot.empty() && ++frame >= arguments_.frames) {
+        render::writePng(arguments_.screenshot, grabWindow(size));
+        std::cout << "wrote " << arguments_.screenshot << '\n';
+        break;
+      }
+      window_.swapBuffers();
+      const auto swapped = std::chrono::steady_clock::now();
+      const auto ms = [](auto from, auto to) { return std::chrono::duration<double, std::milli>(to - from).count(); };
+      record(displayMs_, ms(drawStart, swapped));
+      record(stageMs_[0], faceSetupMs_);
+      record(stageMs_[1], ms(drawStart, faceDone) - faceSetupMs_);
+      record(stageMs_[2], ms(faceDone, panelDone));
+      record(stageMs_[3], ms(panelDone, swapped));
+      const double period = ms(lastSwap_, swapped);
+      lastSwap_ = swapped;
+      record(periodMs_, period);
+      // No vsync (Xvfb, some drivers): hold the loop near 60 Hz rather than spin.
+      nextTick_ = std::max(nextTick_ + std::chrono::microseconds(16667), std::chrono::steady_clock::now() - std::chrono::milliseconds(50));
+      std::this_thread::sleep_until(nextTick_);
+    }
+    saveLiveSettings(arguments_.settingsPath, settings_);
+  }
+
+ private:
+  static void record(std::deque<double>& values, double value) {
+    values.push_back(value);
+    while (values.size() > kStatFrames) values.pop_front();
+  }
+
+  std::shared_ptr<const AnimationModels> loadModels(const LiveSettings& settings) const {
+    return std::make_shared<const AnimationModels>(loadAnimationModels(
+        "live", settings.headVariant, headModelOf(settings), settings.mouthMethod, mouthModelOf(settings)));
+  }
+
+  // --- the sound source and its session -------------------------------------------------------------------
+
+  void startSource() {
+    stopSource();
+    sourceError_.clear();
+    lastAttempt_ = std::chrono::steady_clock::now();
+    try {
+      double rate = features::OnlineFeatureExtractor::kSampleRateHz;
+      std::optional<int> index;
+      if (recording_.empty()) {
+        system_ = std::make_unique<audio::PortAudioSystem>();
+        devices_ = system_->inputDevices();
+        index = deviceIndexOf(settings_.device);
+        rate = audio::captureRateFor(*system_, index, rate);
+      }
+      pipeline::LiveSessionOptions options;
+      options.ringSamples = static_cast<std::size_t>(4.0 * rate);
+      options.sampleRateHz = rate;
+      options.monitorSamples = static_cast<std::size_t>(rate);
+      // The decoder's warm-up starts on whole 100 ms (3 frames); 200 ms where 100 ms is no whole number of samples.
+      if (std::abs(rate * 0.1 - std::round(rate * 0.1)) > 1e-9) options.alignSeconds = 0.2;
+      session_ = std::make_unique<pipeline::LiveSession>(makeDecoder(models_, decoderOptionsOf(settings_), rate, lookahead_), options);
+      session_->start();
+      rateHz_ = rate;
+      if (recording_.empty()) {
+        capture_ = std::make_unique<audio::Capture>(*system_, index, rate, session_->ring());
+        sourceName_ = "sound input " + std::to_string(capture_->device().index) + ": " + capture_->device().name;
+      } else {
+        feeder_ = std::make_unique<pipeline::FileFeeder>(*session_, recording_, 1.0, 160);
+        sourceName_ = arguments_.input + " (in a loop; not played aloud)";
+      }
+      playout_.reset();
+      waveform_.assign(static_cast<std::size_t>(kWaveformSeconds * rate), 0.0f);
+    } catch (const Error& error) {
+      // No device, or it will not open: the face stays at rest, the panel says why, and we try again.
+      stopSource();
+      sourceError_ = error.what();
+      if (sourceError_ != reportedError_) std::cerr << "talkinghead: " << sourceError_ << '\n';
+      reportedError_ = sourceError_;
+    }
+  }
+
+  void stopSource() {
+    feeder_.reset();
+    capture_.reset();
+    if (session_) {
+      const pipeline::SessionCounters counters = session_->counters();
+      totals_.framesDropped += counters.framesDropped;
+      totals_.overrunSamples += counters.overrunSamples;
+    }
+    session_.reset();
+    system_.reset();
+  }
+
+  void superviseSource() {
+    if (!session_) {
+      if (secondsSince(lastAttempt_) >= kRetrySeconds) startSource();
+      return;
+    }
+    if (capture_ && !capture_->active()) {
+      sourceError_ = sourceName_ + " went away; trying again every 2 s (or pick another input)";
+      std::cerr << "talkinghead: " << sourceError_ << '\n';
+      reportedError_ = sourceError_;
+      stopSource();
+      lastAttempt_ = std::chrono::steady_clock::now();
+      return;
+    }
+    if (feeder_ && session_->done()) startSource();  // the recording again from the start
+  }
+
+  // The decoder settings or the models changed: a new decoder, warmed up by the worker, no gap.
+  void replaceDecoder() {
+    if (!session_) return;
+    session_->replaceDecoder(makeDecoder(models_, decoderOptionsOf(settings_), rateHz_, lookahead_));
+  }
+
+  void takeFrames() {
+    if (!session_) return;
+    try {
+      session_->rethrowError();
+    } catch (const std::exception& error) {
+      sourceError_ = std::string("the decoder stopped: ") + error.what();
+      std::cerr << "talkinghead: " << sourceError_ << '\n';
+      stopSource();
+      lastAttempt_ = std::chrono::steady_clock::now();
+      return;
+    }
+    const std::int64_t now = pipeline::steadyNanoseconds();
+    pipeline::AnimationFrame frame;
+    while (session_->nextFrame(frame)) {
+      playout_.push(frame, now);
+      f0_.push(frame.f0Hz, kPlotFrames);
+      energy_.push(frame.energy, kPlotFrames);
+      jaw_.push(frame.faps[3], kPlotFrames);
+      chosenFap_.push(frame.faps[static_cast<std::size_t>(plottedFap_)], kPlotFrames);
+      for (int axis = 0; axis < 3; ++axis) head_[static_cast<std::size_t>(axis)].push(frame.headDegrees[axis], kPlotFrames);
+      processingMs_.push_back(static_cast<double>(frame.decodedNs - frame.inputReadNs) * 1e-6);
+      queueMs_.push_back(static_cast<double>(now - frame.decodedNs) * 1e-6);
+      while (processingMs_.size() > kStatFrames) processingMs_.pop_front();
+      while (queueMs_.size() > kStatFrames) queueMs_.pop_front();
+    }
+    std::array<float, 1024> block{};
+    for (std::size_t n = session_->readMonitor(block.data(), block.size()); n > 0;
+         n = session_->readMonitor(block.data(), block.size())) {
+      for (std::size_t i = 0; i < n; ++i) waveform_[waveformAt_++ % waveform_.size()] = block[i];
+    }
+  }
+
+  // --- the face -------------------------------------------------------------------------------------------
+
+  void drawFace() {
+    pipeline::PlayoutSample sample;
+    face::FapValues faps{};
+    if (playout_.sample(pipeline::steadyNanoseconds(), sample)) {
+      faps = sample.frame.faps;
+      record(behindMs_, sample.behindNewestMs);
+    }
+    for (const int fap : animation::kHeadFaps) faps[static_cast<std::size_t>(fap)] *= settings_.headAmplitude;
+    const auto setupStart = std::chrono::steady_clock::now();
+    if (faps != shown_) {
+      renderer_.setPositions(face_.deform(faps));
+      renderer_.setPupilScale(face_.pupilScale(faps));
+      shown_ = faps;
+    }
+    faceSetupMs_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - setupStart).count();
+    renderer_.render(camera_);
+    window_.makeCurrent();
+    renderer_.present(window_.framebufferSize());
+  }
+
+  // --- the panel ------------------------------------------------------------------------------------------
+
+  void drawPanel(std::pair<int, int> size) {
+    ImGui_ImplOpenGL3_NewFrame();
+    ImGui_ImplGlfw_NewFrame();
+    ImGui::NewFrame();
+    ImGui::SetNextWindowPos(ImVec2(10, 10), ImGuiCond_FirstUseEver);
+    ImGui::SetNextWindowSize(ImVec2(440, static_cast<float>(size.second) - 20), ImGuiCond_FirstUseEver);
+    ImGui::Begin("Live");
+    sourceSection();
+    modelSection();
+    latencySection();
+    plotSection();
+    ImGui::End();
+    ImGui::Render();
+    ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+  }
+
+  void sourceSection() {
+    if (!ImGui::CollapsingHeader("Sound", ImGuiTreeNodeFlags_DefaultOpen)) return;
+    if (!sourceError_.empty()) {
+      ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1.0f, 0.45f, 0.35f, 1.0f));
+      ImGui::TextWrapped("%s", sourceError_.c_str());
+      ImGui::PopStyleColor();
+    } else {
+      ImGui::TextWrapped("%s, %.0f Hz", sourceName_.c_str(), rateHz_);
+    }
+    if (!recording_.empty()) return;
+    const std::string current = settings_.device == "default" ? "default input" : "input " + settings_.device;
+    if (ImGui::BeginCombo("input", current.c_str())) {
+      if (ImGui::Selectable("default input", settings_.device == "default")) chooseDevice("default");
+      for (const audio::AudioDevice& device : devices_) {
+        const std::string label = std::to_string(device.index) + ": " + device.name;
+        if (ImGui::Selectable(label.c_str(), settings_.device == std::to_string(device.index)))
+          chooseDevice(std::to_string(device.index));
+      }
+      ImGui::EndCombo();
+    }
+    ImGui::SameLine();
+    if (ImGui::SmallButton("rescan")) startSource();
+  }
+
+  void chooseDevice(const std::string& device) {
+    settings_.device = device;
+    startSource();
+  }
+
+  void modelSection() {
+    if (!ImGui::CollapsingHeader("Models", ImGuiTreeNodeFlags_DefaultOpen)) return;
+    bool reload = false;
+    bool redecode = false;
+    if (ImGui::BeginCombo("preset", settings_.preset.c_str())) {
+      for (const pipeline::LivePreset& preset : pipeline::kLivePresets) {
+        if (ImGui::Selectable(std::string(preset.name).c_str(), settings_.preset == preset.name)) {
+          applyPreset(settings_, std::string(preset.name));
+          settings_.mouthModel.clear();
+          playout_ = pipeline::Playout(pipeline::PlayoutOptions{.interpolate = settings_.interpolate});
+          reload = true;
+        }
+        if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", std::string(preset.summary).c_str());
+      }
+      ImGui::EndCombo();
+    }
+    static constexpr std::array<const char*, 3> kHeads{"trajectory", "paper", "none"};
+    static constexpr std::array<const char*, 3> kMouths{"inversion", "mmse", "none"};
+    reload |= choice("head", kHeads, settings_.headVariant);
+    reload |= choice("mouth", kMouths, settings_.mouthMethod);
+    redecode |= ImGui::SliderInt("head lag (frames)", &settings_.lagFrames, 0, 30);
+    redecode |= ImGui::SliderInt("mouth window (frames)", &settings_.windowFrames, 1, 10);
+    redecode |= ImGui::SliderInt("EM iterations", &settings_.iterations, 1, 50);
+    redecode |= ImGui::Checkbox("frames wait for the head", &settings_.waitForHead);
+    float f0[2] = {static_cast<float>(settings_.minF0Hz), static_cast<float>(settings_.maxF0Hz)};
+    if (ImGui::DragFloat2("F0 range (Hz)", f0, 1.0f, 20.0f, 2000.0f, "%.0f") && f0[0] + 10.0f < f0[1]) {
+      settings_.minF0Hz = f0[0];
+      settings_.maxF0Hz = f0[1];
+      redecode = true;
+    }
+    float amplitude = static_cast<float>(settings_.headAmplitude);
+    if (ImGui::SliderFloat("head amplitude", &amplitude, 0.0f, 3.0f, "%.2f")) settings_.headAmplitude = amplitude;
+    if (ImGui::Checkbox("smooth motion (interpolate, +33 ms)", &settings_.interpolate))
+      playout_ = pipeline::Playout(pipeline::PlayoutOptions{.interpolate = settings_.interpolate});
+    ImGui::InputText("head model", headPath_.data(), headPath_.size());
+    ImGui::InputText("mouth model", mouthPath_.data(), mouthPath_.size());
+    if (ImGui::Button("load model files")) {
+      settings_.headModel = headPath_.data();
+      settings_.mouthModel = mouthPath_.data();
+      reload = true;
+    }
+    if (!modelError_.empty()) ImGui::TextColored(ImVec4(1.0f, 0.45f, 0.35f, 1.0f), "%s", modelError_.c_str());
+    if (reload) {
+      try {
+        models_ = loadModels(settings_);
+        modelError_.clear();
+        redecode = true;
+      } catch (const Error& error) {
+        modelError_ = error.what();  // the running models stay
+      }
+    }
+    if (redecode) replaceDecoder();
+  }
+
+  template <std::size_t N>
+  static bool choice(const char* label, const std::array<const char*, N>& names, std::string& value) {
+    bool changed = false;
+    if (ImGui::BeginCombo(label, value.c_str())) {
+      for (const char* name : names)
+        if (ImGui::Selectable(name, value == name) && value != name) {
+          value = name;
+          changed = true;
+        }
+      ImGui::EndCombo();
+    }
+    return changed;
+  }
+
+  void latencySection() {
+    if (!ImGui::CollapsingHeader("Latency", ImGuiTreeNodeFlags_DefaultOpen)) return;
+    const double processing = median(processingMs_);
+    const double queue = median(queueMs_);
+    const double display = median(behindMs_) + median(displayMs_);
+    ImGui::Text("look-ahead  %6.1f ms  (mouth %.0f, head %.0f%s)", lookahead_.totalMs, lookahead_.mouthMs,
+                lookahead_.headMs, lookahead_.headDelayFrames > 0 ? ", shown late" : "");
+    ImGui::Text("processing  %6.1f ms  (median, read to frame out)", processing);
+    ImGui::Text("queueing    %6.1f ms  (frame out to the display)", queue);
+    ImGui::Text("display     %6.1f ms  (playout %.1f + drawing %.1f)", display, median(behindMs_), median(displayMs_));
+    ImGui::Text("in all      %6.1f ms  (+ the sound device's buffer)", lookahead_.totalMs + processing + queue + display);
+    pipeline::SessionCounters counters;
+    if (session_) counters = session_->counters();
+    ImGui::Text("frames dropped %llu   samples overrun %llu   display starved %llu",
+                static_cast<unsigned long long>(totals_.framesDropped + counters.framesDropped),
+                static_cast<unsigned long long>(totals_.overrunSamples + counters.overrunSamples),
+                static_cast<unsigned long long>(playout_.starvedSamples()));
+    if (capture_) ImGui::Text("device overflows %llu", static_cast<unsigned long long>(capture_->inputOverflows()));
+    const double period = median(periodMs_);
+    ImGui::Text("display %.1f frames/s; per frame (median ms):", period > 0.0 ? 1000.0 / period : 0.0);
+    ImGui::Text("  face %.1f, GL %.1f, panel %.1f, swap %.1f", median(stageMs_[0]), median(stageMs_[1]),
+                median(stageMs_[2]), median(stageMs_[3]));
+  }
+
+  void plotSection() {
+    if (!ImGui::CollapsingHeader("Plots", ImGuiTreeNodeFlags_DefaultOpen)) return;
+    const float width = ImGui::GetContentRegionAvail().x;
+    // The waveform as the peak of each of 400 stretches of the last two seconds, oldest first.
+    std::vector<float> peaks(400, 0.0f);
+    if (!waveform_.empty()) {
+      const std::size_t span = waveform_.size() / peaks.size();
+      for (std::size_t p = 0; p < peaks.size(); ++p)
+        for (std::size_t i = 0; i < span; ++i)
+          peaks[p] = std::max(peaks[p], std::abs(waveform_[(waveformAt_ + p * span + i) % waveform_.size()]));
+    }
+    ImGui::PlotHistogram("##wave", peaks.data(), static_cast<int>(peaks.size()), 0, "waveform (2 s)", 0.0f, 1.0f, ImVec2(width, 50));
+    plot("F0 (Hz)", f0_, 0.0f, 400.0f, width);
+    plot("energy", energy_, -3.0f, 3.0f, width);
+    plot("jaw, FAP 3", jaw_, -100.0f, 400.0f, width);
+    ImGui::SliderInt("FAP", &plottedFap_, 3, face::kNumFaps);
+    plot(("FAP " + std::to_string(plottedFap_)).c_str(), chosenFap_, -300.0f, 300.0f, width);
+    static constexpr std::array<const char*, 3> kAxes{"head pitch (deg)", "head yaw (deg)", "head roll (deg)"};
+    for (std::size_t axis = 0; axis < 3; ++axis) plot(kAxes[axis], head_[axis], -10.0f, 10.0f, width);
+  }
+
+  static void plot(const char* label, const Curve& curve, float low, float high, float width) {
+    const std::vector<float> values = curve.data();
+    ImGui::PlotLines((std::string("##") + label).c_str(), values.data(), static_cast<int>(values.size()), 0, label,
+                     low, high, ImVec2(width, 40));
+  }
+
+  LiveWindowArguments arguments_;
+  LiveSettings settings_;
+  face::FaceModel face_;
+  render::WindowContext window_;
+  render::FaceRenderer renderer_;
+  render::OrbitCamera camera_;
+  pipeline::Playout playout_;
+  std::shared_ptr<const AnimationModels> models_;
+  std::vector<float> recording_;
+
+  std::unique_ptr<audio::PortAudioSystem> system_;
+  std::unique_ptr<pipeline::LiveSession> session_;
+  std::unique_ptr<audio::Capture> capture_;
+  std::unique_ptr<pipeline::FileFeeder> feeder_;
+  std::vector<audio::AudioDevice> devices_;
+  double rateHz_ = 16000.0;
+  std::string sourceName_;
+  std::string sourceError_;
+  std::string reportedError_;
+  std::string modelError_;
+  std::chrono::steady_clock::time_point lastAttempt_;
+  std::chrono::steady_clock::time_point nextTick_ = std::chrono::steady_clock::now();
+  pipeline::DecoderLookahead lookahead_;
+  struct {
+    std::uint64_t framesDropped = 0;
+    std::uint64_t overrunSamples = 0;
+  } totals_;  // of sessions since replaced
+
+  face::FapValues shown_{1.0};
+  std::array<char, 512> headPath_{};
+  std::array<char, 512> mouthPath_{};
+  std::vector<float> waveform_;
+  std::size_t waveformAt_ = 0;
+  Curve f0_, energy_, jaw_, chosenFap_;
+  std::array<Curve, 3> head_;
+  int plottedFap_ = 5;
+  std::deque<double> processingMs_, queueMs_, behindMs_, displayMs_, periodMs_;
+  std::array<std::deque<double>, 4> stageMs_;  // face set-up (deform, normals), GL (render + present), panel, swap
+  double faceSetupMs_ = 0.0;
+  std::chrono::steady_clock::time_point lastSwap_ = std::chrono::steady_clock::now();
+};
+
+}  // namespace
+
+void runLiveWindow(const LiveWindowArguments& arguments, LiveSettings settings) {
+  LiveWindow window(arguments, std::move(settings));
+  window.run();
+}
+
+}  // namespace th::app

@@ -1,0 +1,308 @@
+// Onset latency of the live pipeline, measured end to end: speech with sharp onsets goes through the real
+// pipeline at real-time pace (FileFeeder in 10 ms blocks, as a sound device delivers them → AudioRing →
+// worker: features, mouth and head decoders → frame queue → Playout at 60 Hz → the face deformed and rendered
+// off-screen at 1280x720, the frame read back). For every onset, the time from the moment the block holding
+// the onset's first sample entered the ring until the rendered frame in which the mouth has moved finished.
+//
+//   build/bench/latency_bench            # 70 onsets per setting, ~4 min (real time)
+//   build/bench/latency_bench --quick    # 6 onsets per setting, a smoke check
+//
+// The recording: the first onset of each GRID s1 clip ("bin ...", "place ...", "lay ...", "set ..."): the first
+// 5 ms hop 10 dB above the opening pause's floor, cut out with 0.5 s of the pause before it and 0.6 s of speech
+// after. Onsets that rise 25 dB within 80 ms (a burst, not a voiced /b/'s slow rise) are also reported alone as
+// the sharp ones. (BEAT2 is fluent speech with few clean pauses: 15 or so in three minutes.) "The mouth has moved": the jaw passes a quarter of the way from its rest in the pause (median of the
+// 150–400 ms before the onset) to its peak in the 500 ms after, both taken from the same decoder run offline on
+// the same samples (the pipeline's frames are the same values, tests/pipeline). Onsets where the model opens the
+// jaw by less than 1° are skipped (a closure like /m/ moves the lips, not the jaw).
+//
+// Each setting reports the distribution (median, 10th and 90th percentiles, largest), split into the model's own
+// response (when the offline jaw crosses, relative to the onset: negative if the model opens ahead of the sound,
+// its look-ahead at work) and the pipeline (from the crossing instant's samples entering to its frame rendered).
+// The baseline is the decoder that waits for the head (the first live step); its median is the ratio's base.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "animation/head_model.h"
+#include "animation/mouth_model.h"
+#include "audio/media_audio.h"
+#include "core/data_path.h"
+#include "face/face_model.h"
+#include "pipeline/live_decoder.h"
+#include "pipeline/live_session.h"
+#include "pipeline/playout.h"
+#include "render/camera.h"
+#include "render/face_renderer.h"
+#include "render/gl_context.h"
+
+namespace {
+
+using th::pipeline::AnimationFrame;
+using th::pipeline::LiveDecoderOptions;
+
+constexpr int kRate = 16000;
+constexpr std::size_t kBlock = 160;  // 10 ms: a sound device's period
+constexpr double kFps = 30.0;
+
+struct OnsetRecording {
+  std::vector<float> samples;
+  std::vector<std::size_t> onsets;  // sample of each onset
+  std::vector<bool> sharp;          // rising 25 dB within 80 ms
+};
+
+// Level in dB of 5 ms hops (10 ms windows).
+std::vector<double> hopLevels(const std::vector<float>& x, std::size_t hop) {
+  std::vector<double> levels;
+  for (std::size_t at = 0; at + 2 * hop <= x.size(); at += hop) {
+    double sum = 0.0;
+    for (std::size_t n = at; n < at + 2 * hop; ++n) sum += static_cast<double>(x[n]) * x[n];
+    levels.push_back(10.0 * std::log10(sum / static_cast<double>(2 * hop) + 1e-12));
+  }
+  return levels;
+}
+
+double percentileOf(std::vector<double> values, double p) {
+  if (values.empty()) return std::nan("");
+  std::sort(values.begin(), values.end());
+  const double rank = p / 100.0 * static_cast<double>(values.size() - 1);
+  const auto low = static_cast<std::size_t>(std::floor(rank));
+  const std::size_t high = std::min(low + 1, values.size() - 1);
+  return values[low] + (rank - static_cast<double>(low)) * (values[high] - values[low]);
+}
+
+OnsetRecording buildOnsetRecording(std::size_t wanted) {
+  const std::size_t hop = kRate / 200;     // 5 ms
+  const std::size_t before = kRate / 2;    // 500 ms of the pause before the onset
+  const std::size_t after = kRate * 6 / 10;
+  OnsetRecording result;
+  std::vector<std::filesystem::path> clips;
+  for (const auto& entry : std::filesystem::directory_iterator(th::sharedDataPath("grid/s1")))
+    if (entry.path().extension() == ".mpg") clips.push_back(entry.path());
+  std::sort(clips.begin(), clips.end());
+  for (const auto& clip : clips) {
+    if (result.onsets.size() >= wanted) break;
+    const std::vector<float> x = th::audio::readRecording(clip).samples;
+    const std::vector<double> levels = hopLevels(x, hop);
+    if (levels.size() < 200) continue;
+    // The clip opens with a pause: its floor is the median level of the first 250 ms. The onset is the first
+    // 5 ms hop after 300 ms that is 10 dB over it; sharp if 25 dB over within 80 ms.
+    const double floor = percentileOf({levels.begin(), levels.begin() + 50}, 50.0);
+    std::size_t k = 60;
+    while (k < levels.size() && levels[k] < floor + 10.0) ++k;
+    const std::size_t onset = k * hop;
+    if (onset < before || onset + after > x.size()) continue;
+    bool sharp = false;
+    for (std::size_t j = k; j < std::min(k + 16, levels.size()); ++j) sharp = sharp || levels[j] >= floor + 25.0;
+    result.samples.insert(result.samples.end(), x.begin() + static_cast<long>(onset - before),
+                          x.begin() + static_cast<long>(onset + after));
+    result.onsets.push_back(result.samples.size() - after);
+    result.sharp.push_back(sharp);
+  }
+  return result;
+}
+
+// The jaw of every frame, the decoder run offline on the same samples.
+std::vector<double> offlineJaw(const std::vector<float>& samples, const th::animation::HeadModel& head,
+                               const th::animation::MouthModel& mouth, const LiveDecoderOptions& options) {
+  th::pipeline::LiveDecoder decoder(&head, &mouth, options);
+  decoder.acceptWaveform(samples);
+  decoder.inputFinished();
+  std::vector<double> jaw;
+  AnimationFrame frame;
+  while (decoder.next(frame)) jaw.push_back(frame.jawDegrees);
+  return jaw;
+}
+
+struct Crossing {
+  double threshold = 0.0;
+  double rise = 0.0;
+  double referenceSeconds = 0.0;  // when the offline jaw (linear between frames) crosses
+};
+
+std::vector<Crossing> crossings(const std::vector<double>& jaw, const std::vector<std::size_t>& onsets) {
+  std::vector<Crossing> result;
+  const auto frameAt = [&](double seconds) {
+    return std::clamp<long>(std::lround(seconds * kFps), 0, static_cast<long>(jaw.size()) - 1);
+  };
+  for (std::size_t onset : onsets) {
+    const double t = static_cast<double>(onset) / kRate;
+    std::vector<double> pause(jaw.begin() + frameAt(t - 0.4), jaw.begin() + frameAt(t - 0.15) + 1);
+    const double rest = percentileOf(pause, 50.0);
+    const double peak = *std::max_element(jaw.begin() + frameAt(t), jaw.begin() + frameAt(t + 0.5) + 1);
+    Crossing crossing{.threshold = rest + 0.25 * (peak - rest), .rise = peak - rest, .referenceSeconds = std::nan("")};
+    for (long f = frameAt(t - 0.15); f < frameAt(t + 0.5); ++f) {
+      const auto i = static_cast<std::size_t>(f);
+      if (jaw[i + 1] >= crossing.threshold && jaw[i] < crossing.threshold) {
+        const double w = (crossing.threshold - jaw[i]) / (jaw[i + 1] - jaw[i]);
+        crossing.referenceSeconds = (static_cast<double>(f) + w) / kFps;
+        break;
+      }
+    }
+    result.push_back(crossing);
+  }
+  return result;
+}
+
+struct Shown {
+  double streamSeconds;
+  double jawDegrees;
+  std::int64_t renderedNs;
+};
+
+struct Setting {
+  std::string name;
+  LiveDecoderOptions options;
+  bool interpolate = false;
+  const th::animation::MouthModel* mouth = nullptr;
+};
+
+struct Result {
+  std::vector<double> totalMs, sharpMs, responseMs, pipelineMs, decodeMs, queueMs, behindMs, renderMs;
+  int skipped = 0;
+  int missed = 0;
+  double lookaheadMs = 0.0;
+};
+
+Result run(const Setting& setting, const OnsetRecording& recording, const th::animation::HeadModel& head,
+           const th::face::FaceModel& face, th::render::FaceRenderer& renderer,
+           const th::render::OrbitCamera& camera) {
+  Result result;
+  const th::animation::MouthModel& mouth = *setting.mouth;
+  const std::vector<Crossing> expected = crossings(offlineJaw(recording.samples, head, mouth, setting.options), recording.onsets);
+  auto decoder = std::make_unique<th::pipeline::LiveDecoder>(&head, &mouth, setting.options);
+  result.lookaheadMs = decoder->lookahead().totalMs;
+  th::pipeline::LiveSession session(std::move(decoder));
+  th::pipeline::Playout playout(th::pipeline::PlayoutOptions{.interpolate = setting.interpolate});
+  std::vector<Shown> shown;
+  th::render::RawFrame raw;
+  session.start();
+  th::pipeline::FileFeeder feeder(session, recording.samples, 1.0, kBlock);
+  auto tick = std::chrono::steady_clock::now();
+  AnimationFrame frame;
+  while (!session.done()) {
+    const std::int64_t now = th::pipeline::steadyNanoseconds();
+    while (session.nextFrame(frame)) {
+      playout.push(frame, now);
+      result.decodeMs.push_back(static_cast<double>(frame.decodedNs - frame.inputReadNs) * 1e-6);
+      result.queueMs.push_back(static_cast<double>(now - frame.decodedNs) * 1e-6);
+    }
+    th::pipeline::PlayoutSample sample;
+    if (playout.sample(now, sample)) {
+      renderer.setPositions(face.deform(sample.frame.faps));
+      renderer.render(camera);
+      renderer.readRaw(raw);  // waits for the frame
+      const std::int64_t rendered = th::pipeline::steadyNanoseconds();
+      shown.push_back({sample.streamSeconds, sample.frame.jawDegrees, rendered});
+      result.behindMs.push_back(sample.behindNewestMs);
+      result.renderMs.push_back(static_cast<double>(rendered - now) * 1e-6);
+    }
+    tick += std::chrono::microseconds(16667);
+    std::this_thread::sleep_until(tick);
+  }
+  session.rethrowError();
+  feeder.stop();
+  const std::vector<std::int64_t>& written = feeder.blockWrittenNs();
+  const auto enteredNs = [&](double seconds) {
+    const auto block = static_cast<std::size_t>(std::max(0.0, seconds) * kRate) / kBlock;
+    return written[std::min(block, written.size() - 1)];
+  };
+  for (std::size_t k = 0; k < recording.onsets.size(); ++k) {
+    const Crossing& crossing = expected[k];
+    const double onsetSeconds = static_cast<double>(recording.onsets[k]) / kRate;
+    if (crossing.rise < 1.0 || std::isnan(crossing.referenceSeconds)) {
+      ++result.skipped;
+      continue;
+    }
+    const auto moved = std::find_if(shown.begin(), shown.end(), [&](const Shown& s) {
+      return s.streamSeconds >= onsetSeconds - 0.15 && s.streamSeconds <= onsetSeconds + 0.6 && s.jawDegrees >= crossing.threshold;
+    });
+    if (moved == shown.end()) {
+      ++result.missed;
+      continue;
+    }
+    result.totalMs.push_back(static_cast<double>(moved->renderedNs - enteredNs(onsetSeconds)) * 1e-6);
+    if (recording.sharp[k]) result.sharpMs.push_back(result.totalMs.back());
+    result.responseMs.push_back((crossing.referenceSeconds - onsetSeconds) * 1000.0);
+    result.pipelineMs.push_back(static_cast<double>(moved->renderedNs - enteredNs(crossing.referenceSeconds)) * 1e-6);
+  }
+  return result;
+}
+
+void printDistribution(const char* what, const std::vector<double>& ms) {
+  std::printf("    %-34s median %7.1f   p10 %7.1f   p90 %7.1f   max %7.1f ms\n", what, percentileOf(ms, 50),
+              percentileOf(ms, 10), percentileOf(ms, 90), percentileOf(ms, 100));
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  bool quick = false;
+  for (int i = 1; i < argc; ++i) {
+    if (std::strcmp(argv[i], "--quick") == 0) {
+      quick = true;
+    } else {
+      std::fprintf(stderr, "latency_bench: unknown argument %s (only --quick)\n", argv[i]);
+      return 1;
+    }
+  }
+  try {
+    const std::filesystem::path models = TALKINGHEAD_SOURCE_DIR "/models";
+    const th::animation::HeadModel head = th::animation::loadHeadModel(models / "head.json");
+    const th::animation::MouthModel mouth = th::animation::loadMouthModel(models / "mouth.json");
+    const th::animation::MouthModel quickMouth = th::animation::loadMouthModel(models / "mouth_low_latency.json");
+    const OnsetRecording recording = buildOnsetRecording(quick ? 6 : 1000);
+    std::printf("onset latency: %zu onsets in %.1f s of GRID s1 speech, played at real-time pace in %zu-sample blocks\n",
+                recording.onsets.size(), static_cast<double>(recording.samples.size()) / kRate, kBlock);
+
+    const th::face::FaceModel face = th::face::FaceModel::build(th::face::loadIctFace(th::face::ictFaceDirectory()));
+    th::render::OffscreenContext context;
+    th::render::FaceRenderer renderer(context, face.mesh(), {.width = 1280, .height = 720, .samples = 1, .fxaa = true});
+    renderer.setMouthOpening(face.innerLipVertices());
+    renderer.setEyeOpenings(face.eyeLidVertices(0), face.eyeLidVertices(1));
+    const th::render::OrbitCamera camera = th::render::frameHead(face.mesh().positions, 1280.0 / 720.0);
+
+    std::vector<Setting> settings;
+    LiveDecoderOptions baseline;
+    baseline.waitForHead = true;
+    baseline.mouth.windowFrames = 2;
+    LiveDecoderOptions window2;
+    window2.mouth.windowFrames = 2;
+    LiveDecoderOptions window1;
+    window1.mouth.windowFrames = 1;
+    settings.push_back({"baseline: frames wait for the head, window 2, interpolated", baseline, true, &mouth});
+    settings.push_back({"the mouth first, window 2, interpolated", window2, true, &mouth});
+    settings.push_back({"the mouth first, window 2, newest frame", window2, false, &mouth});
+    settings.push_back({"the mouth first, window 1, newest frame", window1, false, &mouth});
+    settings.push_back({"mouth_low_latency.json (tc 1), window 1, newest frame", window1, false, &quickMouth});
+    double baselineMedian = 0.0;
+    for (const Setting& setting : settings) {
+      const Result result = run(setting, recording, head, face, renderer, camera);
+      const double median = percentileOf(result.totalMs, 50);
+      if (baselineMedian == 0.0) baselineMedian = median;
+      std::printf("\n  %s (look-ahead %.1f ms): %zu onsets measured, %d skipped (jaw rise < 1 deg), %d not seen\n",
+                  setting.name.c_str(), result.lookaheadMs, result.totalMs.size(), result.skipped, result.missed);
+      printDistribution("onset entered -> mouth rendered", result.totalMs);
+      char sharpLabel[64];
+      std::snprintf(sharpLabel, sizeof sharpLabel, "  the %zu sharp onsets", result.sharpMs.size());
+      printDistribution(sharpLabel, result.sharpMs);
+      printDistribution("  the model's response", result.responseMs);
+      printDistribution("  the pipeline", result.pipelineMs);
+      printDistribution("  decoding (read -> frame out)", result.decodeMs);
+      printDistribution("  queue (frame out -> display)", result.queueMs);
+      printDistribution("  playout (newest frame - shown)", result.behindMs);
+      printDistribution("  deform + render + read back", result.renderMs);
+      std::printf("    median against the baseline: %.2fx\n", median / baselineMedian);
+    }
+  } catch (const std::exception& error) {
+    std::fprintf(stderr, "latency_bench: %s\n", error.what());
+    return 1;
+  }
+  return 0;
+}
