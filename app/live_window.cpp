@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "animation/animate.h"
+#include "animation/idle_motion.h"
 #include "animation_models.h"
 #include "audio/capture.h"
 #include "audio/media_audio.h"
@@ -182,7 +183,8 @@ class LiveWindow {
       const auto faceDone = std::chrono::steady_clock::now();
       drawPanel(size);
       const auto panelDone = std::chrono::steady_clock::now();
-      if (!arguments_.screenshot.empty() && ++frame >= arguments_.frames) {
+      ++frame;
+      if (!arguments_.screenshot.empty() && frame >= arguments_.frames) {
         render::writePng(arguments_.screenshot, grabWindow(size));
         std::cout << "wrote " << arguments_.screenshot << '\n';
         break;
@@ -198,11 +200,21 @@ class LiveWindow {
       const double period = ms(lastSwap_, swapped);
       lastSwap_ = swapped;
       record(periodMs_, period);
+      if (frame > 30) allPeriodsMs_.push_back(period);  // after the first half second (start-up)
       // No vsync (Xvfb, some drivers): hold the loop near 60 Hz rather than spin.
       nextTick_ = std::max(nextTick_ + std::chrono::microseconds(16667), std::chrono::steady_clock::now() - std::chrono::milliseconds(50));
       std::this_thread::sleep_until(nextTick_);
     }
     saveLiveSettings(arguments_.settingsPath, settings_);
+    if (!allPeriodsMs_.empty()) {
+      std::sort(allPeriodsMs_.begin(), allPeriodsMs_.end());
+      const double medianPeriod = allPeriodsMs_[allPeriodsMs_.size() / 2];
+      const double slow = allPeriodsMs_[allPeriodsMs_.size() * 95 / 100];
+      std::printf("display: %zu frames, median %.1f frames/s (95th percentile frame %.1f ms); per frame (median ms of "
+                  "the last 5 s): face %.1f, GL %.1f, panel %.1f, swap %.1f\n",
+                  allPeriodsMs_.size(), 1000.0 / medianPeriod, slow, median(stageMs_[0]), median(stageMs_[1]),
+                  median(stageMs_[2]), median(stageMs_[3]));
+    }
   }
 
  private:
@@ -249,6 +261,7 @@ class LiveWindow {
       }
       playout_.reset();
       waveform_.assign(static_cast<std::size_t>(kWaveformSeconds * rate), 0.0f);
+      if (capture_ || loops_++ == 0) std::cout << (capture_ ? "listening: " : "playing: ") << sourceName_ << std::endl;
     } catch (const Error& error) {
       // No device, or it will not open: the face stays at rest, the panel says why, and we try again.
       stopSource();
@@ -278,6 +291,7 @@ class LiveWindow {
     if (capture_ && !capture_->active()) {
       sourceError_ = sourceName_ + " went away; trying again every 2 s (or pick another input)";
       std::cerr << "talkinghead: " << sourceError_ << '\n';
+      std::cout << "stopped listening: " << sourceName_ << std::endl;
       reportedError_ = sourceError_;
       stopSource();
       lastAttempt_ = std::chrono::steady_clock::now();
@@ -329,11 +343,14 @@ class LiveWindow {
   void drawFace() {
     pipeline::PlayoutSample sample;
     face::FapValues faps{};
+    double levelDb = -140.0;  // no sound: silence
     if (playout_.sample(pipeline::steadyNanoseconds(), sample)) {
       faps = sample.frame.faps;
+      levelDb = sample.frame.levelDb;
       record(behindMs_, sample.behindNewestMs);
     }
     for (const int fap : animation::kHeadFaps) faps[static_cast<std::size_t>(fap)] *= settings_.headAmplitude;
+    idle_.apply(secondsSince(opened_), levelDb, {.blinks = settings_.blinks, .gaze = settings_.gaze}, faps);
     const auto setupStart = std::chrono::steady_clock::now();
     if (faps != shown_) {
       renderer_.setPositions(face_.deform(faps));
@@ -427,6 +444,11 @@ class LiveWindow {
     if (ImGui::SliderFloat("head amplitude", &amplitude, 0.0f, 3.0f, "%.2f")) settings_.headAmplitude = amplitude;
     if (ImGui::Checkbox("smooth motion (interpolate, +33 ms)", &settings_.interpolate))
       playout_ = pipeline::Playout(pipeline::PlayoutOptions{.interpolate = settings_.interpolate});
+    ImGui::Checkbox("blinks", &settings_.blinks);
+    ImGui::SameLine();
+    ImGui::Checkbox("gaze shifts", &settings_.gaze);
+    ImGui::SameLine();
+    ImGui::TextUnformatted(idle_.speaking() ? "(speech)" : "(silence: head at rest)");
     ImGui::InputText("head model", headPath_.data(), headPath_.size());
     ImGui::InputText("mouth model", mouthPath_.data(), mouthPath_.size());
     if (ImGui::Button("load model files")) {
@@ -519,8 +541,11 @@ class LiveWindow {
   render::FaceRenderer renderer_;
   render::OrbitCamera camera_;
   pipeline::Playout playout_;
+  animation::IdleMotion idle_;
+  std::chrono::steady_clock::time_point opened_ = std::chrono::steady_clock::now();
   std::shared_ptr<const AnimationModels> models_;
   std::vector<float> recording_;
+  int loops_ = 0;
 
   std::unique_ptr<audio::PortAudioSystem> system_;
   std::unique_ptr<pipeline::LiveSession> session_;
@@ -549,7 +574,8 @@ class LiveWindow {
   std::array<Curve, 3> head_;
   int plottedFap_ = 5;
   std::deque<double> processingMs_, queueMs_, behindMs_, displayMs_, periodMs_;
-  std::array<std::deque<double>, 4> stageMs_;  // face set-up (deform, normals), GL (render + present), panel, swap
+  std::array<std::deque<double>, 4> stageMs_;
+  std::vector<double> allPeriodsMs_;  // face set-up (deform, normals), GL (render + present), panel, swap
   double faceSetupMs_ = 0.0;
   std::chrono::steady_clock::time_point lastSwap_ = std::chrono::steady_clock::now();
 };

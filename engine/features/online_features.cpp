@@ -171,6 +171,8 @@ void OnlineFeatureExtractor::getMfcc(int frame, std::span<float> mfcc) const {
 
 float OnlineFeatureExtractor::getEnergy(int frame) const { return energy_[static_cast<size_t>(frame)]; }
 
+float OnlineFeatureExtractor::getLevelDb(int frame) const { return energyDb_[static_cast<size_t>(frame)]; }
+
 void OnlineFeatureExtractor::getFrame(int frame, std::span<float> row) const {
   const int count = static_cast<int>(f0Hz_.size());
   const auto at = [count](int i) { return static_cast<size_t>(std::clamp(i, 0, count - 1)); };

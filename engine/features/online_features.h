@@ -94,6 +94,7 @@ class OnlineFeatureExtractor {
   int numBaseFramesReady() const { return static_cast<int>(f0Hz_.size()); }
   void getMfcc(int frame, std::span<float> mfcc) const;  // numMfcc values
   float getEnergy(int frame) const;                      // as the row's energy (final unless kUtterance)
+  float getLevelDb(int frame) const;                     // the level before normalisation, dB re full scale
   double frameTimeSeconds(int frame) const { return frame / options_.framesPerSecond; }
 
   const FeatureLayout& layout() const { return layout_; }

@@ -21,6 +21,7 @@ struct AnimationFrame {
   int prosodyIndex = 0;
   double f0Hz = 0.0;          // of frame prosodyIndex (0: unvoiced), for plots
   double energy = 0.0;        // normalised log energy of this frame
+  double levelDb = -140.0;    // its level before normalisation, dB re full scale (idle motion's speech gate)
   Eigen::Vector3d headDegrees = Eigen::Vector3d::Zero();  // of frame prosodyIndex: pitch, yaw, roll relative to the mean pose
   double jawDegrees = 0.0;
   // Steady-clock times (ns) set by the live session: when the worker had read the input that released this

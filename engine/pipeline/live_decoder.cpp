@@ -82,7 +82,9 @@ void LiveDecoder::pull() {
   using features::FeatureLayout;
   for (; prosodyRows_ < prosodyExtractor_.numFramesReady(); ++prosodyRows_) {
     prosodyExtractor_.getFrame(prosodyRows_, row_);
-    prosodyFrames_.push_back({.f0Hz = row_[FeatureLayout::kF0Hz], .energy = row_[FeatureLayout::kEnergy]});
+    prosodyFrames_.push_back({.f0Hz = row_[FeatureLayout::kF0Hz],
+                              .energy = row_[FeatureLayout::kEnergy],
+                              .levelDb = prosodyExtractor_.getLevelDb(prosodyRows_)});
     if (headStream_) headStream_->acceptProsody(prosody_.accept(row_));
   }
   if (headStream_)
@@ -99,6 +101,7 @@ void LiveDecoder::pull() {
     while (mouthStream_->next(components)) {
       const auto frame = static_cast<int>(static_cast<int>(mouthFrames_.size()) + nextIndex_);
       mouthFrames_.push_back({.energy = mouthExtractor_.getEnergy(frame),
+                              .levelDb = mouthExtractor_.getLevelDb(frame),
                               .jawDegrees = animation::jawOpeningOf(*mouth_, components)[0]});
     }
   }
@@ -121,6 +124,7 @@ bool LiveDecoder::next(AnimationFrame& frame) {
     const ProsodyFrame& prosody = prosodyFrames_[static_cast<std::size_t>(shown - prosodyBase_)];
     frame.f0Hz = prosody.f0Hz;
     frame.energy = prosody.energy;
+    frame.levelDb = prosody.levelDb;
     frame.headDegrees = prosody.headDegrees;
   }
   if (headStream_) {
@@ -132,6 +136,7 @@ bool LiveDecoder::next(AnimationFrame& frame) {
     const MouthFrame mouth = mouthFrames_.front();
     mouthFrames_.pop_front();
     frame.energy = mouth.energy;
+    frame.levelDb = mouth.levelDb;
     frame.jawDegrees = mouth.jawDegrees;
     const Eigen::MatrixXd faps = animation::mouthFaps(*mouth_->fapMap, Eigen::RowVectorXd::Constant(1, frame.jawDegrees));
     for (std::size_t i = 0; i < mouthFaps_.size(); ++i)

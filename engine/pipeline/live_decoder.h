@@ -80,10 +80,12 @@ class LiveDecoder : public FrameDecoder {
   struct ProsodyFrame {
     double f0Hz = 0.0;
     double energy = 0.0;
+    double levelDb = 0.0;
     Eigen::Vector3d headDegrees = Eigen::Vector3d::Zero();
   };
   struct MouthFrame {
     double energy = 0.0;
+    double levelDb = 0.0;
     double jawDegrees = 0.0;
   };
 

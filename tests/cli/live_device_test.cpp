@@ -2,7 +2,7 @@
 // default source; a recording played into the sink with paplay is captured by `talkinghead live --headless
 // --device default` through PortAudio (ALSA's pulse plugin), and the jaw it writes follows the recording's
 // loudness. Needs the pulseaudio and pulseaudio-utils packages (scripts/packages.txt); starts the daemon if
-// none runs.
+// none runs. The window's recovery from a sound server that dies and comes back is tested here too.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -16,6 +16,7 @@
 #include "audio/audio_file.h"
 #include "audio/media_audio.h"
 #include "cli_runner.h"
+#include "support/files.h"
 #include "core/data_path.h"
 #include "video/animation_file.h"
 
@@ -56,18 +57,26 @@ double correlation(const std::vector<double>& a, const std::vector<double>& b, s
   return aa > 0.0 && bb > 0.0 ? ab / std::sqrt(aa * bb) : 0.0;
 }
 
+// PulseAudio: the running daemon, or one started here (as root it warns, and runs). True once it answers.
+bool startPulseAudio() {
+  if (shell("pactl info > /dev/null 2>&1") == 0) return true;
+  if (shell("pulseaudio --daemonize --exit-idle-time=-1 > /dev/null 2>&1") != 0) return false;
+  for (int i = 0; i < 50 && shell("pactl info > /dev/null 2>&1") != 0; ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  return shell("pactl info > /dev/null 2>&1") == 0;
+}
+
+// A null sink whose monitor is the default source; its module number is written to `moduleFile`.
+bool loadNullSink(const fs::path& moduleFile) {
+  return shell("pactl load-module module-null-sink sink_name=talkinghead_test > " + moduleFile.string()) == 0 &&
+         shell("pactl set-default-sink talkinghead_test && pactl set-default-source talkinghead_test.monitor") == 0;
+}
+
 class LiveDeviceTest : public th::test::CliTest {};
 
 TEST_F(LiveDeviceTest, CapturesANullSinksMonitorAndTheJawFollowsTheLoudness) {
-  // PulseAudio: the running daemon, or one started here (as root it warns, and runs).
-  if (shell("pactl info > /dev/null 2>&1") != 0) {
-    ASSERT_EQ(shell("pulseaudio --daemonize --exit-idle-time=-1 > /dev/null 2>&1"), 0) << "cannot start PulseAudio";
-    for (int i = 0; i < 50 && shell("pactl info > /dev/null 2>&1") != 0; ++i)
-      std::this_thread::sleep_for(std::chrono::milliseconds(100));
-  }
-  ASSERT_EQ(shell("pactl info > /dev/null 2>&1"), 0);
-  ASSERT_EQ(shell("pactl load-module module-null-sink sink_name=talkinghead_test > " + (out() / "module").string()), 0);
-  ASSERT_EQ(shell("pactl set-default-sink talkinghead_test && pactl set-default-source talkinghead_test.monitor"), 0);
+  ASSERT_TRUE(startPulseAudio()) << "cannot start PulseAudio";
+  ASSERT_TRUE(loadNullSink(out() / "module"));
 
   // 8 s of speech, played into the sink 2.5 s after listening starts (a null sink's monitor takes up to 2 s
   // to deliver its first block).
@@ -134,6 +143,32 @@ TEST_F(LiveDeviceTest, CapturesANullSinksMonitorAndTheJawFollowsTheLoudness) {
   EXPECT_GT(best, bestReversed + 0.15);
   EXPECT_GT(followsLoudness, 0.15);
   EXPECT_GT(loud, quiet + 5.0);
+}
+
+// The window listening to the default input when PulseAudio dies, and when it comes back: no crash, the panel
+// and stderr say the input went away, and the window listens again once there is one (it retries every 2 s).
+TEST_F(LiveDeviceTest, TheWindowSurvivesTheSoundServerDyingAndListensAgainWhenItReturns) {
+  ASSERT_TRUE(startPulseAudio()) << "cannot start PulseAudio";
+  ASSERT_TRUE(loadNullSink(out() / "module"));
+  const std::string command = "ASAN_OPTIONS=detect_leaks=0 xvfb-run -a -s '-screen 0 1280x800x24' " +
+                              std::string(TALKINGHEAD_CLI) + " live --device default --no-settings --duration 14 > " +
+                              (logs() / "window.txt").string() + " 2> " + (logs() / "window.err").string();
+  std::thread window([&] { EXPECT_EQ(shell(command), 0) << th::test::readText(logs() / "window.err"); });
+  std::this_thread::sleep_for(std::chrono::seconds(4));
+  shell("pulseaudio --kill > /dev/null 2>&1");
+  std::this_thread::sleep_for(std::chrono::seconds(3));
+  EXPECT_TRUE(startPulseAudio()) << "cannot restart PulseAudio";
+  EXPECT_TRUE(loadNullSink(out() / "module"));
+  window.join();
+  shell("pactl unload-module $(cat " + (out() / "module").string() + ") > /dev/null 2>&1");
+  const std::string said = th::test::readText(logs() / "window.txt");
+  const std::string complained = th::test::readText(logs() / "window.err");
+  std::printf("%s%s", said.c_str(), complained.c_str());
+  EXPECT_NE(said.find("listening: sound input"), std::string::npos) << said;
+  EXPECT_NE(complained.find("went away"), std::string::npos) << complained;
+  const std::size_t lost = said.find("stopped listening");
+  ASSERT_NE(lost, std::string::npos) << said;
+  EXPECT_NE(said.find("listening: sound input", lost), std::string::npos) << "listening again after the loss:\n" << said;
 }
 
 }  // namespace

@@ -1,0 +1,111 @@
+#include "animation/idle_motion.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "core/error.h"
+#include "face/fap.h"
+
+namespace th::animation {
+
+namespace {
+
+constexpr double kFullClose = 1024.0;  // FAPs 19/20: the top lid down by an iris diameter
+
+double angleUnits(double degrees) { return degrees * std::numbers::pi / 180.0 / face::kAngleUnit; }
+
+// 0 → 1 with zero slope at both ends.
+double smoothstep(double x) {
+  x = std::clamp(x, 0.0, 1.0);
+  return x * x * (3.0 - 2.0 * x);
+}
+
+}  // namespace
+
+IdleMotion::IdleMotion(const IdleMotionOptions& options) : options_(options), random_(options.seed) {
+  if (!(options.blinksPerMinute > 0.0) || !(options.minBlinkGapSeconds >= 0.0) || !(options.closeSeconds > 0.0) ||
+      !(options.openSeconds > 0.0) || !(options.fixationMinSeconds > 0.0) ||
+      !(options.fixationMaxSeconds >= options.fixationMinSeconds) || !(options.saccadeSeconds > 0.0) ||
+      !(options.restSeconds > 0.0))
+    throw Error("idle motion: rates and durations must be positive");
+}
+
+double IdleMotion::uniform(double low, double high) { return std::uniform_real_distribution<double>(low, high)(random_); }
+
+void IdleMotion::scheduleBlink(double after) {
+  const double mean = 60.0 / options_.blinksPerMinute;
+  std::gamma_distribution<double> interval(3.0, mean / 3.0);
+  nextBlink_ = after + std::max(options_.minBlinkGapSeconds, interval(random_));
+}
+
+void IdleMotion::scheduleFixation(double after) {
+  nextFixation_ = after + uniform(options_.fixationMinSeconds, options_.fixationMaxSeconds);
+}
+
+void IdleMotion::apply(double seconds, double levelDb, const IdleSwitches& switches, face::FapValues& faps) {
+  if (!started_) {
+    started_ = true;
+    now_ = seconds;
+    floorDb_ = levelDb;
+    scheduleBlink(seconds);
+    scheduleFixation(seconds);
+  }
+  const double elapsed = std::max(0.0, seconds - now_);
+  now_ = std::max(now_, seconds);
+
+  // Speech: the floor drops at once to a quieter level and rises slowly to a louder room.
+  floorDb_ = std::min(levelDb, floorDb_ + options_.floorRiseDbPerSecond * elapsed);
+  if (levelDb > floorDb_ + options_.speechMarginDb) lastSpeech_ = now_;
+  speaking_ = now_ - lastSpeech_ < options_.restAfterSeconds;
+  const double target = speaking_ ? 1.0 : 0.0;
+  headGain_ = target + (headGain_ - target) * std::exp(-elapsed / options_.restSeconds);
+  if (switches.restHead)
+    for (int fap : {48, 49, 50}) faps[static_cast<std::size_t>(fap)] *= headGain_;
+
+  // Blinks: close, hold, open.
+  if (now_ >= nextBlink_) {
+    blinkStart_ = nextBlink_;
+    ++blinks_;
+    scheduleBlink(nextBlink_ + options_.closeSeconds + options_.closedSeconds + options_.openSeconds);
+  }
+  double closure = 0.0;
+  if (blinkStart_ >= 0.0) {
+    const double t = now_ - blinkStart_;
+    if (t < options_.closeSeconds) {
+      closure = smoothstep(t / options_.closeSeconds);
+    } else if (t < options_.closeSeconds + options_.closedSeconds) {
+      closure = 1.0;
+    } else {
+      closure = 1.0 - smoothstep((t - options_.closeSeconds - options_.closedSeconds) / options_.openSeconds);
+    }
+  }
+  if (switches.blinks) {
+    faps[19] = std::max(faps[19], kFullClose * closure);
+    faps[20] = std::max(faps[20], kFullClose * closure);
+  }
+
+  // Gaze: fixations joined by saccades.
+  if (now_ >= nextFixation_) {
+    fromYaw_ = yaw_;
+    fromPitch_ = pitch_;
+    const bool centre = uniform(0.0, 1.0) < 0.5;
+    toYaw_ = centre ? 0.0 : uniform(-options_.gazeDegrees, options_.gazeDegrees);
+    toPitch_ = centre ? 0.0 : uniform(-0.5 * options_.gazeDegrees, 0.5 * options_.gazeDegrees);
+    saccadeStart_ = nextFixation_;
+    scheduleFixation(nextFixation_ + options_.saccadeSeconds);
+  }
+  if (saccadeStart_ >= 0.0) {
+    const double w = smoothstep((now_ - saccadeStart_) / options_.saccadeSeconds);
+    yaw_ = fromYaw_ + w * (toYaw_ - fromYaw_);
+    pitch_ = fromPitch_ + w * (toPitch_ - fromPitch_);
+  }
+  if (switches.gaze) {
+    faps[23] += angleUnits(yaw_);
+    faps[24] += angleUnits(yaw_);
+    faps[25] += angleUnits(pitch_);
+    faps[26] += angleUnits(pitch_);
+  }
+}
+
+}  // namespace th::animation

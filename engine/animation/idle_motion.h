@@ -1,0 +1,88 @@
+// What a face does besides speaking: it blinks, its eyes shift their gaze now and then, and its head comes to
+// rest when nobody speaks. Laid over the live pipeline's frames at display time (the decoders know nothing of
+// it), so it goes on when no sound comes at all.
+//
+//   th::animation::IdleMotion idle({});
+//   idle.apply(secondsSinceStart, frame.levelDb, {.blinks = true, .gaze = true}, faps);   // every display frame
+//
+// Blinks: spontaneous blinks come about 17 a minute in adults at rest (Bentivoglio et al. 1997, Movement
+// Disorders 12(6): 17 a minute at rest, 26 in conversation), never closer than a second apart; the intervals
+// are drawn from a gamma distribution (shape 3, our choice: less bursty than a Poisson process). A blink closes the top lids in 80 ms, holds 30 ms and opens in 150 ms (the
+// opening is the slower phase). Gaze: a fixation holds for 1–5 s, then a 50 ms saccade moves the eyes to a
+// point within a few degrees, half the time back to the centre. Head: a frame is speech if its level is
+// speechMarginDb over the floor (a slow follower of the quietest level); after restAfterSeconds without
+// speech the head's rotation eases to the mean pose with time constant restSeconds, and back when speech
+// returns.
+//
+// Thread contract: one thread (the render thread); deterministic for a seed.
+#pragma once
+
+#include <random>
+
+#include "face/face_model.h"
+
+namespace th::animation {
+
+struct IdleMotionOptions {
+  double blinksPerMinute = 17.0;
+  double minBlinkGapSeconds = 1.0;
+  double closeSeconds = 0.08;
+  double closedSeconds = 0.03;
+  double openSeconds = 0.15;
+  double fixationMinSeconds = 1.0;
+  double fixationMaxSeconds = 5.0;
+  double gazeDegrees = 4.0;        // the largest shift off centre, yaw (pitch: half of it)
+  double saccadeSeconds = 0.05;
+  double speechMarginDb = 12.0;
+  double floorRiseDbPerSecond = 1.0;  // how fast the tracked floor follows a louder room
+  double restAfterSeconds = 0.6;
+  double restSeconds = 0.5;
+  unsigned seed = 1;
+};
+
+struct IdleSwitches {
+  bool blinks = true;
+  bool gaze = true;
+  bool restHead = true;
+};
+
+class IdleMotion {
+ public:
+  explicit IdleMotion(const IdleMotionOptions& options = {});
+
+  // Moves to `seconds` (non-decreasing) with the sound's level there (dB re full scale; very low for none):
+  // sets the eyelid FAPs (19, 20) and the eyeball FAPs (23–26), and scales the head FAPs (48–50) toward rest.
+  void apply(double seconds, double levelDb, const IdleSwitches& switches, face::FapValues& faps);
+
+  bool speaking() const { return speaking_; }
+  double headGain() const { return headGain_; }  // 1 while speaking, easing to 0 at rest
+  int blinks() const { return blinks_; }         // blinks begun so far
+  double yawDegrees() const { return yaw_; }     // the gaze now
+  double pitchDegrees() const { return pitch_; }
+
+ private:
+  double uniform(double low, double high);
+  void scheduleBlink(double after);
+  void scheduleFixation(double after);
+
+  IdleMotionOptions options_;
+  std::mt19937 random_;
+  bool started_ = false;
+  double now_ = 0.0;
+  // Blinks
+  double nextBlink_ = 0.0;
+  double blinkStart_ = -1.0;
+  int blinks_ = 0;
+  // Gaze
+  double nextFixation_ = 0.0;
+  double saccadeStart_ = -1.0;
+  double fromYaw_ = 0.0, fromPitch_ = 0.0, toYaw_ = 0.0, toPitch_ = 0.0;
+  double yaw_ = 0.0, pitch_ = 0.0;
+  // Speech and the head
+  double floorDb_ = 0.0;
+  double lastSpeech_ = -1e9;
+  bool speaking_ = false;
+  double headGain_ = 0.0;
+};
+
+}  // namespace th::animation
