@@ -186,7 +186,7 @@ void runDecode(const DecodeArguments& arguments) {
       for (Eigen::Index t = 0; t < logB.cols(); ++t) decoder.acceptFrame(logB.col(t));
       decoder.finish();
       for (int t = 0; t < decoder.numDecided(); ++t) {
-        rows.push_back({static_cast<double>(decoder.state(t)), static_cast<double>(decoder.decisionLags()[static_cast<size_t>(t)])});
+        rows.push_back({static_cast<double>(decoder.state(t)), static_cast<double>(decoder.decisionLag(t))});
       }
     } else {
       for (int state : hmm::viterbi(model, logB).states) rows.push_back({static_cast<double>(state)});

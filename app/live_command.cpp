@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <fstream>
 #include <iostream>
 #include <map>
 #include <memory>
@@ -38,6 +39,7 @@ struct LiveArguments {
   std::string input;
   double speed = 1.0;
   double duration = 0.0;
+  double repeatTo = 0.0;     // --headless --input: play the recording over and over to this many seconds
   std::string dump;
   std::string settingsFile;  // the window's saved settings
   bool noSettings = false;
@@ -47,11 +49,40 @@ struct LiveArguments {
   LiveSettings given;        // the options as typed (which ones were typed: CLI11's count)
 };
 
-double percentile(std::vector<double> values, double p) {
-  if (values.empty()) return 0.0;
-  std::sort(values.begin(), values.end());
-  const auto at = static_cast<std::size_t>(p / 100.0 * static_cast<double>(values.size() - 1) + 0.5);
-  return values[std::min(at, values.size() - 1)];
+// Milliseconds in 10 µs bins up to 100 ms, for percentiles over hours of frames in constant memory.
+class MillisecondHistogram {
+ public:
+  void add(double ms) {
+    const auto bin = static_cast<std::size_t>(std::clamp(ms, 0.0, 99.99) * 100.0);
+    ++counts_[bin];
+    ++total_;
+    largest_ = std::max(largest_, ms);
+  }
+  double percentile(double p) const {
+    if (total_ == 0) return 0.0;
+    const auto rank = static_cast<std::uint64_t>(p / 100.0 * static_cast<double>(total_ - 1));
+    std::uint64_t seen = 0;
+    for (std::size_t bin = 0; bin < counts_.size(); ++bin) {
+      seen += counts_[bin];
+      if (seen > rank) return (static_cast<double>(bin) + 0.5) / 100.0;
+    }
+    return largest_;
+  }
+  double largest() const { return largest_; }
+
+ private:
+  std::vector<std::uint64_t> counts_ = std::vector<std::uint64_t>(10000, 0);
+  std::uint64_t total_ = 0;
+  double largest_ = 0.0;
+};
+
+// This process's resident memory, MB (Linux: /proc/self/status), or -1 where it cannot be read.
+double residentMegabytes() {
+  std::ifstream status("/proc/self/status");
+  std::string line;
+  while (std::getline(status, line))
+    if (line.rfind("VmRSS:", 0) == 0) return std::stod(line.substr(6)) / 1024.0;  // "VmRSS:  12345 kB"
+  return -1.0;
 }
 
 void listDevices() {
@@ -126,11 +157,12 @@ void runHeadless(const LiveArguments& arguments, const LiveSettings& settings, b
     if (clip.samples.empty()) throw fileError(arguments.input, "has no samples");
     if (arguments.duration > 0.0)
       clip.samples.resize(std::min(clip.samples.size(), static_cast<std::size_t>(arguments.duration * clip.sampleRateHz)));
-    seconds = static_cast<double>(clip.samples.size()) / clip.sampleRateHz;
+    seconds = std::max(static_cast<double>(clip.samples.size()) / clip.sampleRateHz, arguments.repeatTo);
     source = arguments.input;
     session = std::make_unique<pipeline::LiveSession>(std::move(decoder));
     session->start();
-    feeder = std::make_unique<pipeline::FileFeeder>(*session, std::move(clip.samples), arguments.speed);
+    feeder = std::make_unique<pipeline::FileFeeder>(*session, std::move(clip.samples), arguments.speed, 256,
+                                                    static_cast<std::size_t>(arguments.repeatTo * clip.sampleRateHz));
   } else {
     system = std::make_unique<audio::PortAudioSystem>();
     const std::optional<int> index = deviceIndexOf(settings.device);
@@ -152,16 +184,21 @@ void runHeadless(const LiveArguments& arguments, const LiveSettings& settings, b
 
   // The display loop: 60 Hz in the recording's time (faster when it plays faster; at full speed as often as
   // it can), taking whatever the worker has decoded.
+  // Frames are kept only for a dump: a soak of an hour would otherwise keep the hour.
   std::vector<pipeline::AnimationFrame> shown;
-  std::vector<double> decodeMs;
+  std::uint64_t framesShown = 0;
+  MillisecondHistogram decodeMs;
+  const double startMegabytes = residentMegabytes();
+  double minuteMegabytes = -1.0;
   pipeline::AnimationFrame frame;
   const auto tick = std::chrono::microseconds(
       arguments.speed > 0.0 ? static_cast<long>(16667.0 / std::max(arguments.speed, 1.0)) : 500L);
   auto next = std::chrono::steady_clock::now();
   while (!session->done()) {
     while (session->nextFrame(frame)) {
-      decodeMs.push_back(static_cast<double>(frame.decodedNs - frame.inputReadNs) * 1e-6);
-      shown.push_back(frame);
+      decodeMs.add(static_cast<double>(frame.decodedNs - frame.inputReadNs) * 1e-6);
+      if (!arguments.dump.empty()) shown.push_back(frame);
+      if (++framesShown == 60 * 30) minuteMegabytes = residentMegabytes();  // a minute of sound in
     }
     if (capture) {
       // A device runs until --duration, an interrupt, or until it goes away.
@@ -179,16 +216,20 @@ void runHeadless(const LiveArguments& arguments, const LiveSettings& settings, b
     next += tick;
     std::this_thread::sleep_until(next);
   }
-  while (session->nextFrame(frame)) shown.push_back(frame);
+  while (session->nextFrame(frame)) {
+    if (!arguments.dump.empty()) shown.push_back(frame);
+    ++framesShown;
+  }
   session->rethrowError();
+  const double endMegabytes = residentMegabytes();
   if (deviceLost) std::fprintf(stderr, "talkinghead: %s: the device went away; stopped\n", source.c_str());
 
   const pipeline::SessionCounters counters = session->counters();
   char pace[64] = "as fast as possible, not";
   if (arguments.speed > 0.0) std::snprintf(pace, sizeof(pace), "%gx", arguments.speed);
   std::printf("live (headless): %s, %.2f s of sound at %s real time\n", source.c_str(), seconds, pace);
-  std::printf("  frames: %llu decoded, %zu shown, %llu dropped; samples: %llu in, %llu overrun\n",
-              static_cast<unsigned long long>(counters.framesDecoded), shown.size(),
+  std::printf("  frames: %llu decoded, %llu shown, %llu dropped; samples: %llu in, %llu overrun\n",
+              static_cast<unsigned long long>(counters.framesDecoded), static_cast<unsigned long long>(framesShown),
               static_cast<unsigned long long>(counters.framesDropped), static_cast<unsigned long long>(counters.samplesIn),
               static_cast<unsigned long long>(counters.overrunSamples));
   std::printf("  look-ahead: mouth %.1f ms (features %.1f ms + %d frames), head %.1f ms (features %.1f ms + %d frames)",
@@ -197,7 +238,11 @@ void runHeadless(const LiveArguments& arguments, const LiveSettings& settings, b
   if (lookahead.headDelayFrames > 0) std::printf(", the head shown %d frames late", lookahead.headDelayFrames);
   std::printf(": %.1f ms\n", lookahead.totalMs);
   std::printf("  decoding, from the read to the frame out: median %.2f ms, 95th percentile %.2f ms, max %.2f ms\n",
-              percentile(decodeMs, 50), percentile(decodeMs, 95), percentile(decodeMs, 100));
+              decodeMs.percentile(50), decodeMs.percentile(95), decodeMs.largest());
+  char afterAMinute[32] = "-";
+  if (minuteMegabytes >= 0.0) std::snprintf(afterAMinute, sizeof afterAMinute, "%.1f MB", minuteMegabytes);
+  std::printf("  memory (resident): %.1f MB at the start, %s after the first minute of sound, %.1f MB at the end\n",
+              startMegabytes, afterAMinute, endMegabytes);
 
   if (!arguments.dump.empty()) {
     video::Animation animation;
@@ -254,6 +299,9 @@ void addLiveCommand(CLI::App& app) {
       ->check(CLI::Range(0.0, 1000.0))
       ->capture_default_str();
   live->add_option("--duration", arguments->duration, "Seconds to run: of the recording (0: all), or of listening (0: until Ctrl-C)")
+      ->check(CLI::Range(0.0, 1e6));
+  live->add_option("--repeat-to", arguments->repeatTo,
+                   "--headless --input: play the recording over and over to this many seconds (a soak test)")
       ->check(CLI::Range(0.0, 1e6));
   live->add_option("--dump", arguments->dump, "--headless: write the frames the display received: .csv, .json or .fap");
   live->add_option("--preset", given.preset, "default (~85 ms), low-latency (~50 ms, less accurate), accurate (~200 ms, smooth)")

@@ -6,6 +6,7 @@
 
 #include "animation/mlpg.h"
 #include "core/error.h"
+#include "core/frame_store.h"
 #include "hmm/entropic_training.h"
 #include "hmm/forward_backward.h"
 #include "hmm/model_file.h"
@@ -238,8 +239,8 @@ struct HeadSynthesiser::Impl {
   std::unique_ptr<hmm::OnlineViterbi> viterbi;
   std::unique_ptr<hmm::FixedLagSmoother> smoother;
   std::vector<Eigen::Vector4d> pending;  // batch mode: everything, solved at finish()
-  std::vector<int> decided;              // online trajectory: states decided so far
-  std::vector<Eigen::Vector3d> ready;
+  FrameStore<int> decided;               // online trajectory: states decided so far (the recent ones kept)
+  FrameStore<Eigen::Vector3d> ready;
   bool finished = false;
 
   void drain() {
@@ -250,6 +251,7 @@ struct HeadSynthesiser::Impl {
       return;
     }
     while (viterbi->numDecided() > static_cast<int>(decided.size())) decided.push_back(viterbi->state(static_cast<int>(decided.size())));
+    viterbi->forgetBefore(static_cast<int>(decided.size()));  // copied here
     if (options.variant == HeadVariant::kStateMeans) {
       while (decided.size() > ready.size()) ready.push_back(tables.poseMean[static_cast<size_t>(decided[ready.size()])]);
       return;
@@ -260,7 +262,9 @@ struct HeadSynthesiser::Impl {
       const size_t t = ready.size();
       const size_t begin = t > static_cast<size_t>(options.trajectoryWindowFrames) ? t - static_cast<size_t>(options.trajectoryWindowFrames) : 0;
       const size_t end = std::min(decided.size(), t + lookahead + 1);
-      ready.push_back(trajectoryFor(tables, decided, begin, end).col(static_cast<Eigen::Index>(t - begin)));
+      std::vector<int> window(end - begin);
+      for (size_t i = begin; i < end; ++i) window[i - begin] = decided[i];
+      ready.push_back(trajectoryFor(tables, window, 0, window.size()).col(static_cast<Eigen::Index>(t - begin)));
     }
   }
 };
@@ -316,7 +320,24 @@ void HeadSynthesiser::finish() {
 
 int HeadSynthesiser::numReady() const { return static_cast<int>(impl_->ready.size()); }
 
-Eigen::Vector3d HeadSynthesiser::rotation(int frame) const { return impl_->ready.at(static_cast<size_t>(frame)); }
+Eigen::Vector3d HeadSynthesiser::rotation(int frame) const {
+  const auto f = static_cast<size_t>(frame);
+  if (frame < 0 || f < impl_->ready.firstKept() || f >= impl_->ready.size())
+    throw Error("head synthesis: frame " + std::to_string(frame) + " is not held");
+  return impl_->ready[f];
+}
+
+void HeadSynthesiser::forgetBefore(int frame) {
+  const auto f = static_cast<size_t>(std::max(0, frame));
+  impl_->ready.forgetBefore(f);
+  // The trajectory of a later frame is solved over the trajectoryWindowFrames states before it.
+  const auto window = static_cast<size_t>(std::max(0, impl_->options.trajectoryWindowFrames));
+  impl_->decided.forgetBefore(f > window ? f - window : 0);
+}
+
+std::size_t HeadSynthesiser::framesHeld() const {
+  return impl_->ready.held() + impl_->decided.held() + (impl_->viterbi ? impl_->viterbi->framesHeld() : 0);
+}
 
 int headLookaheadFrames(const HeadSynthesisOptions& options) {
   if (options.maxLagFrames < 0) return -1;

@@ -84,6 +84,10 @@ class HeadSynthesiser {
   int numReady() const;
   Eigen::Vector3d rotation(int frame) const;  // relative to the mean pose, degrees
   int lookaheadFrames() const;                // headLookaheadFrames of its options
+  // Rotations before `frame` will not be read again: they, and the decoder's states no later frame needs, are
+  // freed (an endless stream stays bounded; not the posterior-means variant's smoother).
+  void forgetBefore(int frame);
+  std::size_t framesHeld() const;
 
  private:
   struct Impl;

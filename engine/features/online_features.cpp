@@ -103,7 +103,7 @@ void OnlineFeatureExtractor::computeAvailableBaseFrames() {
 
     history_.copy(centre - half, window_);
     mfcc_.compute(window_, coefficients);
-    mfccRows_.insert(mfccRows_.end(), coefficients.begin(), coefficients.end());
+    for (const float c : coefficients) mfccRows_.push_back(c);
 
     // Level in dB re full scale, Hamming-weighted over the MFCC window.
     double weighted = 0.0;
@@ -144,10 +144,10 @@ void OnlineFeatureExtractor::computeAvailableBaseFrames() {
 void OnlineFeatureExtractor::normaliseUtterance() {
   if (energyDb_.empty()) return;
   double mean = 0.0;
-  for (float e : energyDb_) mean += e;
+  for (size_t i = 0; i < energyDb_.size(); ++i) mean += energyDb_[i];
   mean /= static_cast<double>(energyDb_.size());
   double variance = 0.0;
-  for (float e : energyDb_) variance += (e - mean) * (e - mean);
+  for (size_t i = 0; i < energyDb_.size(); ++i) variance += (energyDb_[i] - mean) * (energyDb_[i] - mean);
   variance /= static_cast<double>(energyDb_.size());
   const double scale = 1.0 / std::sqrt(std::max(variance, 1.0));
   for (size_t i = 0; i < energyDb_.size(); ++i) energy_[i] = static_cast<float>((energyDb_[i] - mean) * scale);
@@ -165,8 +165,23 @@ bool OnlineFeatureExtractor::isLastFrame(int frame) const {
 }
 
 void OnlineFeatureExtractor::getMfcc(int frame, std::span<float> mfcc) const {
-  const int numMfcc = layout_.numMfcc;
-  std::copy_n(mfccRows_.begin() + static_cast<long>(frame) * numMfcc, numMfcc, mfcc.begin());
+  const auto numMfcc = static_cast<size_t>(layout_.numMfcc);
+  for (size_t k = 0; k < numMfcc; ++k) mfcc[k] = mfccRows_[static_cast<size_t>(frame) * numMfcc + k];
+}
+
+void OnlineFeatureExtractor::forgetBefore(int frame) {
+  if (options_.energyNormalisation == EnergyNormalisation::kUtterance)
+    throw Error("features: frames cannot be forgotten with utterance normalisation");
+  // getFrame(i) reads frames i - max(delta, context) .. i + max(delta, context).
+  const int margin = std::max(options_.deltaHalfWidth, options_.contextFrames);
+  const auto keepFrom = static_cast<size_t>(std::max(0, frame - margin));
+  f0Hz_.forgetBefore(keepFrom);
+  energyDb_.forgetBefore(keepFrom);
+  energy_.forgetBefore(keepFrom);
+  mfccRows_.forgetBefore(keepFrom * static_cast<size_t>(layout_.numMfcc));
+  // New frames read the pitch frame nearest their centre (at the very end, the tracker's last): a few before
+  // the next frame's are kept, none earlier.
+  pitch_.forgetBefore(std::max(0, pitchFrameFor(static_cast<long long>(f0Hz_.size())) - 8));
 }
 
 float OnlineFeatureExtractor::getEnergy(int frame) const { return energy_[static_cast<size_t>(frame)]; }
@@ -198,11 +213,12 @@ void OnlineFeatureExtractor::getFrame(int frame, std::span<float> row) const {
   row[FeatureLayout::kDeltaF0] = centreF0 > 0.0f ? static_cast<float>(deltaF0 / denominator) : 0.0f;
   row[FeatureLayout::kDeltaEnergy] = static_cast<float>(deltaEnergy / denominator);
 
-  const int numMfcc = layout_.numMfcc;
-  std::copy_n(mfccRows_.begin() + static_cast<long>(i) * numMfcc, numMfcc, row.begin() + FeatureLayout::kMfccBegin);
-  int column = layout_.contextBegin();
+  const auto numMfcc = static_cast<size_t>(layout_.numMfcc);
+  for (size_t k = 0; k < numMfcc; ++k) row[FeatureLayout::kMfccBegin + k] = mfccRows_[i * numMfcc + k];
+  size_t column = static_cast<size_t>(layout_.contextBegin());
   for (int offset = -layout_.contextFrames; offset <= layout_.contextFrames; ++offset) {
-    std::copy_n(mfccRows_.begin() + static_cast<long>(at(frame + offset)) * numMfcc, numMfcc, row.begin() + column);
+    const size_t source = at(frame + offset) * numMfcc;
+    for (size_t k = 0; k < numMfcc; ++k) row[column + k] = mfccRows_[source + k];
     column += numMfcc;
   }
 }

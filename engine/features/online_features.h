@@ -19,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "core/frame_store.h"
 #include "features/mfcc.h"
 #include "features/pitch.h"
 #include "features/sample_history.h"
@@ -100,6 +101,11 @@ class OnlineFeatureExtractor {
   const FeatureLayout& layout() const { return layout_; }
   const FeatureOptions& options() const { return options_; }
   FeatureLookahead lookahead() const;
+  // The caller will read no frame before `frame` again (getFrame, getMfcc, getEnergy, getLevelDb): what only
+  // those needed is freed, so that memory stays bounded on an endless stream. Not with kUtterance (it needs
+  // every frame at the end).
+  void forgetBefore(int frame);
+  std::size_t framesHeld() const { return f0Hz_.held(); }
 
  private:
   void computeAvailableBaseFrames();
@@ -118,10 +124,10 @@ class OnlineFeatureExtractor {
   bool finished_ = false;
 
   // Per base frame: F0, normalised energy, MFCCs (row-major numMfcc each).
-  std::vector<float> f0Hz_;
-  std::vector<float> energyDb_;
-  std::vector<float> energy_;
-  std::vector<float> mfccRows_;
+  FrameStore<float> f0Hz_;
+  FrameStore<float> energyDb_;
+  FrameStore<float> energy_;
+  FrameStore<float> mfccRows_;  // numMfcc values per frame
   std::vector<float> window_;
   std::vector<float> energyWeights_;
   double loudestDb_ = -1e9;

@@ -16,9 +16,11 @@
 // Thread contract: one thread per instance.
 #pragma once
 
+#include <algorithm>
 #include <span>
 #include <vector>
 
+#include "core/frame_store.h"
 #include "features/real_fft.h"
 #include "features/sample_history.h"
 
@@ -68,6 +70,9 @@ class OnlinePitchTracker {
   int numFramesReady() const { return static_cast<int>(decided_.size()); }
   bool isLastFrame(int frame) const { return finished_ && frame == numFramesReady() - 1; }
   const PitchFrame& frame(int frame) const { return decided_[static_cast<size_t>(frame)]; }
+  // Frames before `frame` will not be read again: they are freed (an endless stream stays bounded).
+  void forgetBefore(int frame) { decided_.forgetBefore(static_cast<size_t>(std::max(0, frame))); }
+  std::size_t framesHeld() const { return decided_.held(); }
 
   int hopSamples() const { return hopSamples_; }
   // Samples after a frame's centre that must have arrived before the frame is decided.
@@ -115,7 +120,7 @@ class OnlinePitchTracker {
   double runningPeak_ = 0.0;
   long long numAnalysed_ = 0;
   std::vector<AnalysedFrame> ring_;  // the last decisionLag + 2 analysed frames
-  std::vector<PitchFrame> decided_;
+  FrameStore<PitchFrame> decided_;  // by frame number; forgetBefore() drops the old ones
 };
 
 // Whole-signal convenience: the same streaming object, fed once.

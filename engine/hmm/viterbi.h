@@ -16,7 +16,10 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <algorithm>
 #include <vector>
+
+#include "core/frame_store.h"
 
 #include "hmm/hmm_model.h"
 
@@ -43,8 +46,14 @@ class OnlineViterbi {
   int numFramesSeen() const { return static_cast<int>(framesSeen_); }
   int numDecided() const { return static_cast<int>(decided_.size()); }
   int state(int frame) const { return decided_[static_cast<size_t>(frame)]; }
-  // For each decided frame: how many frames later it was decided (0 = at once).
-  const std::vector<int>& decisionLags() const { return lags_; }
+  // How many frames later a decided frame was decided (0 = at once).
+  int decisionLag(int frame) const { return lags_[static_cast<size_t>(frame)]; }
+  // Decided frames before `frame` will not be read again (state, decisionLag): they are freed.
+  void forgetBefore(int frame) {
+    decided_.forgetBefore(static_cast<size_t>(std::max(0, frame)));
+    lags_.forgetBefore(static_cast<size_t>(std::max(0, frame)));
+  }
+  std::size_t framesHeld() const { return decided_.held(); }
 
  private:
   void decideFrom(long long frame, int stateAtFrame);
@@ -55,8 +64,8 @@ class OnlineViterbi {
   Eigen::VectorXd score_;                    // δ for the latest frame
   std::vector<std::vector<int>> backPointers_;  // [k]: frame firstUndecided + k → its best predecessor
   long long framesSeen_ = 0;
-  std::vector<int> decided_;
-  std::vector<int> lags_;
+  FrameStore<int> decided_;
+  FrameStore<int> lags_;
   bool finished_ = false;
 };
 

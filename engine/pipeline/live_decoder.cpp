@@ -104,7 +104,17 @@ void LiveDecoder::pull() {
                               .levelDb = mouthExtractor_.getLevelDb(frame),
                               .jawDegrees = animation::jawOpeningOf(*mouth_, components)[0]});
     }
+    // The energies of frames the mouth has not given yet are still to be read; nothing older is.
+    mouthExtractor_.forgetBefore(nextIndex_ + static_cast<int>(mouthFrames_.size()));
   }
+  // What has been taken is not read again: memory stays bounded however long the stream.
+  prosodyExtractor_.forgetBefore(prosodyRows_);
+  if (headStream_) headStream_->forgetBefore(headTaken_);
+}
+
+std::size_t LiveDecoder::framesHeld() const {
+  return prosodyExtractor_.framesHeld() + mouthExtractor_.framesHeld() + (headStream_ ? headStream_->framesHeld() : 0) +
+         prosodyFrames_.size() + mouthFrames_.size();
 }
 
 bool LiveDecoder::next(AnimationFrame& frame) {

@@ -72,6 +72,9 @@ class LiveDecoder : public FrameDecoder {
   DecoderLookahead lookahead() const;
   const LiveDecoderOptions& options() const { return options_; }
   std::vector<int> fapNumbers() const;  // the FAPs the frames set, in FAP order (as animate()'s columns)
+  // Frames' worth of data held in all its parts: bounded, however long the stream (only the recent frames
+  // each stage looks back at are kept).
+  std::size_t framesHeld() const;
 
  private:
   void pull();

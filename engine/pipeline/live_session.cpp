@@ -147,15 +147,21 @@ SessionCounters LiveSession::counters() const {
   return c;
 }
 
-FileFeeder::FileFeeder(LiveSession& session, std::vector<float> samples16k, double speed, std::size_t blockSamples) {
+FileFeeder::FileFeeder(LiveSession& session, std::vector<float> samples16k, double speed, std::size_t blockSamples,
+                       std::size_t totalSamples) {
   if (blockSamples == 0) throw Error("file feeder: blocks of 0 samples");
   if (!(speed >= 0.0)) throw Error("file feeder: the speed must be 0 (as fast as possible) or more");
-  blockWrittenNs_.reserve((samples16k.size() + blockSamples - 1) / blockSamples);
-  thread_ = std::thread([this, &session, samples = std::move(samples16k), speed, blockSamples] {
+  if (samples16k.empty()) throw Error("file feeder: no samples");
+  const std::size_t passLength = samples16k.size();
+  const std::size_t total = std::max(totalSamples, passLength);
+  blockWrittenNs_.reserve((passLength + blockSamples - 1) / blockSamples);
+  thread_ = std::thread([this, &session, samples = std::move(samples16k), speed, blockSamples, total] {
     const auto start = std::chrono::steady_clock::now();
-    std::size_t at = 0;
-    while (at < samples.size() && !stopping_.load(std::memory_order_acquire)) {
-      const std::size_t n = std::min(blockSamples, samples.size() - at);
+    std::size_t at = 0;  // samples fed, all passes
+    while (at < total && !stopping_.load(std::memory_order_acquire)) {
+      // A block never straddles the end of a pass.
+      const std::size_t inPass = at % samples.size();
+      const std::size_t n = std::min({blockSamples, samples.size() - inPass, total - at});
       if (speed > 0.0) {
         // A block is due when its last sample has been heard: (at + n) / 16000 / speed seconds after the start.
         const auto due = start + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
@@ -166,10 +172,10 @@ FileFeeder::FileFeeder(LiveSession& session, std::vector<float> samples16k, doub
       while (written < n && !stopping_.load(std::memory_order_acquire)) {
         // A file can wait for room where a microphone cannot: write what fits, then try again.
         const std::size_t take = std::min(session.ring().room(), n - written);
-        if (take > 0) written += session.ring().write(samples.data() + at + written, take);
+        if (take > 0) written += session.ring().write(samples.data() + inPass + written, take);
         if (written < n) std::this_thread::sleep_for(std::chrono::milliseconds(1));
       }
-      blockWrittenNs_.push_back(steadyNanoseconds());
+      if (at < samples.size()) blockWrittenNs_.push_back(steadyNanoseconds());
       at += n;
     }
     session.endOfInput();

@@ -116,13 +116,17 @@ class LiveSession {
 // latency measurements), once finished(). Thread contract: owned by one thread; the session must outlive it.
 class FileFeeder {
  public:
-  FileFeeder(LiveSession& session, std::vector<float> samples16k, double speed, std::size_t blockSamples = 256);
+  // `totalSamples` > the recording's length plays it over and over until that many samples (a soak test's
+  // hour from a short file, without the hour in memory); 0: once.
+  FileFeeder(LiveSession& session, std::vector<float> samples16k, double speed, std::size_t blockSamples = 256,
+             std::size_t totalSamples = 0);
   ~FileFeeder();  // stops and joins
   FileFeeder(const FileFeeder&) = delete;
   FileFeeder& operator=(const FileFeeder&) = delete;
   void stop();
   bool finished() const { return finished_.load(std::memory_order_acquire); }
-  // Steady-clock time at which block k (samples k * blockSamples ...) was written; read after finished().
+  // Steady-clock time at which block k (samples k * blockSamples ...) was written; read after finished()
+  // (kept for one pass of the recording only).
   const std::vector<std::int64_t>& blockWrittenNs() const { return blockWrittenNs_; }
 
  private:

@@ -52,6 +52,20 @@ TEST_F(LiveCliTest, HeadlessGivesTheOnlineAnimationThroughTheThreads) {
   EXPECT_GT(a.values.col(a.columnOf(3)).maxCoeff(), 0.0);  // the jaw moves
 }
 
+// CPU overload: three busy loops on the two cores while 6 s of speech plays at real-time pace. No sample is
+// lost (the counters say 0 overrun, every sample in) and every frame is decoded; frames the display could not
+// take would be dropped and counted, never samples.
+TEST_F(LiveCliTest, UnderCpuOverloadNoSampleIsLost) {
+  for (int i = 0; i < 3; ++i) ASSERT_EQ(std::system("timeout 9 sh -c 'while :; do :; done' > /dev/null 2>&1 &"), 0);
+  const CliResult result =
+      runCli({"live", "--headless", "--input", speech().string(), "--duration", "6", "--speed", "1"}, logs());
+  ASSERT_EQ(result.exitCode, 0) << result.err;
+  std::printf("%s", result.out.c_str());
+  EXPECT_NE(result.out.find("180 decoded"), std::string::npos) << result.out;
+  EXPECT_NE(result.out.find("samples: 96000 in, 0 overrun"), std::string::npos) << result.out;
+  EXPECT_NE(result.out.find("dropped"), std::string::npos) << "the counter is shown";
+}
+
 TEST_F(LiveCliTest, BadInputFailsInOneLineAndLeavesNoDump) {
   const fs::path dump = out() / "dump.csv";
   expectOneLineFailure(runCli({"live", "--headless", "--input", (out() / "missing.wav").string(), "--dump", dump.string()}, logs()),

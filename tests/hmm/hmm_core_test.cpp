@@ -237,7 +237,7 @@ TEST(OnlineViterbi, MaximumLagIsNeverExceededAndAgreementGrowsWithIt) {
     double lagSum = 0.0;
     for (int t = 0; t < 5000; ++t) {
       agree += online.state(t) == batch.states[static_cast<size_t>(t)];
-      lagSum += online.decisionLags()[static_cast<size_t>(t)];
+      lagSum += online.decisionLag(t);
     }
     const double agreement = agree / 5000.0;
     std::printf("[ INFO     ] max lag %3d: agreement with batch %.4f, mean actual lag %.2f frames\n", maxLag,

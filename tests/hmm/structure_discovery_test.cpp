@@ -169,8 +169,8 @@ TEST(StructureDiscovery, OnlineViterbiLagSweepOnATrainedProsodyModel) {
     int maxActual = 0;
     for (int t = 0; t < total; ++t) {
       agree += online.state(t) == batch.states[static_cast<size_t>(t)];
-      lagSum += online.decisionLags()[static_cast<size_t>(t)];
-      maxActual = std::max(maxActual, online.decisionLags()[static_cast<size_t>(t)]);
+      lagSum += online.decisionLag(t);
+      maxActual = std::max(maxActual, online.decisionLag(t));
     }
     const double agreement = agree / static_cast<double>(total);
     std::printf("[ INFO     ] prosody model (%d states), max lag %3d: agreement with batch %.4f, mean actual lag %.2f "

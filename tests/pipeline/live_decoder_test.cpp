@@ -143,6 +143,27 @@ TEST(LiveDecoder, ShowsTheMouthAtOnceAndTheHeadLate) {
   EXPECT_GT(headMoved, 1.0) << "the head moves";
 }
 
+// An endless stream in bounded memory: three minutes of speech (the same 12 s over and over), and what the
+// decoder holds after one minute and after three is the same small number of frames.
+TEST(LiveDecoder, HoldsOnlyTheRecentFramesOnALongStream) {
+  const std::vector<float> samples = speech(12.0);
+  LiveDecoder decoder(&models().head, &models().mouth, {});
+  AnimationFrame frame;
+  int frames = 0;
+  std::size_t heldAfterAMinute = 0;
+  for (int pass = 0; pass < 15; ++pass) {
+    for (std::size_t at = 0; at < samples.size(); at += 1600) {
+      decoder.acceptWaveform(std::span<const float>(samples).subspan(at, std::min<std::size_t>(1600, samples.size() - at)));
+      while (decoder.next(frame)) ++frames;
+    }
+    if (pass == 4) heldAfterAMinute = decoder.framesHeld();
+  }
+  EXPECT_GT(frames, 15 * 360 - 20);
+  EXPECT_LT(heldAfterAMinute, 400U);
+  EXPECT_LE(decoder.framesHeld(), heldAfterAMinute + 10) << "no growth with the stream's length";
+  EXPECT_GT(decoder.framesHeld(), 0U);
+}
+
 TEST(LiveDecoder, RefusesWhatCannotStream) {
   LiveDecoderOptions batchHead;
   batchHead.head.maxLagFrames = -1;
