@@ -133,6 +133,7 @@ class LiveWindow {
     if (!arguments_.input.empty()) {
       recording_ = audio::readRecording(arguments_.input).samples;
       if (recording_.empty()) throw fileError(arguments_.input, "has no samples");
+      startPlayback();
     }
     IMGUI_CHECKVERSION();
     ImGui::CreateContext();
@@ -230,6 +231,34 @@ class LiveWindow {
 
   // --- the sound source and its session -------------------------------------------------------------------
 
+  // A recording is played aloud, delayed by what the pipeline takes to show it (the decoder's look-ahead and
+  // about 25 ms of display: the wait for the next tick, drawing, the swap) less what the sound device itself
+  // takes, so that the lips meet their sound. Without an output device the face still moves.
+  void startPlayback() {
+    try {
+      const double pipelineSeconds =
+          (pipeline::LiveDecoder(models_->head.get(), models_->mouth.get(), decoderOptionsOf(settings_)).lookahead().totalMs +
+           25.0) / 1000.0;
+      outputSystem_ = std::make_unique<audio::PortAudioSystem>();
+      playbackRing_ = std::make_unique<pipeline::AudioRing>(2 * features::OnlineFeatureExtractor::kSampleRateHz);
+      playback_ = std::make_unique<audio::Playback>(*outputSystem_, std::nullopt, features::OnlineFeatureExtractor::kSampleRateHz,
+                                                    *playbackRing_);
+      // The device's own latency is taken off the delay.
+      playbackDelayMs_ = 1000.0 * std::max(0.0, pipelineSeconds - playback_->outputLatencySeconds());
+      playback_->setDelay(playbackDelayMs_ / 1000.0);
+      playbackNote_ = "played on " + playback_->device().name;
+      std::cout << "playing aloud: " << playback_->device().name << ", delayed " << std::lround(playbackDelayMs_)
+                << " ms (the device's latency " << std::lround(playback_->outputLatencySeconds() * 1000.0) << " ms)"
+                << std::endl;
+    } catch (const Error& error) {
+      playback_.reset();
+      playbackRing_.reset();
+      outputSystem_.reset();
+      playbackNote_ = std::string("not played aloud: ") + error.what();
+      std::cerr << "talkinghead: " << playbackNote_ << '\n';
+    }
+  }
+
   void startSource() {
     stopSource();
     sourceError_.clear();
@@ -256,8 +285,8 @@ class LiveWindow {
         capture_ = std::make_unique<audio::Capture>(*system_, index, rate, session_->ring());
         sourceName_ = "sound input " + std::to_string(capture_->device().index) + ": " + capture_->device().name;
       } else {
-        feeder_ = std::make_unique<pipeline::FileFeeder>(*session_, recording_, 1.0, 160);
-        sourceName_ = arguments_.input + " (in a loop; not played aloud)";
+        feeder_ = std::make_unique<pipeline::FileFeeder>(*session_, recording_, 1.0, 160, 0, playbackRing_.get());
+        sourceName_ = arguments_.input + " (in a loop)";
       }
       playout_.reset();
       waveform_.assign(static_cast<std::size_t>(kWaveformSeconds * rate), 0.0f);
@@ -390,7 +419,15 @@ class LiveWindow {
     } else {
       ImGui::TextWrapped("%s, %.0f Hz", sourceName_.c_str(), rateHz_);
     }
-    if (!recording_.empty()) return;
+    if (!recording_.empty()) {
+      if (playback_)
+        ImGui::TextWrapped("%s, the sound delayed %.0f ms to meet the lips (device latency %.0f ms), %llu underruns",
+                           playbackNote_.c_str(), playbackDelayMs_, playback_->outputLatencySeconds() * 1000.0,
+                           static_cast<unsigned long long>(playback_->underruns()));
+      else
+        ImGui::TextWrapped("%s", playbackNote_.c_str());
+      return;
+    }
     const std::string current = settings_.device == "default" ? "default input" : "input " + settings_.device;
     if (ImGui::BeginCombo("input", current.c_str())) {
       if (ImGui::Selectable("default input", settings_.device == "default")) chooseDevice("default");
@@ -547,6 +584,12 @@ class LiveWindow {
   std::vector<float> recording_;
   int loops_ = 0;
 
+  // Playing a recording aloud (declared before the source: destroyed after its feeder).
+  std::unique_ptr<audio::PortAudioSystem> outputSystem_;
+  std::unique_ptr<pipeline::AudioRing> playbackRing_;
+  std::unique_ptr<audio::Playback> playback_;
+  std::string playbackNote_;
+  double playbackDelayMs_ = 0.0;
   std::unique_ptr<audio::PortAudioSystem> system_;
   std::unique_ptr<pipeline::LiveSession> session_;
   std::unique_ptr<audio::Capture> capture_;

@@ -166,4 +166,91 @@ int Capture::callback(const void* input, void*, unsigned long frames, const PaSt
   return paContinue;
 }
 
+Playback::Playback(const PortAudioSystem&, std::optional<int> device, double rateHz, pipeline::AudioRing& ring)
+    : ring_(ring) {
+  PaDeviceIndex index = paNoDevice;
+  if (device) {
+    if (*device < 0 || *device >= Pa_GetDeviceCount())
+      throw Error("sound output " + std::to_string(*device) + ": no such device");
+    index = *device;
+  } else {
+    index = Pa_GetDefaultOutputDevice();
+    if (index == paNoDevice) throw Error("no sound output device (nothing to play the recording on)");
+  }
+  device_ = describe(index);
+  const std::string named = "sound output " + std::to_string(device_.index) + " (" + device_.name + ")";
+  if (device_.outputChannels < 1) throw Error(named + ": has no output channels");
+  PaStreamParameters output{};
+  output.device = index;
+  output.channelCount = std::min(device_.outputChannels, 2);
+  output.sampleFormat = paFloat32;
+  output.suggestedLatency = std::max(Pa_GetDeviceInfo(index)->defaultLowOutputLatency, 0.020);
+  channels_ = output.channelCount;
+  if (Pa_IsFormatSupported(nullptr, &output, rateHz) != paFormatIsSupported)
+    throw Error(named + ": will not play at " + std::to_string(static_cast<int>(rateHz)) + " Hz");
+  mono_.resize(kFramesPerBuffer);
+  rateHz_ = rateHz;
+  PaStream* stream = nullptr;
+  PaError code = Pa_OpenStream(&stream, nullptr, &output, rateHz, kFramesPerBuffer, paNoFlag, &Playback::callback, this);
+  if (code != paNoError) throw portAudioError(named + ": cannot open", code);
+  stream_ = stream;
+  code = Pa_StartStream(stream);
+  if (code != paNoError) {
+    Pa_CloseStream(stream);
+    stream_ = nullptr;
+    throw portAudioError(named + ": cannot start", code);
+  }
+}
+
+Playback::~Playback() {
+  if (stream_ == nullptr) return;
+  Pa_StopStream(static_cast<PaStream*>(stream_));
+  Pa_CloseStream(static_cast<PaStream*>(stream_));
+}
+
+void Playback::setDelay(double seconds) {
+  delaySamples_.store(static_cast<std::uint64_t>(std::max(0.0, seconds) * rateHz_), std::memory_order_release);
+}
+
+bool Playback::active() const { return stream_ != nullptr && Pa_IsStreamActive(static_cast<PaStream*>(stream_)) == 1; }
+
+double Playback::outputLatencySeconds() const {
+  const PaStreamInfo* info = stream_ != nullptr ? Pa_GetStreamInfo(static_cast<PaStream*>(stream_)) : nullptr;
+  return info != nullptr ? info->outputLatency : 0.0;
+}
+
+int Playback::callback(const void*, void* output, unsigned long frames, const PaStreamCallbackTimeInfo*, unsigned long,
+                       void* self) {
+  auto& playback = *static_cast<Playback*>(self);
+  auto* out = static_cast<float*>(output);
+  const auto channels = static_cast<unsigned long>(playback.channels_);
+  for (unsigned long done = 0; done < frames;) {
+    const unsigned long n = std::min<unsigned long>(frames - done, playback.mono_.size());
+    unsigned long filled = 0;
+    // Silence until samples arrive, then the delay as silence, then the ring.
+    if (!playback.started_) {
+      if (playback.ring_.available() == 0) {
+        std::fill_n(out + done * channels, n * channels, 0.0f);
+        done += n;
+        continue;
+      }
+      playback.started_ = true;
+      playback.silenceLeft_ = playback.delaySamples_.load(std::memory_order_acquire);
+    }
+    const auto silent = static_cast<unsigned long>(std::min<std::uint64_t>(playback.silenceLeft_, n));
+    std::fill_n(playback.mono_.begin(), silent, 0.0f);
+    playback.silenceLeft_ -= silent;
+    filled = silent;
+    if (filled < n) {
+      const std::size_t got = playback.ring_.read(playback.mono_.data() + filled, n - filled);
+      if (got < n - filled) playback.underruns_.fetch_add(1, std::memory_order_relaxed);
+      std::fill(playback.mono_.begin() + static_cast<long>(filled + got), playback.mono_.begin() + static_cast<long>(n), 0.0f);
+    }
+    for (unsigned long i = 0; i < n; ++i)
+      for (unsigned long c = 0; c < channels; ++c) out[(done + i) * channels + c] = playback.mono_[i];
+    done += n;
+  }
+  return paContinue;
+}
+
 }  // namespace th::audio

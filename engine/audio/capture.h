@@ -1,4 +1,5 @@
-// Sound devices through PortAudio: listing them, and capturing one input into the live pipeline's ring.
+// Sound devices through PortAudio: listing them, capturing one input into the live pipeline's ring, and playing
+// a recording on an output, delayed to meet the face.
 //
 //   th::audio::PortAudioSystem system;                        // Pa_Initialize ... Pa_Terminate
 //   for (const auto& d : system.inputDevices()) std::cout << d.index << ' ' << d.name << '\n';
@@ -82,6 +83,41 @@ class Capture {
   void* stream_ = nullptr;   // PaStream
   std::atomic<std::uint64_t> callbacks_{0};
   std::atomic<std::uint64_t> overflows_{0};
+};
+
+// Plays mono samples from a ring on an output device (the default, or a chosen one), starting setDelay()
+// seconds after the first samples arrive: a recording heard in step with the face, whose frames come the
+// pipeline's latency after the samples go in (set the delay once the stream is open, when its own latency is
+// known). The callback reads the ring into a buffer made at start-up and copies it to the device's channels; a
+// short ring plays silence and counts an underrun. Throws th::Error if there is no output device or it will not
+// play at `rateHz`.
+class Playback {
+ public:
+  Playback(const PortAudioSystem& system, std::optional<int> device, double rateHz, pipeline::AudioRing& ring);
+  void setDelay(double seconds);  // before the ring's first samples; later calls are ignored
+  ~Playback();
+  Playback(const Playback&) = delete;
+  Playback& operator=(const Playback&) = delete;
+
+  const AudioDevice& device() const { return device_; }
+  bool active() const;
+  double outputLatencySeconds() const;  // PortAudio's estimate: from the callback to the speaker
+  std::uint64_t underruns() const { return underruns_.load(std::memory_order_relaxed); }
+
+ private:
+  static int callback(const void* input, void* output, unsigned long frames, const PaStreamCallbackTimeInfo* timeInfo,
+                      unsigned long statusFlags, void* self);
+
+  AudioDevice device_;
+  int channels_ = 1;
+  pipeline::AudioRing& ring_;
+  std::vector<float> mono_;
+  double rateHz_ = 0.0;
+  std::atomic<std::uint64_t> delaySamples_{0};
+  std::uint64_t silenceLeft_ = 0;  // the callback's own: what is left of the delay
+  bool started_ = false;           // the callback's own: samples have arrived
+  void* stream_ = nullptr;
+  std::atomic<std::uint64_t> underruns_{0};
 };
 
 }  // namespace th::audio

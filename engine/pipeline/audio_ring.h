@@ -36,6 +36,8 @@ class AudioRing {
   // Producer: how many samples write() would take now.
   std::size_t room() const noexcept { return queue_.write_available(); }
 
+  // Consumer: how many samples read() would give now.
+  std::size_t available() const noexcept { return queue_.read_available(); }
   // Consumer. Returns the number read (0 when empty).
   std::size_t read(float* out, std::size_t maxCount) noexcept { return queue_.pop(out, maxCount); }
 

@@ -148,14 +148,14 @@ SessionCounters LiveSession::counters() const {
 }
 
 FileFeeder::FileFeeder(LiveSession& session, std::vector<float> samples16k, double speed, std::size_t blockSamples,
-                       std::size_t totalSamples) {
+                       std::size_t totalSamples, AudioRing* alsoTo) {
   if (blockSamples == 0) throw Error("file feeder: blocks of 0 samples");
   if (!(speed >= 0.0)) throw Error("file feeder: the speed must be 0 (as fast as possible) or more");
   if (samples16k.empty()) throw Error("file feeder: no samples");
   const std::size_t passLength = samples16k.size();
   const std::size_t total = std::max(totalSamples, passLength);
   blockWrittenNs_.reserve((passLength + blockSamples - 1) / blockSamples);
-  thread_ = std::thread([this, &session, samples = std::move(samples16k), speed, blockSamples, total] {
+  thread_ = std::thread([this, &session, samples = std::move(samples16k), speed, blockSamples, total, alsoTo] {
     const auto start = std::chrono::steady_clock::now();
     std::size_t at = 0;  // samples fed, all passes
     while (at < total && !stopping_.load(std::memory_order_acquire)) {
@@ -168,6 +168,7 @@ FileFeeder::FileFeeder(LiveSession& session, std::vector<float> samples16k, doub
                                      std::chrono::duration<double>(static_cast<double>(at + n) / 16000.0 / speed));
         std::this_thread::sleep_until(due);
       }
+      if (alsoTo != nullptr) alsoTo->write(samples.data() + inPass, n);
       std::size_t written = 0;
       while (written < n && !stopping_.load(std::memory_order_acquire)) {
         // A file can wait for room where a microphone cannot: write what fits, then try again.

@@ -118,8 +118,10 @@ class FileFeeder {
  public:
   // `totalSamples` > the recording's length plays it over and over until that many samples (a soak test's
   // hour from a short file, without the hour in memory); 0: once.
+  // `alsoTo`: a second ring that gets every block too, without waiting (what does not fit is dropped and
+  // counted there): the sound for a player.
   FileFeeder(LiveSession& session, std::vector<float> samples16k, double speed, std::size_t blockSamples = 256,
-             std::size_t totalSamples = 0);
+             std::size_t totalSamples = 0, AudioRing* alsoTo = nullptr);
   ~FileFeeder();  // stops and joins
   FileFeeder(const FileFeeder&) = delete;
   FileFeeder& operator=(const FileFeeder&) = delete;

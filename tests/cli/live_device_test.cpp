@@ -9,6 +9,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
+#include <fstream>
 #include <string>
 #include <thread>
 #include <vector>
@@ -169,6 +170,52 @@ TEST_F(LiveDeviceTest, TheWindowSurvivesTheSoundServerDyingAndListensAgainWhenIt
   const std::size_t lost = said.find("stopped listening");
   ASSERT_NE(lost, std::string::npos) << said;
   EXPECT_NE(said.find("listening: sound input", lost), std::string::npos) << "listening again after the loss:\n" << said;
+}
+
+// A recording in the window is played aloud through PortAudio: the null sink's monitor, recorded meanwhile
+// with parec, holds the recording (its loudness envelope found in the capture at r > 0.8), and the window says
+// by how much it delayed the sound to meet the lips.
+TEST_F(LiveDeviceTest, TheWindowPlaysARecordingAloud) {
+  ASSERT_TRUE(startPulseAudio()) << "cannot start PulseAudio";
+  ASSERT_TRUE(loadNullSink(out() / "module"));
+  const fs::path wav = th::sharedDataPath("beat2/audio_only/2_scott_0_2_2.wav");
+  const th::audio::AudioClip clip = th::audio::readRecording(wav);
+  const std::vector<float> part(clip.samples.begin() + 2 * clip.sampleRateHz, clip.samples.begin() + 8 * clip.sampleRateHz);
+  const fs::path excerpt = out() / "excerpt.wav";
+  th::audio::writeWav16(excerpt, part, clip.sampleRateHz);
+  const fs::path heard = out() / "heard.raw";
+  shell("parec -d talkinghead_test.monitor --rate=16000 --channels=1 --format=float32le --raw > " + heard.string() +
+        " 2>/dev/null & echo $! > " + (out() / "parec.pid").string());
+  const std::string command = "ASAN_OPTIONS=detect_leaks=0 xvfb-run -a -s '-screen 0 1280x800x24' " +
+                              std::string(TALKINGHEAD_CLI) + " live --input " + excerpt.string() +
+                              " --no-settings --duration 8 > " + (logs() / "window.txt").string() + " 2>&1";
+  const int status = shell(command);
+  shell("kill $(cat " + (out() / "parec.pid").string() + ") > /dev/null 2>&1; sleep 0.3");
+  shell("pactl unload-module $(cat " + (out() / "module").string() + ") > /dev/null 2>&1");
+  const std::string said = th::test::readText(logs() / "window.txt");
+  ASSERT_EQ(status, 0) << said;
+  EXPECT_NE(said.find("playing aloud"), std::string::npos) << said;
+  std::printf("%s", said.c_str());
+
+  std::ifstream in(heard, std::ios::binary);
+  std::vector<float> captured;
+  float sample = 0.0f;
+  while (in.read(reinterpret_cast<char*>(&sample), sizeof sample)) captured.push_back(sample);
+  ASSERT_GT(captured.size(), 16000U * 4) << "parec recorded the sink's monitor";
+  const std::vector<double> played = levels(part, clip.sampleRateHz);
+  const std::vector<double> got = levels(captured, 16000);
+  double best = -1.0;
+  std::size_t offset = 0;
+  for (std::size_t o = 0; o + played.size() / 2 <= got.size(); ++o) {
+    const double r = correlation(played, got, o);
+    if (r > best) {
+      best = r;
+      offset = o;
+    }
+  }
+  std::printf("[ INFO     ] the recording's loudness found in the sink's monitor: r = %.3f, %.2f s into the capture\n",
+              best, static_cast<double>(offset) / 30.0);
+  EXPECT_GT(best, 0.8);
 }
 
 }  // namespace
