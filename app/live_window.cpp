@@ -117,7 +117,7 @@ class LiveWindow {
       : arguments_(arguments),
         settings_(std::move(settings)),
         face_(face::FaceModel::build(face::loadIctFace(face::ictFaceDirectory()))),
-        window_({.width = 1280, .height = 720, .title = "talkinghead live", .visible = true, .vsync = true}),
+        window_({.width = 1280, .height = 720, .title = "talkinghead live", .visible = true, .vsync = true, .depth = true}),
         renderer_(window_, face_.mesh(), {.width = 1280, .height = 720, .samples = samplesFor(window_, arguments.msaa)}),
         camera_(render::frameHead(face_.mesh().positions, 1280.0 / 720.0)),
         playout_(pipeline::PlayoutOptions{.interpolate = settings_.interpolate}) {
@@ -289,7 +289,8 @@ class LiveWindow {
         sourceName_ = arguments_.input + " (in a loop)";
       }
       playout_.reset();
-      waveform_.assign(static_cast<std::size_t>(kWaveformSeconds * rate), 0.0f);
+      const auto waveformSize = static_cast<std::size_t>(kWaveformSeconds * rate);
+      if (waveform_.size() != waveformSize) waveform_.assign(waveformSize, 0.0f);  // a recording's next pass keeps it
       if (capture_ || loops_++ == 0) std::cout << (capture_ ? "listening: " : "playing: ") << sourceName_ << std::endl;
     } catch (const Error& error) {
       // No device, or it will not open: the face stays at rest, the panel says why, and we try again.
@@ -355,6 +356,9 @@ class LiveWindow {
       jaw_.push(frame.faps[3], kPlotFrames);
       chosenFap_.push(frame.faps[static_cast<std::size_t>(plottedFap_)], kPlotFrames);
       for (int axis = 0; axis < 3; ++axis) head_[static_cast<std::size_t>(axis)].push(frame.headDegrees[axis], kPlotFrames);
+      posteriors_.push_back(frame.headPosterior);
+      headStates_ = frame.headStates;
+      while (posteriors_.size() > kPlotFrames) posteriors_.pop_front();
       processingMs_.push_back(static_cast<double>(frame.decodedNs - frame.inputReadNs) * 1e-6);
       queueMs_.push_back(static_cast<double>(now - frame.decodedNs) * 1e-6);
       while (processingMs_.size() > kStatFrames) processingMs_.pop_front();
@@ -387,9 +391,13 @@ class LiveWindow {
       shown_ = faps;
     }
     faceSetupMs_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - setupStart).count();
-    renderer_.render(camera_);
-    window_.makeCurrent();
-    renderer_.present(window_.framebufferSize());
+    if (renderer_.options().samples <= 1) {
+      renderer_.renderToWindow(camera_);  // no target of its own to copy: the fastest way on llvmpipe
+    } else {
+      renderer_.render(camera_);
+      window_.makeCurrent();
+      renderer_.present(window_.framebufferSize());
+    }
   }
 
   // --- the panel ------------------------------------------------------------------------------------------
@@ -563,6 +571,30 @@ class LiveWindow {
     plot(("FAP " + std::to_string(plottedFap_)).c_str(), chosenFap_, -300.0f, 300.0f, width);
     static constexpr std::array<const char*, 3> kAxes{"head pitch (deg)", "head yaw (deg)", "head roll (deg)"};
     for (std::size_t axis = 0; axis < 3; ++axis) plot(kAxes[axis], head_[axis], -10.0f, 10.0f, width);
+    posteriorPlot(width);
+  }
+
+  // The head model's state posteriors over the last 10 s: a column per frame, a row per state, brighter for
+  // more probable.
+  void posteriorPlot(float width) {
+    if (headStates_ <= 0 || posteriors_.empty()) return;
+    ImGui::Text("head model: P(state | prosody so far), %d states", headStates_);
+    const float height = 3.0f * static_cast<float>(headStates_);
+    const ImVec2 origin = ImGui::GetCursorScreenPos();
+    ImDrawList* draw = ImGui::GetWindowDrawList();
+    draw->AddRectFilled(origin, ImVec2(origin.x + width, origin.y + height), IM_COL32(20, 24, 36, 255));
+    const float column = width / static_cast<float>(kPlotFrames);
+    const float offset = static_cast<float>(kPlotFrames - posteriors_.size());
+    for (std::size_t t = 0; t < posteriors_.size(); ++t)
+      for (int k = 0; k < headStates_; ++k) {
+        const float p = posteriors_[t][static_cast<std::size_t>(k)];
+        if (p < 0.02f) continue;
+        const auto level = static_cast<int>(std::lround(40.0 + 215.0 * std::min(1.0f, p)));
+        const float x = origin.x + (offset + static_cast<float>(t)) * column;
+        const float y = origin.y + 3.0f * static_cast<float>(k);
+        draw->AddRectFilled(ImVec2(x, y), ImVec2(x + column + 0.5f, y + 3.0f), IM_COL32(level, level * 3 / 4, 40, 255));
+      }
+    ImGui::Dummy(ImVec2(width, height));
   }
 
   static void plot(const char* label, const Curve& curve, float low, float high, float width) {
@@ -615,6 +647,8 @@ class LiveWindow {
   std::size_t waveformAt_ = 0;
   Curve f0_, energy_, jaw_, chosenFap_;
   std::array<Curve, 3> head_;
+  std::deque<std::array<float, pipeline::AnimationFrame::kMaxHeadStates>> posteriors_;
+  int headStates_ = 0;
   int plottedFap_ = 5;
   std::deque<double> processingMs_, queueMs_, behindMs_, displayMs_, periodMs_;
   std::array<std::deque<double>, 4> stageMs_;

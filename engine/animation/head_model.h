@@ -88,6 +88,10 @@ class HeadSynthesiser {
   // freed (an endless stream stays bounded; not the posterior-means variant's smoother).
   void forgetBefore(int frame);
   std::size_t framesHeld() const;
+  // P(state | the prosody so far) after the latest acceptProsody(): the forward filter, for a display of the
+  // model's belief (the decoder's decisions wait for its lag; this does not).
+  const Eigen::VectorXd& filteredPosterior() const;
+  int numStates() const;
 
  private:
   struct Impl;

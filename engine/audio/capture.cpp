@@ -20,6 +20,28 @@ Error portAudioError(const std::string& what, PaError code) {
   return Error(what + ": " + Pa_GetErrorText(code));
 }
 
+// Opens and starts a stream (input, output or both), or throws naming it.
+void* openStream(const PaStreamParameters* input, const PaStreamParameters* output, double rateHz,
+                 PaStreamCallback* callback, void* self, const std::string& named) {
+  PaStream* stream = nullptr;
+  PaError code = Pa_OpenStream(&stream, input, output, rateHz, kFramesPerBuffer, paNoFlag, callback, self);
+  if (code != paNoError) throw portAudioError(named + ": cannot open", code);
+  code = Pa_StartStream(stream);
+  if (code != paNoError) {
+    Pa_CloseStream(stream);
+    throw portAudioError(named + ": cannot start", code);
+  }
+  return stream;
+}
+
+void closeStream(void* stream) {
+  if (stream == nullptr) return;
+  Pa_StopStream(static_cast<PaStream*>(stream));
+  Pa_CloseStream(static_cast<PaStream*>(stream));
+}
+
+bool streamActive(void* stream) { return stream != nullptr && Pa_IsStreamActive(static_cast<PaStream*>(stream)) == 1; }
+
 AudioDevice describe(PaDeviceIndex index) {
   const PaDeviceInfo* info = Pa_GetDeviceInfo(index);
   AudioDevice device;
@@ -122,27 +144,12 @@ Capture::Capture(const PortAudioSystem& system, std::optional<int> device, doubl
   // The asked rate if the device takes it, else its own (the worker resamples).
   rateHz_ = Pa_IsFormatSupported(&input, nullptr, rateHz) == paFormatIsSupported ? rateHz : device_.defaultRateHz;
   mono_.resize(kFramesPerBuffer);
-  PaStream* stream = nullptr;
-  PaError code = Pa_OpenStream(&stream, &input, nullptr, rateHz_, kFramesPerBuffer, paNoFlag, &Capture::callback, this);
-  if (code != paNoError) throw portAudioError(named + ": cannot open", code);
-  stream_ = stream;
-  code = Pa_StartStream(stream);
-  if (code != paNoError) {
-    Pa_CloseStream(stream);
-    stream_ = nullptr;
-    throw portAudioError(named + ": cannot start", code);
-  }
+  stream_ = openStream(&input, nullptr, rateHz_, &Capture::callback, this, named);
 }
 
-Capture::~Capture() {
-  if (stream_ == nullptr) return;
-  Pa_StopStream(static_cast<PaStream*>(stream_));
-  Pa_CloseStream(static_cast<PaStream*>(stream_));
-}
+Capture::~Capture() { closeStream(stream_); }
 
-bool Capture::active() const {
-  return stream_ != nullptr && Pa_IsStreamActive(static_cast<PaStream*>(stream_)) == 1;
-}
+bool Capture::active() const { return streamActive(stream_); }
 
 int Capture::callback(const void* input, void*, unsigned long frames, const PaStreamCallbackTimeInfo*,
                       unsigned long statusFlags, void* self) {
@@ -190,29 +197,16 @@ Playback::Playback(const PortAudioSystem&, std::optional<int> device, double rat
     throw Error(named + ": will not play at " + std::to_string(static_cast<int>(rateHz)) + " Hz");
   mono_.resize(kFramesPerBuffer);
   rateHz_ = rateHz;
-  PaStream* stream = nullptr;
-  PaError code = Pa_OpenStream(&stream, nullptr, &output, rateHz, kFramesPerBuffer, paNoFlag, &Playback::callback, this);
-  if (code != paNoError) throw portAudioError(named + ": cannot open", code);
-  stream_ = stream;
-  code = Pa_StartStream(stream);
-  if (code != paNoError) {
-    Pa_CloseStream(stream);
-    stream_ = nullptr;
-    throw portAudioError(named + ": cannot start", code);
-  }
+  stream_ = openStream(nullptr, &output, rateHz, &Playback::callback, this, named);
 }
 
-Playback::~Playback() {
-  if (stream_ == nullptr) return;
-  Pa_StopStream(static_cast<PaStream*>(stream_));
-  Pa_CloseStream(static_cast<PaStream*>(stream_));
-}
+Playback::~Playback() { closeStream(stream_); }
 
 void Playback::setDelay(double seconds) {
   delaySamples_.store(static_cast<std::uint64_t>(std::max(0.0, seconds) * rateHz_), std::memory_order_release);
 }
 
-bool Playback::active() const { return stream_ != nullptr && Pa_IsStreamActive(static_cast<PaStream*>(stream_)) == 1; }
+bool Playback::active() const { return streamActive(stream_); }
 
 double Playback::outputLatencySeconds() const {
   const PaStreamInfo* info = stream_ != nullptr ? Pa_GetStreamInfo(static_cast<PaStream*>(stream_)) : nullptr;

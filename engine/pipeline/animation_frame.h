@@ -5,6 +5,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <array>
 #include <cstdint>
 #include <span>
 
@@ -23,6 +24,11 @@ struct AnimationFrame {
   double energy = 0.0;        // normalised log energy of this frame
   double levelDb = -140.0;    // its level before normalisation, dB re full scale (idle motion's speech gate)
   Eigen::Vector3d headDegrees = Eigen::Vector3d::Zero();  // of frame prosodyIndex: pitch, yaw, roll relative to the mean pose
+  // The head model's state posteriors at frame prosodyIndex (its forward filter: P(state | prosody so far)),
+  // the first headStates of them; for the panel's plot.
+  static constexpr int kMaxHeadStates = 32;
+  std::array<float, kMaxHeadStates> headPosterior{};
+  int headStates = 0;
   double jawDegrees = 0.0;
   // Steady-clock times (ns) set by the live session: when the worker had read the input that released this
   // frame, and when the frame left the decoder.

@@ -85,7 +85,12 @@ void LiveDecoder::pull() {
     prosodyFrames_.push_back({.f0Hz = row_[FeatureLayout::kF0Hz],
                               .energy = row_[FeatureLayout::kEnergy],
                               .levelDb = prosodyExtractor_.getLevelDb(prosodyRows_)});
-    if (headStream_) headStream_->acceptProsody(prosody_.accept(row_));
+    if (headStream_) {
+      headStream_->acceptProsody(prosody_.accept(row_));
+      const Eigen::VectorXd& posterior = headStream_->filteredPosterior();
+      for (Eigen::Index k = 0; k < std::min<Eigen::Index>(posterior.size(), AnimationFrame::kMaxHeadStates); ++k)
+        prosodyFrames_.back().posterior[static_cast<std::size_t>(k)] = static_cast<float>(posterior[k]);
+    }
   }
   if (headStream_)
     for (; headTaken_ < headStream_->numReady(); ++headTaken_)
@@ -130,11 +135,13 @@ bool LiveDecoder::next(AnimationFrame& frame) {
   frame.index = nextIndex_;
   frame.timeSeconds = nextIndex_ / animation::kAnimationFramesPerSecond;
   frame.prosodyIndex = shown;
+  frame.headStates = headStream_ ? std::min(headStream_->numStates(), AnimationFrame::kMaxHeadStates) : 0;
   if (shown >= 0 && shown < decided) {
     const ProsodyFrame& prosody = prosodyFrames_[static_cast<std::size_t>(shown - prosodyBase_)];
     frame.f0Hz = prosody.f0Hz;
     frame.energy = prosody.energy;
     frame.levelDb = prosody.levelDb;
+    frame.headPosterior = prosody.posterior;
     frame.headDegrees = prosody.headDegrees;
   }
   if (headStream_) {

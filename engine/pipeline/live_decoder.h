@@ -85,6 +85,7 @@ class LiveDecoder : public FrameDecoder {
     double energy = 0.0;
     double levelDb = 0.0;
     Eigen::Vector3d headDegrees = Eigen::Vector3d::Zero();
+    std::array<float, AnimationFrame::kMaxHeadStates> posterior{};
   };
   struct MouthFrame {
     double energy = 0.0;

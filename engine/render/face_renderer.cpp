@@ -654,9 +654,44 @@ void FaceRenderer::setPupilScale(const std::array<double, 2>& scale) {
 void FaceRenderer::render(const OrbitCamera& camera) {
   context_.makeCurrent();
   Gl& g = *gl_;
-  const float aspect = static_cast<float>(options_.width) / static_cast<float>(options_.height);
   glBindFramebuffer(GL_FRAMEBUFFER, samples_ > 1 ? g.msaaFramebuffer : g.resolveFramebuffer);
   glViewport(0, 0, options_.width, options_.height);
+  // Transparent: the backdrop goes under the head afterwards (render/backdrop.h). The whole target: llvmpipe
+  // clears a tile with a memset, where a clear held to the head's region (a scissor) would be drawn as a quad,
+  // at twice the cost. Only the region is read back and finished (RenderOptions::cropToHead).
+  glClearColor(0.0f, 0.0f, 0.0f, 0.0f);
+  glClearDepth(1.0);
+  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  drawFace(camera);
+  g.resolved = samples_ == 1;
+}
+
+void FaceRenderer::renderToWindow(const OrbitCamera& camera) {
+  context_.makeCurrent();
+  Gl& g = *gl_;
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  glViewport(0, 0, options_.width, options_.height);
+  // The backdrop first, opaque; the head over it. The same picture as render() + present(): the head's
+  // see-through parts blend "over" what is below, which is the backdrop here and transparent black there
+  // (then composited under the backdrop): premultiplied "over" gives the same either way.
+  glDisable(GL_DEPTH_TEST);
+  glDisable(GL_CULL_FACE);
+  glDisable(GL_BLEND);
+  glUseProgram(g.backgroundProgram);
+  setVector(g.background.top, options_.backgroundTop);
+  setVector(g.background.bottom, options_.backgroundBottom);
+  glUniform1f(g.background.aspect, static_cast<float>(options_.width) / static_cast<float>(options_.height));
+  glBindVertexArray(g.emptyVao);
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+  glBindVertexArray(0);
+  glClearDepth(1.0);
+  glClear(GL_DEPTH_BUFFER_BIT);
+  drawFace(camera);
+}
+
+void FaceRenderer::drawFace(const OrbitCamera& camera) {
+  Gl& g = *gl_;
+  const float aspect = static_cast<float>(options_.width) / static_cast<float>(options_.height);
   glDisable(GL_BLEND);
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LEQUAL);
@@ -664,12 +699,6 @@ void FaceRenderer::render(const OrbitCamera& camera) {
   const Eigen::Matrix4f view = camera.view();
   const Eigen::Matrix4f viewProjection = camera.projection(aspect) * view;
   const Eigen::Vector3f eyePosition = camera.eye();
-  // Transparent: the backdrop goes under the head afterwards (render/backdrop.h). The whole target: llvmpipe
-  // clears a tile with a memset, where a clear held to the head's region (a scissor) would be drawn as a quad,
-  // at twice the cost. Only the region is read back and finished (RenderOptions::cropToHead).
-  glClearColor(0.0f, 0.0f, 0.0f, 0.0f);
-  glClearDepth(1.0);
-  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
   drawn_ = headRegion(viewProjection);
 
   // Per-frame uniforms, the same in every face program. Lights are given in camera space: the view's inverse
@@ -743,7 +772,6 @@ void FaceRenderer::render(const OrbitCamera& camera) {
   glDisable(GL_BLEND);
   glDisable(GL_CULL_FACE);
   glDepthMask(GL_TRUE);
-  g.resolved = samples_ == 1;
 }
 
 void FaceRenderer::resolve() {

@@ -160,6 +160,11 @@ class FaceRenderer {
   Image renderImage(const OrbitCamera& camera);
   // Resolves the last render() and copies it to the window's back buffer (framebuffer 0), scaled to its size.
   void present(std::pair<int, int> framebufferSize);
+  // The backdrop and the face straight into the current context's framebuffer 0 (a window with a depth buffer,
+  // WindowOptions::depth), at this renderer's size, without MSAA or FXAA: what render() + present() show at one
+  // sample, with neither the copy nor the backdrop's blending (on llvmpipe at 720p those cost ~4.5 ms a frame).
+  // The renderer's own targets are left as they were.
+  void renderToWindow(const OrbitCamera& camera);
   // New target size (for a resized window); keeps everything else.
   void resize(int width, int height);
 
@@ -180,6 +185,7 @@ class FaceRenderer {
   void resolve();
   void selectVisible(const Eigen::Vector3f& eye, const Eigen::Matrix4f& viewProjection);
   PixelRegion headRegion(const Eigen::Matrix4f& viewProjection) const;
+  void drawFace(const OrbitCamera& camera);  // into the bound framebuffer, after its clear
   void prepare(RawFrame& frame) const;
   void checkVertices(const std::vector<int>& vertices, const char* what) const;
 

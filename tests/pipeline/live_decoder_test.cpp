@@ -33,6 +33,29 @@ std::vector<float> speech(double seconds) {
   return {clip.samples.begin(), clip.samples.begin() + static_cast<long>(seconds * clip.sampleRateHz)};
 }
 
+// Feeds `samples` in chunks of 1..largestChunk samples (seeded), taking the frames as they come, then ends the
+// input; checks on the way that frames come out no later than the look-ahead says (one frame of rounding).
+std::vector<AnimationFrame> decodeInRandomChunks(LiveDecoder& decoder, const std::vector<float>& samples,
+                                                 std::size_t largestChunk, unsigned seed) {
+  const th::pipeline::DecoderLookahead lookahead = decoder.lookahead();
+  std::mt19937 random(seed);
+  std::uniform_int_distribution<std::size_t> chunkSize(1, largestChunk);
+  std::vector<AnimationFrame> frames;
+  AnimationFrame frame;
+  for (std::size_t at = 0; at < samples.size();) {
+    const std::size_t n = std::min(chunkSize(random), samples.size() - at);
+    decoder.acceptWaveform(std::span<const float>(samples).subspan(at, n));
+    at += n;
+    while (decoder.next(frame)) frames.push_back(frame);
+    const double heard = static_cast<double>(at) / 16000.0;
+    const double due = (heard - lookahead.totalMs / 1000.0) * 30.0 - 1.0;
+    EXPECT_GE(static_cast<double>(frames.size()), due) << "after " << heard << " s";
+  }
+  decoder.inputFinished();
+  while (decoder.next(frame)) frames.push_back(frame);
+  return frames;
+}
+
 TEST(LiveDecoder, GivesTheBatchAnimationFrameByFrameWhateverTheChunks) {
   const std::vector<float> samples = speech(12.0);
   for (const bool mmse : {false, true}) {
@@ -49,22 +72,7 @@ TEST(LiveDecoder, GivesTheBatchAnimationFrameByFrameWhateverTheChunks) {
     EXPECT_EQ(lookahead.mouthFrames, models().mouth.contextFrames + options.mouth.windowFrames - 1);
     EXPECT_EQ(lookahead.headDelayFrames, 0);
     EXPECT_DOUBLE_EQ(lookahead.totalMs, lookahead.headMs);
-    std::mt19937 random(5);
-    std::uniform_int_distribution<std::size_t> chunkSize(1, 3000);
-    std::vector<AnimationFrame> frames;
-    AnimationFrame frame;
-    for (std::size_t at = 0; at < samples.size();) {
-      const std::size_t n = std::min(chunkSize(random), samples.size() - at);
-      decoder.acceptWaveform(std::span<const float>(samples).subspan(at, n));
-      at += n;
-      while (decoder.next(frame)) frames.push_back(frame);
-      // Frames come out no later than the look-ahead says (one frame of rounding).
-      const double heard = static_cast<double>(at) / 16000.0;
-      const double due = (heard - lookahead.totalMs / 1000.0) * 30.0 - 1.0;
-      EXPECT_GE(static_cast<double>(frames.size()), due) << "after " << heard << " s";
-    }
-    decoder.inputFinished();
-    while (decoder.next(frame)) frames.push_back(frame);
+    const std::vector<AnimationFrame> frames = decodeInRandomChunks(decoder, samples, 3000, 5);
     ASSERT_EQ(static_cast<Eigen::Index>(frames.size()), batch.numFrames());
     double largest = 0.0;
     for (std::size_t f = 0; f < frames.size(); ++f) {
@@ -101,21 +109,7 @@ TEST(LiveDecoder, ShowsTheMouthAtOnceAndTheHeadLate) {
   // The head's own decisions are due by the time its delayed frame is shown.
   EXPECT_LE(lookahead.headMs - delay * 1000.0 / 30.0, lookahead.totalMs + 1e-9);
 
-  std::mt19937 random(11);
-  std::uniform_int_distribution<std::size_t> chunkSize(1, 800);
-  std::vector<AnimationFrame> frames;
-  AnimationFrame frame;
-  for (std::size_t at = 0; at < samples.size();) {
-    const std::size_t n = std::min(chunkSize(random), samples.size() - at);
-    decoder.acceptWaveform(std::span<const float>(samples).subspan(at, n));
-    at += n;
-    while (decoder.next(frame)) frames.push_back(frame);
-    const double heard = static_cast<double>(at) / 16000.0;
-    const double due = (heard - lookahead.totalMs / 1000.0) * 30.0 - 1.0;
-    EXPECT_GE(static_cast<double>(frames.size()), due) << "after " << heard << " s";
-  }
-  decoder.inputFinished();
-  while (decoder.next(frame)) frames.push_back(frame);
+  const std::vector<AnimationFrame> frames = decodeInRandomChunks(decoder, samples, 800, 11);
   ASSERT_EQ(static_cast<Eigen::Index>(frames.size()), batch.numFrames());
 
   const auto column = [&](int fap) {

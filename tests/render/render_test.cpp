@@ -612,6 +612,34 @@ TEST(FaceRenderer, TheWindowAndTheReadBackShowTheSameBackdrop) {
   EXPECT_LT(coverage(cpu).fraction, 0.9);
 }
 
+// Straight into the window (no target of its own, no copy): the same picture as render() + readPixels().
+TEST(FaceRenderer, DrawingStraightIntoTheWindowShowsTheSamePicture) {
+  th::render::OffscreenContext context;
+  FaceRenderer renderer(context, neutral(), {.width = 16, .height = 16, .samples = 1});
+  const th::render::OrbitCamera camera = th::render::frameHead(neutral().positions, 1.0);
+  renderer.render(camera);
+  Image cpu;
+  renderer.readPixels(cpu);
+  renderer.renderToWindow(camera);
+  std::vector<std::uint8_t> window(16 * 16 * 4);
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  glReadPixels(0, 0, 16, 16, GL_RGBA, GL_UNSIGNED_BYTE, window.data());
+  int largest = 0;
+  for (int y = 0; y < 16; ++y)
+    for (int x = 0; x < 16; ++x)
+      for (int k = 0; k < 3; ++k) {
+        const int shown = window[static_cast<std::size_t>(((15 - y) * 16 + x) * 4 + k)];
+        largest = std::max(largest, std::abs(shown - cpu.pixel(x, y)[k]));
+      }
+  EXPECT_LE(largest, 2);  // 8-bit rounding of the blend, once or twice
+  EXPECT_GT(coverage(cpu).fraction, 0.1);
+  // The renderer's own target still holds its frame: reading it back gives the same image again.
+  Image again;
+  renderer.readPixels(again);
+  EXPECT_TRUE(again == cpu);
+}
+
 TEST(Backdrop, CompositesUnderPremultipliedColour) {
   const std::vector<std::uint8_t> backdrop = th::render::backdropPixels(4, 3, {1.0f, 1.0f, 1.0f}, {0.0f, 0.0f, 0.0f});
   ASSERT_EQ(backdrop.size(), 4u * 3u * 3u);
