@@ -117,6 +117,7 @@ LiveSettings resolveSettings(const LiveArguments& arguments, const CLI::App& com
   if (typed("--device")) settings.device = given.device;
   if (typed("--head")) settings.headVariant = given.headVariant;
   if (typed("--mouth")) settings.mouthMethod = given.mouthMethod;
+  if (typed("--covariance")) settings.covariance = given.covariance;
   if (typed("--head-model")) settings.headModel = given.headModel;
   if (typed("--mouth-model")) settings.mouthModel = given.mouthModel;
   if (typed("--lag")) settings.lagFrames = given.lagFrames;
@@ -312,6 +313,9 @@ void addLiveCommand(CLI::App& app) {
       ->capture_default_str();
   live->add_option("--mouth", given.mouthMethod, "Mouth: inversion, mmse, none")
       ->check(CLI::IsMember({"inversion", "mmse", "none"}))
+      ->capture_default_str();
+  live->add_option("--covariance", given.covariance, "The shipped mouth model's covariance: full, or its diagonal twin")
+      ->check(CLI::IsMember({"full", "diagonal"}))
       ->capture_default_str();
   live->add_option("--lag", given.lagFrames, "Head decoding lag, frames")->check(CLI::Range(0, 300))->capture_default_str();
   live->add_option("--window", given.windowFrames, "Mouth inversion window, frames (the preset's by default)")

@@ -46,8 +46,9 @@ std::string headModelOf(const LiveSettings& settings) {
 std::string mouthModelOf(const LiveSettings& settings) {
   if (!settings.mouthModel.empty()) return settings.mouthModel;
   const pipeline::LivePreset* preset = pipeline::findLivePreset(settings.preset);
-  return std::string(TALKINGHEAD_SOURCE_DIR) + "/models/" +
-         std::string(preset != nullptr ? preset->mouthModelFile : pipeline::kLivePresets[0].mouthModelFile);
+  std::string file(preset != nullptr ? preset->mouthModelFile : pipeline::kLivePresets[0].mouthModelFile);
+  if (settings.covariance == "diagonal") file.insert(file.size() - std::string(".json").size(), "_diagonal");
+  return std::string(TALKINGHEAD_SOURCE_DIR) + "/models/" + file;
 }
 
 std::filesystem::path defaultLiveSettingsPath() {
@@ -93,6 +94,7 @@ LiveSettings loadLiveSettings(const std::filesystem::path& path) {
   take(document, "device", settings.device, path);
   take(document, "head", settings.headVariant, path);
   take(document, "mouth", settings.mouthMethod, path);
+  take(document, "covariance", settings.covariance, path);
   take(document, "head_model", settings.headModel, path);
   take(document, "mouth_model", settings.mouthModel, path);
   take(document, "lag_frames", settings.lagFrames, path);
@@ -110,6 +112,8 @@ LiveSettings loadLiveSettings(const std::filesystem::path& path) {
               path, "\"head\" must be trajectory, paper or none");
   requireThat(settings.mouthMethod == "inversion" || settings.mouthMethod == "mmse" || settings.mouthMethod == "none",
               path, "\"mouth\" must be inversion, mmse or none");
+  requireThat(settings.covariance == "full" || settings.covariance == "diagonal", path,
+              "\"covariance\" must be full or diagonal");
   requireThat(settings.lagFrames >= 0 && settings.lagFrames <= 300, path, "\"lag_frames\" must be 0..300");
   requireThat(settings.windowFrames >= 1 && settings.windowFrames <= 300, path, "\"window_frames\" must be 1..300");
   requireThat(settings.iterations >= 1 && settings.iterations <= 1000, path, "\"iterations\" must be 1..1000");
@@ -125,7 +129,8 @@ void saveLiveSettings(const std::filesystem::path& path, const LiveSettings& set
   const nlohmann::json document = {
       {"preset", settings.preset},           {"device", settings.device},
       {"head", settings.headVariant},
-      {"mouth", settings.mouthMethod},       {"head_model", settings.headModel},
+      {"mouth", settings.mouthMethod},       {"covariance", settings.covariance},
+      {"head_model", settings.headModel},
       {"mouth_model", settings.mouthModel},  {"lag_frames", settings.lagFrames},
       {"window_frames", settings.windowFrames}, {"iterations", settings.iterations},
       {"wait_for_head", settings.waitForHead}, {"min_f0_hz", settings.minF0Hz},

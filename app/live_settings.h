@@ -20,6 +20,7 @@ struct LiveSettings {
   std::string device = "default";         // sound input: "default" or a device number
   std::string headVariant = "trajectory";  // trajectory, paper (Viterbi state means), none
   std::string mouthMethod = "inversion";   // inversion, mmse, none
+  std::string covariance = "full";         // the shipped mouth model's: full, or its diagonal twin
   std::string headModel;                   // model files; empty: the shipped ones (the preset's mouth)
   std::string mouthModel;
   int lagFrames = 6;         // head: online Viterbi's decision lag
@@ -37,7 +38,8 @@ struct LiveSettings {
 pipeline::LiveDecoderOptions decoderOptionsOf(const LiveSettings& settings);
 // The preset's window and display mode into `settings` (throws th::Error for an unknown preset).
 void applyPreset(LiveSettings& settings, const std::string& preset);
-// The model files the settings name, or the shipped ones: models/head.json, models/<the preset's mouth>.
+// The model files the settings name, or the shipped ones: models/head.json, models/<the preset's mouth> (its
+// _diagonal twin with covariance "diagonal").
 std::string headModelOf(const LiveSettings& settings);
 std::string mouthModelOf(const LiveSettings& settings);
 

@@ -124,12 +124,7 @@ class LiveWindow {
     renderer_.setMouthOpening(face_.innerLipVertices());
     renderer_.setEyeOpenings(face_.eyeLidVertices(0), face_.eyeLidVertices(1));
     models_ = loadModels(settings_);  // a bad model file is an error before the window is of any use
-    const auto fill = [](std::array<char, 512>& field, const std::string& text) {
-      field.fill('\0');
-      std::copy_n(text.begin(), std::min(text.size(), field.size() - 1), field.begin());
-    };
-    fill(headPath_, headModelOf(settings_));
-    fill(mouthPath_, mouthModelOf(settings_));
+    showModelPaths();
     if (!arguments_.input.empty()) {
       recording_ = audio::readRecording(arguments_.input).samples;
       if (recording_.empty()) throw fileError(arguments_.input, "has no samples");
@@ -143,7 +138,8 @@ class LiveWindow {
     ImGui_ImplOpenGL3_Init("#version 330 core");
     startSource();
     std::cout << "live: preset " << settings_.preset << ", head " << settings_.headVariant << " (lag "
-              << settings_.lagFrames << "), mouth " << settings_.mouthMethod << " (window " << settings_.windowFrames
+              << settings_.lagFrames << "), mouth " << settings_.mouthMethod << " (" << settings_.covariance
+              << " covariance, window " << settings_.windowFrames
               << ", " << settings_.iterations << " iterations), " << mouthModelOf(settings_) << "; "
               << (sourceError_.empty() ? sourceName_ : sourceError_) << std::endl;
   }
@@ -219,6 +215,16 @@ class LiveWindow {
   }
 
  private:
+  // The model files in use, in the panel's text fields.
+  void showModelPaths() {
+    const auto fill = [](std::array<char, 512>& field, const std::string& text) {
+      field.fill('\0');
+      std::copy_n(text.begin(), std::min(text.size(), field.size() - 1), field.begin());
+    };
+    fill(headPath_, headModelOf(settings_));
+    fill(mouthPath_, mouthModelOf(settings_));
+  }
+
   static void record(std::deque<double>& values, double value) {
     values.push_back(value);
     while (values.size() > kStatFrames) values.pop_front();
@@ -475,6 +481,11 @@ class LiveWindow {
     static constexpr std::array<const char*, 3> kMouths{"inversion", "mmse", "none"};
     reload |= choice("head", kHeads, settings_.headVariant);
     reload |= choice("mouth", kMouths, settings_.mouthMethod);
+    static constexpr std::array<const char*, 2> kCovariances{"full", "diagonal"};
+    if (choice("covariance", kCovariances, settings_.covariance)) {
+      settings_.mouthModel.clear();  // the shipped model's twin
+      reload = true;
+    }
     redecode |= ImGui::SliderInt("head lag (frames)", &settings_.lagFrames, 0, 30);
     redecode |= ImGui::SliderInt("mouth window (frames)", &settings_.windowFrames, 1, 10);
     redecode |= ImGui::SliderInt("EM iterations", &settings_.iterations, 1, 50);
@@ -506,6 +517,7 @@ class LiveWindow {
       try {
         models_ = loadModels(settings_);
         modelError_.clear();
+        showModelPaths();
         redecode = true;
       } catch (const Error& error) {
         modelError_ = error.what();  // the running models stay
