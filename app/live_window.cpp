@@ -320,6 +320,13 @@ class LiveWindow {
   }
 
   void superviseSource() {
+    if (playback_ && !playback_->active()) {
+      // The output went away: stop playing (PortAudio's threads with it), keep the face going.
+      playbackNote_ = "not played aloud: " + playback_->device().name + " went away";
+      std::cerr << "talkinghead: " << playbackNote_ << '\n';
+      playback_.reset();
+      outputSystem_.reset();
+    }
     if (!session_) {
       if (secondsSince(lastAttempt_) >= kRetrySeconds) startSource();
       return;

@@ -7,6 +7,7 @@
 #include <cstdio>
 
 #include <algorithm>
+#include <chrono>
 #include <string>
 
 #include "core/error.h"
@@ -34,11 +35,21 @@ void* openStream(const PaStreamParameters* input, const PaStreamParameters* outp
   return stream;
 }
 
+// Aborted, not stopped: stopping waits for the buffers to play out, which on a device that went away may
+// never happen.
 void closeStream(void* stream) {
   if (stream == nullptr) return;
-  Pa_StopStream(static_cast<PaStream*>(stream));
+  Pa_AbortStream(static_cast<PaStream*>(stream));
   Pa_CloseStream(static_cast<PaStream*>(stream));
 }
+
+std::int64_t steadyNs() {
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+// Blocks that were coming have stopped for a second. Before the first (0) it is not a stall: a PulseAudio
+// monitor can take 2 s for its first block.
+bool stalled(std::int64_t lastCallbackNs) { return lastCallbackNs != 0 && steadyNs() - lastCallbackNs > 1'000'000'000; }
 
 bool streamActive(void* stream) { return stream != nullptr && Pa_IsStreamActive(static_cast<PaStream*>(stream)) == 1; }
 
@@ -149,12 +160,14 @@ Capture::Capture(const PortAudioSystem& system, std::optional<int> device, doubl
 
 Capture::~Capture() { closeStream(stream_); }
 
-bool Capture::active() const { return streamActive(stream_); }
+bool Capture::active() const { return streamActive(stream_) && !stalled(lastCallbackNs_.load(std::memory_order_relaxed)); }
 
 int Capture::callback(const void* input, void*, unsigned long frames, const PaStreamCallbackTimeInfo*,
                       unsigned long statusFlags, void* self) {
   auto& capture = *static_cast<Capture*>(self);
   capture.callbacks_.fetch_add(1, std::memory_order_relaxed);
+  // A clock read (vDSO: no lock, no allocation) for the stall watchdog in active().
+  capture.lastCallbackNs_.store(steadyNs(), std::memory_order_relaxed);
   if ((statusFlags & paInputOverflow) != 0) capture.overflows_.fetch_add(1, std::memory_order_relaxed);
   if (input == nullptr) return paContinue;
   const auto* samples = static_cast<const float*>(input);
@@ -206,6 +219,8 @@ void Playback::setDelay(double seconds) {
   delaySamples_.store(static_cast<std::uint64_t>(std::max(0.0, seconds) * rateHz_), std::memory_order_release);
 }
 
+// Not the capture's stall watchdog: PulseAudio's ALSA plugin asks an output stream for blocks in bursts, with
+// gaps of over a second while its own buffer plays (seen in the playback test).
 bool Playback::active() const { return streamActive(stream_); }
 
 double Playback::outputLatencySeconds() const {

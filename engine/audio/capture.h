@@ -66,7 +66,10 @@ class Capture {
 
   const AudioDevice& device() const { return device_; }
   double rateHz() const { return rateHz_; }
-  bool active() const;  // false once the stream has stopped (the device went away, or an error)
+  // false once the stream has stopped (the device went away, or an error), or once blocks that were coming
+  // have stopped for a second: when its sound server dies, PortAudio's ALSA host can keep the stream "active"
+  // while its thread only reports errors.
+  bool active() const;
   std::uint64_t callbacks() const { return callbacks_.load(std::memory_order_relaxed); }
   std::uint64_t inputOverflows() const { return overflows_.load(std::memory_order_relaxed); }  // PortAudio's own
 
@@ -83,6 +86,7 @@ class Capture {
   void* stream_ = nullptr;   // PaStream
   std::atomic<std::uint64_t> callbacks_{0};
   std::atomic<std::uint64_t> overflows_{0};
+  std::atomic<std::int64_t> lastCallbackNs_{0};  // steady clock; 0 until the first block
 };
 
 // Plays mono samples from a ring on an output device (the default, or a chosen one), starting setDelay()
@@ -100,7 +104,7 @@ class Playback {
   Playback& operator=(const Playback&) = delete;
 
   const AudioDevice& device() const { return device_; }
-  bool active() const;
+  bool active() const;  // false once the stream has stopped
   double outputLatencySeconds() const;  // PortAudio's estimate: from the callback to the speaker
   std::uint64_t underruns() const { return underruns_.load(std::memory_order_relaxed); }
 

@@ -97,7 +97,8 @@ TEST_F(LiveCliTest, TheWindowDrawsTheFaceAndThePanelAndKeepsItsSettings) {
   const fs::path shot = out() / "live.png";
   const fs::path settings = out() / "live.json";
   // Leak checking off for this process in sanitizer builds, as for `show` (Mesa's GLX driver, unloaded at exit).
-  const std::string prefix = "ASAN_OPTIONS=detect_leaks=0 xvfb-run -a -s '-screen 0 1280x800x24' " + std::string(TALKINGHEAD_CLI);
+  const std::string prefix =
+      "ASAN_OPTIONS=detect_leaks=0 timeout 120 xvfb-run -a -s '-screen 0 1280x800x24' " + std::string(TALKINGHEAD_CLI);
   const std::string first = prefix + " live --input " + speech().string() + " --settings " + settings.string() +
                             " --screenshot " + shot.string() + " --frames 120 --window 3 --head paper > " +
                             (logs() / "window.txt").string() + " 2>&1";

@@ -92,7 +92,9 @@ TEST_F(LiveDeviceTest, CapturesANullSinksMonitorAndTheJawFollowsTheLoudness) {
   });
   const fs::path dump = out() / "heard.csv";
   const th::test::CliResult result =
-      th::test::runCli({"live", "--headless", "--device", "default", "--duration", "13", "--dump", dump.string()}, logs());
+      th::test::runCli({"live", "--headless", "--device", "default", "--duration", "13", "--dump", dump.string(),
+                        "--preset", "accurate"},
+                       logs());
   player.join();
   shell("pactl unload-module $(cat " + (out() / "module").string() + ")");
   ASSERT_EQ(result.exitCode, 0) << result.err;
@@ -109,7 +111,11 @@ TEST_F(LiveDeviceTest, CapturesANullSinksMonitorAndTheJawFollowsTheLoudness) {
   // The same excerpt decoded from the file: the captured jaw holds it, at some offset (where in the capture
   // the excerpt landed is not known to the frame), nearly unchanged by the trip through PulseAudio.
   const fs::path fromFile = out() / "file.csv";
-  ASSERT_EQ(th::test::runCli({"live", "--headless", "--input", excerpt.string(), "--speed", "0", "--dump", fromFile.string()}, logs()).exitCode, 0);
+  ASSERT_EQ(th::test::runCli({"live", "--headless", "--input", excerpt.string(), "--speed", "0", "--dump", fromFile.string(),
+                              "--preset", "accurate"},
+                             logs())
+                .exitCode,
+            0);
   const std::vector<double> reference = jawOf(th::video::readAnimation(fromFile));
   const std::vector<double> reversed(reference.rbegin(), reference.rend());
   double best = -1.0, bestReversed = -1.0;
@@ -139,7 +145,8 @@ TEST_F(LiveDeviceTest, CapturesANullSinksMonitorAndTheJawFollowsTheLoudness) {
               "time: %.3f); against the loudness: r = %.3f; jaw (FAP 3) in the quietest quarter %.1f, loudest %.1f\n",
               best, static_cast<double>(offset) / 30.0, bestReversed, followsLoudness, quiet, loud);
   // Not equal: PulseAudio resamples (16 -> 44.1 -> 16 kHz) and the capture's frames fall at other instants of
-  // the sound, which moves every MFCC a little (0.58-0.61 in runs here, 0.77 on 10 s).
+  // the sound, which moves every MFCC a little (0.58-0.61 in runs here, 0.77 on 10 s, with the accurate preset's
+  // model; the default preset's, with no inversion window to smooth over, gave 0.33 in one ASan run).
   EXPECT_GT(best, 0.45);
   EXPECT_GT(best, bestReversed + 0.15);
   EXPECT_GT(followsLoudness, 0.15);
@@ -151,10 +158,12 @@ TEST_F(LiveDeviceTest, CapturesANullSinksMonitorAndTheJawFollowsTheLoudness) {
 TEST_F(LiveDeviceTest, TheWindowSurvivesTheSoundServerDyingAndListensAgainWhenItReturns) {
   ASSERT_TRUE(startPulseAudio()) << "cannot start PulseAudio";
   ASSERT_TRUE(loadNullSink(out() / "module"));
-  const std::string command = "ASAN_OPTIONS=detect_leaks=0 xvfb-run -a -s '-screen 0 1280x800x24' " +
-                              std::string(TALKINGHEAD_CLI) + " live --device default --no-settings --duration 14 > " +
-                              (logs() / "window.txt").string() + " 2> " + (logs() / "window.err").string();
-  std::thread window([&] { EXPECT_EQ(shell(command), 0) << th::test::readText(logs() / "window.err"); });
+  // Bounded in time, and its output in size (the last 64 KB): should PortAudio's ALSA thread spin printing
+  // errors once the server is gone, it must not fill the disk.
+  const std::string command = "( ASAN_OPTIONS=detect_leaks=0 timeout 90 xvfb-run -a -s '-screen 0 1280x800x24' " +
+                              std::string(TALKINGHEAD_CLI) + " live --device default --no-settings --duration 14; " +
+                              "echo \"exit status $?\" ) 2>&1 | tail -c 65536 > " + (logs() / "window.txt").string();
+  std::thread window([&] { shell(command); });
   std::this_thread::sleep_for(std::chrono::seconds(4));
   shell("pulseaudio --kill > /dev/null 2>&1");
   std::this_thread::sleep_for(std::chrono::seconds(3));
@@ -163,10 +172,10 @@ TEST_F(LiveDeviceTest, TheWindowSurvivesTheSoundServerDyingAndListensAgainWhenIt
   window.join();
   shell("pactl unload-module $(cat " + (out() / "module").string() + ") > /dev/null 2>&1");
   const std::string said = th::test::readText(logs() / "window.txt");
-  const std::string complained = th::test::readText(logs() / "window.err");
-  std::printf("%s%s", said.c_str(), complained.c_str());
+  std::printf("%s", said.c_str());
+  EXPECT_NE(said.find("exit status 0"), std::string::npos) << said;
   EXPECT_NE(said.find("listening: sound input"), std::string::npos) << said;
-  EXPECT_NE(complained.find("went away"), std::string::npos) << complained;
+  EXPECT_NE(said.find("went away"), std::string::npos) << said;
   const std::size_t lost = said.find("stopped listening");
   ASSERT_NE(lost, std::string::npos) << said;
   EXPECT_NE(said.find("listening: sound input", lost), std::string::npos) << "listening again after the loss:\n" << said;
@@ -186,14 +195,15 @@ TEST_F(LiveDeviceTest, TheWindowPlaysARecordingAloud) {
   const fs::path heard = out() / "heard.raw";
   shell("parec -d talkinghead_test.monitor --rate=16000 --channels=1 --format=float32le --raw > " + heard.string() +
         " 2>/dev/null & echo $! > " + (out() / "parec.pid").string());
-  const std::string command = "ASAN_OPTIONS=detect_leaks=0 xvfb-run -a -s '-screen 0 1280x800x24' " +
+  const std::string command = "( ASAN_OPTIONS=detect_leaks=0 timeout 60 xvfb-run -a -s '-screen 0 1280x800x24' " +
                               std::string(TALKINGHEAD_CLI) + " live --input " + excerpt.string() +
-                              " --no-settings --duration 8 > " + (logs() / "window.txt").string() + " 2>&1";
-  const int status = shell(command);
+                              " --no-settings --duration 8; echo \"exit status $?\" ) 2>&1 | tail -c 65536 > " +
+                              (logs() / "window.txt").string();
+  shell(command);
   shell("kill $(cat " + (out() / "parec.pid").string() + ") > /dev/null 2>&1; sleep 0.3");
   shell("pactl unload-module $(cat " + (out() / "module").string() + ") > /dev/null 2>&1");
   const std::string said = th::test::readText(logs() / "window.txt");
-  ASSERT_EQ(status, 0) << said;
+  ASSERT_NE(said.find("exit status 0"), std::string::npos) << said;
   EXPECT_NE(said.find("playing aloud"), std::string::npos) << said;
   std::printf("%s", said.c_str());
 
