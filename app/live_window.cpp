@@ -335,6 +335,7 @@ class LiveWindow {
       sourceError_ = sourceName_ + " went away; trying again every 2 s (or pick another input)";
       std::cerr << "talkinghead: " << sourceError_ << '\n';
       std::cout << "stopped listening: " << sourceName_ << std::endl;
+      playout_.reset();  // no more frames: the face eases to neutral
       reportedError_ = sourceError_;
       stopSource();
       lastAttempt_ = std::chrono::steady_clock::now();
@@ -369,9 +370,8 @@ class LiveWindow {
       jaw_.push(frame.faps[3], kPlotFrames);
       chosenFap_.push(frame.faps[static_cast<std::size_t>(plottedFap_)], kPlotFrames);
       for (int axis = 0; axis < 3; ++axis) head_[static_cast<std::size_t>(axis)].push(frame.headDegrees[axis], kPlotFrames);
-      posteriors_.push_back(frame.headPosterior);
-      headStates_ = frame.headStates;
-      while (posteriors_.size() > kPlotFrames) posteriors_.pop_front();
+      headPosteriors_.push(frame.headPosterior, frame.headStates);
+      mouthPosteriors_.push(frame.mouthPosterior, frame.mouthStates);
       processingMs_.push_back(static_cast<double>(frame.decodedNs - frame.inputReadNs) * 1e-6);
       queueMs_.push_back(static_cast<double>(now - frame.decodedNs) * 1e-6);
       while (processingMs_.size() > kStatFrames) processingMs_.pop_front();
@@ -388,12 +388,19 @@ class LiveWindow {
 
   void drawFace() {
     pipeline::PlayoutSample sample;
-    face::FapValues faps{};
+    // Until the first frame of a new stream (another input, another display mode), the last pose stays: no
+    // jump to the neutral face between two streams.
+    face::FapValues faps = lastDecoded_;
     double levelDb = -140.0;  // no sound: silence
     if (playout_.sample(pipeline::steadyNanoseconds(), sample)) {
       faps = sample.frame.faps;
+      lastDecoded_ = faps;
       levelDb = sample.frame.levelDb;
       record(behindMs_, sample.behindNewestMs);
+      framesWithout_ = 0;
+    } else if (++framesWithout_ > 30) {
+      // Half a second with no stream (a lost input): the face eases to neutral, the mouth closes.
+      for (double& value : lastDecoded_) value *= 0.9;
     }
     for (const int fap : animation::kHeadFaps) faps[static_cast<std::size_t>(fap)] *= settings_.headAmplitude;
     idle_.apply(secondsSince(opened_), levelDb, {.blinks = settings_.blinks, .gaze = settings_.gaze}, faps);
@@ -422,10 +429,11 @@ class LiveWindow {
     ImGui::SetNextWindowPos(ImVec2(10, 10), ImGuiCond_FirstUseEver);
     ImGui::SetNextWindowSize(ImVec2(440, static_cast<float>(size.second) - 20), ImGuiCond_FirstUseEver);
     ImGui::Begin("Live");
+    // The plots near the top, where they stay in view whatever the sound section has to say.
     sourceSection();
-    modelSection();
-    latencySection();
     plotSection();
+    latencySection();
+    modelSection();
     ImGui::End();
     ImGui::Render();
     ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
@@ -590,28 +598,43 @@ class LiveWindow {
     plot(("FAP " + std::to_string(plottedFap_)).c_str(), chosenFap_, -300.0f, 300.0f, width);
     static constexpr std::array<const char*, 3> kAxes{"head pitch (deg)", "head yaw (deg)", "head roll (deg)"};
     for (std::size_t axis = 0; axis < 3; ++axis) plot(kAxes[axis], head_[axis], -10.0f, 10.0f, width);
-    posteriorPlot(width);
+    posteriorPlot("head model: P(state | prosody so far)", headPosteriors_, width);
+    posteriorPlot("mouth model: P(state | audio so far)", mouthPosteriors_, width);
   }
 
-  // The head model's state posteriors over the last 10 s: a column per frame, a row per state, brighter for
-  // more probable.
-  void posteriorPlot(float width) {
-    if (headStates_ <= 0 || posteriors_.empty()) return;
-    ImGui::Text("head model: P(state | prosody so far), %d states", headStates_);
-    const float height = 3.0f * static_cast<float>(headStates_);
+  // A model's state posteriors over the last 10 s.
+  struct Posteriors {
+    std::deque<std::array<float, 32>> frames;
+    int states = 0;
+    template <std::size_t N>
+    void push(const std::array<float, N>& posterior, int numStates) {
+      std::array<float, 32> copy{};
+      std::copy(posterior.begin(), posterior.end(), copy.begin());
+      frames.push_back(copy);
+      states = numStates;
+      while (frames.size() > kPlotFrames) frames.pop_front();
+    }
+  };
+
+  // A column per frame, a row per state, brighter for more probable.
+  static void posteriorPlot(const char* title, const Posteriors& posteriors, float width) {
+    if (posteriors.states <= 0 || posteriors.frames.empty()) return;
+    ImGui::Text("%s, %d states", title, posteriors.states);
+    const float row = posteriors.states > 12 ? 3.0f : 6.0f;
+    const float height = row * static_cast<float>(posteriors.states);
     const ImVec2 origin = ImGui::GetCursorScreenPos();
     ImDrawList* draw = ImGui::GetWindowDrawList();
     draw->AddRectFilled(origin, ImVec2(origin.x + width, origin.y + height), IM_COL32(20, 24, 36, 255));
     const float column = width / static_cast<float>(kPlotFrames);
-    const float offset = static_cast<float>(kPlotFrames - posteriors_.size());
-    for (std::size_t t = 0; t < posteriors_.size(); ++t)
-      for (int k = 0; k < headStates_; ++k) {
-        const float p = posteriors_[t][static_cast<std::size_t>(k)];
+    const float offset = static_cast<float>(kPlotFrames - posteriors.frames.size());
+    for (std::size_t t = 0; t < posteriors.frames.size(); ++t)
+      for (int k = 0; k < posteriors.states; ++k) {
+        const float p = posteriors.frames[t][static_cast<std::size_t>(k)];
         if (p < 0.02f) continue;
         const auto level = static_cast<int>(std::lround(40.0 + 215.0 * std::min(1.0f, p)));
         const float x = origin.x + (offset + static_cast<float>(t)) * column;
-        const float y = origin.y + 3.0f * static_cast<float>(k);
-        draw->AddRectFilled(ImVec2(x, y), ImVec2(x + column + 0.5f, y + 3.0f), IM_COL32(level, level * 3 / 4, 40, 255));
+        const float y = origin.y + row * static_cast<float>(k);
+        draw->AddRectFilled(ImVec2(x, y), ImVec2(x + column + 0.5f, y + row), IM_COL32(level, level * 3 / 4, 40, 255));
       }
     ImGui::Dummy(ImVec2(width, height));
   }
@@ -660,14 +683,15 @@ class LiveWindow {
   } totals_;  // of sessions since replaced
 
   face::FapValues shown_{1.0};
+  face::FapValues lastDecoded_{};  // the decoders' last pose (before idle motion and amplitude)
+  int framesWithout_ = 0;          // display frames since the playout last had a frame
   std::array<char, 512> headPath_{};
   std::array<char, 512> mouthPath_{};
   std::vector<float> waveform_;
   std::size_t waveformAt_ = 0;
   Curve f0_, energy_, jaw_, chosenFap_;
   std::array<Curve, 3> head_;
-  std::deque<std::array<float, pipeline::AnimationFrame::kMaxHeadStates>> posteriors_;
-  int headStates_ = 0;
+  Posteriors headPosteriors_, mouthPosteriors_;
   int plottedFap_ = 5;
   std::deque<double> processingMs_, queueMs_, behindMs_, displayMs_, periodMs_;
   std::array<std::deque<double>, 4> stageMs_;

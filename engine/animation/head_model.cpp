@@ -7,6 +7,7 @@
 #include "animation/mlpg.h"
 #include "core/error.h"
 #include "core/frame_store.h"
+#include "hmm/forward_filter.h"
 #include "hmm/entropic_training.h"
 #include "hmm/forward_backward.h"
 #include "hmm/model_file.h"
@@ -242,18 +243,7 @@ struct HeadSynthesiser::Impl {
   FrameStore<int> decided;               // online trajectory: states decided so far (the recent ones kept)
   FrameStore<Eigen::Vector3d> ready;
   bool finished = false;
-  Eigen::VectorXd filtered;  // forward filter: P(state | prosody so far), normalised
-  bool filterStarted = false;
-
-  void filter(const Eigen::VectorXd& logB) {
-    // Scaled by the largest log-likelihood, so that exp() stays in range.
-    const Eigen::VectorXd b = (logB.array() - logB.maxCoeff()).exp().matrix();
-    Eigen::VectorXd next = filterStarted ? Eigen::VectorXd(decoder.transition.transpose() * filtered) : decoder.initial;
-    next = next.cwiseProduct(b);
-    const double total = next.sum();
-    filtered = total > 0.0 ? Eigen::VectorXd(next / total) : Eigen::VectorXd::Constant(b.size(), 1.0 / static_cast<double>(b.size()));
-    filterStarted = true;
-  }
+  std::unique_ptr<hmm::ForwardFilter> filter;  // P(state | prosody so far), for display
 
   void drain() {
     if (options.variant == HeadVariant::kPosteriorMeans) {
@@ -287,7 +277,7 @@ HeadSynthesiser::HeadSynthesiser(const HeadModel& model, const HeadSynthesisOpti
   impl_->model = model;
   impl_->decoder = prosodyModel(model);
   impl_->tables = tablesOf(model);
-  impl_->filtered = Eigen::VectorXd::Constant(impl_->decoder.numStates(), 1.0 / impl_->decoder.numStates());
+  impl_->filter = std::make_unique<hmm::ForwardFilter>(impl_->decoder);
   if (options.maxLagFrames < 0) return;
   if (options.variant == HeadVariant::kPosteriorMeans) {
     impl_->smoother = std::make_unique<hmm::FixedLagSmoother>(impl_->decoder, options.maxLagFrames);
@@ -305,7 +295,7 @@ void HeadSynthesiser::acceptProsody(const Eigen::Vector4d& prosody) {
     return;
   }
   const Eigen::VectorXd logB = impl_->decoder.emissionLogLikelihoods(prosody).col(0);
-  impl_->filter(logB);
+  impl_->filter->accept(logB);
   if (impl_->smoother) {
     impl_->smoother->acceptFrame(logB);
   } else {
@@ -349,7 +339,7 @@ void HeadSynthesiser::forgetBefore(int frame) {
   impl_->decided.forgetBefore(f > window ? f - window : 0);
 }
 
-const Eigen::VectorXd& HeadSynthesiser::filteredPosterior() const { return impl_->filtered; }
+const Eigen::VectorXd& HeadSynthesiser::filteredPosterior() const { return impl_->filter->posterior(); }
 
 int HeadSynthesiser::numStates() const { return impl_->decoder.numStates(); }
 

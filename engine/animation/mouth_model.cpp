@@ -197,7 +197,8 @@ MouthSynthesiser::MouthSynthesiser(const MouthModel& model, const MouthSynthesis
       stream_(inverter_,
               options.method == MouthMethod::kMmse ? hmm::StreamingInverter::Method::kMmse
                                                    : hmm::StreamingInverter::Method::kInversion,
-              options.windowFrames) {
+              options.windowFrames),
+      filter_(inverter_.audioModel()) {
   const Eigen::Index width = 2 * model.contextFrames + 1;
   if (inverter_.audioDimension() % width != 0)
     throw Error("mouth synthesis: the model's audio block is not " + std::to_string(width) + " frames of MFCCs");
@@ -222,7 +223,16 @@ void MouthSynthesiser::finish() {
   stream_.finish();
 }
 
-bool MouthSynthesiser::next(Eigen::VectorXd& components) { return stream_.next(components); }
+bool MouthSynthesiser::next(Eigen::VectorXd& components) {
+  if (!stream_.next(components)) return false;
+  if (!posteriors_.empty()) {
+    lastPosterior_ = std::move(posteriors_.front());
+    posteriors_.pop_front();
+  }
+  return true;
+}
+
+int MouthSynthesiser::numStates() const { return inverter_.audioModel().numStates(); }
 
 int MouthSynthesiser::lookaheadFrames() const {
   return model_.contextFrames + std::max(stream_.windowFrames(), 1) - 1;
@@ -237,6 +247,8 @@ void MouthSynthesiser::stackFrame(Eigen::Index t) {
     const Eigen::Index source = std::clamp<Eigen::Index>(t + offset, 0, received_ - 1);
     stacked.segment(rows * (offset + tc), rows) = recent_.col(source % recent_.cols());
   }
+  filter_.accept(inverter_.audioModel().emissionLogLikelihoods(stacked).col(0));
+  posteriors_.push_back(filter_.posterior());
   stream_.accept(stacked);
 }
 

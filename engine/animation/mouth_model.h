@@ -12,6 +12,8 @@
 // Thread contract: models are values; synthesis is a pure function.
 #pragma once
 
+#include <deque>
+
 #include <Eigen/Core>
 #include <filesystem>
 #include <optional>
@@ -21,6 +23,7 @@
 #include "animation/mouth_data.h"
 #include "animation/visual_basis.h"
 #include "hmm/hmm_model.h"
+#include "hmm/forward_filter.h"
 #include "hmm/inversion.h"
 
 namespace th::animation {
@@ -82,6 +85,10 @@ class MouthSynthesiser {
   bool next(Eigen::VectorXd& components);                          // K values, if a frame is ready
   int lookaheadFrames() const;  // the most frames a frame waits past its own: tc + window - 1
   int lastIterations() const { return stream_.lastIterations(); }
+  // P(state | audio up to the frame) under the model's audio marginal (its forward filter) for the frame the
+  // last next() gave: for a display of the model's belief.
+  const Eigen::VectorXd& posterior() const { return lastPosterior_; }
+  int numStates() const;
 
  private:
   void stackFrame(Eigen::Index t);  // frame t of the context-stacked audio into the inverter
@@ -89,6 +96,9 @@ class MouthSynthesiser {
   const MouthModel& model_;
   hmm::HmmInverter inverter_;
   hmm::StreamingInverter stream_;
+  hmm::ForwardFilter filter_;                    // over inverter_.audioModel()
+  std::deque<Eigen::VectorXd> posteriors_;       // of frames stacked, not yet given by next()
+  Eigen::VectorXd lastPosterior_;
   Eigen::MatrixXd recent_;  // the last 2 tc + 1 MFCC frames, circular by frame number
   Eigen::Index received_ = 0;
   Eigen::Index stacked_ = 0;

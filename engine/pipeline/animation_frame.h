@@ -29,6 +29,10 @@ struct AnimationFrame {
   static constexpr int kMaxHeadStates = 32;
   std::array<float, kMaxHeadStates> headPosterior{};
   int headStates = 0;
+  // The mouth model's: P(state | audio up to this frame) under its audio marginal.
+  static constexpr int kMaxMouthStates = 16;
+  std::array<float, kMaxMouthStates> mouthPosterior{};
+  int mouthStates = 0;
   double jawDegrees = 0.0;
   // Steady-clock times (ns) set by the live session: when the worker had read the input that released this
   // frame, and when the frame left the decoder.

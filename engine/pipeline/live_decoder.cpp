@@ -108,6 +108,9 @@ void LiveDecoder::pull() {
       mouthFrames_.push_back({.energy = mouthExtractor_.getEnergy(frame),
                               .levelDb = mouthExtractor_.getLevelDb(frame),
                               .jawDegrees = animation::jawOpeningOf(*mouth_, components)[0]});
+      const Eigen::VectorXd& posterior = mouthStream_->posterior();
+      for (Eigen::Index k = 0; k < std::min<Eigen::Index>(posterior.size(), AnimationFrame::kMaxMouthStates); ++k)
+        mouthFrames_.back().posterior[static_cast<std::size_t>(k)] = static_cast<float>(posterior[k]);
     }
     // The energies of frames the mouth has not given yet are still to be read; nothing older is.
     mouthExtractor_.forgetBefore(nextIndex_ + static_cast<int>(mouthFrames_.size()));
@@ -154,6 +157,8 @@ bool LiveDecoder::next(AnimationFrame& frame) {
     mouthFrames_.pop_front();
     frame.energy = mouth.energy;
     frame.levelDb = mouth.levelDb;
+    frame.mouthPosterior = mouth.posterior;
+    frame.mouthStates = std::min(mouthStream_->numStates(), AnimationFrame::kMaxMouthStates);
     frame.jawDegrees = mouth.jawDegrees;
     const Eigen::MatrixXd faps = animation::mouthFaps(*mouth_->fapMap, Eigen::RowVectorXd::Constant(1, frame.jawDegrees));
     for (std::size_t i = 0; i < mouthFaps_.size(); ++i)

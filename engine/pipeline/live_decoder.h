@@ -90,6 +90,7 @@ class LiveDecoder : public FrameDecoder {
   struct MouthFrame {
     double energy = 0.0;
     double levelDb = 0.0;
+    std::array<float, AnimationFrame::kMaxMouthStates> posterior{};
     double jawDegrees = 0.0;
   };
 

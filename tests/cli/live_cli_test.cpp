@@ -100,7 +100,7 @@ TEST_F(LiveCliTest, TheWindowDrawsTheFaceAndThePanelAndKeepsItsSettings) {
   const std::string prefix =
       "ASAN_OPTIONS=detect_leaks=0 timeout 120 xvfb-run -a -s '-screen 0 1280x800x24' " + std::string(TALKINGHEAD_CLI);
   const std::string first = prefix + " live --input " + speech().string() + " --settings " + settings.string() +
-                            " --screenshot " + shot.string() + " --frames 120 --window 3 --head paper > " +
+                            " --screenshot " + shot.string() + " --frames 300 --window 3 --head paper > " +
                             (logs() / "window.txt").string() + " 2>&1";
   ASSERT_EQ(std::system(first.c_str()), 0) << th::test::readText(logs() / "window.txt");
   const std::string log = th::test::readText(logs() / "window.txt");

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <random>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -135,6 +136,25 @@ TEST(LiveDecoder, ShowsTheMouthAtOnceAndTheHeadLate) {
   EXPECT_LT(mouthError, 1e-9);
   EXPECT_LT(headError, 1e-9);
   EXPECT_GT(headMoved, 1.0) << "the head moves";
+  // The frames carry both models' state posteriors (forward filters), each a distribution that moves.
+  std::set<int> headLikeliest;
+  std::set<int> mouthLikeliest;
+  for (const AnimationFrame& f : frames) {
+    ASSERT_EQ(f.headStates, models().head.hmm.numStates());
+    ASSERT_EQ(f.mouthStates, models().mouth.hmm.numStates());
+    double headSum = 0.0;
+    double mouthSum = 0.0;
+    for (int k = 0; k < f.headStates; ++k) headSum += f.headPosterior[static_cast<std::size_t>(k)];
+    for (int k = 0; k < f.mouthStates; ++k) mouthSum += f.mouthPosterior[static_cast<std::size_t>(k)];
+    EXPECT_NEAR(headSum, f.prosodyIndex >= 0 ? 1.0 : 0.0, 1e-4) << "no head before the head's delay";
+    EXPECT_NEAR(mouthSum, 1.0, 1e-4);
+    headLikeliest.insert(static_cast<int>(std::max_element(f.headPosterior.begin(), f.headPosterior.begin() + f.headStates) -
+                                          f.headPosterior.begin()));
+    mouthLikeliest.insert(static_cast<int>(
+        std::max_element(f.mouthPosterior.begin(), f.mouthPosterior.begin() + f.mouthStates) - f.mouthPosterior.begin()));
+  }
+  EXPECT_GT(headLikeliest.size(), 3U);
+  EXPECT_GT(mouthLikeliest.size(), 2U);
 }
 
 // An endless stream in bounded memory: three minutes of speech (the same 12 s over and over), and what the
