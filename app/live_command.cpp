@@ -208,10 +208,12 @@ void runHeadless(const LiveArguments& arguments, const LiveSettings& settings, b
       if ((arguments.duration > 0.0 && elapsed >= arguments.duration) || InterruptGuard::requested() || lost) {
         deviceLost = lost;
         seconds = elapsed;
-        capture.reset();
+        // Closed on a thread of its own: closing a stream whose sound server died can block in PortAudio.
+        if (!audio::closeInBackground(std::move(capture), std::move(system), std::chrono::milliseconds(2000)))
+          std::fprintf(stderr, "talkinghead: %s: PortAudio has not closed it in 2 s; left closing\n", source.c_str());
         session->endOfInput();
       }
-    } else if (InterruptGuard::requested()) {
+    } else if (feeder && InterruptGuard::requested()) {
       feeder->stop();
     }
     next += tick;

@@ -43,6 +43,7 @@ namespace th::app {
 namespace {
 
 constexpr double kRetrySeconds = 2.0;   // a lost or missing sound input is tried again this often
+constexpr std::chrono::milliseconds kClosePatience{2000};  // waited for a sound stream to close
 constexpr std::size_t kPlotFrames = 300;  // 10 s of frames in the plots
 constexpr double kWaveformSeconds = 2.0;
 constexpr std::size_t kStatFrames = 150;  // the latency figures are medians over the last 5 s
@@ -146,6 +147,7 @@ class LiveWindow {
 
   ~LiveWindow() {
     stopSource();
+    stopPlayback();
     ImGui_ImplOpenGL3_Shutdown();
     ImGui_ImplGlfw_Shutdown();
     ImGui::DestroyContext();
@@ -309,14 +311,20 @@ class LiveWindow {
 
   void stopSource() {
     feeder_.reset();
-    capture_.reset();
+    // Closed on a thread of its own: closing a stream whose sound server died can block in PortAudio.
+    if ((capture_ || system_) && !audio::closeInBackground(std::move(capture_), std::move(system_), kClosePatience))
+      std::cerr << "talkinghead: " << sourceName_ << ": PortAudio has not closed it in 2 s; left closing\n";
     if (session_) {
       const pipeline::SessionCounters counters = session_->counters();
       totals_.framesDropped += counters.framesDropped;
       totals_.overrunSamples += counters.overrunSamples;
     }
     session_.reset();
-    system_.reset();
+  }
+
+  void stopPlayback() {
+    if ((playback_ || outputSystem_) && !audio::closeInBackground(std::move(playback_), std::move(outputSystem_), kClosePatience))
+      std::cerr << "talkinghead: the sound output: PortAudio has not closed it in 2 s; left closing\n";
   }
 
   void superviseSource() {
@@ -324,8 +332,7 @@ class LiveWindow {
       // The output went away: stop playing (PortAudio's threads with it), keep the face going.
       playbackNote_ = "not played aloud: " + playback_->device().name + " went away";
       std::cerr << "talkinghead: " << playbackNote_ << '\n';
-      playback_.reset();
-      outputSystem_.reset();
+      stopPlayback();
     }
     if (!session_) {
       if (secondsSince(lastAttempt_) >= kRetrySeconds) startSource();

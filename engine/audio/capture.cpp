@@ -8,7 +8,11 @@
 
 #include <algorithm>
 #include <chrono>
+#include <condition_variable>
+#include <functional>
+#include <mutex>
 #include <string>
+#include <thread>
 
 #include "core/error.h"
 
@@ -21,9 +25,18 @@ Error portAudioError(const std::string& what, PaError code) {
   return Error(what + ": " + Pa_GetErrorText(code));
 }
 
+// PortAudio is not thread-safe: its start-up and shut-down (reference-counted) and its list of open streams
+// are shared. Those calls take this lock, so that a stream can be closed on another thread while the owner
+// opens a new one. Aborting a stream does not take it: that is the call that can block for good.
+std::mutex& portAudioLock() {
+  static std::mutex lock;
+  return lock;
+}
+
 // Opens and starts a stream (input, output or both), or throws naming it.
 void* openStream(const PaStreamParameters* input, const PaStreamParameters* output, double rateHz,
                  PaStreamCallback* callback, void* self, const std::string& named) {
+  const std::lock_guard<std::mutex> hold(portAudioLock());
   PaStream* stream = nullptr;
   PaError code = Pa_OpenStream(&stream, input, output, rateHz, kFramesPerBuffer, paNoFlag, callback, self);
   if (code != paNoError) throw portAudioError(named + ": cannot open", code);
@@ -40,16 +53,42 @@ void* openStream(const PaStreamParameters* input, const PaStreamParameters* outp
 void closeStream(void* stream) {
   if (stream == nullptr) return;
   Pa_AbortStream(static_cast<PaStream*>(stream));
+  const std::lock_guard<std::mutex> hold(portAudioLock());
   Pa_CloseStream(static_cast<PaStream*>(stream));
+}
+
+std::atomic<int> unfinishedCloses{0};
+
+// Runs `close` on a detached thread; waits for it at most `patience`.
+bool runWithin(std::function<void()> close, std::chrono::milliseconds patience) {
+  struct Done {
+    std::mutex lock;
+    std::condition_variable changed;
+    bool done = false;
+  };
+  auto done = std::make_shared<Done>();
+  unfinishedCloses.fetch_add(1);
+  std::thread([close = std::move(close), done] {
+    close();
+    unfinishedCloses.fetch_sub(1);
+    const std::lock_guard<std::mutex> hold(done->lock);
+    done->done = true;
+    done->changed.notify_all();
+  }).detach();
+  std::unique_lock<std::mutex> wait(done->lock);
+  return done->changed.wait_for(wait, patience, [&] { return done->done; });
 }
 
 std::int64_t steadyNs() {
   return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
 
-// Blocks that were coming have stopped for a second. Before the first (0) it is not a stall: a PulseAudio
-// monitor can take 2 s for its first block.
-bool stalled(std::int64_t lastCallbackNs) { return lastCallbackNs != 0 && steadyNs() - lastCallbackNs > 1'000'000'000; }
+// Blocks that were coming have stopped for a second, or the first has not come in 4 s (a PulseAudio monitor can
+// take 2 s for its first block; a server that dies before it sends one leaves the stream waiting for good).
+bool stalled(std::int64_t openedNs, std::int64_t lastCallbackNs) {
+  const std::int64_t now = steadyNs();
+  return lastCallbackNs == 0 ? now - openedNs > 4'000'000'000 : now - lastCallbackNs > 1'000'000'000;
+}
 
 bool streamActive(void* stream) { return stream != nullptr && Pa_IsStreamActive(static_cast<PaStream*>(stream)) == 1; }
 
@@ -79,14 +118,50 @@ PortAudioSystem::PortAudioSystem() {
   const int savedStderr = ::dup(STDERR_FILENO);
   const int devNull = ::open("/dev/null", O_WRONLY | O_CLOEXEC);
   if (savedStderr >= 0 && devNull >= 0) ::dup2(devNull, STDERR_FILENO);
-  const PaError code = Pa_Initialize();
+  PaError code = paNoError;
+  {
+    const std::lock_guard<std::mutex> hold(portAudioLock());
+    code = Pa_Initialize();
+  }
   if (savedStderr >= 0 && devNull >= 0) ::dup2(savedStderr, STDERR_FILENO);
   if (devNull >= 0) ::close(devNull);
   if (savedStderr >= 0) ::close(savedStderr);
   if (code != paNoError) throw portAudioError("PortAudio cannot start", code);
 }
 
-PortAudioSystem::~PortAudioSystem() { Pa_Terminate(); }
+PortAudioSystem::~PortAudioSystem() {
+  const std::lock_guard<std::mutex> hold(portAudioLock());
+  Pa_Terminate();
+}
+
+void CallbackGate::detach() {
+  detached_.store(true, std::memory_order_seq_cst);
+  while (inside_.load(std::memory_order_seq_cst)) std::this_thread::yield();
+}
+
+bool closeInBackground(std::unique_ptr<Capture> capture, std::unique_ptr<PortAudioSystem> system,
+                       std::chrono::milliseconds patience) {
+  if (capture) capture->detachFromRing();
+  std::shared_ptr<Capture> stream = std::move(capture);
+  std::shared_ptr<PortAudioSystem> owner = std::move(system);
+  return runWithin([stream = std::move(stream), owner = std::move(owner)]() mutable {
+    stream.reset();  // the stream before its PortAudio
+    owner.reset();
+  }, patience);
+}
+
+bool closeInBackground(std::unique_ptr<Playback> playback, std::unique_ptr<PortAudioSystem> system,
+                       std::chrono::milliseconds patience) {
+  if (playback) playback->detachFromRing();
+  std::shared_ptr<Playback> stream = std::move(playback);
+  std::shared_ptr<PortAudioSystem> owner = std::move(system);
+  return runWithin([stream = std::move(stream), owner = std::move(owner)]() mutable {
+    stream.reset();
+    owner.reset();
+  }, patience);
+}
+
+int closesUnfinished() { return unfinishedCloses.load(); }
 
 std::vector<AudioDevice> PortAudioSystem::devices() const {
   std::vector<AudioDevice> all;
@@ -156,20 +231,27 @@ Capture::Capture(const PortAudioSystem& system, std::optional<int> device, doubl
   rateHz_ = Pa_IsFormatSupported(&input, nullptr, rateHz) == paFormatIsSupported ? rateHz : device_.defaultRateHz;
   mono_.resize(kFramesPerBuffer);
   stream_ = openStream(&input, nullptr, rateHz_, &Capture::callback, this, named);
+  openedNs_ = steadyNs();
 }
 
 Capture::~Capture() { closeStream(stream_); }
 
-bool Capture::active() const { return streamActive(stream_) && !stalled(lastCallbackNs_.load(std::memory_order_relaxed)); }
+bool Capture::active() const {
+  return streamActive(stream_) && !stalled(openedNs_, lastCallbackNs_.load(std::memory_order_relaxed));
+}
 
 int Capture::callback(const void* input, void*, unsigned long frames, const PaStreamCallbackTimeInfo*,
                       unsigned long statusFlags, void* self) {
   auto& capture = *static_cast<Capture*>(self);
+  if (!capture.gate_.enter()) return paContinue;  // being closed: the ring may be gone
   capture.callbacks_.fetch_add(1, std::memory_order_relaxed);
   // A clock read (vDSO: no lock, no allocation) for the stall watchdog in active().
   capture.lastCallbackNs_.store(steadyNs(), std::memory_order_relaxed);
   if ((statusFlags & paInputOverflow) != 0) capture.overflows_.fetch_add(1, std::memory_order_relaxed);
-  if (input == nullptr) return paContinue;
+  if (input == nullptr) {
+    capture.gate_.leave();
+    return paContinue;
+  }
   const auto* samples = static_cast<const float*>(input);
   const int channels = capture.channels_;
   // Blocks are kFramesPerBuffer long (PortAudio keeps the asked size); a longer one is taken in parts.
@@ -183,6 +265,7 @@ int Capture::callback(const void* input, void*, unsigned long frames, const PaSt
     capture.ring_.write(capture.mono_.data(), n);
     done += n;
   }
+  capture.gate_.leave();
   return paContinue;
 }
 
@@ -233,6 +316,10 @@ int Playback::callback(const void*, void* output, unsigned long frames, const Pa
   auto& playback = *static_cast<Playback*>(self);
   auto* out = static_cast<float*>(output);
   const auto channels = static_cast<unsigned long>(playback.channels_);
+  if (!playback.gate_.enter()) {  // being closed: the ring may be gone
+    std::fill_n(out, frames * channels, 0.0f);
+    return paContinue;
+  }
   for (unsigned long done = 0; done < frames;) {
     const unsigned long n = std::min<unsigned long>(frames - done, playback.mono_.size());
     unsigned long filled = 0;
@@ -259,6 +346,7 @@ int Playback::callback(const void*, void* output, unsigned long frames, const Pa
       for (unsigned long c = 0; c < channels; ++c) out[(done + i) * channels + c] = playback.mono_[i];
     done += n;
   }
+  playback.gate_.leave();
   return paContinue;
 }
 

@@ -12,12 +12,16 @@
 // at the asked rate is opened at its own default rate (rateHz() says which); the worker then resamples.
 // Errors (no device, a busy or vanished one) are th::Error naming the device.
 //
-// Thread contract: PortAudioSystem and Capture belong to one thread (the owner's); the callback runs on
-// PortAudio's thread and touches only the ring's producer side and its own buffer.
+// Thread contract: a Capture or Playback belongs to one thread (the owner's); the callback runs on PortAudio's
+// thread and touches only the ring's side it owns and its own buffer. PortAudio's start-up, shut-down and the
+// opening and closing of streams are serialised process-wide, so that a stream can be closed on a thread of
+// its own (closeInBackground).
 #pragma once
 
 #include <atomic>
+#include <chrono>
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -55,6 +59,25 @@ class PortAudioSystem {
 // own default. Throws th::Error as Capture does for a missing device.
 double captureRateFor(const PortAudioSystem& system, std::optional<int> device, double wantedHz);
 
+// Lets the owner stop a callback from touching anything outside its stream (the ring) before the stream
+// is closed, without a lock: the callback enters and leaves; detach() marks it detached and waits for a
+// callback under way to leave (microseconds). A detached callback does nothing.
+class CallbackGate {
+ public:
+  bool enter() {
+    inside_.store(true, std::memory_order_seq_cst);
+    if (!detached_.load(std::memory_order_seq_cst)) return true;
+    inside_.store(false, std::memory_order_seq_cst);
+    return false;
+  }
+  void leave() { inside_.store(false, std::memory_order_seq_cst); }
+  void detach();
+
+ private:
+  std::atomic<bool> detached_{false};
+  std::atomic<bool> inside_{false};
+};
+
 class Capture {
  public:
   // `device`: an index from devices(), or the default input. Throws th::Error if there is none, or it will
@@ -66,12 +89,14 @@ class Capture {
 
   const AudioDevice& device() const { return device_; }
   double rateHz() const { return rateHz_; }
-  // false once the stream has stopped (the device went away, or an error), or once blocks that were coming
-  // have stopped for a second: when its sound server dies, PortAudio's ALSA host can keep the stream "active"
-  // while its thread only reports errors.
+  // false once the stream has stopped (the device went away, or an error), once blocks that were coming have
+  // stopped for a second, or when none has come in the first 4 s: when its sound server dies, PortAudio's
+  // ALSA host can keep the stream "active" while its thread only reports errors.
   bool active() const;
   std::uint64_t callbacks() const { return callbacks_.load(std::memory_order_relaxed); }
   std::uint64_t inputOverflows() const { return overflows_.load(std::memory_order_relaxed); }  // PortAudio's own
+  // From now on the callback leaves the ring alone (it may then be destroyed before the stream is closed).
+  void detachFromRing() { gate_.detach(); }
 
  private:
   // PortAudio's PaStreamCallback exactly (PaStreamCallbackFlags is an unsigned long).
@@ -86,7 +111,9 @@ class Capture {
   void* stream_ = nullptr;   // PaStream
   std::atomic<std::uint64_t> callbacks_{0};
   std::atomic<std::uint64_t> overflows_{0};
+  std::int64_t openedNs_ = 0;                      // steady clock
   std::atomic<std::int64_t> lastCallbackNs_{0};  // steady clock; 0 until the first block
+  CallbackGate gate_;
 };
 
 // Plays mono samples from a ring on an output device (the default, or a chosen one), starting setDelay()
@@ -107,6 +134,7 @@ class Playback {
   bool active() const;  // false once the stream has stopped
   double outputLatencySeconds() const;  // PortAudio's estimate: from the callback to the speaker
   std::uint64_t underruns() const { return underruns_.load(std::memory_order_relaxed); }
+  void detachFromRing() { gate_.detach(); }  // as Capture's
 
  private:
   static int callback(const void* input, void* output, unsigned long frames, const PaStreamCallbackTimeInfo* timeInfo,
@@ -122,6 +150,18 @@ class Playback {
   bool started_ = false;           // the callback's own: samples have arrived
   void* stream_ = nullptr;
   std::atomic<std::uint64_t> underruns_{0};
+  CallbackGate gate_;
 };
+
+// Closes a stream, then lets go of its PortAudio, on a thread of their own, and waits at most `patience` for
+// that: true if it finished in time. PortAudio's ALSA host can block for good closing a stream whose sound
+// server died (its thread spins on the errors and never reaches the point where it can be stopped); the
+// caller then goes on, and may open another stream meanwhile. The stream is detached from its ring first, so
+// the ring may go at once. A thread that never finishes keeps only what it was given.
+bool closeInBackground(std::unique_ptr<Capture> capture, std::unique_ptr<PortAudioSystem> system,
+                       std::chrono::milliseconds patience);
+bool closeInBackground(std::unique_ptr<Playback> playback, std::unique_ptr<PortAudioSystem> system,
+                       std::chrono::milliseconds patience);
+int closesUnfinished();  // closes begun by closeInBackground that have not returned
 
 }  // namespace th::audio
