@@ -190,6 +190,7 @@ class LiveWindow {
       }
       window_.swapBuffers();
       const auto swapped = std::chrono::steady_clock::now();
+      noteSoundToLips();
       const auto ms = [](auto from, auto to) { return std::chrono::duration<double, std::milli>(to - from).count(); };
       record(displayMs_, ms(drawStart, swapped));
       record(stageMs_[0], faceSetupMs_);
@@ -214,6 +215,7 @@ class LiveWindow {
                   allPeriodsMs_.size(), 1000.0 / medianPeriod, slow, median(stageMs_[0]), median(stageMs_[1]),
                   median(stageMs_[2]), median(stageMs_[3]));
     }
+    reportSoundToLips();
   }
 
  private:
@@ -239,25 +241,25 @@ class LiveWindow {
 
   // --- the sound source and its session -------------------------------------------------------------------
 
-  // A recording is played aloud, delayed by what the pipeline takes to show it (the decoder's look-ahead and
-  // about 25 ms of display: the wait for the next tick, drawing, the swap) less what the sound device itself
-  // takes, so that the lips meet their sound. Without an output device the face still moves.
+  // A recording is played aloud, and the sound is the face's clock: each frame shows the instant heard when
+  // it is swapped in. The sound is scheduled late enough for that instant's frame to be there: the decoder's
+  // look-ahead, plus 60 ms for the worker's cadence and processing (frames arrived 62 ms after their instant
+  // at the median, 76-80 ms at the 99th percentile, with a 46 ms look-ahead), half a frame (the nearest frame
+  // is shown) and drawing. A recording has no latency to save: only its sync matters. Without an output
+  // device the face still moves, on the playout's own clock.
   void startPlayback() {
     try {
-      const double pipelineSeconds =
-          (pipeline::LiveDecoder(models_->head.get(), models_->mouth.get(), decoderOptionsOf(settings_)).lookahead().totalMs +
-           25.0) / 1000.0;
+      playbackLatencyMs_ =
+          pipeline::LiveDecoder(models_->head.get(), models_->mouth.get(), decoderOptionsOf(settings_)).lookahead().totalMs + 60.0;
       outputSystem_ = std::make_unique<audio::PortAudioSystem>();
       playbackRing_ = std::make_unique<pipeline::AudioRing>(2 * features::OnlineFeatureExtractor::kSampleRateHz);
       playback_ = std::make_unique<audio::Playback>(*outputSystem_, std::nullopt, features::OnlineFeatureExtractor::kSampleRateHz,
                                                     *playbackRing_);
-      // The device's own latency is taken off the delay.
-      playbackDelayMs_ = 1000.0 * std::max(0.0, pipelineSeconds - playback_->outputLatencySeconds());
-      playback_->setDelay(playbackDelayMs_ / 1000.0);
+      playbackOpened_ = std::chrono::steady_clock::now();
       playbackNote_ = "played on " + playback_->device().name;
-      std::cout << "playing aloud: " << playback_->device().name << ", delayed " << std::lround(playbackDelayMs_)
-                << " ms (the device's latency " << std::lround(playback_->outputLatencySeconds() * 1000.0) << " ms)"
-                << std::endl;
+      std::cout << "playing aloud: " << playback_->device().name << ", " << std::lround(playbackLatencyMs_)
+                << " ms after the face's input (the device's latency " << std::lround(playback_->outputLatencySeconds() * 1000.0)
+                << " ms)" << std::endl;
     } catch (const Error& error) {
       playback_.reset();
       playbackRing_.reset();
@@ -268,6 +270,13 @@ class LiveWindow {
   }
 
   void startSource() {
+    // A recording waits (3 s at most) for the sound output to start asking for blocks: PulseAudio wakes a
+    // suspended sink first, and the sound would have to skip what it missed to stay in step with the face.
+    if (!recording_.empty() && playback_ && playback_->callbacks() < 4 && secondsSince(playbackOpened_) < 3.0) {
+      if (!session_) lastAttempt_ = std::chrono::steady_clock::now() - std::chrono::seconds(10);  // again next frame
+      sourceName_ = arguments_.input + " (in a loop; waiting for the sound output)";
+      return;
+    }
     stopSource();
     sourceError_.clear();
     lastAttempt_ = std::chrono::steady_clock::now();
@@ -293,6 +302,11 @@ class LiveWindow {
         capture_ = std::make_unique<audio::Capture>(*system_, index, rate, session_->ring());
         sourceName_ = "sound input " + std::to_string(capture_->device().index) + ": " + capture_->device().name;
       } else {
+        // This pass's first sample is heard the pipeline's latency after the feeder starts.
+        if (playback_) {
+          passStartSample_ = playbackRing_->samplesWritten();
+          playback_->schedule(passStartSample_, pipeline::steadyNanoseconds() + static_cast<std::int64_t>(playbackLatencyMs_ * 1e6));
+        }
         feeder_ = std::make_unique<pipeline::FileFeeder>(*session_, recording_, 1.0, 160, 0, playbackRing_.get());
         sourceName_ = arguments_.input + " (in a loop)";
       }
@@ -391,6 +405,38 @@ class LiveWindow {
     }
   }
 
+  // --- sound to lips ---------------------------------------------------------------------------------------
+  // A recording played aloud: at each swap, the instant of speech heard then (by the playback's clock: its
+  // latest block, that block's time and the device's reported delay) against the instant the face shows.
+  // Over the recording's first pass; when the recording's start was heard is reported too, for a check
+  // against the sound itself (the device test records the sink).
+
+  // The instant of this pass heard at `atNs`; false before the pass is heard, or with no playback.
+  bool heardInstant(std::int64_t atNs, double& seconds) const {
+    double sample = 0.0;
+    if (!feeder_ || !playback_ || !playback_->heardSample(atNs, sample)) return false;
+    seconds = (sample - static_cast<double>(passStartSample_)) / features::OnlineFeatureExtractor::kSampleRateHz;
+    return seconds >= 0.0;
+  }
+
+  void noteSoundToLips() {
+    double heard = 0.0;
+    if (loops_ != 1 || shownSeconds_ < 0.0 || !heardInstant(pipeline::steadyNanoseconds(), heard)) return;
+    if (lateMs_.size() < 100000) lateMs_.push_back((heard - shownSeconds_) * 1000.0);
+  }
+
+  void reportSoundToLips() {
+    if (!playback_ || playback_->firstSoundNs() == 0 || lateMs_.size() < 30) return;
+    std::sort(lateMs_.begin(), lateMs_.end());
+    const auto at = [&](double q) { return lateMs_[static_cast<std::size_t>(q * static_cast<double>(lateMs_.size() - 1))]; };
+    std::printf("sound to lips: the face shows each instant %+.1f ms after it is heard (median of %zu frames; 10-90 %%: "
+                "%+.1f to %+.1f ms); the recording's start heard at %.6f s on the steady clock, by the device's reported "
+                "delay of %.1f ms; the sound scheduled %.1f ms after the input; %llu underruns\n",
+                at(0.5), lateMs_.size(), at(0.1), at(0.9), static_cast<double>(playback_->firstSoundNs()) * 1e-9,
+                playback_->firstDeviceDelaySeconds() * 1000.0, playbackLatencyMs_,
+                static_cast<unsigned long long>(playback_->underruns()));
+  }
+
   // --- the face -------------------------------------------------------------------------------------------
 
   void drawFace() {
@@ -399,9 +445,17 @@ class LiveWindow {
     // jump to the neutral face between two streams.
     face::FapValues faps = lastDecoded_;
     double levelDb = -140.0;  // no sound: silence
-    if (playout_.sample(pipeline::steadyNanoseconds(), sample)) {
+    // A recording heard aloud is the clock: the face shows the instant heard when this frame is swapped in
+    // (now, plus what drawing and the swap have lately taken). Otherwise the playout's own clock.
+    const std::int64_t now = pipeline::steadyNanoseconds();
+    double instant = 0.0;
+    const bool shown = heardInstant(now + static_cast<std::int64_t>(median(displayMs_) * 1e6), instant)
+                           ? playout_.sampleAt(instant, sample)
+                           : playout_.sample(now, sample);
+    if (shown) {
       faps = sample.frame.faps;
       lastDecoded_ = faps;
+      shownSeconds_ = sample.streamSeconds;
       levelDb = sample.frame.levelDb;
       record(behindMs_, sample.behindNewestMs);
       framesWithout_ = 0;
@@ -457,8 +511,8 @@ class LiveWindow {
     }
     if (!recording_.empty()) {
       if (playback_)
-        ImGui::TextWrapped("%s, the sound delayed %.0f ms to meet the lips (device latency %.0f ms), %llu underruns",
-                           playbackNote_.c_str(), playbackDelayMs_, playback_->outputLatencySeconds() * 1000.0,
+        ImGui::TextWrapped("%s, heard %.0f ms after it goes in, to meet the lips (device latency %.0f ms), %llu underruns",
+                           playbackNote_.c_str(), playbackLatencyMs_, playback_->outputLatencySeconds() * 1000.0,
                            static_cast<unsigned long long>(playback_->underruns()));
       else
         ImGui::TextWrapped("%s", playbackNote_.c_str());
@@ -670,7 +724,11 @@ class LiveWindow {
   std::unique_ptr<pipeline::AudioRing> playbackRing_;
   std::unique_ptr<audio::Playback> playback_;
   std::string playbackNote_;
-  double playbackDelayMs_ = 0.0;
+  std::chrono::steady_clock::time_point playbackOpened_;
+  double playbackLatencyMs_ = 0.0;  // a sample is heard this long after it goes into the pipeline
+  std::uint64_t passStartSample_ = 0;  // the playback ring's sample count when this pass began
+  double shownSeconds_ = -1.0;         // the instant of speech drawn this frame (-1: none yet)
+  std::vector<double> lateMs_;         // at each swap of the first pass: heard instant - shown instant
   std::unique_ptr<audio::PortAudioSystem> system_;
   std::unique_ptr<pipeline::LiveSession> session_;
   std::unique_ptr<audio::Capture> capture_;

@@ -129,7 +129,8 @@ build_sanitized() {
 # The sanitizer settings apply to everything after this point, including test discovery at build time.
 export ASAN_OPTIONS="${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=1}"
 export UBSAN_OPTIONS="${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}"
-export TSAN_OPTIONS="${TSAN_OPTIONS:-halt_on_error=1:second_deadlock_stack=1}"
+# tests/tsan_suppressions.txt: false reports inside PulseAudio's client library (the file says why).
+export TSAN_OPTIONS="${TSAN_OPTIONS:-halt_on_error=1:second_deadlock_stack=1:suppressions=$repo/tests/tsan_suppressions.txt}"
 
 part "packages" bash scripts/install-packages.sh
 

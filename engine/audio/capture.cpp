@@ -298,8 +298,32 @@ Playback::Playback(const PortAudioSystem&, std::optional<int> device, double rat
 
 Playback::~Playback() { closeStream(stream_); }
 
-void Playback::setDelay(double seconds) {
-  delaySamples_.store(static_cast<std::uint64_t>(std::max(0.0, seconds) * rateHz_), std::memory_order_release);
+// Sequentially consistent throughout: no fences (ThreadSanitizer does not model them), and two values a
+// block are no cost worth saving.
+void SequencedPair::write(std::uint64_t first, std::int64_t second) {
+  const std::uint32_t version = version_.load();
+  version_.store(version + 1);
+  first_.store(first);
+  second_.store(second);
+  version_.store(version + 2);
+}
+
+bool SequencedPair::read(std::uint64_t& first, std::int64_t& second) const {
+  const std::uint32_t version = version_.load();
+  if (version == 0 || (version & 1U) != 0) return false;
+  first = first_.load();
+  second = second_.load();
+  return version_.load() == version;
+}
+
+void Playback::schedule(std::uint64_t ringSample, std::int64_t dueNs) { schedule_.write(ringSample, dueNs); }
+
+bool Playback::heardSample(std::int64_t nowNs, double& ringSample) const {
+  std::uint64_t sample = 0;
+  std::int64_t heardNs = 0;
+  if (!played_.read(sample, heardNs)) return false;
+  ringSample = static_cast<double>(sample) + static_cast<double>(nowNs - heardNs) * 1e-9 * rateHz_;
+  return true;
 }
 
 // Not the capture's stall watchdog: PulseAudio's ALSA plugin asks an output stream for blocks in bursts, with
@@ -311,8 +335,8 @@ double Playback::outputLatencySeconds() const {
   return info != nullptr ? info->outputLatency : 0.0;
 }
 
-int Playback::callback(const void*, void* output, unsigned long frames, const PaStreamCallbackTimeInfo*, unsigned long,
-                       void* self) {
+int Playback::callback(const void*, void* output, unsigned long frames, const PaStreamCallbackTimeInfo* timeInfo,
+                       unsigned long, void* self) {
   auto& playback = *static_cast<Playback*>(self);
   auto* out = static_cast<float*>(output);
   const auto channels = static_cast<unsigned long>(playback.channels_);
@@ -320,27 +344,70 @@ int Playback::callback(const void*, void* output, unsigned long frames, const Pa
     std::fill_n(out, frames * channels, 0.0f);
     return paContinue;
   }
+  playback.callbacks_.fetch_add(1, std::memory_order_relaxed);
+  // When this buffer's first sample will be heard: now, plus the delay PortAudio reports for it. A clock read
+  // (vDSO: no lock, no allocation).
+  const double deviceDelay = timeInfo != nullptr && timeInfo->outputBufferDacTime > timeInfo->currentTime
+                                 ? timeInfo->outputBufferDacTime - timeInfo->currentTime
+                                 : 0.0;
+  const std::int64_t nowNs = steadyNs();
+  const double bufferHeardNs = static_cast<double>(nowNs) + deviceDelay * 1e9;
+  // A ring empty for 100 ms is a pause in the sound (a recording's next pass, a stall): the next samples go
+  // on schedule again. Shorter gaps (the ring short of a block by a few ms) play as silence and the sound
+  // goes on where it was, a little later: skipping samples to catch up would chop it.
+  if (playback.flowing_ && playback.dryFromNs_ != 0 && nowNs - playback.dryFromNs_ > 100'000'000 &&
+      playback.ring_.available() == 0)
+    playback.flowing_ = false;
+  const double nsPerSample = 1e9 / playback.rateHz_;
   for (unsigned long done = 0; done < frames;) {
     const unsigned long n = std::min<unsigned long>(frames - done, playback.mono_.size());
-    unsigned long filled = 0;
-    // Silence until samples arrive, then the delay as silence, then the ring.
-    if (!playback.started_) {
-      if (playback.ring_.available() == 0) {
-        std::fill_n(out + done * channels, n * channels, 0.0f);
-        done += n;
-        continue;
+    const double blockHeardNs = bufferHeardNs + static_cast<double>(done) * nsPerSample;
+    std::fill(playback.mono_.begin(), playback.mono_.begin() + static_cast<long>(n), 0.0f);
+    if (!playback.flowing_ && playback.ring_.available() > 0) {
+      // Samples again (the first, or after the ring ran dry): put the next one where the schedule wants it,
+      // with silence if it is early, by skipping samples if it is late (a device that woke up slowly).
+      playback.flowing_ = true;
+      playback.dryFromNs_ = 0;
+      playback.silenceLeft_ = playback.skipLeft_ = 0;
+      std::uint64_t sample = 0;
+      std::int64_t dueNs = 0;
+      if (playback.schedule_.read(sample, dueNs)) {
+        const double nextDueNs = static_cast<double>(dueNs) +
+                                 (static_cast<double>(playback.read_) - static_cast<double>(sample)) * nsPerSample;
+        const double early = (nextDueNs - blockHeardNs) / nsPerSample;  // in samples
+        if (early > 0.0) playback.silenceLeft_ = static_cast<std::uint64_t>(early);
+        else playback.skipLeft_ = static_cast<std::uint64_t>(-early);
       }
-      playback.started_ = true;
-      playback.silenceLeft_ = playback.delaySamples_.load(std::memory_order_acquire);
     }
-    const auto silent = static_cast<unsigned long>(std::min<std::uint64_t>(playback.silenceLeft_, n));
-    std::fill_n(playback.mono_.begin(), silent, 0.0f);
-    playback.silenceLeft_ -= silent;
-    filled = silent;
-    if (filled < n) {
-      const std::size_t got = playback.ring_.read(playback.mono_.data() + filled, n - filled);
-      if (got < n - filled) playback.underruns_.fetch_add(1, std::memory_order_relaxed);
-      std::fill(playback.mono_.begin() + static_cast<long>(filled + got), playback.mono_.begin() + static_cast<long>(n), 0.0f);
+    if (playback.flowing_) {
+      while (playback.skipLeft_ > 0) {
+        const std::size_t got =
+            playback.ring_.read(playback.mono_.data(), static_cast<std::size_t>(std::min<std::uint64_t>(playback.skipLeft_, n)));
+        if (got == 0) break;
+        playback.skipLeft_ -= got;
+        playback.read_ += got;
+      }
+      std::fill(playback.mono_.begin(), playback.mono_.begin() + static_cast<long>(n), 0.0f);
+      const auto silent = static_cast<unsigned long>(std::min<std::uint64_t>(playback.silenceLeft_, n));
+      playback.silenceLeft_ -= silent;
+      if (playback.skipLeft_ == 0 && silent < n) {
+        const std::size_t got = playback.ring_.read(playback.mono_.data() + silent, n - silent);
+        if (got > 0 && playback.firstSoundNs_.load(std::memory_order_relaxed) == 0) {
+          playback.firstDeviceDelay_.store(deviceDelay, std::memory_order_release);
+          playback.firstSoundNs_.store(static_cast<std::int64_t>(blockHeardNs + (static_cast<double>(silent) -
+                                                                                 static_cast<double>(playback.read_)) * nsPerSample),
+                                       std::memory_order_release);
+        }
+        if (got > 0)
+          playback.played_.write(playback.read_, static_cast<std::int64_t>(blockHeardNs + static_cast<double>(silent) * nsPerSample));
+        playback.read_ += got;
+        if (got < n - silent) {  // ran dry: the rest is silence
+          playback.underruns_.fetch_add(1, std::memory_order_relaxed);
+          if (playback.dryFromNs_ == 0) playback.dryFromNs_ = nowNs;
+        } else {
+          playback.dryFromNs_ = 0;
+        }
+      }
     }
     for (unsigned long i = 0; i < n; ++i)
       for (unsigned long c = 0; c < channels; ++c) out[(done + i) * channels + c] = playback.mono_[i];

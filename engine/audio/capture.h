@@ -78,6 +78,19 @@ class CallbackGate {
   std::atomic<bool> inside_{false};
 };
 
+// A pair of numbers one thread writes and another reads without waiting (a sequence lock): read() fails, rather
+// than wait, if it caught a write half done, or nothing was written yet.
+class SequencedPair {
+ public:
+  void write(std::uint64_t first, std::int64_t second);
+  bool read(std::uint64_t& first, std::int64_t& second) const;
+
+ private:
+  std::atomic<std::uint32_t> version_{0};  // odd while write() runs
+  std::atomic<std::uint64_t> first_{0};
+  std::atomic<std::int64_t> second_{0};
+};
+
 class Capture {
  public:
   // `device`: an index from devices(), or the default input. Throws th::Error if there is none, or it will
@@ -116,16 +129,22 @@ class Capture {
   CallbackGate gate_;
 };
 
-// Plays mono samples from a ring on an output device (the default, or a chosen one), starting setDelay()
-// seconds after the first samples arrive: a recording heard in step with the face, whose frames come the
-// pipeline's latency after the samples go in (set the delay once the stream is open, when its own latency is
-// known). The callback reads the ring into a buffer made at start-up and copies it to the device's channels; a
-// short ring plays silence and counts an underrun. Throws th::Error if there is no output device or it will not
-// play at `rateHz`.
+// Plays mono samples from a ring on an output device (the default, or a chosen one), on a schedule: ring
+// sample k is heard when schedule() says (a recording heard in step with the face, whose frames come the
+// pipeline's latency after the samples go in). Whenever samples come after none (the first, or after the ring
+// was empty for 100 ms), the callback puts the next one on time, by silence if it is early or by skipping
+// samples if it is late: a device that wakes slowly (a suspended PulseAudio sink takes a second or more) costs the start of the
+// sound, not the sync. When a sample is heard is the callback's time plus the delay PortAudio reports for its
+// buffer. The callback reads the ring into a buffer made at start-up and copies it to the device's channels;
+// a short ring plays silence and counts an underrun. Throws th::Error if there is no output device or it will
+// not play at `rateHz`.
 class Playback {
  public:
   Playback(const PortAudioSystem& system, std::optional<int> device, double rateHz, pipeline::AudioRing& ring);
-  void setDelay(double seconds);  // before the ring's first samples; later calls are ignored
+  // Ring sample `ringSample` (counting every sample the ring has taken) is to be heard at `dueNs` (steady
+  // clock), and those after it at the sample rate. Used when samples next come after none; may be called again
+  // (a recording's next pass).
+  void schedule(std::uint64_t ringSample, std::int64_t dueNs);
   ~Playback();
   Playback(const Playback&) = delete;
   Playback& operator=(const Playback&) = delete;
@@ -134,6 +153,18 @@ class Playback {
   bool active() const;  // false once the stream has stopped
   double outputLatencySeconds() const;  // PortAudio's estimate: from the callback to the speaker
   std::uint64_t underruns() const { return underruns_.load(std::memory_order_relaxed); }
+  // Blocks the device has asked for: a sound server wakes a suspended output before it asks (a second or
+  // more), and sound written meanwhile would be late.
+  std::uint64_t callbacks() const { return callbacks_.load(std::memory_order_relaxed); }
+  // The ring sample heard at `nowNs` (steady clock), fractional: the sound's clock, for a picture to follow
+  // (by the latest block played, its time and the device's reported delay). False until samples have played.
+  bool heardSample(std::int64_t nowNs, double& ringSample) const;
+  // When ring sample 0 is heard (steady clock, ns; 0 until samples have been played), as reckoned by the
+  // callback that first played some: its time plus the delay PortAudio reports for its buffer
+  // (outputBufferDacTime - currentTime), less the samples skipped. With no underrun since, sample k is heard
+  // at firstSoundNs() + k / rate.
+  std::int64_t firstSoundNs() const { return firstSoundNs_.load(std::memory_order_acquire); }
+  double firstDeviceDelaySeconds() const { return firstDeviceDelay_.load(std::memory_order_acquire); }
   void detachFromRing() { gate_.detach(); }  // as Capture's
 
  private:
@@ -145,11 +176,19 @@ class Playback {
   pipeline::AudioRing& ring_;
   std::vector<float> mono_;
   double rateHz_ = 0.0;
-  std::atomic<std::uint64_t> delaySamples_{0};
-  std::uint64_t silenceLeft_ = 0;  // the callback's own: what is left of the delay
-  bool started_ = false;           // the callback's own: samples have arrived
+  SequencedPair schedule_;  // ring sample, when it is due (steady ns)
+  SequencedPair played_;    // the latest block's first ring sample, when it is heard (steady ns)
+  // The callback's own:
+  std::uint64_t read_ = 0;         // ring samples taken (played or skipped)
+  bool flowing_ = false;           // samples are coming; false at first and after the ring was empty 100 ms
+  std::int64_t dryFromNs_ = 0;     // when the ring last ran short (0: it has not since samples came)
+  std::uint64_t silenceLeft_ = 0;  // to play before the next sample, which is early
+  std::uint64_t skipLeft_ = 0;     // to drop, which are late
   void* stream_ = nullptr;
   std::atomic<std::uint64_t> underruns_{0};
+  std::atomic<std::uint64_t> callbacks_{0};
+  std::atomic<std::int64_t> firstSoundNs_{0};
+  std::atomic<double> firstDeviceDelay_{0.0};
   CallbackGate gate_;
 };
 

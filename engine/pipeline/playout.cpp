@@ -73,7 +73,26 @@ bool Playout::sample(std::int64_t nowNs, PlayoutSample& out) {
   lastNowNs_ = nowNs;
   const double stream = static_cast<double>(std::max(nowNs - offsetNs_, lastStreamNs)) * 1e-9;
   lastStreamSeconds_ = stream;
+  pick(stream, out);
+  return true;
+}
 
+bool Playout::sampleAt(double streamSeconds, PlayoutSample& out) {
+  if (frames_.empty()) return false;
+  lateness_.clear();  // no clock of its own meanwhile
+  const double stream = std::max(streamSeconds, lastStreamSeconds_);  // never back
+  lastStreamSeconds_ = stream;
+  pick(stream, out);
+  if (!options_.interpolate) {  // the frame nearest the instant, not a blend: 30 steps a second
+    const bool next = frames_.size() > 1 && stream - frames_[0].index / options_.framesPerSecond >
+                                                frames_[1].index / options_.framesPerSecond - stream;
+    out.frame = frames_[next ? 1 : 0];
+    out.streamSeconds = out.frame.index / options_.framesPerSecond;
+  }
+  return true;
+}
+
+void Playout::pick(double stream, PlayoutSample& out) {
   // Frames before the one at or just before `stream` are done with (one stays, to hold when starved).
   const auto timeOf = [this](const AnimationFrame& frame) { return frame.index / options_.framesPerSecond; };
   while (frames_.size() > 1 && timeOf(frames_[1]) <= stream) frames_.pop_front();
@@ -86,7 +105,7 @@ bool Playout::sample(std::int64_t nowNs, PlayoutSample& out) {
     out.starved = frames_.size() == 1 && stream > timeOf(before);
     if (out.starved) ++starved_;
     out.frame = before;
-    return true;
+    return;
   }
   const AnimationFrame& after = frames_[1];
   const double w = std::clamp((stream - timeOf(before)) / (timeOf(after) - timeOf(before)), 0.0, 1.0);
@@ -94,7 +113,6 @@ bool Playout::sample(std::int64_t nowNs, PlayoutSample& out) {
   for (std::size_t n = 0; n < before.faps.size(); ++n) out.frame.faps[n] = (1.0 - w) * before.faps[n] + w * after.faps[n];
   out.frame.headDegrees = (1.0 - w) * before.headDegrees + w * after.headDegrees;
   out.frame.jawDegrees = (1.0 - w) * before.jawDegrees + w * after.jawDegrees;
-  return true;
 }
 
 }  // namespace th::pipeline

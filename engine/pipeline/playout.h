@@ -48,6 +48,10 @@ class Playout {
 
   void push(const AnimationFrame& frame, std::int64_t arrivalNs);  // frames in index order
   bool sample(std::int64_t nowNs, PlayoutSample& out);             // false until the first frame
+  // The animation at an instant another clock gives (the sound being heard): interpolated, or without
+  // interpolation the frame nearest that instant; the newest frame if it has not come yet (counted as starved).
+  // The instant never goes back. False until the first frame.
+  bool sampleAt(double streamSeconds, PlayoutSample& out);
   void reset();                                                    // a new stream (frame 0 again)
 
   int framesBuffered() const { return static_cast<int>(frames_.size()); }
@@ -55,6 +59,7 @@ class Playout {
 
  private:
   std::int64_t targetOffsetNs() const;
+  void pick(double streamSeconds, PlayoutSample& out);  // drops frames done with; fills out
 
   PlayoutOptions options_;
   std::deque<AnimationFrame> frames_;

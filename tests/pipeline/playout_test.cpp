@@ -141,4 +141,33 @@ TEST(Playout, WithoutInterpolationShowsTheNewestFrameAtOnce) {
   EXPECT_EQ(playout.framesBuffered(), 1);
 }
 
+// Another clock (the sound being heard) says which instant to show: interpolated between the frames around
+// it, or the frame nearest that instant without interpolation; never back; the newest frame, counted as starved,
+// when the instant is past it.
+TEST(Playout, ShowsTheInstantAnotherClockGives) {
+  Playout smooth;
+  Playout steps(th::pipeline::PlayoutOptions{.interpolate = false});
+  PlayoutSample sample;
+  EXPECT_FALSE(smooth.sampleAt(0.0, sample));
+  for (int i = 0; i < 10; ++i) {
+    smooth.push(rampFrame(i), 0);
+    steps.push(rampFrame(i), 0);
+  }
+  ASSERT_TRUE(smooth.sampleAt(2.5 / 30.0, sample));
+  EXPECT_NEAR(sample.frame.faps[3], 25.0, 1e-9);
+  EXPECT_NEAR(sample.frame.headDegrees.x(), 2.5, 1e-9);
+  ASSERT_TRUE(steps.sampleAt(2.4 / 30.0, sample));
+  EXPECT_EQ(sample.frame.index, 2);
+  EXPECT_NEAR(sample.frame.faps[3], 20.0, 1e-9);
+  EXPECT_NEAR(sample.streamSeconds, 2.0 / 30.0, 1e-12);  // the instant that frame shows
+  ASSERT_TRUE(steps.sampleAt(2.6 / 30.0, sample));
+  EXPECT_EQ(sample.frame.index, 3);  // the nearer frame
+  ASSERT_TRUE(smooth.sampleAt(1.0 / 30.0, sample));  // the clock went back: the instant holds
+  EXPECT_NEAR(sample.frame.faps[3], 25.0, 1e-9);
+  ASSERT_TRUE(smooth.sampleAt(20.0 / 30.0, sample));  // past the newest
+  EXPECT_EQ(sample.frame.index, 9);
+  EXPECT_TRUE(sample.starved);
+  EXPECT_EQ(smooth.starvedSamples(), 1U);
+}
+
 }  // namespace
