@@ -102,7 +102,6 @@ struct Curve {
     values.push_back(static_cast<float>(value));
     while (values.size() > keep) values.pop_front();
   }
-  std::vector<float> data() const { return {values.begin(), values.end()}; }
 };
 
 // 4x MSAA costs llvmpipe about three times the frame's CPU time: without a GPU, the 60 frames a second matter
@@ -644,7 +643,8 @@ class LiveWindow {
     if (!ImGui::CollapsingHeader("Plots", ImGuiTreeNodeFlags_DefaultOpen)) return;
     const float width = ImGui::GetContentRegionAvail().x;
     // The waveform as the peak of each of 400 stretches of the last two seconds, oldest first.
-    std::vector<float> peaks(400, 0.0f);
+    std::array<float, 400>& peaks = peaks_;  // a member: the panel allocates nothing per frame
+    peaks.fill(0.0f);
     if (!waveform_.empty()) {
       const std::size_t span = waveform_.size() / peaks.size();
       for (std::size_t p = 0; p < peaks.size(); ++p)
@@ -700,10 +700,13 @@ class LiveWindow {
     ImGui::Dummy(ImVec2(width, height));
   }
 
+  // Read from the curve's deque through ImGui's getter: no copy.
   static void plot(const char* label, const Curve& curve, float low, float high, float width) {
-    const std::vector<float> values = curve.data();
-    ImGui::PlotLines((std::string("##") + label).c_str(), values.data(), static_cast<int>(values.size()), 0, label,
-                     low, high, ImVec2(width, 40));
+    ImGui::PushID(label);
+    ImGui::PlotLines(
+        "##curve", [](void* data, int i) { return static_cast<const Curve*>(data)->values[static_cast<std::size_t>(i)]; },
+        const_cast<Curve*>(&curve), static_cast<int>(curve.values.size()), 0, label, low, high, ImVec2(width, 40));
+    ImGui::PopID();
   }
 
   LiveWindowArguments arguments_;
@@ -753,6 +756,7 @@ class LiveWindow {
   std::array<char, 512> headPath_{};
   std::array<char, 512> mouthPath_{};
   std::vector<float> waveform_;
+  std::array<float, 400> peaks_{};  // the waveform plot's
   std::size_t waveformAt_ = 0;
   Curve f0_, energy_, jaw_, chosenFap_;
   std::array<Curve, 3> head_;

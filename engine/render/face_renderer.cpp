@@ -668,15 +668,29 @@ void FaceRenderer::render(const OrbitCamera& camera) {
 
 void FaceRenderer::renderToWindow(const OrbitCamera& camera) {
   context_.makeCurrent();
-  Gl& g = *gl_;
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
   glViewport(0, 0, options_.width, options_.height);
   // The backdrop first, opaque; the head over it. The same picture as render() + present(): the head's
   // see-through parts blend "over" what is below, which is the backdrop here and transparent black there
   // (then composited under the backdrop): premultiplied "over" gives the same either way.
+  drawBackdrop(false);
+  glClearDepth(1.0);
+  glClear(GL_DEPTH_BUFFER_BIT);
+  drawFace(camera);
+}
+
+// The backdrop's gradient over the bound framebuffer: opaque, or under what is there (GL's "under" blending,
+// colour += (1 - alpha) * backdrop, alpha becomes 1; a second pass over the same frame changes nothing).
+void FaceRenderer::drawBackdrop(bool underWhatIsThere) {
+  Gl& g = *gl_;
   glDisable(GL_DEPTH_TEST);
   glDisable(GL_CULL_FACE);
-  glDisable(GL_BLEND);
+  if (underWhatIsThere) {
+    glEnable(GL_BLEND);
+    glBlendFunc(GL_ONE_MINUS_DST_ALPHA, GL_ONE);
+  } else {
+    glDisable(GL_BLEND);
+  }
   glUseProgram(g.backgroundProgram);
   setVector(g.background.top, options_.backgroundTop);
   setVector(g.background.bottom, options_.backgroundBottom);
@@ -684,9 +698,7 @@ void FaceRenderer::renderToWindow(const OrbitCamera& camera) {
   glBindVertexArray(g.emptyVao);
   glDrawArrays(GL_TRIANGLES, 0, 3);
   glBindVertexArray(0);
-  glClearDepth(1.0);
-  glClear(GL_DEPTH_BUFFER_BIT);
-  drawFace(camera);
+  glDisable(GL_BLEND);
 }
 
 void FaceRenderer::drawFace(const OrbitCamera& camera) {
@@ -871,23 +883,10 @@ Image FaceRenderer::renderImage(const OrbitCamera& camera) {
 void FaceRenderer::present(std::pair<int, int> framebufferSize) {
   context_.makeCurrent();
   resolve();
-  // The backdrop under the head: GL's "under" blending, colour += (1 - alpha) * backdrop, alpha becomes 1
-  // (again: a second present() of the same frame changes nothing).
-  Gl& g = *gl_;
-  glBindFramebuffer(GL_FRAMEBUFFER, g.resolveFramebuffer);
+  // The backdrop under the head (a second present() of the same frame changes nothing).
+  glBindFramebuffer(GL_FRAMEBUFFER, gl_->resolveFramebuffer);
   glViewport(0, 0, options_.width, options_.height);
-  glDisable(GL_DEPTH_TEST);
-  glDisable(GL_CULL_FACE);
-  glEnable(GL_BLEND);
-  glBlendFunc(GL_ONE_MINUS_DST_ALPHA, GL_ONE);
-  glUseProgram(g.backgroundProgram);
-  setVector(g.background.top, options_.backgroundTop);
-  setVector(g.background.bottom, options_.backgroundBottom);
-  glUniform1f(g.background.aspect, static_cast<float>(options_.width) / static_cast<float>(options_.height));
-  glBindVertexArray(g.emptyVao);
-  glDrawArrays(GL_TRIANGLES, 0, 3);
-  glBindVertexArray(0);
-  glDisable(GL_BLEND);
+  drawBackdrop(true);
   glBindFramebuffer(GL_READ_FRAMEBUFFER, gl_->resolveFramebuffer);
   glBindFramebuffer(GL_DRAW_FRAMEBUFFER, 0);
   const bool same = framebufferSize.first == options_.width && framebufferSize.second == options_.height;

@@ -186,6 +186,7 @@ class FaceRenderer {
   void selectVisible(const Eigen::Vector3f& eye, const Eigen::Matrix4f& viewProjection);
   PixelRegion headRegion(const Eigen::Matrix4f& viewProjection) const;
   void drawFace(const OrbitCamera& camera);  // into the bound framebuffer, after its clear
+  void drawBackdrop(bool underWhatIsThere);  // the gradient, into the bound framebuffer
   void prepare(RawFrame& frame) const;
   void checkVertices(const std::vector<int>& vertices, const char* what) const;
 

@@ -76,6 +76,16 @@ bool loadNullSink(const fs::path& moduleFile) {
 
 class LiveDeviceTest : public th::test::CliTest {};
 
+// The window listening to the default input for `seconds`, what it says (and its exit status) written to
+// `log`. Bounded in time, and its output in size (the last 64 KB): once a sound server is gone, PortAudio's
+// ALSA thread for the lost stream can spin printing "Expression ... failed" for as long as the process lives
+// (the window leaves it closing on a thread of its own); those lines are dropped, and must not fill the disk.
+std::string listeningWindow(int seconds, const fs::path& log) {
+  return "( ASAN_OPTIONS=detect_leaks=0 timeout 90 xvfb-run -a -s '-screen 0 1280x800x24' " + std::string(TALKINGHEAD_CLI) +
+         " live --device default --no-settings --duration " + std::to_string(seconds) +
+         "; echo \"exit status $?\" ) 2>&1 | grep -av 'Expression .* failed in\\|^ostapi' | tail -c 65536 > " + log.string();
+}
+
 TEST_F(LiveDeviceTest, CapturesANullSinksMonitorAndTheJawFollowsTheLoudness) {
   ASSERT_TRUE(startPulseAudio()) << "cannot start PulseAudio";
   ASSERT_TRUE(loadNullSink(out() / "module"));
@@ -160,14 +170,7 @@ TEST_F(LiveDeviceTest, CapturesANullSinksMonitorAndTheJawFollowsTheLoudness) {
 TEST_F(LiveDeviceTest, TheWindowSurvivesTheSoundServerDyingAndListensAgainWhenItReturns) {
   ASSERT_TRUE(startPulseAudio()) << "cannot start PulseAudio";
   ASSERT_TRUE(loadNullSink(out() / "module"));
-  // Bounded in time, and its output in size (the last 64 KB): once the server is gone, PortAudio's ALSA thread
-  // for the lost stream can spin printing "Expression ... failed" for as long as the process lives (the
-  // window leaves it closing on a thread of its own); those lines are dropped, and must not fill the disk.
-  const std::string command = "( ASAN_OPTIONS=detect_leaks=0 timeout 90 xvfb-run -a -s '-screen 0 1280x800x24' " +
-                              std::string(TALKINGHEAD_CLI) + " live --device default --no-settings --duration 18; " +
-                              "echo \"exit status $?\" ) 2>&1 | grep -av 'Expression .* failed in\\|^ostapi' | " +
-                              "tail -c 65536 > " + (logs() / "window.txt").string();
-  std::thread window([&] { shell(command); });
+  std::thread window([&] { shell(listeningWindow(18, logs() / "window.txt")); });
   std::this_thread::sleep_for(std::chrono::seconds(4));
   shell("pulseaudio --kill > /dev/null 2>&1");
   std::this_thread::sleep_for(std::chrono::seconds(3));
@@ -185,6 +188,24 @@ TEST_F(LiveDeviceTest, TheWindowSurvivesTheSoundServerDyingAndListensAgainWhenIt
   EXPECT_NE(said.find("listening: sound input", lost), std::string::npos) << "listening again after the loss:\n" << said;
   // And the new stream hears: one that got no block in 4 s would count as lost again.
   EXPECT_EQ(said.find("stopped listening", lost + 1), std::string::npos) << "lost only once:\n" << said;
+}
+
+// The window listening to a null sink's monitor when the sink is unloaded: it says the input went away, and
+// listens again to what PulseAudio falls back to.
+TEST_F(LiveDeviceTest, TheWindowListensAgainWhenItsSinkIsUnloaded) {
+  ASSERT_TRUE(startPulseAudio()) << "cannot start PulseAudio";
+  ASSERT_TRUE(loadNullSink(out() / "module"));
+  std::thread window([&] { shell(listeningWindow(14, logs() / "window.txt")); });
+  std::this_thread::sleep_for(std::chrono::seconds(5));
+  EXPECT_EQ(shell("pactl unload-module $(cat " + (out() / "module").string() + ")"), 0);
+  window.join();
+  const std::string said = th::test::readText(logs() / "window.txt");
+  std::printf("%s", said.c_str());
+  EXPECT_NE(said.find("exit status 0"), std::string::npos) << said;
+  const std::size_t lost = said.find("stopped listening");
+  ASSERT_NE(lost, std::string::npos) << said;
+  EXPECT_NE(said.find("went away"), std::string::npos) << said;
+  EXPECT_NE(said.find("listening: sound input", lost), std::string::npos) << "listening again after the loss:\n" << said;
 }
 
 // A recording in the window is played aloud through PortAudio: the null sink's monitor, recorded meanwhile

@@ -587,6 +587,23 @@ TEST(FaceRenderer, PupilsDilateOneEyeAtATime) {
   EXPECT_EQ(right.second, rest.second);
 }
 
+// The 16 x 16 window framebuffer of an OffscreenContext read back and compared with an image of the same size:
+// the largest difference in any colour channel.
+int largestDifferenceFromTheWindow(const Image& image) {
+  std::vector<std::uint8_t> window(16 * 16 * 4);
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  glReadPixels(0, 0, 16, 16, GL_RGBA, GL_UNSIGNED_BYTE, window.data());
+  int largest = 0;
+  for (int y = 0; y < 16; ++y)
+    for (int x = 0; x < 16; ++x)
+      for (int k = 0; k < 3; ++k) {
+        const int shown = window[static_cast<std::size_t>(((15 - y) * 16 + x) * 4 + k)];  // GL's rows bottom-up
+        largest = std::max(largest, std::abs(shown - image.pixel(x, y)[k]));
+      }
+  return largest;
+}
+
 TEST(FaceRenderer, TheWindowAndTheReadBackShowTheSameBackdrop) {
   // OffscreenContext's own framebuffer is 16 x 16: present() into it and read it back.
   th::render::OffscreenContext context;
@@ -595,19 +612,7 @@ TEST(FaceRenderer, TheWindowAndTheReadBackShowTheSameBackdrop) {
   Image cpu;
   renderer.readPixels(cpu);  // composited on the CPU (the GL target keeps its transparent background)
   renderer.present({16, 16});
-  std::vector<std::uint8_t> window(16 * 16 * 4);
-  glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
-  glPixelStorei(GL_PACK_ALIGNMENT, 1);
-  glReadPixels(0, 0, 16, 16, GL_RGBA, GL_UNSIGNED_BYTE, window.data());
-  int largest = 0;
-
-  for (int y = 0; y < 16; ++y)
-    for (int x = 0; x < 16; ++x)
-      for (int k = 0; k < 3; ++k) {
-        const int shown = window[static_cast<std::size_t>(((15 - y) * 16 + x) * 4 + k)];
-        largest = std::max(largest, std::abs(shown - cpu.pixel(x, y)[k]));
-      }
-  EXPECT_LE(largest, 1);  // GL's 8-bit blending rounds once more
+  EXPECT_LE(largestDifferenceFromTheWindow(cpu), 1);  // GL's 8-bit blending rounds once more
   EXPECT_GT(coverage(cpu).fraction, 0.1);  // the head is there, not only the backdrop
   EXPECT_LT(coverage(cpu).fraction, 0.9);
 }
@@ -621,18 +626,7 @@ TEST(FaceRenderer, DrawingStraightIntoTheWindowShowsTheSamePicture) {
   Image cpu;
   renderer.readPixels(cpu);
   renderer.renderToWindow(camera);
-  std::vector<std::uint8_t> window(16 * 16 * 4);
-  glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
-  glPixelStorei(GL_PACK_ALIGNMENT, 1);
-  glReadPixels(0, 0, 16, 16, GL_RGBA, GL_UNSIGNED_BYTE, window.data());
-  int largest = 0;
-  for (int y = 0; y < 16; ++y)
-    for (int x = 0; x < 16; ++x)
-      for (int k = 0; k < 3; ++k) {
-        const int shown = window[static_cast<std::size_t>(((15 - y) * 16 + x) * 4 + k)];
-        largest = std::max(largest, std::abs(shown - cpu.pixel(x, y)[k]));
-      }
-  EXPECT_LE(largest, 2);  // 8-bit rounding of the blend, once or twice
+  EXPECT_LE(largestDifferenceFromTheWindow(cpu), 2);  // 8-bit rounding of the blend, once or twice
   EXPECT_GT(coverage(cpu).fraction, 0.1);
   // The renderer's own target still holds its frame: reading it back gives the same image again.
   Image again;
