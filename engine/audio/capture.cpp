@@ -139,10 +139,13 @@ void CallbackGate::detach() {
   while (inside_.load(std::memory_order_seq_cst)) std::this_thread::yield();
 }
 
-bool closeInBackground(std::unique_ptr<Capture> capture, std::unique_ptr<PortAudioSystem> system,
-                       std::chrono::milliseconds patience) {
-  if (capture) capture->detachFromRing();
-  std::shared_ptr<Capture> stream = std::move(capture);
+namespace {
+
+template <typename Stream>
+bool closeStreamInBackground(std::unique_ptr<Stream> owned, std::unique_ptr<PortAudioSystem> system,
+                             std::chrono::milliseconds patience) {
+  if (owned) owned->detachFromRing();
+  std::shared_ptr<Stream> stream = std::move(owned);
   std::shared_ptr<PortAudioSystem> owner = std::move(system);
   return runWithin([stream = std::move(stream), owner = std::move(owner)]() mutable {
     stream.reset();  // the stream before its PortAudio
@@ -150,15 +153,16 @@ bool closeInBackground(std::unique_ptr<Capture> capture, std::unique_ptr<PortAud
   }, patience);
 }
 
+}  // namespace
+
+bool closeInBackground(std::unique_ptr<Capture> capture, std::unique_ptr<PortAudioSystem> system,
+                       std::chrono::milliseconds patience) {
+  return closeStreamInBackground(std::move(capture), std::move(system), patience);
+}
+
 bool closeInBackground(std::unique_ptr<Playback> playback, std::unique_ptr<PortAudioSystem> system,
                        std::chrono::milliseconds patience) {
-  if (playback) playback->detachFromRing();
-  std::shared_ptr<Playback> stream = std::move(playback);
-  std::shared_ptr<PortAudioSystem> owner = std::move(system);
-  return runWithin([stream = std::move(stream), owner = std::move(owner)]() mutable {
-    stream.reset();
-    owner.reset();
-  }, patience);
+  return closeStreamInBackground(std::move(playback), std::move(system), patience);
 }
 
 int closesUnfinished() { return unfinishedCloses.load(); }

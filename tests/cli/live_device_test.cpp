@@ -28,14 +28,14 @@ namespace fs = std::filesystem;
 
 int shell(const std::string& command) { return std::system(command.c_str()); }
 
-// The recording's RMS level per 1/30 s frame.
-std::vector<double> levels(const std::vector<float>& samples, int rateHz) {
-  const int hop = rateHz / 30;
+// The recording's RMS level per 1/framesPerSecond s.
+std::vector<double> levels(const std::vector<float>& samples, int rateHz, int framesPerSecond = 30) {
+  const auto hop = static_cast<std::size_t>(rateHz / framesPerSecond);
   std::vector<double> out;
-  for (std::size_t start = 0; start + static_cast<std::size_t>(hop) <= samples.size(); start += static_cast<std::size_t>(hop)) {
+  for (std::size_t start = 0; start + hop <= samples.size(); start += hop) {
     double sum = 0.0;
-    for (int n = 0; n < hop; ++n) sum += samples[start + static_cast<std::size_t>(n)] * samples[start + static_cast<std::size_t>(n)];
-    out.push_back(std::sqrt(sum / hop));
+    for (std::size_t n = 0; n < hop; ++n) sum += samples[start + n] * samples[start + n];
+    out.push_back(std::sqrt(sum / static_cast<double>(hop)));
   }
   return out;
 }
@@ -57,6 +57,20 @@ double correlation(const std::vector<double>& a, const std::vector<double>& b, s
     bb += (b[i + offset] - mb) * (b[i + offset] - mb);
   }
   return aa > 0.0 && bb > 0.0 ? ab / std::sqrt(aa * bb) : 0.0;
+}
+
+// Where `played` best matches `got` (at least half of it inside): the correlation and the offset in `got`.
+struct Alignment {
+  double r = -1.0;
+  std::size_t offset = 0;
+};
+Alignment align(const std::vector<double>& played, const std::vector<double>& got) {
+  Alignment best;
+  for (std::size_t o = 0; o + played.size() / 2 <= got.size(); ++o) {
+    const double r = correlation(played, got, o);
+    if (r > best.r) best = {r, o};
+  }
+  return best;
 }
 
 // PulseAudio: the running daemon, or one started here (as root it warns, and runs). True once it answers.
@@ -243,20 +257,10 @@ TEST_F(LiveDeviceTest, TheWindowPlaysARecordingAloud) {
   float sample = 0.0f;
   while (in.read(reinterpret_cast<char*>(&sample), sizeof sample)) captured.push_back(sample);
   ASSERT_GT(captured.size(), 16000U * 4) << "parec recorded the sink's monitor";
-  const std::vector<double> played = levels(part, clip.sampleRateHz);
-  const std::vector<double> got = levels(captured, 16000);
-  double best = -1.0;
-  std::size_t offset = 0;
-  for (std::size_t o = 0; o + played.size() / 2 <= got.size(); ++o) {
-    const double r = correlation(played, got, o);
-    if (r > best) {
-      best = r;
-      offset = o;
-    }
-  }
+  const Alignment loudness = align(levels(part, clip.sampleRateHz), levels(captured, 16000));
   std::printf("[ INFO     ] the recording's loudness found in the sink's monitor: r = %.3f, %.2f s into the capture\n",
-              best, static_cast<double>(offset) / 30.0);
-  EXPECT_GT(best, 0.8);
+              loudness.r, static_cast<double>(loudness.offset) / 30.0);
+  EXPECT_GT(loudness.r, 0.8);
 
   // Sound to lips. The window reports when the recording's start was heard (by the device's reported delay)
   // and how late the face shows each instant against that. The monitor places the start independently: the
@@ -268,31 +272,13 @@ TEST_F(LiveDeviceTest, TheWindowPlaysARecordingAloud) {
   const std::size_t heardAt = said.find("start heard at ", line);
   ASSERT_NE(heardAt, std::string::npos) << said;
   ASSERT_EQ(std::sscanf(said.c_str() + heardAt, "start heard at %lf s", &heardSeconds), 1) << said;
-  const auto fine = [](const std::vector<float>& samples) {  // RMS per 10 ms
-    std::vector<double> out;
-    for (std::size_t start = 0; start + 160 <= samples.size(); start += 160) {
-      double sum = 0.0;
-      for (std::size_t n = 0; n < 160; ++n) sum += samples[start + n] * samples[start + n];
-      out.push_back(std::sqrt(sum / 160.0));
-    }
-    return out;
-  };
-  const std::vector<double> playedFine = fine(part), gotFine = fine(captured);
-  double bestFine = -1.0;
-  std::size_t offsetFine = 0;
-  for (std::size_t o = 0; o + playedFine.size() / 2 <= gotFine.size(); ++o) {
-    const double r = correlation(playedFine, gotFine, o);
-    if (r > bestFine) {
-      bestFine = r;
-      offsetFine = o;
-    }
-  }
+  const Alignment fine = align(levels(part, clip.sampleRateHz, 100), levels(captured, 16000, 100));  // 10 ms steps
   const double monitorSeconds =
-      parecEndSeconds - static_cast<double>(captured.size()) / 16000.0 + static_cast<double>(offsetFine) * 0.01;
+      parecEndSeconds - static_cast<double>(captured.size()) / 16000.0 + static_cast<double>(fine.offset) * 0.01;
   std::printf("[ INFO     ] the recording's start: heard at %.3f s by the window's reckoning, at %.3f s in the "
               "monitor (r = %.3f): %+.1f ms apart; the face shows each instant %+.1f ms after it is heard\n",
-              heardSeconds, monitorSeconds, bestFine, (monitorSeconds - heardSeconds) * 1000.0, lateMs);
-  EXPECT_GT(bestFine, 0.8);
+              heardSeconds, monitorSeconds, fine.r, (monitorSeconds - heardSeconds) * 1000.0, lateMs);
+  EXPECT_GT(fine.r, 0.8);
   EXPECT_LT(std::abs(monitorSeconds - heardSeconds), 0.040) << "the window's reckoning of the sound's time";
   // Within what viewers cannot detect (ITU-R BT.1359: sound no more than 45 ms before the picture, 125 ms
   // after), given a display that keeps up with the 30 fps animation; a slower one (a sanitizer's build on a
