@@ -90,6 +90,20 @@ bool loadNullSink(const fs::path& moduleFile) {
 
 class LiveDeviceTest : public th::test::CliTest {};
 
+// Seconds `from` to `to` of a BEAT2 take (speech throughout), written to `path` as a 16-bit WAV.
+struct Excerpt {
+  std::vector<float> samples;
+  int rateHz = 0;
+  fs::path path;
+};
+Excerpt writeExcerpt(int from, int to, const fs::path& path) {
+  const th::audio::AudioClip clip = th::audio::readRecording(th::sharedDataPath("beat2/audio_only/2_scott_0_2_2.wav"));
+  Excerpt excerpt{{clip.samples.begin() + from * clip.sampleRateHz, clip.samples.begin() + to * clip.sampleRateHz},
+                  clip.sampleRateHz, path};
+  th::audio::writeWav16(path, excerpt.samples, clip.sampleRateHz);
+  return excerpt;
+}
+
 // The window listening to the default input for `seconds`, what it says (and its exit status) written to
 // `log`. Bounded in time, and its output in size (the last 64 KB): once a sound server is gone, PortAudio's
 // ALSA thread for the lost stream can spin printing "Expression ... failed" for as long as the process lives
@@ -106,11 +120,10 @@ TEST_F(LiveDeviceTest, CapturesANullSinksMonitorAndTheJawFollowsTheLoudness) {
 
   // 8 s of speech, played into the sink 2.5 s after listening starts (a null sink's monitor takes up to 2 s
   // to deliver its first block).
-  const fs::path wav = th::sharedDataPath("beat2/audio_only/2_scott_0_2_2.wav");
-  const th::audio::AudioClip clip = th::audio::readRecording(wav);
-  const std::vector<float> part(clip.samples.begin() + 2 * clip.sampleRateHz, clip.samples.begin() + 10 * clip.sampleRateHz);
-  const fs::path excerpt = out() / "excerpt.wav";
-  th::audio::writeWav16(excerpt, part, clip.sampleRateHz);
+  const Excerpt speech = writeExcerpt(2, 10, out() / "excerpt.wav");
+  const std::vector<float>& part = speech.samples;
+  const fs::path& excerpt = speech.path;
+  const int rateHz = speech.rateHz;
   std::thread player([&] {
     std::this_thread::sleep_for(std::chrono::milliseconds(2500));
     shell("paplay -d talkinghead_test " + excerpt.string());
@@ -155,7 +168,7 @@ TEST_F(LiveDeviceTest, CapturesANullSinksMonitorAndTheJawFollowsTheLoudness) {
   }
   // There, the jaw follows the excerpt's loudness: the loudest quarter of its frames open it more than the
   // quietest quarter.
-  const std::vector<double> loudness = levels(part, clip.sampleRateHz);
+  const std::vector<double> loudness = levels(part, rateHz);
   const double followsLoudness = correlation(loudness, jaw, offset);
   std::vector<std::size_t> order(std::min(loudness.size(), jaw.size() - offset));
   for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
@@ -228,11 +241,10 @@ TEST_F(LiveDeviceTest, TheWindowListensAgainWhenItsSinkIsUnloaded) {
 TEST_F(LiveDeviceTest, TheWindowPlaysARecordingAloud) {
   ASSERT_TRUE(startPulseAudio()) << "cannot start PulseAudio";
   ASSERT_TRUE(loadNullSink(out() / "module"));
-  const fs::path wav = th::sharedDataPath("beat2/audio_only/2_scott_0_2_2.wav");
-  const th::audio::AudioClip clip = th::audio::readRecording(wav);
-  const std::vector<float> part(clip.samples.begin() + 2 * clip.sampleRateHz, clip.samples.begin() + 8 * clip.sampleRateHz);
-  const fs::path excerpt = out() / "excerpt.wav";
-  th::audio::writeWav16(excerpt, part, clip.sampleRateHz);
+  const Excerpt speech = writeExcerpt(2, 8, out() / "excerpt.wav");
+  const std::vector<float>& part = speech.samples;
+  const fs::path& excerpt = speech.path;
+  const int rateHz = speech.rateHz;
   const fs::path heard = out() / "heard.raw";
   shell("parec -d talkinghead_test.monitor --rate=16000 --channels=1 --format=float32le --raw --latency-msec=10 > " +
         heard.string() +
@@ -257,7 +269,7 @@ TEST_F(LiveDeviceTest, TheWindowPlaysARecordingAloud) {
   float sample = 0.0f;
   while (in.read(reinterpret_cast<char*>(&sample), sizeof sample)) captured.push_back(sample);
   ASSERT_GT(captured.size(), 16000U * 4) << "parec recorded the sink's monitor";
-  const Alignment loudness = align(levels(part, clip.sampleRateHz), levels(captured, 16000));
+  const Alignment loudness = align(levels(part, rateHz), levels(captured, 16000));
   std::printf("[ INFO     ] the recording's loudness found in the sink's monitor: r = %.3f, %.2f s into the capture\n",
               loudness.r, static_cast<double>(loudness.offset) / 30.0);
   EXPECT_GT(loudness.r, 0.8);
@@ -272,7 +284,7 @@ TEST_F(LiveDeviceTest, TheWindowPlaysARecordingAloud) {
   const std::size_t heardAt = said.find("start heard at ", line);
   ASSERT_NE(heardAt, std::string::npos) << said;
   ASSERT_EQ(std::sscanf(said.c_str() + heardAt, "start heard at %lf s", &heardSeconds), 1) << said;
-  const Alignment fine = align(levels(part, clip.sampleRateHz, 100), levels(captured, 16000, 100));  // 10 ms steps
+  const Alignment fine = align(levels(part, rateHz, 100), levels(captured, 16000, 100));  // 10 ms steps
   const double monitorSeconds =
       parecEndSeconds - static_cast<double>(captured.size()) / 16000.0 + static_cast<double>(fine.offset) * 0.01;
   std::printf("[ INFO     ] the recording's start: heard at %.3f s by the window's reckoning, at %.3f s in the "
