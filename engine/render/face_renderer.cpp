@@ -666,26 +666,35 @@ void FaceRenderer::render(const OrbitCamera& camera) {
   g.resolved = samples_ == 1;
 }
 
-void FaceRenderer::renderToWindow(const OrbitCamera& camera) {
+void FaceRenderer::renderToWindow(const OrbitCamera& camera, int left) {
   context_.makeCurrent();
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
-  glViewport(0, 0, options_.width, options_.height);
-  // The backdrop first, opaque; the head over it. The same picture as render() + present(): the head's
-  // see-through parts blend "over" what is below, which is the backdrop here and transparent black there
-  // (then composited under the backdrop): premultiplied "over" gives the same either way.
-  drawBackdrop(false);
+  // The viewport clips the backdrop's screen-covering triangle and the head alike: nothing is drawn beside it.
+  glViewport(left, 0, options_.width, options_.height);
+  // The backdrop after the head's opaque surfaces, only where they left the far plane; the see-through parts
+  // after it. The same picture as render() + present(): those parts blend "over" what is below, which is
+  // the backdrop here and transparent black there (then composited under the backdrop): premultiplied "over"
+  // gives the same either way.
   glClearDepth(1.0);
   glClear(GL_DEPTH_BUFFER_BIT);
-  drawFace(camera);
+  drawFace(camera, true);
 }
 
-// The backdrop's gradient over the bound framebuffer: opaque, or under what is there (GL's "under" blending,
-// colour += (1 - alpha) * backdrop, alpha becomes 1; a second pass over the same frame changes nothing).
-void FaceRenderer::drawBackdrop(bool underWhatIsThere) {
+// The backdrop's gradient over the bound framebuffer: under what is there (GL's "under" blending,
+// colour += (1 - alpha) * backdrop, alpha becomes 1; a second pass over the same frame changes nothing); or
+// behind what is there, where the depth buffer still holds the far plane (neither colour nor depth of the
+// head's opaque surfaces is touched, and llvmpipe skips shading the blocks they cover).
+void FaceRenderer::drawBackdrop(Backdrop how) {
   Gl& g = *gl_;
-  glDisable(GL_DEPTH_TEST);
+  if (how == Backdrop::kBehindDepth) {
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LEQUAL);
+    glDepthMask(GL_FALSE);
+  } else {
+    glDisable(GL_DEPTH_TEST);
+  }
   glDisable(GL_CULL_FACE);
-  if (underWhatIsThere) {
+  if (how == Backdrop::kUnder) {
     glEnable(GL_BLEND);
     glBlendFunc(GL_ONE_MINUS_DST_ALPHA, GL_ONE);
   } else {
@@ -699,9 +708,10 @@ void FaceRenderer::drawBackdrop(bool underWhatIsThere) {
   glDrawArrays(GL_TRIANGLES, 0, 3);
   glBindVertexArray(0);
   glDisable(GL_BLEND);
+  glDepthMask(GL_TRUE);
 }
 
-void FaceRenderer::drawFace(const OrbitCamera& camera) {
+void FaceRenderer::drawFace(const OrbitCamera& camera, bool withBackdrop) {
   Gl& g = *gl_;
   const float aspect = static_cast<float>(options_.width) / static_cast<float>(options_.height);
   glDisable(GL_BLEND);
@@ -747,8 +757,19 @@ void FaceRenderer::drawFace(const OrbitCamera& camera) {
 
   glBindVertexArray(g.vao);
   glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA);  // premultiplied "over": the cornea adds its glints
+  bool backdropDrawn = !withBackdrop;
+  const auto drawBackdropBehind = [&] {
+    drawBackdrop(Backdrop::kBehindDepth);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LEQUAL);
+    glBindVertexArray(g.vao);
+    glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
+    backdropDrawn = true;
+  };
   for (const Draw& draw : draws_) {
     if (draw.visibleCount == 0) continue;
+    // The backdrop after the opaque surfaces (their depth hides it), before the see-through ones (drawn over it).
+    if (!backdropDrawn && isBlended(draw.surface)) drawBackdropBehind();
     if (isBlended(draw.surface))
       glEnable(GL_BLEND);
     else
@@ -780,6 +801,7 @@ void FaceRenderer::drawFace(const OrbitCamera& camera) {
         GL_TRIANGLES, draw.lowest, draw.highest, draw.visibleCount, GL_UNSIGNED_INT,
         reinterpret_cast<const void*>(draw.visibleFirst * sizeof(std::uint32_t)));  // offset-as-pointer
   }
+  if (!backdropDrawn) drawBackdropBehind();
   glBindVertexArray(0);
   glDisable(GL_BLEND);
   glDisable(GL_CULL_FACE);
@@ -880,17 +902,17 @@ Image FaceRenderer::renderImage(const OrbitCamera& camera) {
   return image;
 }
 
-void FaceRenderer::present(std::pair<int, int> framebufferSize) {
+void FaceRenderer::present(std::pair<int, int> framebufferSize, int left) {
   context_.makeCurrent();
   resolve();
   // The backdrop under the head (a second present() of the same frame changes nothing).
   glBindFramebuffer(GL_FRAMEBUFFER, gl_->resolveFramebuffer);
   glViewport(0, 0, options_.width, options_.height);
-  drawBackdrop(true);
+  drawBackdrop(Backdrop::kUnder);
   glBindFramebuffer(GL_READ_FRAMEBUFFER, gl_->resolveFramebuffer);
   glBindFramebuffer(GL_DRAW_FRAMEBUFFER, 0);
-  const bool same = framebufferSize.first == options_.width && framebufferSize.second == options_.height;
-  glBlitFramebuffer(0, 0, options_.width, options_.height, 0, 0, framebufferSize.first,
+  const bool same = framebufferSize.first - left == options_.width && framebufferSize.second == options_.height;
+  glBlitFramebuffer(0, 0, options_.width, options_.height, left, 0, framebufferSize.first,
                     framebufferSize.second, GL_COLOR_BUFFER_BIT, same ? GL_NEAREST : GL_LINEAR);
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
 }

@@ -158,13 +158,16 @@ class FaceRenderer {
   void finish(RawFrame& frame, Yuv420Image& image, bool bt709) const;
   // render() + readPixels() into a new image.
   Image renderImage(const OrbitCamera& camera);
-  // Resolves the last render() and copies it to the window's back buffer (framebuffer 0), scaled to its size.
-  void present(std::pair<int, int> framebufferSize);
+  // Resolves the last render() and copies it to the window's back buffer (framebuffer 0), scaled to its size;
+  // or, with `left`, to the columns from `left` on (a side panel beside it).
+  void present(std::pair<int, int> framebufferSize, int left = 0);
   // The backdrop and the face straight into the current context's framebuffer 0 (a window with a depth buffer,
   // WindowOptions::depth), at this renderer's size, without MSAA or FXAA: what render() + present() show at one
   // sample, with neither the copy nor the backdrop's blending (on llvmpipe at 720p those cost ~4.5 ms a frame).
-  // The renderer's own targets are left as they were.
-  void renderToWindow(const OrbitCamera& camera);
+  // The renderer's own targets are left as they were. `left`: where its picture starts, in pixels from the
+  // window's left edge (a side panel beside it); the colour beside the picture is left as it was, the window's
+  // depth buffer is cleared.
+  void renderToWindow(const OrbitCamera& camera, int left = 0);
   // New target size (for a resized window); keeps everything else.
   void resize(int width, int height);
 
@@ -185,8 +188,11 @@ class FaceRenderer {
   void resolve();
   void selectVisible(const Eigen::Vector3f& eye, const Eigen::Matrix4f& viewProjection);
   PixelRegion headRegion(const Eigen::Matrix4f& viewProjection) const;
-  void drawFace(const OrbitCamera& camera);  // into the bound framebuffer, after its clear
-  void drawBackdrop(bool underWhatIsThere);  // the gradient, into the bound framebuffer
+  // Into the bound framebuffer, after its clear; with the backdrop between the opaque and the see-through
+  // surfaces if asked.
+  void drawFace(const OrbitCamera& camera, bool withBackdrop = false);
+  enum class Backdrop { kUnder, kBehindDepth };
+  void drawBackdrop(Backdrop how);  // the gradient, into the bound framebuffer
   void prepare(RawFrame& frame) const;
   void checkVertices(const std::vector<int>& vertices, const char* what) const;
 

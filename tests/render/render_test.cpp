@@ -634,6 +634,38 @@ TEST(FaceRenderer, DrawingStraightIntoTheWindowShowsTheSamePicture) {
   EXPECT_TRUE(again == cpu);
 }
 
+// Beside a side panel: the picture starts `left` pixels in, the same picture as at the window's edge, and
+// the columns beside it keep what was there.
+TEST(FaceRenderer, DrawingIntoTheWindowBesideAPanelLeavesThePanelsColumns) {
+  th::render::OffscreenContext context;
+  FaceRenderer renderer(context, neutral(), {.width = 10, .height = 16, .samples = 1});
+  const th::render::OrbitCamera camera = th::render::frameHead(neutral().positions, 10.0 / 16.0);
+  renderer.render(camera);
+  Image picture;
+  renderer.readPixels(picture);
+  ASSERT_GT(coverage(picture).fraction, 0.1);
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  glViewport(0, 0, 16, 16);
+  glClearColor(1.0f, 0.0f, 1.0f, 1.0f);  // magenta: what a panel left there
+  glClear(GL_COLOR_BUFFER_BIT);
+  renderer.renderToWindow(camera, 6);
+  std::vector<std::uint8_t> window(16 * 16 * 4);
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  glReadPixels(0, 0, 16, 16, GL_RGBA, GL_UNSIGNED_BYTE, window.data());
+  int largest = 0, panelKept = 0;
+  for (int y = 0; y < 16; ++y)
+    for (int x = 0; x < 16; ++x) {
+      const std::uint8_t* shown = &window[static_cast<std::size_t>(((15 - y) * 16 + x) * 4)];  // rows bottom-up
+      if (x < 6) {
+        panelKept += shown[0] == 255 && shown[1] == 0 && shown[2] == 255 ? 1 : 0;
+        continue;
+      }
+      for (int k = 0; k < 3; ++k) largest = std::max(largest, std::abs(shown[k] - picture.pixel(x - 6, y)[k]));
+    }
+  EXPECT_EQ(panelKept, 6 * 16);
+  EXPECT_LE(largest, 2);  // 8-bit rounding of the blend, as at the edge
+}
+
 TEST(Backdrop, CompositesUnderPremultipliedColour) {
   const std::vector<std::uint8_t> backdrop = th::render::backdropPixels(4, 3, {1.0f, 1.0f, 1.0f}, {0.0f, 0.0f, 0.0f});
   ASSERT_EQ(backdrop.size(), 4u * 3u * 3u);
