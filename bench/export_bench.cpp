@@ -14,7 +14,6 @@
 // Budget: the whole export >= 2x real time including rendering, so this alone should be >= 8x at 720p on two
 // cores. Thread contract: run alone; the numbers depend on the cores free.
 #include <benchmark/benchmark.h>
-#include <sys/resource.h>
 
 #include <algorithm>
 #include <cmath>
@@ -29,6 +28,7 @@
 #include "animation/animate.h"
 #include "audio/media_audio.h"
 #include "bench_arguments.h"
+#include "core/cpu_time.h"
 #include "core/data_path.h"
 #include "core/temporary_file.h"
 #include "face/face_model.h"
@@ -41,14 +41,6 @@ namespace {
 constexpr double kFps = 30.0;
 constexpr int kAudioRateHz = 16000;
 constexpr int kDistinctFrames = 60;  // made once, then cycled (2 s: longer than x264's reference window)
-
-// CPU seconds of the whole process (every thread) so far.
-double processCpuSeconds() {
-  rusage usage{};
-  ::getrusage(RUSAGE_SELF, &usage);
-  const auto seconds = [](const timeval& t) { return static_cast<double>(t.tv_sec) + static_cast<double>(t.tv_usec) * 1e-6; };
-  return seconds(usage.ru_utime) + seconds(usage.ru_stime);
-}
 
 // What the frames show. kGradient: a diagonal gradient that moves across the whole frame and a lit, shaded
 // disc circling over it (smooth shading and an edge, as a rendered head on a background has). kTextured adds
@@ -115,7 +107,7 @@ void exportClip(benchmark::State& state, const Case& c, double seconds) {
   std::uintmax_t bytes = 0;
   double cpuSeconds = 0.0;
   for (auto _ : state) {
-    const double cpuBefore = processCpuSeconds();
+    const double cpuBefore = th::processCpuSeconds();
     const auto path = folder.path() / "bench.mp4";
     th::video::Mp4Writer writer(path, options);
     const std::size_t perFrame = audio.size() / static_cast<std::size_t>(frameCount) + 1;
@@ -126,7 +118,7 @@ void exportClip(benchmark::State& state, const Case& c, double seconds) {
     }
     writer.finish();
     bytes = std::filesystem::file_size(path);
-    cpuSeconds += processCpuSeconds() - cpuBefore;
+    cpuSeconds += th::processCpuSeconds() - cpuBefore;
   }
   const double videoSeconds = static_cast<double>(frameCount) / kFps;
   state.counters["realtime_factor"] = benchmark::Counter(videoSeconds, benchmark::Counter::kIsIterationInvariantRate);
@@ -150,7 +142,7 @@ void exportFace(benchmark::State& state, int width, int height, double seconds) 
   double cpuSeconds = 0.0;
   int frames = 0;
   for (auto _ : state) {
-    const double cpuBefore = processCpuSeconds();
+    const double cpuBefore = th::processCpuSeconds();
     // As `talkinghead export` does: the face model built on another thread while the recording is animated.
     std::future<th::face::FaceModel> building = std::async(std::launch::async, [] {
       return th::face::FaceModel::build(th::face::loadIctFace(th::face::ictFaceDirectory()));
@@ -159,7 +151,7 @@ void exportFace(benchmark::State& state, int width, int height, double seconds) 
     const th::face::FaceModel face = building.get();
     frames = th::render::exportVideo(face, animation, clip.samples, clip.sampleRateHz, folder.path() / "face.mp4",
                                      {.width = width, .height = height});
-    cpuSeconds += processCpuSeconds() - cpuBefore;
+    cpuSeconds += th::processCpuSeconds() - cpuBefore;
   }
   const double videoSeconds = static_cast<double>(frames) / kFps;
   state.counters["realtime_factor"] = benchmark::Counter(videoSeconds, benchmark::Counter::kIsIterationInvariantRate);

@@ -12,24 +12,18 @@
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
-#include <ctime>
 #include <iostream>
 #include <memory>
 #include <string>
 
 #include "bench_arguments.h"
+#include "core/cpu_time.h"
 #include "face/feature_points.h"
 #include "face/mesh.h"
 #include "render/face_renderer.h"
 #include "render/gl_context.h"
 
 namespace {
-
-double processCpuSeconds() {
-  timespec t{};
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
-  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
-}
 
 const th::face::Mesh& neutral() {
   static const th::face::Mesh mesh =
@@ -51,14 +45,14 @@ void renderFrames(benchmark::State& state, int width, int height, int samples, b
   // One frame untimed: llvmpipe compiles each shader variant when it is first used.
   renderer.render(camera);
   renderer.readPixels(image);
-  const double cpuStart = processCpuSeconds();
+  const double cpuStart = th::processCpuSeconds();
   for (auto _ : state) {
     renderer.setPositions(neutral().positions);
     renderer.render(camera);
     renderer.readPixels(image);
     benchmark::DoNotOptimize(image.pixels.data());
   }
-  const double cpuSeconds = processCpuSeconds() - cpuStart;
+  const double cpuSeconds = th::processCpuSeconds() - cpuStart;
   state.counters["cpu_ms"] =
       1e3 * cpuSeconds / static_cast<double>(std::max<benchmark::IterationCount>(state.iterations(), 1));
   state.counters["fps"] =
