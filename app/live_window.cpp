@@ -142,6 +142,13 @@ class LiveWindow {
     ImGui::CreateContext();
     ImGui::GetIO().IniFilename = nullptr;  // no imgui.ini in the working folder
     ImGui::StyleColorsDark();
+    // Input marks the panel for drawing (panelNeedsDrawing). Set first: ImGui's back-end calls them on.
+    glfwSetWindowUserPointer(window_.window(), this);
+    glfwSetMouseButtonCallback(window_.window(), [](GLFWwindow* w, int, int, int) { noteInput(w); });
+    glfwSetScrollCallback(window_.window(), [](GLFWwindow* w, double, double) { noteInput(w); });
+    glfwSetKeyCallback(window_.window(), [](GLFWwindow* w, int, int, int, int) { noteInput(w); });
+    glfwSetCharCallback(window_.window(), [](GLFWwindow* w, unsigned int) { noteInput(w); });
+    glfwSetCursorEnterCallback(window_.window(), [](GLFWwindow* w, int) { noteInput(w); });
     ImGui_ImplGlfw_InitForOpenGL(window_.window(), true);
     ImGui_ImplOpenGL3_Init("#version 330 core");
     startSource();
@@ -177,23 +184,37 @@ class LiveWindow {
         std::this_thread::sleep_for(std::chrono::milliseconds(16));
         continue;
       }
-      if (size != lastSize) {
+      const bool resized = size != lastSize;
+      if (resized) {
         panelWidth_ = panelWidthFor(size.first);
         renderer_.resize(size.first - panelWidth_, size.second);
         camera_ = render::frameHead(face_.mesh().positions, static_cast<double>(size.first - panelWidth_) / size.second);
         lastSize = size;
+        keptCheck_ = KeptCheck::kToMark;  // new buffers: check again
       }
       superviseSource();
       takeFrames();
       const auto drawStart = std::chrono::steady_clock::now();
-      // The panel's background is this clear (llvmpipe clears with a memset, where ImGui's window background
-      // would be a blended quad the size of the column); the face's part is then drawn over.
-      const ImVec4 background = ImGui::GetStyle().Colors[ImGuiCol_WindowBg];
-      glClearColor(background.x, background.y, background.z, 1.0f);
-      glClear(GL_COLOR_BUFFER_BIT);
+      const bool checking = keptCheck_ == KeptCheck::kToRead;
+      if (checking) readKeptMark(size);
+      const bool panelNow = resized || checking || keptCheck_ != KeptCheck::kKept || panelNeedsDrawing();
+      if (panelNow) {
+        // The panel's background is this clear (llvmpipe clears with a memset, where ImGui's window background
+        // would be a blended quad the size of the column); the face's part is then drawn over.
+        const ImVec4 background = ImGui::GetStyle().Colors[ImGuiCol_WindowBg];
+        glClearColor(background.x, background.y, background.z, 1.0f);
+        glClear(GL_COLOR_BUFFER_BIT);
+      }
       drawFace();
       const auto faceDone = std::chrono::steady_clock::now();
-      drawPanel(size);
+      if (panelNow) {
+        drawPanel(size);
+        panelDrawn_ = std::chrono::steady_clock::now();
+        panelStale_ = false;
+        panelSpills_ = spillsOutOfTheColumn(*ImGui::GetDrawData());
+        ++panelDraws_;
+        if (keptCheck_ == KeptCheck::kToMark) markKept(size);
+      }
       const auto panelDone = std::chrono::steady_clock::now();
       ++frame;
       if (!arguments_.screenshot.empty() && frame >= arguments_.frames) {
@@ -228,8 +249,10 @@ class LiveWindow {
       // what else the machine runs than the frame rate (two cores give 33.3 ms a frame at 60 frames/s).
       const double cpuMs = (processCpuSeconds() - cpuAtFrame30_) * 1000.0 / static_cast<double>(allPeriodsMs_.size());
       std::printf("display: %zu frames, median %.1f frames/s (95th percentile frame %.1f ms), CPU %.1f ms a frame (all "
-                  "threads); per frame (median ms of the last 5 s): face %.1f, GL %.1f, panel %.1f, swap %.1f\n",
-                  allPeriodsMs_.size(), 1000.0 / medianPeriod, slow, cpuMs, median(stageMs_[0]), median(stageMs_[1]),
+                  "threads), the panel drawn %.1f times a second; per frame (median ms of the last 5 s): face %.1f, GL "
+                  "%.1f, panel %.1f, swap %.1f\n",
+                  allPeriodsMs_.size(), 1000.0 / medianPeriod, slow, cpuMs,
+                  static_cast<double>(panelDraws_) / secondsSince(started), median(stageMs_[0]), median(stageMs_[1]),
                   median(stageMs_[2]), median(stageMs_[3]));
     }
     reportSoundToLips();
@@ -402,6 +425,7 @@ class LiveWindow {
     const std::int64_t now = pipeline::steadyNanoseconds();
     pipeline::AnimationFrame frame;
     while (session_->nextFrame(frame)) {
+      panelStale_ = true;
       playout_.push(frame, now);
       f0_.push(frame.f0Hz, kPlotFrames);
       energy_.push(frame.energy, kPlotFrames);
@@ -499,6 +523,65 @@ class LiveWindow {
   }
 
   // --- the panel ------------------------------------------------------------------------------------------
+
+  // The panel's column is drawn again only when what it shows changes, if the window's back buffer keeps its
+  // pixels from one frame to the next. GL leaves them undefined after a swap; Mesa's software path (llvmpipe
+  // under X) keeps them, a GPU's swap chain does not. So it is checked: a frame leaves a mark in a corner of
+  // the column (one pixel, for one frame), and the next reads it back before drawing anything. Found: the
+  // column is kept; not found: drawn every frame. Checked again after a resize.
+  enum class KeptCheck { kToMark, kToRead, kKept, kNotKept };
+
+  static constexpr std::array<std::uint8_t, 3> kKeptMark{17, 201, 83};
+
+  void markKept(std::pair<int, int> size) {
+    glEnable(GL_SCISSOR_TEST);
+    glScissor(0, size.second - 1, 1, 1);
+    glClearColor(kKeptMark[0] / 255.0f, kKeptMark[1] / 255.0f, kKeptMark[2] / 255.0f, 1.0f);
+    glClear(GL_COLOR_BUFFER_BIT);
+    glDisable(GL_SCISSOR_TEST);
+    keptCheck_ = KeptCheck::kToRead;
+  }
+
+  void readKeptMark(std::pair<int, int> size) {
+    std::array<std::uint8_t, 4> pixel{};
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
+    glReadBuffer(GL_BACK);
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    glReadPixels(0, size.second - 1, 1, 1, GL_RGBA, GL_UNSIGNED_BYTE, pixel.data());
+    const bool kept = std::equal(kKeptMark.begin(), kKeptMark.end(), pixel.begin());
+    keptCheck_ = kept ? KeptCheck::kKept : KeptCheck::kNotKept;
+    std::cout << "live: the window's back buffer " << (kept ? "keeps" : "does not keep")
+              << " its pixels between frames: the panel is drawn " << (kept ? "when it changes" : "every frame")
+              << std::endl;
+  }
+
+  static void noteInput(GLFWwindow* window) {
+    static_cast<LiveWindow*>(glfwGetWindowUserPointer(window))->lastInput_ = std::chrono::steady_clock::now();
+  }
+
+  // With the column kept: its plots and figures move on with each animation frame (30 a second), while the
+  // face is drawn at the display's rate. While the user works the panel (the cursor over the window, a key, a
+  // click, a field being edited), at the display's rate; otherwise at least 10 times a second (status text).
+  bool panelNeedsDrawing() {
+    const auto now = std::chrono::steady_clock::now();
+    double x = 0.0, y = 0.0;
+    glfwGetCursorPos(window_.window(), &x, &y);
+    if (x != cursor_[0] || y != cursor_[1]) lastInput_ = now;
+    cursor_ = {x, y};
+    return panelStale_ || panelSpills_ || now - lastInput_ < std::chrono::milliseconds(500) ||
+           ImGui::GetIO().WantTextInput || ImGui::IsAnyItemActive() || now - panelDrawn_ >= std::chrono::milliseconds(100);
+  }
+
+  // Whether ImGui drew beyond the column (a combo's list, a tooltip): the face, drawn every frame, would cover
+  // that part on the frames the panel is not drawn. (By the vertices: a window's first clip rectangle is the
+  // whole display, whatever it draws.)
+  bool spillsOutOfTheColumn(const ImDrawData& data) const {
+    const float right = data.DisplayPos.x + static_cast<float>(panelWidth_) + 0.5f;
+    for (int l = 0; l < data.CmdListsCount; ++l)
+      for (const ImDrawVert& vertex : data.CmdLists[l]->VtxBuffer)
+        if (vertex.pos.x > right) return true;
+    return false;
+  }
 
   void drawPanel(std::pair<int, int> size) {
     ImGui_ImplOpenGL3_NewFrame();
@@ -788,6 +871,12 @@ class LiveWindow {
   std::vector<double> allPeriodsMs_;  // face set-up (deform, normals), GL (render + present), panel, swap
   double faceSetupMs_ = 0.0;
   double cpuAtFrame30_ = 0.0;
+  KeptCheck keptCheck_ = KeptCheck::kToMark;
+  bool panelStale_ = true;   // animation frames came in since the panel was drawn
+  bool panelSpills_ = false;  // it last drew beyond its column
+  std::chrono::steady_clock::time_point panelDrawn_, lastInput_;
+  std::array<double, 2> cursor_{-1.0, -1.0};
+  std::uint64_t panelDraws_ = 0;
   int panelWidth_ = panelWidthFor(1280);
   std::chrono::steady_clock::time_point lastSwap_ = std::chrono::steady_clock::now();
 };
