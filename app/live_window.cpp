@@ -195,6 +195,8 @@ class LiveWindow {
       superviseSource();
       takeFrames();
       const auto drawStart = std::chrono::steady_clock::now();
+      if (keptCheck_ == KeptCheck::kKept && std::chrono::steady_clock::now() - keptCheckedAt_ > std::chrono::seconds(10))
+        keptCheck_ = KeptCheck::kToMark;  // and now and then again
       const bool checking = keptCheck_ == KeptCheck::kToRead;
       if (checking) readKeptMark(size);
       const bool panelNow = resized || checking || keptCheck_ != KeptCheck::kKept || panelNeedsDrawing();
@@ -528,7 +530,8 @@ class LiveWindow {
   // pixels from one frame to the next. GL leaves them undefined after a swap; Mesa's software path (llvmpipe
   // under X) keeps them, a GPU's swap chain does not. So it is checked: a frame leaves a mark in a corner of
   // the column (one pixel, for one frame), and the next reads it back before drawing anything. Found: the
-  // column is kept; not found: drawn every frame. Checked again after a resize.
+  // column is kept; not found: drawn every frame from then on. Checked again after a resize, and every 10 s
+  // while found (a mark one pixel wide for one frame does not show).
   enum class KeptCheck { kToMark, kToRead, kKept, kNotKept };
 
   static constexpr std::array<std::uint8_t, 3> kKeptMark{17, 201, 83};
@@ -549,10 +552,14 @@ class LiveWindow {
     glPixelStorei(GL_PACK_ALIGNMENT, 1);
     glReadPixels(0, size.second - 1, 1, 1, GL_RGBA, GL_UNSIGNED_BYTE, pixel.data());
     const bool kept = std::equal(kKeptMark.begin(), kKeptMark.end(), pixel.begin());
+    keptCheckedAt_ = std::chrono::steady_clock::now();
+    const bool first = !keptReported_;
+    keptReported_ = true;
     keptCheck_ = kept ? KeptCheck::kKept : KeptCheck::kNotKept;
-    std::cout << "live: the window's back buffer " << (kept ? "keeps" : "does not keep")
-              << " its pixels between frames: the panel is drawn " << (kept ? "when it changes" : "every frame")
-              << std::endl;
+    if (first || !kept)  // said once, and again if it stops keeping them
+      std::cout << "live: the window's back buffer " << (kept ? "keeps" : "does not keep")
+                << " its pixels between frames: the panel is drawn " << (kept ? "when it changes" : "every frame")
+                << std::endl;
   }
 
   static void noteInput(GLFWwindow* window) {
@@ -872,6 +879,8 @@ class LiveWindow {
   double faceSetupMs_ = 0.0;
   double cpuAtFrame30_ = 0.0;
   KeptCheck keptCheck_ = KeptCheck::kToMark;
+  std::chrono::steady_clock::time_point keptCheckedAt_;
+  bool keptReported_ = false;
   bool panelStale_ = true;   // animation frames came in since the panel was drawn
   bool panelSpills_ = false;  // it last drew beyond its column
   std::chrono::steady_clock::time_point panelDrawn_, lastInput_;
