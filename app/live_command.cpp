@@ -46,6 +46,7 @@ struct LiveArguments {
   std::string screenshot;    // the window: save it as PNG after `frames` frames and quit
   int frames = 90;
   int msaa = 0;
+  double maxFps = 60.0;
   LiveSettings given;        // the options as typed (which ones were typed: CLI11's count)
 };
 
@@ -283,7 +284,8 @@ void runLive(const LiveArguments& arguments, const CLI::App& command) {
                                                                                        : std::filesystem::path(arguments.settingsFile));
   const LiveSettings settings = resolveSettings(arguments, command, loadLiveSettings(settingsPath));
   runLiveWindow({.input = arguments.input, .settingsPath = settingsPath, .screenshot = arguments.screenshot,
-                 .frames = arguments.frames, .duration = arguments.duration, .msaa = arguments.msaa},
+                 .frames = arguments.frames, .duration = arguments.duration, .msaa = arguments.msaa,
+                 .maxFps = arguments.maxFps},
                 settings);
 }
 
@@ -338,6 +340,10 @@ void addLiveCommand(CLI::App& app) {
   live->add_option("--frames", arguments->frames, "Window: frames before the screenshot")->check(CLI::Range(1, 100000))->capture_default_str();
   live->add_option("--msaa", arguments->msaa, "Window: MSAA samples (0: 4 on a GPU, 1 = none on a software renderer)")
       ->check(CLI::Range(0, 16))
+      ->capture_default_str();
+  live->add_option("--max-fps", arguments->maxFps,
+                   "Window: the most frames a second where the display does not pace them (Xvfb); 0: as many as it can")
+      ->check(CLI::Range(0.0, 1000.0))
       ->capture_default_str();
   live->callback([arguments, live] { runLive(*arguments, *live); });
 }

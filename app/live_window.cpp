@@ -238,9 +238,13 @@ class LiveWindow {
       record(periodMs_, period);
       if (frame == 30) cpuAtFrame30_ = processCpuSeconds();
       if (frame > 30) allPeriodsMs_.push_back(period);  // after the first half second (start-up)
-      // No vsync (Xvfb, some drivers): hold the loop near 60 Hz rather than spin.
-      nextTick_ = std::max(nextTick_ + std::chrono::microseconds(16667), std::chrono::steady_clock::now() - std::chrono::milliseconds(50));
-      std::this_thread::sleep_until(nextTick_);
+      // No vsync (Xvfb, some drivers): hold the loop near its cap (60 Hz) rather than spin.
+      if (arguments_.maxFps > 0.0) {
+        const auto tick = std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+            std::chrono::duration<double>(1.0 / arguments_.maxFps));
+        nextTick_ = std::max(nextTick_ + tick, std::chrono::steady_clock::now() - std::chrono::milliseconds(50));
+        std::this_thread::sleep_until(nextTick_);
+      }
     }
     saveLiveSettings(arguments_.settingsPath, settings_);
     if (!allPeriodsMs_.empty()) {

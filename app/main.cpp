@@ -2,6 +2,7 @@
 #include <CLI/CLI.hpp>
 
 #include <iostream>
+#include <string>
 
 #include "commands.h"
 #include "core/error.h"
@@ -17,6 +18,10 @@ int main(int argc, char** argv) {
   th::app::addFaceCommands(app);
   th::app::addShowCommand(app);
   th::app::addLiveCommand(app);
+  // A mistyped command line is one line, as every other error (CLI11 adds a second, "Run with --help ...").
+  app.failure_message([](const CLI::App*, const CLI::Error& e) {
+    return "talkinghead: " + std::string(e.what()) + " (--help lists the options)\n";
+  });
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
