@@ -177,6 +177,7 @@ class LiveWindow {
     std::pair<int, int> lastSize{0, 0};
     while (!window_.shouldClose() && !InterruptGuard::requested()) {
       if (arguments_.duration > 0.0 && secondsSince(started) >= arguments_.duration) break;
+      const auto loopStart = std::chrono::steady_clock::now();
       glfwPollEvents();
       const auto size = window_.framebufferSize();
       if (size.first <= 0 || size.second <= 0) {  // minimised: keep the pipeline drained
@@ -237,7 +238,10 @@ class LiveWindow {
       lastSwap_ = swapped;
       record(periodMs_, period);
       if (frame == 30) cpuAtFrame30_ = processCpuSeconds();
-      if (frame > 30) allPeriodsMs_.push_back(period);  // after the first half second (start-up)
+      if (frame > 30) {  // after the first half second (start-up)
+        allPeriodsMs_.push_back(period);
+        allBusyMs_.push_back(ms(loopStart, swapped));
+      }
       // No vsync (Xvfb, some drivers): hold the loop near its cap (60 Hz) rather than spin.
       if (arguments_.maxFps > 0.0) {
         const auto tick = std::chrono::duration_cast<std::chrono::steady_clock::duration>(
@@ -251,13 +255,19 @@ class LiveWindow {
       std::sort(allPeriodsMs_.begin(), allPeriodsMs_.end());
       const double medianPeriod = allPeriodsMs_[allPeriodsMs_.size() / 2];
       const double slow = allPeriodsMs_[allPeriodsMs_.size() * 95 / 100];
+      // The frame's own work, from the loop's top (events, frames taken) to the swap's return (the loop's cap
+      // and its sleep left out):
+      // how much of the cap's period is spare.
+      std::sort(allBusyMs_.begin(), allBusyMs_.end());
+      const double busy = allBusyMs_[allBusyMs_.size() / 2];
+      const double busySlow = allBusyMs_[allBusyMs_.size() * 95 / 100];
       // The process's CPU time, llvmpipe's rasterising threads and the decoders included: less at the mercy of
       // what else the machine runs than the frame rate (two cores give 33.3 ms a frame at 60 frames/s).
       const double cpuMs = (processCpuSeconds() - cpuAtFrame30_) * 1000.0 / static_cast<double>(allPeriodsMs_.size());
       std::printf("display: %zu frames, median %.1f frames/s (95th percentile frame %.1f ms), CPU %.1f ms a frame (all "
-                  "threads), the panel drawn %.1f times a second; per frame (median ms of the last 5 s): face %.1f, GL "
+                  "threads), busy %.1f ms a frame (95th percentile %.1f), the panel drawn %.1f times a second; per frame (median ms of the last 5 s): face %.1f, GL "
                   "%.1f, panel %.1f (the frames that draw it), swap %.1f\n",
-                  allPeriodsMs_.size(), 1000.0 / medianPeriod, slow, cpuMs,
+                  allPeriodsMs_.size(), 1000.0 / medianPeriod, slow, cpuMs, busy, busySlow,
                   static_cast<double>(panelDraws_) / secondsSince(started), median(stageMs_[0]), median(stageMs_[1]),
                   median(stageMs_[2]), median(stageMs_[3]));
     }
@@ -880,6 +890,7 @@ class LiveWindow {
   std::deque<double> processingMs_, queueMs_, behindMs_, displayMs_, periodMs_;
   std::array<std::deque<double>, 4> stageMs_;  // face set-up (deform, normals), GL (render + present), panel, swap
   std::vector<double> allPeriodsMs_;           // swap to swap, after the first 30 frames
+  std::vector<double> allBusyMs_;              // the loop's top to the swap's return, likewise
   double faceSetupMs_ = 0.0;
   double cpuAtFrame30_ = 0.0;
   KeptCheck keptCheck_ = KeptCheck::kToMark;
