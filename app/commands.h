@@ -16,6 +16,7 @@ void addTrainMouthCommand(CLI::App& train);  // `train mouth`, registered by add
 void addAnimateCommand(CLI::App& app);
 void addFaceCommands(CLI::App& app);  // render, poses, export
 void addShowCommand(CLI::App& app);
-void addLiveCommand(CLI::App& app);  // live (headless for now)
+void addLiveCommand(CLI::App& app);  // live: the window, or --headless
+void addTrackCommand(CLI::App& app);  // track: a talking video -> landmarks per frame
 
 }  // namespace th::app

@@ -18,6 +18,7 @@ int main(int argc, char** argv) {
   th::app::addFaceCommands(app);
   th::app::addShowCommand(app);
   th::app::addLiveCommand(app);
+  th::app::addTrackCommand(app);
   // A mistyped command line is one line, as every other error (CLI11 adds a second, "Run with --help ...").
   app.failure_message([](const CLI::App*, const CLI::Error& e) {
     return "talkinghead: " + std::string(e.what()) + " (--help lists the options)\n";

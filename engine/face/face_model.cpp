@@ -245,6 +245,8 @@ TongueBody findTongue(const Mesh& mesh, const Eigen::VectorXd& jawFollow, double
   return tongue;
 }
 
+}  // namespace
+
 Eigen::Matrix3d headRotation(double pitch, double yaw, double roll) {
   // As the head model's angles: R = Ry(yaw)·Rx(pitch)·Rz(roll); FAP 48 positive pitches down about +x, 49 yaws
   // to the face's left about +y, 50 rolls to its right about +z (face/fap.cpp).
@@ -253,12 +255,11 @@ Eigen::Matrix3d headRotation(double pitch, double yaw, double roll) {
       .toRotationMatrix();
 }
 
-}  // namespace
-
 FaceModel FaceModel::build(const FaceAssets& assets, const FaceModelOptions& options) {
   FaceModel model;
   model.mesh_ = assets.neutral;
   model.points_ = assets.points;
+  model.landmarks_ = assets.landmarks;
   const Eigen::Matrix3Xd& rest = model.mesh_.positions;
   model.units_ = measureFapUnits(model.points_, rest);
   const FapUnits& u = model.units_;
@@ -625,14 +626,56 @@ std::array<double, 2> FaceModel::pupilScale(const FapValues& faps) const {
   return {std::max(0.1, 1.0 + faps[29] * units_.irisd / pupilRadius_), std::max(0.1, 1.0 + faps[30] * units_.irisd / pupilRadius_)};
 }
 
-Eigen::Matrix3Xd FaceModel::deform(const FapValues& faps) const {
-  Eigen::Matrix3Xd v = mesh_.positions;
+Eigen::Matrix3Xd FaceModel::deform(const FapValues& faps) const { return deformSelected(faps, nullptr); }
+
+Eigen::Matrix3Xd FaceModel::deform(const FapValues& faps, const VertexSelection& selection) const {
+  if (selection.columnOf.size() != static_cast<std::size_t>(mesh_.numVertices()) || selection.fields.size() != linear_.size())
+    throw Error("FaceModel::deform: the selection was made for another mesh");
+  return deformSelected(faps, &selection);
+}
+
+VertexSelection FaceModel::select(const std::vector<int>& vertices) const {
+  VertexSelection selection;
+  selection.vertices = vertices;
+  selection.columnOf.assign(static_cast<std::size_t>(mesh_.numVertices()), -1);
+  for (std::size_t c = 0; c < vertices.size(); ++c) {
+    if (vertices[c] < 0 || vertices[c] >= mesh_.numVertices())
+      throw Error("FaceModel::select: vertex " + std::to_string(vertices[c]) + " is not in the mesh");
+    int& column = selection.columnOf[static_cast<std::size_t>(vertices[c])];
+    if (column < 0) column = static_cast<int>(c);  // a vertex chosen twice is deformed once (the first column)
+  }
+  selection.fields.resize(linear_.size());
+  for (std::size_t fap = 0; fap < linear_.size(); ++fap)
+    for (const FieldEntry& entry : linear_[fap])
+      if (const int c = selection.columnOf[static_cast<std::size_t>(entry.vertex)]; c >= 0)
+        selection.fields[fap].push_back({c, entry.displacement});
+  return selection;
+}
+
+Eigen::Matrix3Xd FaceModel::deformSelected(const FapValues& faps, const VertexSelection* selection) const {
+  // The column of a mesh vertex in `v` (-1: not deformed here), and the mesh vertex of a column.
+  const auto columnOf = [&](int vertex) { return selection ? selection->columnOf[static_cast<std::size_t>(vertex)] : vertex; };
+  const auto vertexOf = [&](Eigen::Index column) {
+    return selection ? selection->vertices[static_cast<std::size_t>(column)] : static_cast<int>(column);
+  };
+  Eigen::Matrix3Xd v;
+  if (selection) {
+    v.resize(3, static_cast<Eigen::Index>(selection->vertices.size()));
+    for (Eigen::Index c = 0; c < v.cols(); ++c) v.col(c) = mesh_.positions.col(vertexOf(c));
+  } else {
+    v = mesh_.positions;
+  }
   const Eigen::Matrix3Xd& rest = mesh_.positions;
   for (int fap = 1; fap <= kNumFaps; ++fap) {
     const double value = faps[static_cast<std::size_t>(fap)];
     if (value == 0.0) continue;
-    for (const FieldEntry& entry : linear_[static_cast<std::size_t>(fap)])
-      v.col(entry.vertex) += value * entry.displacement.cast<double>();
+    if (selection) {
+      for (const VertexSelection::FieldEntry& entry : selection->fields[static_cast<std::size_t>(fap)])
+        v.col(entry.column) += value * entry.displacement.cast<double>();
+    } else {
+      for (const FieldEntry& entry : linear_[static_cast<std::size_t>(fap)])
+        v.col(entry.vertex) += value * entry.displacement.cast<double>();
+    }
   }
 
   // Tongue roll (unidirectional: the sides curl up): each side turns about the mid-line's axis, the face's left
@@ -640,10 +683,12 @@ Eigen::Matrix3Xd FaceModel::deform(const FapValues& faps) const {
   const double tongueRoll = std::max(0.0, faps[47]) * kAngleUnit;
   if (tongueRoll != 0.0) {
     for (const auto& [vertex, share] : tongueRoll_) {
+      const int column = columnOf(vertex);
+      if (column < 0) continue;
       const double a = share * tongueRoll, c = std::cos(a), s = std::sin(a);
-      const double x = v(0, vertex), y = v(1, vertex) - tongueAxisY_;
-      v(0, vertex) = c * x - s * y;
-      v(1, vertex) = tongueAxisY_ + s * x + c * y;
+      const double x = v(0, column), y = v(1, column) - tongueAxisY_;
+      v(0, column) = c * x - s * y;
+      v(1, column) = tongueAxisY_ + s * x + c * y;
     }
   }
 
@@ -654,8 +699,10 @@ Eigen::Matrix3Xd FaceModel::deform(const FapValues& faps) const {
                                  faps[15] * units_.mw * -Eigen::Vector3d::UnitX()) / chinFollow_;
   if (angle != 0.0 || slide.squaredNorm() > 0.0) {
     for (int vertex : jawVertices_) {
+      const int column = columnOf(vertex);
+      if (column < 0) continue;
       const double share = jawFollow_[vertex];
-      v.col(vertex) = jaw_.pivot + Eigen::AngleAxisd(share * angle, jaw_.axis) * (v.col(vertex) - jaw_.pivot) + share * slide;
+      v.col(column) = jaw_.pivot + Eigen::AngleAxisd(share * angle, jaw_.axis) * (v.col(column) - jaw_.pivot) + share * slide;
     }
   }
 
@@ -675,12 +722,14 @@ Eigen::Matrix3Xd FaceModel::deform(const FapValues& faps) const {
     if (closeUpper != 0.0) {
       const double turn = lidAngle(left ? "3.1" : "3.2", closeUpper * units_.irisd);
       for (const auto& [vertex, share] : eye.upperLid)
-        v.col(vertex) = eye.centre + Eigen::AngleAxisd(share * turn, Eigen::Vector3d::UnitX()) * (v.col(vertex) - eye.centre);
+        if (const int c = columnOf(vertex); c >= 0)
+          v.col(c) = eye.centre + Eigen::AngleAxisd(share * turn, Eigen::Vector3d::UnitX()) * (v.col(c) - eye.centre);
     }
     if (closeLower != 0.0) {
       const double turn = lidAngle(left ? "3.3" : "3.4", -closeLower * units_.irisd);
       for (const auto& [vertex, share] : eye.lowerLid)
-        v.col(vertex) = eye.centre + Eigen::AngleAxisd(share * turn, Eigen::Vector3d::UnitX()) * (v.col(vertex) - eye.centre);
+        if (const int c = columnOf(vertex); c >= 0)
+          v.col(c) = eye.centre + Eigen::AngleAxisd(share * turn, Eigen::Vector3d::UnitX()) * (v.col(c) - eye.centre);
     }
     const double yaw = faps[left ? 23 : 24] * kAngleUnit, pitch = faps[left ? 25 : 26] * kAngleUnit;
     const double thrust = faps[left ? 27 : 28] * units_.es;
@@ -688,7 +737,8 @@ Eigen::Matrix3Xd FaceModel::deform(const FapValues& faps) const {
       const Eigen::Matrix3d turn = (Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitY()) *
                                     Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitX())).toRotationMatrix();
       for (int vertex : eye.ball)
-        v.col(vertex) = eye.centre + turn * (v.col(vertex) - eye.centre) + thrust * Eigen::Vector3d::UnitZ();
+        if (const int c = columnOf(vertex); c >= 0)
+          v.col(c) = eye.centre + turn * (v.col(c) - eye.centre) + thrust * Eigen::Vector3d::UnitZ();
     }
   }
 
@@ -696,13 +746,17 @@ Eigen::Matrix3Xd FaceModel::deform(const FapValues& faps) const {
   const double pitch = faps[48] * kAngleUnit, yaw = faps[49] * kAngleUnit, roll = faps[50] * kAngleUnit;
   if (pitch != 0.0 || yaw != 0.0 || roll != 0.0) {
     const Eigen::Matrix3d full = headRotation(pitch, yaw, roll);
-    for (Eigen::Index vertex = 0; vertex < v.cols(); ++vertex) {
-      const float share = headShare_[static_cast<std::size_t>(vertex)];
+    for (Eigen::Index column = 0; column < v.cols(); ++column) {
+      const float share = headShare_[static_cast<std::size_t>(vertexOf(column))];
       if (share <= 0.0f) continue;
       const Eigen::Matrix3d turn = share >= 1.0f ? full : headRotation(share * pitch, share * yaw, share * roll);
-      v.col(vertex) = neckPivot_ + turn * (v.col(vertex) - neckPivot_);
+      v.col(column) = neckPivot_ + turn * (v.col(column) - neckPivot_);
     }
   }
+  // A vertex chosen twice was deformed in one column (columnOf holds one); the others take it from there.
+  if (selection)
+    for (Eigen::Index c = 0; c < v.cols(); ++c)
+      if (const int first = columnOf(vertexOf(c)); first != c) v.col(c) = v.col(first);
   return v;
 }
 

@@ -66,11 +66,33 @@ struct FaceModelOptions {
   BezierLatticeOptions lattice{.volumes = {12, 15, 4}, .degree = 3, .bend = 0.04};
 };
 
+// The head's turn for FAPs 48-50 in radians (pitch, yaw, roll): R = Ry(yaw)·Rx(pitch)·Rz(roll), about the neck
+// pivot (FaceModel::neckPivot).
+Eigen::Matrix3d headRotation(double pitch, double yaw, double roll);
+
+// Some of a mesh's vertices, for deforming only those (FaceModel::select): fitting the face to tracked
+// landmarks moves 68 vertices, not the whole head, dozens of times a frame.
+struct VertexSelection {
+  struct FieldEntry {
+    int column;
+    Eigen::Vector3f displacement;
+  };
+  std::vector<int> vertices;  // the chosen vertices, in the order of the deformed columns (repeats allowed)
+  std::vector<int> columnOf;  // per mesh vertex: its (first) column, or -1 when not chosen
+  // Per FAP number: the linear fields (FaceModel::linearField) at the chosen vertices only.
+  std::vector<std::vector<FieldEntry>> fields;
+};
+
 class FaceModel {
  public:
   static FaceModel build(const FaceAssets& assets, const FaceModelOptions& options = {});
 
   Eigen::Matrix3Xd deform(const FapValues& faps) const;
+  // The same deformation of the selected vertices only (3 x selection.vertices.size()).
+  Eigen::Matrix3Xd deform(const FapValues& faps, const VertexSelection& selection) const;
+  VertexSelection select(const std::vector<int>& vertices) const;  // throws th::Error for a vertex not in the mesh
+  // The 68 iBUG landmarks' vertices (FaceAssets::landmarks; empty if the assets had none).
+  const std::vector<int>& landmarkVertices() const { return landmarks_; }
 
   bool supports(int fap) const;
   const Mesh& mesh() const { return mesh_; }
@@ -110,8 +132,12 @@ class FaceModel {
     std::vector<std::pair<int, float>> upperLid, lowerLid;  // vertex, share of the lid's angle
   };
 
+  // deform() for the vertices of `selection`, or every vertex when it is null.
+  Eigen::Matrix3Xd deformSelected(const FapValues& faps, const VertexSelection* selection) const;
+
   Mesh mesh_;
   FeaturePointMap points_;
+  std::vector<int> landmarks_;
   FapUnits units_;
   JawHinge jaw_;
   Eigen::VectorXd jawFollow_;             // per vertex

@@ -119,10 +119,10 @@ FaceAssets loadIctFace(const std::filesystem::path& directory) {
   FaceAssets face;
   face.neutral = loadObjMesh(directory / "generic_neutral_mesh.obj");
   face.jawOpen = loadObjPositions(directory / "jawOpen.obj", face.neutral.numVertices());
-  const std::vector<int> landmarks = landmarkVertices(directory / "vertex_indices.json", face.neutral.numVertices());
+  face.landmarks = landmarkVertices(directory / "vertex_indices.json", face.neutral.numVertices());
   for (const LandmarkPoint& point : ibugFeaturePoints()) {
     std::vector<int> vertices;
-    for (int landmark : point.landmarks) vertices.push_back(landmarks[static_cast<std::size_t>(landmark)]);
+    for (int landmark : point.landmarks) vertices.push_back(face.landmarks[static_cast<std::size_t>(landmark)]);
     face.points.set(point.id, std::move(vertices));
   }
   // Pupils: the front of each eye. ICT's iris material is a whole sphere over the eyeball (the iris is in its

@@ -45,6 +45,7 @@ FapUnits measureFapUnits(const FeaturePointMap& points, const Eigen::Matrix3Xd& 
 struct FaceAssets {
   Mesh neutral;
   FeaturePointMap points;
+  std::vector<int> landmarks;  // the 68 iBUG landmarks' vertices, in iBUG order (0-based)
   Eigen::Matrix3Xd jawOpen;  // 3 x V, the ARKit jawOpen shape at weight 1
 };
 

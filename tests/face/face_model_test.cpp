@@ -11,6 +11,7 @@
 #include <tuple>
 #include <vector>
 
+#include "core/error.h"
 #include "face/fap.h"
 #include "face/face_model.h"
 
@@ -31,6 +32,34 @@ double degrees(double d) { return d * std::numbers::pi / 180.0 / th::face::kAngl
 TEST(FaceModel, AllZeroFapsLeaveTheNeutralFace) {
   const Eigen::Matrix3Xd positions = face().deform(FapValues{});
   EXPECT_EQ((positions - face().mesh().positions).cwiseAbs().maxCoeff(), 0.0);
+}
+
+// Deforming a few vertices (the tracker's 68 landmarks, an eyelid's and the tongue's) moves them exactly as
+// deforming the whole mesh does, with every kind of FAP at once.
+TEST(FaceModel, ASelectionOfVerticesMovesAsTheWholeMeshDoes) {
+  ASSERT_EQ(face().landmarkVertices().size(), 68u);
+  std::vector<int> vertices = face().landmarkVertices();
+  for (int v : face().eyeLidVertices(0)) vertices.push_back(v);
+  for (const char* tip : {"6.1", "6.3"})
+    for (int v : face().points().vertices(tip)) vertices.push_back(v);
+  const th::face::VertexSelection selection = face().select(vertices);
+  FapValues faps{};
+  faps[3] = 300;   // jaw
+  faps[5] = -80;   // lower lip
+  faps[12] = 60;   // a lip corner
+  faps[19] = 400;  // an eyelid
+  faps[31] = 50;   // a brow
+  faps[43] = 120;  // the tongue
+  faps[47] = 20000;  // its roll
+  faps[48] = degrees(6.0);
+  faps[49] = degrees(-9.0);
+  faps[50] = degrees(3.0);
+  const Eigen::Matrix3Xd whole = face().deform(faps);
+  const Eigen::Matrix3Xd some = face().deform(faps, selection);
+  ASSERT_EQ(some.cols(), static_cast<Eigen::Index>(vertices.size()));
+  for (std::size_t c = 0; c < vertices.size(); ++c)
+    EXPECT_LT((some.col(static_cast<Eigen::Index>(c)) - whole.col(vertices[c])).norm(), 1e-9) << "vertex " << vertices[c];
+  EXPECT_THROW(face().select({-1}), th::Error);
 }
 
 TEST(FaceModel, SupportsTheFapsTheMeshCanShow) {

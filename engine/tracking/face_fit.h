@@ -1,0 +1,85 @@
+// The face model fitted to a frame's 68 landmarks (Tao & Huang's tracker, with our FAP-driven mesh in place of
+// their PBVD model): least squares over the head's rotation (FAPs 48-50), its scale and place in the image, and
+// the jaw and lip FAPs, so that the model's landmark vertices (ICT FaceKit's iBUG annotation), deformed and
+// projected, land on the tracked points.
+//
+//   const th::face::FaceModel face = th::face::FaceModel::build(th::face::loadIctFace(th::face::ictFaceDirectory()));
+//   th::tracking::FaceFitter fitter(face);
+//   th::tracking::FaceFit fit = fitter.fit(points);             // the first frame: a rigid start
+//   fit = fitter.fit(nextPoints, &fit);                          // then each frame from the last
+//   // fit.faps[3] (open_jaw, MNS), fit.faps[49] (yaw, AU), fit.residualPixels, ...
+//
+// Camera: scaled orthographic by default: image x = s·X + ox, image y = −s·Y + oy, for the deformed model point
+// (X, Y, Z) (model y up, image y down; the face's left, +X, is the image's right). Where the camera's focal
+// length f is known (FitOptions::focalLengthPixels), perspective about the model's origin: the camera is
+// D = f / s model units away, and a point nearer by Z is enlarged by D / (D − Z). Near cameras matter: seen
+// orthographically, a turn of the head moves the nose further than the model expects, and the fitted yaw
+// comes out about a quarter too large at a 24° field of view. Solved with Levenberg-Marquardt on numerical
+// derivatives (the model deforms only the landmark vertices: face::VertexSelection, tens of microseconds).
+// The FAPs are pulled gently towards 0 (a prior of `fapPrior` per FAP, in units of its typical range), which
+// keeps the lips' directions that the 2-D points do not see (pushing forward) at rest.
+//
+// The jaw line's contour points (1-7, 9-15 and the ends 0, 16) slide over the cheek as the head turns and are
+// not fixed vertices: only the chin (8) is used from it by default.
+//
+// Person and annotation differ from the model: call calibrate() on a frame of the speaker at rest (mouth
+// closed, looking ahead). That frame is taken as the head at 0° on every axis with no FAPs: only its scale and
+// place are fitted, and its residual, carried into the model's frame, is added to the model's landmarks from
+// then on. So the head's angles and the FAPs measure change from that rest face, rather than the difference
+// between two faces (or between dlib's idea of a landmark and the mesh's annotation).
+//
+// Thread contract: fit() is const; a fitter may be shared by threads once calibrated.
+#pragma once
+
+#include <Eigen/Core>
+#include <vector>
+
+#include "face/face_model.h"
+#include "tracking/landmarks.h"
+
+namespace th::tracking {
+
+struct FitOptions {
+  // The non-rigid part: the jaw (3) and the lips (inner 4-13, outer 51-60).
+  std::vector<int> faps{3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 51, 52, 53, 54, 55, 56, 57, 58, 59, 60};
+  std::vector<int> landmarks;  // which of the 68 to fit; empty: 8 and 17-67
+  double fapPrior = 0.01;      // weight of each FAP's pull to 0, per (value / typical range)
+  double typicalFapRange = 300.0;  // FAPU counts: a wide-open jaw is ~500 MNS, a lip movement ~100-300
+  int iterations = 30;             // Levenberg-Marquardt steps at most
+  double focalLengthPixels = 0.0;  // 0: orthographic; else the camera's focal length in pixels
+};
+
+struct FaceFit {
+  face::FapValues faps{};          // the fitted FAPs (3, lips, and 48-50 the head's pitch, yaw, roll in AU)
+  double scale = 1.0;              // pixels per model unit
+  Eigen::Vector2d offset{0.0, 0.0};  // pixels
+  double residualPixels = 0.0;     // root mean square distance of the fitted landmarks to the tracked ones
+  int iterations = 0;
+};
+
+class FaceFitter {
+ public:
+  explicit FaceFitter(const face::FaceModel& face, FitOptions options = {});
+
+  FaceFit fit(const Landmarks& points, const FaceFit* start = nullptr) const;
+  // The model's landmarks as a fit projects them (all 68).
+  Landmarks project(const FaceFit& fit) const;
+  // Takes `points` (a neutral frame) as the speaker's rest shape; returns its rigid fit.
+  FaceFit calibrate(const Landmarks& points);
+
+  const FitOptions& options() const { return options_; }
+
+ private:
+  Eigen::VectorXd residuals(const Landmarks& points, const Eigen::VectorXd& parameters) const;
+  FaceFit fitOf(const Eigen::VectorXd& parameters) const;
+  Eigen::VectorXd parametersOf(const FaceFit& fit) const;
+  FaceFit rigidStart(const Landmarks& points) const;
+
+  const face::FaceModel& face_;
+  FitOptions options_;
+  bool fitRotation_ = true;  // false: the head's angles stay where the start put them (calibrate)
+  face::VertexSelection selection_;        // the 68 landmark vertices
+  Eigen::Matrix<double, 2, kNumLandmarks> calibration_ = Eigen::Matrix<double, 2, kNumLandmarks>::Zero();  // model X, Y
+};
+
+}  // namespace th::tracking

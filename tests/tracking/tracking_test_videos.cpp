@@ -1,0 +1,46 @@
+#include "tracking_test_videos.h"
+
+#include <cmath>
+#include <numbers>
+#include <opencv2/videoio.hpp>
+#include <vector>
+
+#include "core/error.h"
+#include "tracking/video_reader.h"
+#include "video/mp4_writer.h"
+
+namespace th::test {
+
+void writeFacelessVideo(const std::filesystem::path& path) {
+  constexpr int kWidth = 320, kHeight = 240, kFrames = 50;
+  video::Mp4Options options;
+  options.width = kWidth;
+  options.height = kHeight;
+  options.framesPerSecond = 25.0;
+  video::Mp4Writer writer(path, options);
+  std::vector<float> tone(32000);
+  for (std::size_t n = 0; n < tone.size(); ++n)
+    tone[n] = 0.3f * static_cast<float>(std::sin(2.0 * std::numbers::pi * 220.0 * static_cast<double>(n) / 16000.0));
+  writer.addAudio(tone);
+  std::vector<std::uint8_t> rgb(static_cast<std::size_t>(kWidth * kHeight * 3));
+  for (int f = 0; f < kFrames; ++f) {
+    for (int y = 0; y < kHeight; ++y)
+      for (int x = 0; x < kWidth; ++x)
+        for (int c = 0; c < 3; ++c)
+          rgb[static_cast<std::size_t>((y * kWidth + x) * 3 + c)] = static_cast<std::uint8_t>((x + y + 2 * f + 20 * c) % 256);
+    writer.addVideoFrame(rgb.data(), kWidth * 3);
+  }
+  writer.finish();
+}
+
+void writeSoundlessCopy(const std::filesystem::path& source, const std::filesystem::path& path) {
+  tracking::VideoReader reader(source);
+  cv::VideoWriter writer(path.string(), cv::CAP_FFMPEG, cv::VideoWriter::fourcc('M', 'J', 'P', 'G'),
+                         reader.framesPerSecond(), cv::Size(reader.width(), reader.height()));
+  if (!writer.isOpened()) throw fileError(path, "OpenCV cannot write Motion-JPEG AVI here");
+  cv::Mat frame;
+  double seconds = 0.0;
+  while (reader.read(frame, seconds)) writer.write(frame);
+}
+
+}  // namespace th::test
