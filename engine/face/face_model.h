@@ -109,6 +109,8 @@ class FaceModel {
   // The jaw angle (radians) that a FAP 3 value asks for.
   double jawAngleFor(double openJaw) const;
   const Eigen::Vector3d& neckPivot() const { return neckPivot_; }
+  // How much of the head's turn (FAPs 48-50) a vertex follows: 1 on the head, fading to 0 down the neck.
+  double headShare(int vertex) const { return headShare_.at(static_cast<std::size_t>(vertex)); }
   const BezierLattice& lattice() const { return lattice_; }
   const Embedding& embedding() const { return embedding_; }
 

@@ -2,6 +2,7 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <array>
 #include <cmath>
 
@@ -34,6 +35,7 @@ FaceFitter::FaceFitter(const face::FaceModel& face, FitOptions options) : face_(
     if (fap < 3 || fap > face::kNumFaps || fap == 48 || fap == 49 || fap == 50 || !face.supports(fap))
       throw Error("FaceFitter: FAP " + std::to_string(fap) + " cannot be fitted");
   selection_ = face.select(face.landmarkVertices());
+  for (int v : face.landmarkVertices()) shares_.push_back(face.headShare(v));
 }
 
 FaceFit FaceFitter::fitOf(const Eigen::VectorXd& parameters) const {
@@ -63,19 +65,23 @@ Eigen::VectorXd FaceFitter::parametersOf(const FaceFit& fit) const {
 
 Landmarks FaceFitter::project(const FaceFit& fit) const {
   // The face's own motion first (jaw, lips; the head's turn left out), the speaker's rest shape added, then
-  // the turn about the neck pivot: every landmark is on the part of the head that turns whole.
+  // the turn about the neck pivot, each landmark by its share of it (as FaceModel::deform turns them: the
+  // chin and the jaw line sit where the turn starts to fade into the neck).
   face::FapValues still = fit.faps;
   still[48] = still[49] = still[50] = 0.0;
   Eigen::Matrix3Xd model = face_.deform(still, selection_);
   model.topRows<2>() += calibration_;
-  const Eigen::Matrix3d turn = face::headRotation(fit.faps[48] * face::kAngleUnit, fit.faps[49] * face::kAngleUnit,
-                                                  fit.faps[50] * face::kAngleUnit);
+  const double pitch = fit.faps[48] * face::kAngleUnit, yaw = fit.faps[49] * face::kAngleUnit,
+               roll = fit.faps[50] * face::kAngleUnit;
+  const Eigen::Matrix3d turn = face::headRotation(pitch, yaw, roll);
   const Eigen::Vector3d& pivot = face_.neckPivot();
   // Perspective: the camera's distance in model units at this scale (infinite: orthographic).
   const double distance = options_.focalLengthPixels > 0.0 ? options_.focalLengthPixels / fit.scale : 0.0;
   Landmarks image;
   for (int i = 0; i < kNumLandmarks; ++i) {
-    const Eigen::Vector3d p = pivot + turn * (model.col(i) - pivot);
+    const double share = shares_[static_cast<std::size_t>(i)];
+    const Eigen::Vector3d p =
+        pivot + (share >= 1.0 ? turn : face::headRotation(share * pitch, share * yaw, share * roll)) * (model.col(i) - pivot);
     const double enlarge = distance > 0.0 ? distance / std::max(distance - p.z(), 1e-3 * distance) : 1.0;
     image(0, i) = fit.scale * enlarge * p.x() + fit.offset.x();
     image(1, i) = -fit.scale * enlarge * p.y() + fit.offset.y();
@@ -92,9 +98,11 @@ Eigen::VectorXd FaceFitter::residuals(const Landmarks& points, const Eigen::Vect
     const int i = options_.landmarks[static_cast<std::size_t>(j)];
     r.segment<2>(2 * j) = projected.col(i) - points.col(i);
   }
-  // The prior, in pixels: a FAP at its typical range costs fapPrior eye distances.
-  const double weight = options_.fapPrior * eyeDistance(points) / options_.typicalFapRange;
-  r.tail(numFaps) = weight * parameters.tail(numFaps);
+  // The prior, in pixels: a FAP at its typical range costs fapPrior (jawPrior) eye distances.
+  const double perUnit = eyeDistance(points) / options_.typicalFapRange;
+  for (Eigen::Index k = 0; k < numFaps; ++k)
+    r[2 * used + k] = (options_.faps[static_cast<std::size_t>(k)] == 3 ? options_.jawPrior : options_.fapPrior) * perUnit *
+                      parameters[kRigid + k];
   return r;
 }
 
@@ -156,6 +164,10 @@ FaceFit FaceFitter::fit(const Landmarks& points, const FaceFit* start) const {
       const Eigen::VectorXd delta = damped.ldlt().solve(-gradient);
       Eigen::VectorXd candidate = x;
       for (Eigen::Index j = 0; j < m; ++j) candidate[free[static_cast<std::size_t>(j)]] += delta[j];
+      // The jaw opens only (the model does not close it past rest): below 0 it would have no gradient to come
+      // back by, so it stops at 0.
+      for (std::size_t k = 0; k < options_.faps.size(); ++k)
+        if (options_.faps[k] == 3) candidate[kRigid + static_cast<Eigen::Index>(k)] = std::max(0.0, candidate[kRigid + static_cast<Eigen::Index>(k)]);
       if (!(candidate[0] > 0.0)) {
         damping *= 10.0;
         continue;

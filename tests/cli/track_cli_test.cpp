@@ -11,7 +11,7 @@
 #include "cli_runner.h"
 #include "core/data_path.h"
 #include "core/numeric_csv.h"
-#include "tracking_test_videos.h"
+#include "tracking_test_support.h"
 
 namespace {
 

@@ -5,7 +5,6 @@
 #include <cmath>
 #include <iostream>
 #include <numbers>
-#include <numeric>
 #include <random>
 #include <vector>
 
@@ -15,6 +14,7 @@
 #include "face/fap.h"
 #include "tracking/face_fit.h"
 #include "tracking/track.h"
+#include "tracking_test_support.h"
 
 namespace {
 
@@ -101,37 +101,20 @@ TEST(FaceFit, CalibrationTakesTheSpeakersRestFaceAsNeutral) {
   EXPECT_NEAR(fit.faps[3], 300.0, 20.0);
 }
 
-double correlation(const std::vector<double>& a, const std::vector<double>& b) {
-  const double n = static_cast<double>(a.size());
-  const double ma = std::accumulate(a.begin(), a.end(), 0.0) / n;
-  const double mb = std::accumulate(b.begin(), b.end(), 0.0) / n;
-  double ab = 0, aa = 0, bb = 0;
-  for (std::size_t i = 0; i < a.size(); ++i) {
-    ab += (a[i] - ma) * (b[i] - mb);
-    aa += (a[i] - ma) * (a[i] - ma);
-    bb += (b[i] - mb) * (b[i] - mb);
-  }
-  return ab / std::sqrt(aa * bb);
-}
-
 // A real clip: the model lands within a few pixels of dlib's points on a 360x288 video, and the fitted jaw
 // (FAP 3) opens with the sound's level.
 TEST(FaceFit, AGridClipIsFittedCloselyAndItsJawFollowsTheSound) {
   const auto clip = th::sharedDataPath("grid/s1/bbal7s.mpg");
   th::tracking::Track track = th::tracking::trackVideo(clip);
   th::tracking::fitTrack(track, faceModel());
-  const th::audio::AudioClip sound = th::audio::readMediaAudio(clip);
-  std::vector<double> jaw, level;
+  const std::vector<double> level =
+      th::test::levelPerFrame(th::audio::readMediaAudio(clip), track.framesPerSecond, track.frames.size());
+  std::vector<double> jaw;
   double residual = 0.0;
-  const std::size_t hop = static_cast<std::size_t>(sound.sampleRateHz / 25);
-  for (std::size_t f = 0; f < track.frames.size() && (f + 1) * hop <= sound.samples.size(); ++f) {
-    double energy = 0.0;
-    for (std::size_t n = f * hop; n < (f + 1) * hop; ++n) energy += static_cast<double>(sound.samples[n]) * sound.samples[n];
-    level.push_back(10.0 * std::log10(energy / static_cast<double>(hop) + 1e-10));
-    jaw.push_back(track.frames[f].fit.faps[3]);
-    residual += track.frames[f].fit.residualPixels / static_cast<double>(track.frames.size());
-  }
-  const double rho = correlation(jaw, level);
+  for (std::size_t f = 0; f < level.size(); ++f) jaw.push_back(track.frames[f].fit.faps[3]);
+  for (const th::tracking::TrackedFrame& frame : track.frames)
+    residual += frame.fit.residualPixels / static_cast<double>(track.frames.size());
+  const double rho = th::test::correlation(jaw, level);
   std::cout << "bbal7s: mean residual " << residual << " px, jaw (FAP 3) against the sound's level: correlation " << rho
             << "; rest face at frame " << track.neutralFrame << "\n";
   EXPECT_LT(residual, 3.0);

@@ -6,7 +6,6 @@
 #include <functional>
 #include <iostream>
 #include <string>
-#include <numeric>
 #include <vector>
 
 #include "audio/media_audio.h"
@@ -16,7 +15,7 @@
 #include "support/files.h"
 #include "tracking/track.h"
 #include "tracking/video_reader.h"
-#include "tracking_test_videos.h"
+#include "tracking_test_support.h"
 
 namespace {
 
@@ -33,19 +32,6 @@ std::string errorOf(const std::function<void()>& work) {
     return error.what();
   }
   return "";
-}
-
-double correlation(const std::vector<double>& a, const std::vector<double>& b) {
-  const double n = static_cast<double>(a.size());
-  const double ma = std::accumulate(a.begin(), a.end(), 0.0) / n;
-  const double mb = std::accumulate(b.begin(), b.end(), 0.0) / n;
-  double ab = 0, aa = 0, bb = 0;
-  for (std::size_t i = 0; i < a.size(); ++i) {
-    ab += (a[i] - ma) * (b[i] - mb);
-    aa += (a[i] - ma) * (a[i] - ma);
-    bb += (b[i] - mb) * (b[i] - mb);
-  }
-  return ab / std::sqrt(aa * bb);
 }
 
 TEST(VideoReader, ReadsEveryFrameOfAGridClipAtItsOwnRate) {
@@ -120,17 +106,11 @@ TEST(Tracking, FindsTheFaceInEveryFrameOfAGridClip) {
 TEST(Tracking, TheMouthOpensWithTheSoundsLoudness) {
   for (const std::string name : {"bbal7s", "bbaz7a", "bbil3s", "bgahzn"}) {
     const th::tracking::Track track = th::tracking::trackVideo(gridClip(name));
-    const th::audio::AudioClip sound = th::audio::readMediaAudio(gridClip(name));
-    std::vector<double> opening, level;
-    const std::size_t hop = static_cast<std::size_t>(sound.sampleRateHz / 25);
-    for (std::size_t f = 0; f < track.frames.size() && (f + 1) * hop <= sound.samples.size(); ++f) {
-      double energy = 0.0;
-      for (std::size_t n = f * hop; n < (f + 1) * hop; ++n)
-        energy += static_cast<double>(sound.samples[n]) * sound.samples[n];
-      level.push_back(10.0 * std::log10(energy / static_cast<double>(hop) + 1e-10));
-      opening.push_back(th::tracking::mouthOpening(track.frames[f].landmarks));
-    }
-    const double rho = correlation(opening, level);
+    const std::vector<double> level =
+        th::test::levelPerFrame(th::audio::readMediaAudio(gridClip(name)), track.framesPerSecond, track.frames.size());
+    std::vector<double> opening;
+    for (std::size_t f = 0; f < level.size(); ++f) opening.push_back(th::tracking::mouthOpening(track.frames[f].landmarks));
+    const double rho = th::test::correlation(opening, level);
     std::cout << name << ": mouth opening against the sound's level, correlation " << rho << " over " << level.size()
               << " frames\n";
     EXPECT_GT(rho, 0.3) << name;

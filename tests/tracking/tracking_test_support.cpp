@@ -1,10 +1,12 @@
-#include "tracking_test_videos.h"
+#include "tracking_test_support.h"
 
+#include <Eigen/Core>
 #include <cmath>
 #include <numbers>
 #include <opencv2/videoio.hpp>
 #include <vector>
 
+#include "animation/mouth_evaluation.h"
 #include "core/error.h"
 #include "tracking/video_reader.h"
 #include "video/mp4_writer.h"
@@ -41,6 +43,24 @@ void writeSoundlessCopy(const std::filesystem::path& source, const std::filesyst
   cv::Mat frame;
   double seconds = 0.0;
   while (reader.read(frame, seconds)) writer.write(frame);
+}
+
+std::vector<double> levelPerFrame(const audio::AudioClip& sound, double framesPerSecond, std::size_t frames) {
+  const std::size_t hop = static_cast<std::size_t>(std::lround(sound.sampleRateHz / framesPerSecond));
+  std::vector<double> level;
+  for (std::size_t f = 0; f < frames && (f + 1) * hop <= sound.samples.size(); ++f) {
+    double energy = 0.0;
+    for (std::size_t n = f * hop; n < (f + 1) * hop; ++n) energy += static_cast<double>(sound.samples[n]) * sound.samples[n];
+    level.push_back(10.0 * std::log10(energy / static_cast<double>(hop) + 1e-10));
+  }
+  return level;
+}
+
+double correlation(const std::vector<double>& a, const std::vector<double>& b) {
+  if (a.size() != b.size()) throw Error("correlation: the series differ in length");
+  const Eigen::Map<const Eigen::RowVectorXd> x(a.data(), static_cast<Eigen::Index>(a.size()));
+  const Eigen::Map<const Eigen::RowVectorXd> y(b.data(), static_cast<Eigen::Index>(b.size()));
+  return animation::averageCorrelation(x, y);
 }
 
 }  // namespace th::test
