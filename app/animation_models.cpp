@@ -11,8 +11,8 @@ AnimationModels loadAnimationModels(const std::string& command, const std::strin
   if (headVariant != "none") models.head = std::make_unique<animation::HeadModel>(animation::loadHeadModel(headModel));
   if (mouthMethod != "none") {
     models.mouth = std::make_unique<animation::MouthModel>(animation::loadMouthModel(mouthModel));
-    if (!models.mouth->fapMap)
-      throw fileError(mouthModel, "has no FAP map (a sweep model?); make one with `talkinghead train mouth`");
+    if (!animation::drivesFaps(*models.mouth))
+      throw fileError(mouthModel, "drives no FAPs (a sweep model?); make one with `talkinghead train mouth`");
   }
   if (!models.head && !models.mouth) throw Error(command + ": --head none and --mouth none leave nothing to animate");
   return models;

@@ -13,10 +13,13 @@ void addTrainCommand(CLI::App& app);
 void addEvalHeadCommand(CLI::App& eval);   // `eval head`, registered by addEvalCommand
 void addEvalMouthCommand(CLI::App& eval);  // `eval mouth`, likewise
 void addTrainMouthCommand(CLI::App& train);  // `train mouth`, registered by addTrainCommand
+void addTrainVideoOptions(CLI::App& train);  // `train --video DIR`, likewise
 void addAnimateCommand(CLI::App& app);
 void addFaceCommands(CLI::App& app);  // render, poses, export
 void addShowCommand(CLI::App& app);
 void addLiveCommand(CLI::App& app);  // live: the window, or --headless
 void addTrackCommand(CLI::App& app);  // track: a talking video -> landmarks per frame
+void addSideBySideCommand(CLI::App& app);  // sidebyside: a clip beside our face driven by its sound
+void addRecordCommand(CLI::App& app);  // record: webcam + microphone, a take for train --video
 
 }  // namespace th::app

@@ -25,6 +25,7 @@
 #include "render/gl_context.h"
 #include "render/image.h"
 #include "render/video_export.h"
+#include "face_stage.h"
 #include "text_overlay.h"
 #include "video/animation_file.h"
 #include "video/animation_sampling.h"
@@ -33,49 +34,6 @@
 
 namespace th::app {
 namespace {
-
-// "1280x720" → {1280, 720}; both even (H.264 in yuv420p) and within what a renderer can allocate.
-std::pair<int, int> parseSize(const std::string& text) {
-  int width = 0, height = 0;
-  char x = 0, extra = 0;
-  if (std::sscanf(text.c_str(), "%d%c%d%c", &width, &x, &height, &extra) != 3 || (x != 'x' && x != 'X'))
-    throw Error("--size " + text + ": expected WIDTHxHEIGHT, e.g. 1280x720");
-  if (width < 16 || height < 16 || width > 7680 || height > 4320)
-    throw Error("--size " + text + ": each side must be 16..7680 x 16..4320 pixels");
-  if (width % 2 != 0 || height % 2 != 0) throw Error("--size " + text + ": both sides must be even (H.264, 4:2:0)");
-  return {width, height};
-}
-
-ProgressOptions progressAt(double framesPerSecond) {
-  ProgressOptions options;
-  options.unitsPerSecond = framesPerSecond;  // progress counts frames; the bar shows the real-time factor
-  return options;
-}
-
-// The face, an off-screen renderer and a camera framing it: what every off-screen command needs.
-struct Stage {
-  face::FaceModel face;
-  render::OffscreenContext context;
-  render::FaceRenderer renderer;
-  render::OrbitCamera camera;
-  render::Image image;
-
-  explicit Stage(render::RenderOptions options)
-      : face(face::FaceModel::build(face::loadIctFace(face::ictFaceDirectory()))),
-        renderer(context, face.mesh(), options),
-        camera(render::frameHead(face.mesh().positions, static_cast<double>(options.width) / options.height)) {
-    renderer.setMouthOpening(face.innerLipVertices());
-    renderer.setEyeOpenings(face.eyeLidVertices(0), face.eyeLidVertices(1));
-  }
-
-  const render::Image& draw(const face::FapValues& faps) {
-    renderer.setPositions(face.deform(faps));
-    renderer.setPupilScale(face.pupilScale(faps));
-    renderer.render(camera);
-    renderer.readPixels(image);
-    return image;
-  }
-};
 
 // ---- render ----
 
@@ -96,7 +54,7 @@ void runRender(const RenderArguments& arguments) {
   if (!std::filesystem::is_directory(folder, error)) throw fileError(folder, "is not a folder and cannot be made one");
   const double fps = arguments.fps > 0.0 ? arguments.fps : animation.framesPerSecond;
   const auto frames = static_cast<int>(std::ceil(video::durationOf(animation) * fps - 1e-9));
-  Stage stage({.width = width, .height = height});
+  FaceStage stage({.width = width, .height = height});
   ProgressBar progress(frames, "render", std::cerr, progressAt(fps));
   char name[32];
   for (int frame = 0; frame < frames; ++frame) {
@@ -122,7 +80,7 @@ void runPoses(const PosesArguments& arguments) {
   checkOutputTarget(arguments.output);
   const std::vector<face::Pose> poses = face::keyPoses();
   const int rows = (static_cast<int>(poses.size()) + arguments.columns - 1) / arguments.columns;
-  Stage stage({.width = arguments.tile, .height = arguments.tile});
+  FaceStage stage({.width = arguments.tile, .height = arguments.tile});
   render::Image sheet(arguments.tile * arguments.columns, arguments.tile * rows);
   for (std::size_t i = 0; i < poses.size(); ++i) {
     const render::Image& tile = stage.draw(poses[i].faps);

@@ -144,7 +144,7 @@ void runEval(const HeadArguments& arguments) {
 
 void addTrainCommand(CLI::App& app) {
   CLI::App* train = app.add_subcommand("train", "Train the animation models from the shared recordings");
-  train->require_subcommand(1);
+  train->require_subcommand(0, 1);  // none with --video
   auto arguments = std::make_shared<HeadArguments>();
   arguments->output = "models/head.json";
   CLI::App* head = train->add_subcommand("head", "Prosody -> head motion HMM from BEAT2 (training part)");
@@ -152,6 +152,7 @@ void addTrainCommand(CLI::App& app) {
   head->add_option("-o,--output", arguments->output, "Model file to write (default models/head.json)");
   head->callback([arguments] { runTrain(*arguments); });
   addTrainMouthCommand(*train);
+  addTrainVideoOptions(*train);
 }
 
 void addEvalHeadCommand(CLI::App& eval) {

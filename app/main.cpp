@@ -19,6 +19,8 @@ int main(int argc, char** argv) {
   th::app::addShowCommand(app);
   th::app::addLiveCommand(app);
   th::app::addTrackCommand(app);
+  th::app::addSideBySideCommand(app);
+  th::app::addRecordCommand(app);
   // A mistyped command line is one line, as every other error (CLI11 adds a second, "Run with --help ...").
   app.failure_message([](const CLI::App*, const CLI::Error& e) {
     return "talkinghead: " + std::string(e.what()) + " (--help lists the options)\n";

@@ -12,7 +12,6 @@
 #include <optional>
 #include <sstream>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include <unistd.h>
@@ -25,6 +24,7 @@
 #include "core/atomic_file.h"
 #include "core/data_path.h"
 #include "core/error.h"
+#include "core/parallel_for.h"
 #include "face/feature_points.h"
 #include "hmm/audio_retraining.h"
 #include "subprocess.h"
@@ -162,42 +162,30 @@ void runSweep(const MouthArguments& arguments, const animation::MouthRecording& 
   std::printf("sweep: %zu models, fitted on %d frames, chosen on %d, reported on the held-out %d\n", points.size(),
               fit.numFrames(), validation.numFrames(), test.numFrames());
   std::mutex mutex;
-  size_t next = 0;
   size_t done = 0;
-  auto worker = [&] {
-    for (;;) {
-      size_t index = 0;
-      {
-        const std::lock_guard lock(mutex);
-        if (next == points.size()) return;
-        index = next++;
-      }
-      SweepPoint& point = points[index];
-      const auto start = std::chrono::steady_clock::now();
-      try {
-        const animation::MouthModel model = animation::trainMouthModel(
-            {fit}, {.states = point.states, .mixtures = point.mixtures, .covariance = point.covariance,
-                    .contextFrames = point.contextFrames, .maxIterations = arguments.iterations});
-        const Eigen::MatrixXd validationTruth = model.basis.transform(validation.visual);
-        const Eigen::MatrixXd validationEstimate = animation::synthesiseMouth(model, validation.mfcc);
-        point.validationEpsilon = animation::averageMse(validationEstimate, validationTruth);
-        point.validationRho = animation::averageCorrelation(validationEstimate, validationTruth);
-        const Eigen::MatrixXd heldOutTruth = model.basis.transform(test.visual);
-        const Eigen::MatrixXd heldOutEstimate = animation::synthesiseMouth(model, test.mfcc);
-        point.heldOutEpsilon = animation::averageMse(heldOutEstimate, heldOutTruth);
-        point.heldOutRho = animation::averageCorrelation(heldOutEstimate, heldOutTruth);
-      } catch (const Error&) {
-        point.failed = true;  // e.g. more components than the data support; reported as a gap
-      }
-      point.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-      const std::lock_guard lock(mutex);
-      ++done;
-      if (isatty(fileno(stderr)) != 0) std::fprintf(stderr, "\r  %zu / %zu models", done, points.size());
+  parallelFor(points.size(), 0, [&](std::size_t index) {
+    SweepPoint& point = points[index];
+    const auto start = std::chrono::steady_clock::now();
+    try {
+      const animation::MouthModel model = animation::trainMouthModel(
+          {fit}, {.states = point.states, .mixtures = point.mixtures, .covariance = point.covariance,
+                  .contextFrames = point.contextFrames, .maxIterations = arguments.iterations});
+      const Eigen::MatrixXd validationTruth = model.basis.transform(validation.visual);
+      const Eigen::MatrixXd validationEstimate = animation::synthesiseMouth(model, validation.mfcc);
+      point.validationEpsilon = animation::averageMse(validationEstimate, validationTruth);
+      point.validationRho = animation::averageCorrelation(validationEstimate, validationTruth);
+      const Eigen::MatrixXd heldOutTruth = model.basis.transform(test.visual);
+      const Eigen::MatrixXd heldOutEstimate = animation::synthesiseMouth(model, test.mfcc);
+      point.heldOutEpsilon = animation::averageMse(heldOutEstimate, heldOutTruth);
+      point.heldOutRho = animation::averageCorrelation(heldOutEstimate, heldOutTruth);
+    } catch (const Error&) {
+      point.failed = true;  // e.g. more components than the data support; reported as a gap
     }
-  };
-  std::vector<std::thread> threads;
-  for (unsigned i = 0; i < std::max(1u, std::thread::hardware_concurrency()); ++i) threads.emplace_back(worker);
-  for (auto& thread : threads) thread.join();
+    point.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const std::lock_guard lock(mutex);
+    ++done;
+    if (isatty(fileno(stderr)) != 0) std::fprintf(stderr, "\r  %zu / %zu models", done, points.size());
+  });
   if (isatty(fileno(stderr)) != 0) std::fprintf(stderr, "\n");
 
   std::filesystem::create_directories(arguments.output);

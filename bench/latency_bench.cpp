@@ -121,7 +121,7 @@ std::vector<double> offlineJaw(const std::vector<float>& samples, const th::anim
   decoder.inputFinished();
   std::vector<double> jaw;
   AnimationFrame frame;
-  while (decoder.next(frame)) jaw.push_back(frame.jawDegrees);
+  while (decoder.next(frame)) jaw.push_back(frame.faps[3]);
   return jaw;
 }
 
@@ -158,7 +158,7 @@ std::vector<Crossing> crossings(const std::vector<double>& jaw, const std::vecto
 
 struct Shown {
   double streamSeconds;
-  double jawDegrees;
+  double jaw;  // FAP 3
   std::int64_t renderedNs;
 };
 
@@ -209,7 +209,7 @@ Result run(const Setting& setting, const OnsetRecording& recording, const th::an
       renderer.render(camera);
       renderer.readRaw(raw);  // waits for the frame
       const std::int64_t rendered = th::pipeline::steadyNanoseconds();
-      shown.push_back({sample.streamSeconds, sample.frame.jawDegrees, rendered});
+      shown.push_back({sample.streamSeconds, sample.frame.faps[3], rendered});
       result.behindMs.push_back(sample.behindNewestMs);
       result.renderMs.push_back(static_cast<double>(rendered - now) * 1e-6);
     }
@@ -232,7 +232,7 @@ Result run(const Setting& setting, const OnsetRecording& recording, const th::an
     }
     const auto moved = std::find_if(shown.begin(), shown.end(), [&](const Shown& s) {
       return s.streamSeconds >= std::floor(onsetSeconds * kFps) / kFps && s.streamSeconds <= onsetSeconds + 0.6 &&
-             s.jawDegrees >= crossing.threshold;
+             s.jaw >= crossing.threshold;
     });
     if (moved == shown.end()) {
       ++result.missed;

@@ -13,8 +13,8 @@ namespace th::animation {
 video::Animation animate(std::span<const float> samples16k, const HeadModel* head, const MouthModel* mouth,
                          const AnimateOptions& options) {
   if (head == nullptr && mouth == nullptr) throw Error("animate: neither a head nor a mouth model");
-  if (mouth != nullptr && !mouth->fapMap)
-    throw Error("animate: the mouth model has no FAP map (a sweep model?); make one with `talkinghead train mouth`");
+  if (mouth != nullptr && !drivesFaps(*mouth))
+    throw Error("animate: the mouth model drives no FAPs (a sweep model?); make one with `talkinghead train mouth`");
 
   // FAP number → its curve; std::map keeps the columns in FAP order.
   std::map<int, Eigen::RowVectorXd> curves;
@@ -37,7 +37,7 @@ video::Animation animate(std::span<const float> samples16k, const HeadModel* hea
     const Eigen::MatrixXd mfcc = mfccOf(samples16k);
     if (mfcc.cols() > 0) {
       const Eigen::MatrixXd components = synthesiseMouth(*mouth, mfcc, options.mouth);
-      add(mouthFapNumbers(*mouth->fapMap), mouthFaps(*mouth->fapMap, jawOpeningOf(*mouth, components)));
+      add(mouthFapNumbers(*mouth), mouthFapsOf(*mouth, components));
     } else {
       frames = 0;
     }

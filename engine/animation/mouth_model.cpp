@@ -6,6 +6,7 @@
 #include <string>
 
 #include "core/error.h"
+#include "face/fap.h"
 #include "hmm/model_file.h"
 #include "hmm/training.h"
 
@@ -23,7 +24,7 @@ MouthModel trainMouthModel(const std::vector<MouthRecording>& parts, const Mouth
   }
   MouthModel model;
   model.contextFrames = options.contextFrames;
-  model.basis = VisualBasis::fit(allVisual, {.components = options.visualComponents});
+  model.basis = VisualBasis::fit(allVisual, {.components = options.visualComponents, .standardise = options.standardiseVisual});
 
   std::vector<Eigen::MatrixXd> sequences;
   for (const auto& part : parts) {
@@ -114,10 +115,12 @@ void saveMouthModel(const std::filesystem::path& path, const MouthModel& model, 
                          {"covariance", options.covariance == hmm::CovarianceType::kFull ? "full" : "diagonal"},
                          {"context_frames", options.contextFrames},
                          {"visual_components", options.visualComponents},
+                         {"standardise_visual", options.standardiseVisual},
                          {"max_iterations", options.maxIterations},
                          {"seed", options.seed}};
   training["iterations"] = model.iterations;
   if (model.fapMap) training["fap_map"] = mouthFapMapJson(*model.fapMap);
+  if (!model.visualFaps.empty()) training["visual_faps"] = model.visualFaps;
   hmm::saveModel(path, model.hmm, training.dump());
 }
 
@@ -153,6 +156,19 @@ MouthModel loadMouthModel(const std::filesystem::path& path) {
     throw fileError(path, what);
   }
   if (training.contains("fap_map")) model.fapMap = mouthFapMapFromJson(training["fap_map"], path);
+  if (training.contains("visual_faps")) {
+    const nlohmann::json& faps = training["visual_faps"];
+    const auto rows = static_cast<std::size_t>(model.basis.inputDimension());
+    if (!faps.is_array() || faps.size() != rows)
+      throw fileError(path, "training.visual_faps must list one FAP number per visual parameter (" +
+                                std::to_string(rows) + ")");
+    for (const nlohmann::json& number : faps) {
+      if (!number.is_number_integer() || number.get<int>() < 1 || number.get<int>() > face::kNumFaps ||
+          (!model.visualFaps.empty() && number.get<int>() <= model.visualFaps.back()))
+        throw fileError(path, "training.visual_faps must hold FAP numbers 1..68 in ascending order");
+      model.visualFaps.push_back(number.get<int>());
+    }
+  }
   // The audio block holds 2tc + 1 frames of MFCCs; the visual block the basis's K components.
   const int contextWidth = 2 * model.contextFrames + 1;
   int audioSize = -1;
@@ -253,8 +269,33 @@ void MouthSynthesiser::stackFrame(Eigen::Index t) {
 }
 
 Eigen::RowVectorXd jawOpeningOf(const MouthModel& model, const Eigen::MatrixXd& components) {
+  if (!model.visualFaps.empty())
+    throw Error("mouth model: its visual parameters are FAPs, not a jaw opening in degrees (use mouthFapsOf)");
   // Row 0 of the visual parameters is the jaw opening (mouth_data.h).
   return model.basis.reconstruct(components).row(0);
+}
+
+constexpr const char* kDrivesNoFaps =
+    "mouth model: it drives no FAPs (no FAP map, a sweep model?); make one with `talkinghead train mouth`";
+
+bool drivesFaps(const MouthModel& model) { return model.fapMap.has_value() || !model.visualFaps.empty(); }
+
+std::vector<int> mouthFapNumbers(const MouthModel& model) {
+  if (!model.visualFaps.empty()) return model.visualFaps;
+  if (model.fapMap) return mouthFapNumbers(*model.fapMap);
+  throw Error(kDrivesNoFaps);
+}
+
+Eigen::MatrixXd mouthFapsOf(const MouthModel& model, const Eigen::MatrixXd& components) {
+  if (model.visualFaps.empty()) {
+    if (!model.fapMap)
+      throw Error(kDrivesNoFaps);
+    return mouthFaps(*model.fapMap, jawOpeningOf(model, components));
+  }
+  Eigen::MatrixXd faps = model.basis.reconstruct(components);
+  for (std::size_t i = 0; i < model.visualFaps.size(); ++i)
+    if (model.visualFaps[i] == 3) faps.row(static_cast<Eigen::Index>(i)) = faps.row(static_cast<Eigen::Index>(i)).cwiseMax(0.0);
+  return faps;
 }
 
 }  // namespace th::animation

@@ -5,8 +5,9 @@
 //   Eigen::MatrixXd components = th::animation::synthesiseMouth(model, mfcc, {});   // K x T
 //   Eigen::MatrixXd visual = model.basis.reconstruct(components);                     // jaw + expressions
 //
-// The visual components are ICA after PCA (visual_basis.h) of [jaw opening, 100 expression coefficients],
-// fitted on the training part. The HMM is trained by Baum-Welch (maximum likelihood, as the paper) with full or
+// The visual components are ICA after PCA (visual_basis.h) of the visual parameters, fitted on the training
+// part: [jaw opening, 100 expression coefficients] for BEAT2 (turned into FAPs by the FAP map), or the jaw and
+// lip FAPs themselves for models trained from tracked video (tracking/video_training.h; visualFaps names them). The HMM is trained by Baum-Welch (maximum likelihood, as the paper) with full or
 // diagonal covariance. Synthesis: HMM inversion (hmm/inversion.h, eq. 7/8) from the paper's random start or
 // from the audio-only conditional mean (ours), batch or windowed; or the non-iterative MMSE estimate.
 // Thread contract: models are values; synthesis is a pure function.
@@ -34,6 +35,8 @@ struct MouthModelOptions {
   hmm::CovarianceType covariance = hmm::CovarianceType::kFull;
   int contextFrames = 3;                                 // tc
   int visualComponents = 2;                              // K
+  bool standardiseVisual = true;  // scale each visual parameter to unit variance before PCA (BEAT2's mix of
+                                  // degrees and coefficients); FAPs share one unit and keep their scales
   int maxIterations = 60;
   unsigned seed = 1;
 };
@@ -46,6 +49,9 @@ struct MouthModel {
   // From the jaw opening to MPEG-4 FAPs (fap_mapping.h); `train mouth` measures it on the reference face and
   // stores it with the model, so the model file alone turns audio into FAPs. Absent in sweep models.
   std::optional<MouthFapMap> fapMap;
+  // Set for models whose visual parameters are FAPs (trained from tracked video): the FAP numbers of the
+  // basis's rows, ascending; the basis reconstructs them in FAPU counts and no FAP map is needed.
+  std::vector<int> visualFaps;
 };
 
 MouthModel trainMouthModel(const std::vector<MouthRecording>& parts, const MouthModelOptions& options);
@@ -105,7 +111,16 @@ class MouthSynthesiser {
   bool finished_ = false;
 };
 
-// The jaw opening (degrees, row 0 of the visual parameters) that K x T components reconstruct.
+// The jaw opening (degrees, row 0 of the visual parameters) that K x T components reconstruct: BEAT2 models
+// only (throws th::Error for a model whose visual parameters are FAPs).
 Eigen::RowVectorXd jawOpeningOf(const MouthModel& model, const Eigen::MatrixXd& components);
+
+// Whether the model turns audio into FAPs: it has a FAP map or its visual parameters are FAPs. Sweep models
+// have neither.
+bool drivesFaps(const MouthModel& model);
+// The FAPs the model drives, ascending (FAP 3 first), and their values (FAPU counts, rows in that order) for
+// K x T components. The jaw (FAP 3) is never below 0: the face's jaw does not close past rest.
+std::vector<int> mouthFapNumbers(const MouthModel& model);
+Eigen::MatrixXd mouthFapsOf(const MouthModel& model, const Eigen::MatrixXd& components);
 
 }  // namespace th::animation

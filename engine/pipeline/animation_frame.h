@@ -33,7 +33,6 @@ struct AnimationFrame {
   static constexpr int kMaxMouthStates = 16;
   std::array<float, kMaxMouthStates> mouthPosterior{};
   int mouthStates = 0;
-  double jawDegrees = 0.0;
   // Steady-clock times (ns) set by the live session: when the worker had read the input that released this
   // frame, and when the frame left the decoder.
   std::int64_t inputReadNs = 0;

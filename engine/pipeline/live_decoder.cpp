@@ -41,8 +41,8 @@ LiveDecoder::LiveDecoder(const animation::HeadModel* head, const animation::Mout
       mouthExtractor_(mouthFeatureOptions()),
       prosody_(animation::kAnimationFramesPerSecond, {}) {
   if (head == nullptr && mouth == nullptr) throw Error("live decoder: neither a head nor a mouth model");
-  if (mouth != nullptr && !mouth->fapMap)
-    throw Error("live decoder: the mouth model has no FAP map (a sweep model?); make one with `talkinghead train mouth`");
+  if (mouth != nullptr && !animation::drivesFaps(*mouth))
+    throw Error("live decoder: the mouth model drives no FAPs (a sweep model?); make one with `talkinghead train mouth`");
   if (head != nullptr) {
     if (options.head.maxLagFrames < 0)
       throw Error("live decoder: the head decoder needs a bounded lag (maxLagFrames >= 0), not batch decoding");
@@ -53,7 +53,7 @@ LiveDecoder::LiveDecoder(const animation::HeadModel* head, const animation::Mout
       throw Error("live decoder: the mouth needs an inversion window of at least one frame, not " +
                   std::to_string(options.mouth.windowFrames));
     mouthStream_ = std::make_unique<animation::MouthSynthesiser>(*mouth, options.mouth);
-    mouthFaps_ = animation::mouthFapNumbers(*mouth->fapMap);
+    mouthFaps_ = animation::mouthFapNumbers(*mouth);
   }
   headDelayFrames_ = lookahead().headDelayFrames;
   row_.resize(static_cast<std::size_t>(prosodyExtractor_.layout().size()));
@@ -107,7 +107,8 @@ void LiveDecoder::pull() {
       const auto frame = static_cast<int>(static_cast<int>(mouthFrames_.size()) + nextIndex_);
       mouthFrames_.push_back({.energy = mouthExtractor_.getEnergy(frame),
                               .levelDb = mouthExtractor_.getLevelDb(frame),
-                              .jawDegrees = animation::jawOpeningOf(*mouth_, components)[0]});
+                              .posterior = {},
+                              .faps = animation::mouthFapsOf(*mouth_, components).col(0)});
       const Eigen::VectorXd& posterior = mouthStream_->posterior();
       for (Eigen::Index k = 0; k < std::min<Eigen::Index>(posterior.size(), AnimationFrame::kMaxMouthStates); ++k)
         mouthFrames_.back().posterior[static_cast<std::size_t>(k)] = static_cast<float>(posterior[k]);
@@ -159,10 +160,8 @@ bool LiveDecoder::next(AnimationFrame& frame) {
     frame.levelDb = mouth.levelDb;
     frame.mouthPosterior = mouth.posterior;
     frame.mouthStates = std::min(mouthStream_->numStates(), AnimationFrame::kMaxMouthStates);
-    frame.jawDegrees = mouth.jawDegrees;
-    const Eigen::MatrixXd faps = animation::mouthFaps(*mouth_->fapMap, Eigen::RowVectorXd::Constant(1, frame.jawDegrees));
     for (std::size_t i = 0; i < mouthFaps_.size(); ++i)
-      frame.faps[static_cast<std::size_t>(mouthFaps_[i])] = faps(static_cast<Eigen::Index>(i), 0);
+      frame.faps[static_cast<std::size_t>(mouthFaps_[i])] = mouth.faps[static_cast<Eigen::Index>(i)];
   }
   ++nextIndex_;
   // Prosody frames before the next frame's are not needed again.

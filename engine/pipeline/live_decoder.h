@@ -58,7 +58,7 @@ struct DecoderLookahead {
 
 class LiveDecoder : public FrameDecoder {
  public:
-  // Throws th::Error if both models are null, the mouth model has no FAP map, or an option cannot stream
+  // Throws th::Error if both models are null, the mouth model drives no FAPs (no FAP map and no visual FAPs), or an option cannot stream
   // (a batch head, maxLagFrames < 0, or a mouth window below 1).
   LiveDecoder(const animation::HeadModel* head, const animation::MouthModel* mouth, const LiveDecoderOptions& options);
   ~LiveDecoder() override;
@@ -91,7 +91,7 @@ class LiveDecoder : public FrameDecoder {
     double energy = 0.0;
     double levelDb = 0.0;
     std::array<float, AnimationFrame::kMaxMouthStates> posterior{};
-    double jawDegrees = 0.0;
+    Eigen::VectorXd faps;  // the values of mouthFaps_, in order
   };
 
   const animation::HeadModel* head_;

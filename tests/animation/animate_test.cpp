@@ -66,7 +66,7 @@ TEST(Animate, RefusesWhatItCannotAnimate) {
     animate(samples, nullptr, &models().mouthWithoutFaps);
     FAIL();
   } catch (const th::Error& e) {
-    EXPECT_NE(std::string(e.what()).find("no FAP map"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("drives no FAPs"), std::string::npos) << e.what();
   }
   const std::vector<float> tooShort;
   EXPECT_THROW(animate(tooShort, &models().head, &models().mouth), th::Error);

@@ -1,0 +1,110 @@
+// `talkinghead sidebyside CLIP -o OUT.mp4`: the original talking video on the left and our face on the right,
+// driven by the clip's sound alone (the mouth model, and the head model unless --still-head), with the clip's
+// sound: for a person to judge a model trained from video (`train --video`) against the speaker it learnt.
+#include <algorithm>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+#include <opencv2/imgproc.hpp>
+#include <string>
+
+#include "animation/animate.h"
+#include "animation_models.h"
+#include "commands.h"
+#include "core/atomic_file.h"
+#include "core/error.h"
+#include "face_stage.h"
+#include "interrupt.h"
+#include "text_overlay.h"
+#include "tracking/video_reader.h"
+#include "tracking/video_training.h"
+#include "video/animation_sampling.h"
+#include "video/mp4_writer.h"
+
+namespace th::app {
+namespace {
+
+struct SideBySideArguments {
+  std::string clip;
+  std::string output;
+  std::string headModel = defaultHeadModel();
+  std::string mouthModel = defaultMouthModel();
+  bool stillHead = false;
+  int height = 0;  // 0: the clip's (made even)
+};
+
+void runSideBySide(const SideBySideArguments& arguments) {
+  InterruptGuard guard;
+  const std::filesystem::path output = arguments.output;
+  std::string extension = output.extension().string();
+  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (extension != ".mp4") throw fileError(output, "a side-by-side video is an .mp4 file");
+  checkOutputTarget(output);
+  const AnimationModels models = loadAnimationModels("sidebyside", arguments.stillHead ? "none" : "trajectory",
+                                                     arguments.headModel, "inversion", arguments.mouthModel);
+  tracking::VideoReader clip(arguments.clip);
+  const audio::AudioClip sound = tracking::readClipSound(arguments.clip);
+  video::Animation animation;
+  try {
+    animation = animation::animate(sound.samples, models.head.get(), models.mouth.get(), {});
+  } catch (const Error& error) {
+    throw fileError(arguments.clip, error.what());
+  }
+
+  // Both halves as high as the output, each as wide as the clip scaled to it.
+  const int height = (arguments.height > 0 ? arguments.height : clip.height()) / 2 * 2;
+  const int half = std::max(2, static_cast<int>(static_cast<double>(clip.width()) * height / clip.height()) / 2 * 2);
+  const double fps = clip.framesPerSecond();
+  FaceStage stage({.width = half, .height = height});
+  video::Mp4Options mp4;
+  mp4.width = 2 * half;
+  mp4.height = height;
+  mp4.framesPerSecond = fps;
+  mp4.audioSampleRateHz = sound.sampleRateHz;
+  video::Mp4Writer writer(output, mp4);
+  writer.addAudio(sound.samples);
+  render::Image canvas(2 * half, height);
+  cv::Mat frame, scaled, rgb;
+  double seconds = 0.0;
+  const auto frames = video::videoFramesFor(sound.samples.size(), sound.sampleRateHz, fps);
+  ProgressBar bar(static_cast<double>(frames), "sidebyside", std::cerr, progressAt(fps));
+  for (std::int64_t f = 0; f < frames; ++f) {
+    InterruptGuard::check();
+    // The clip's frame, the last one held if the picture ends before the sound.
+    if (clip.read(frame, seconds) || f == 0) {
+      cv::resize(frame, scaled, cv::Size(half, height), 0.0, 0.0, cv::INTER_AREA);
+      cv::cvtColor(scaled, rgb, cv::COLOR_BGR2RGB);
+    }
+    for (int y = 0; y < height; ++y) std::copy_n(rgb.ptr<std::uint8_t>(y), half * 3, canvas.pixel(0, y));
+    const render::Image& face = stage.draw(video::fapValuesAt(animation, static_cast<double>(f) / fps));
+    for (int y = 0; y < height; ++y) std::copy_n(face.pixel(0, y), half * 3, canvas.pixel(half, y));
+    const int scale = height >= 480 ? 2 : 1;
+    drawLabel(canvas, 6, 6, "video", scale);
+    drawLabel(canvas, half + 6, 6, "from its sound: " + std::filesystem::path(arguments.mouthModel).filename().string(), scale);
+    writer.addVideoFrame(canvas.pixels.data(), canvas.width * 3);
+    bar.update(static_cast<double>(f + 1));
+  }
+  writer.finish();
+  bar.finish();
+  std::cout << "wrote " << output.string() << " (" << 2 * half << "x" << height << ", " << fps << " fps, "
+            << sound.durationSeconds() << " s): " << arguments.clip << " | the face from its sound\n";
+}
+
+}  // namespace
+
+void addSideBySideCommand(CLI::App& app) {
+  auto arguments = std::make_shared<SideBySideArguments>();
+  CLI::App* command = app.add_subcommand(
+      "sidebyside", "Talking video -> MP4 of it beside our face driven by its sound alone (to judge a model by eye)");
+  command->add_option("clip", arguments->clip, "Talking video (its sound, or the .wav of its name beside it)")->required();
+  command->add_option("-o,--output", arguments->output, "MP4 file to write")->required();
+  command->add_option("--mouth-model", arguments->mouthModel, "Mouth model file (e.g. one from train --video)")
+      ->capture_default_str();
+  command->add_option("--head-model", arguments->headModel, "Head model file")->capture_default_str();
+  command->add_flag("--still-head", arguments->stillHead, "The face's head still: the mouth alone");
+  command->add_option("--height", arguments->height, "Output height in pixels (default: the clip's)")
+      ->check(CLI::Range(64, 2160));
+  command->callback([arguments] { runSideBySide(*arguments); });
+}
+
+}  // namespace th::app

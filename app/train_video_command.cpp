@@ -1,0 +1,164 @@
+// `talkinghead train --video DIR -o MODEL.json`: a mouth model of one's own speaker from talking videos. Every
+// clip is tracked and fitted (tracks kept for the next run), the jaw and lip FAPs become the visual part of
+// the audio-visual HMM, and the model is checked on held-out clips against baselines and the BEAT2 model
+// (engine/tracking/video_training.h).
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+#include <string>
+#include <system_error>
+
+#include "animation/mouth_model.h"
+#include "commands.h"
+#include "core/atomic_file.h"
+#include "core/error.h"
+#include "core/progress.h"
+#include "face/face_model.h"
+#include "tracking/video_training.h"
+
+namespace th::app {
+namespace {
+
+struct TrainVideoArguments {
+  std::string folder;
+  std::string output;
+  std::string tracks;  // empty: beside the output, "<stem>_tracks"
+  int holdOutEvery = 5;
+  unsigned threads = 0;
+  std::string compare = std::string(TALKINGHEAD_SOURCE_DIR) + "/models/mouth.json";
+  // Chosen on the GRID s1 training clips alone, by tools/choose_video_mouth.sh (README: "Training from video").
+  animation::MouthModelOptions options{.states = 6, .mixtures = 1, .covariance = hmm::CovarianceType::kFull,
+                                       .contextFrames = 2, .visualComponents = 3};
+};
+
+void printScores(const char* label, const tracking::FapScores& scores) {
+  std::printf("  %-58s %6.3f / %6.3f   %6.3f / %6.3f (%d FAPs)\n", label, scores.jawEpsilon, scores.jawRho, scores.epsilon,
+              scores.rho, scores.faps);
+}
+
+void runTrainVideo(const TrainVideoArguments& arguments) {
+  const std::filesystem::path output = arguments.output;
+  if (output.extension() != ".json") throw fileError(output, "a model is written as JSON: give a .json name");
+  checkOutputTarget(output);
+  std::filesystem::path tracks = arguments.tracks;
+  if (tracks.empty()) tracks = std::filesystem::path(output).replace_extension().string() + "_tracks";
+  const std::vector<std::filesystem::path> videos = tracking::listVideos(arguments.folder);
+  // The comparison model is read first: a wrong path fails before the tracking.
+  const animation::MouthModel beat2 = animation::loadMouthModel(arguments.compare);
+
+  const face::FaceModel face = face::FaceModel::build(face::loadIctFace(face::ictFaceDirectory()));
+  tracking::VideoCorpus corpus;
+  std::error_code error;
+  const bool tracksExisted = std::filesystem::exists(tracks, error);
+  try {
+    ProgressBar bar(static_cast<double>(videos.size()), "track", std::cerr);
+    corpus = tracking::loadVideoCorpus(videos, face, {.trackFolder = tracks, .threads = arguments.threads},
+                                       [&](int done, int) { bar.update(done); });
+    bar.finish();
+  } catch (...) {
+    if (!tracksExisted) std::filesystem::remove(tracks, error);  // made for this run and still empty
+    throw;
+  }
+  int trackedNow = 0;
+  double residual = 0.0, found = 0.0;
+  for (const tracking::VideoClip& clip : corpus.clips) {
+    trackedNow += clip.trackedNow ? 1 : 0;
+    residual += clip.meanResidualPixels / static_cast<double>(corpus.clips.size());
+    found += clip.faceFoundShare / static_cast<double>(corpus.clips.size());
+  }
+  std::printf("%zu clips from %s: %d tracked now, %zu read from %s, in %.1f s; face found in %.1f %% of frames, "
+              "mean fit residual %.2f px\n",
+              corpus.clips.size(), arguments.folder.c_str(), trackedNow, corpus.clips.size() - static_cast<std::size_t>(trackedNow),
+              tracks.c_str(), corpus.trackingSeconds, 100.0 * found, residual);
+  for (const tracking::SkippedClip& skipped : corpus.skipped) std::printf("  left out: %s\n", skipped.reason.c_str());
+
+  // Every holdOutEvery-th clip (by name) is held out; the rest train.
+  std::vector<animation::MouthRecording> train, test;
+  for (std::size_t i = 0; i < corpus.clips.size(); ++i) {
+    const bool heldOut = arguments.holdOutEvery > 0 && (i + 1) % static_cast<std::size_t>(arguments.holdOutEvery) == 0;
+    (heldOut ? test : train).push_back(corpus.clips[i].recording);
+  }
+  if (train.empty()) throw Error("train --video: no clip is left to train on");
+  int trainFrames = 0;
+  for (const auto& recording : train) trainFrames += recording.numFrames();
+  const auto started = std::chrono::steady_clock::now();
+  const animation::MouthModel model = tracking::trainVideoMouthModel(train, corpus.faps, arguments.options);
+  const double trainSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  animation::saveMouthModel(output, model, arguments.options);
+  std::printf("mouth model: %d states x %d mixtures (%s), tc = %d, K = %d components keeping %.1f %% of the FAP "
+              "variance; trained on %zu clips, %d frames (%.1f s of speech) in %.2f s (%d Baum-Welch iterations); "
+              "wrote %s\n",
+              model.hmm.numStates(), arguments.options.mixtures,
+              arguments.options.covariance == hmm::CovarianceType::kFull ? "full" : "diagonal", model.contextFrames,
+              model.basis.components(), 100.0 * model.basis.explainedVariance(), train.size(), trainFrames,
+              trainFrames / 30.0, trainSeconds, model.iterations, output.c_str());
+  if (test.empty()) return;
+
+  int testFrames = 0;
+  for (const auto& recording : test) testFrames += recording.numFrames();
+  std::printf("\nheld out: every %d. clip, %zu clips, %d frames. eps / rho on the jaw (FAP 3)   and on the FAPs both "
+              "hold:\n",
+              arguments.holdOutEvery, test.size(), testFrames);
+  const std::vector<int> modelFaps = animation::mouthFapNumbers(model);
+  printScores("this model, inversion (conditional-mean start)",
+              tracking::scoreFaps(tracking::predictFaps(model, test), modelFaps, test, corpus.faps));
+  printScores("this model, MMSE estimate",
+              tracking::scoreFaps(tracking::predictFaps(model, test, {.method = animation::MouthMethod::kMmse}),
+                                  modelFaps, test, corpus.faps));
+  printScores("BEAT2 mouth model (another speaker's, --compare), inversion",
+              tracking::scoreFaps(tracking::predictFaps(beat2, test), animation::mouthFapNumbers(beat2), test, corpus.faps));
+  // The training clips' mean FAPs in every frame.
+  Eigen::VectorXd mean = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(corpus.faps.size()));
+  for (const auto& recording : train) mean += recording.visual.rowwise().sum() / trainFrames;
+  std::vector<Eigen::MatrixXd> means;
+  for (const auto& recording : test) means.push_back(mean.replicate(1, recording.numFrames()));
+  printScores("baseline: the training mean", tracking::scoreFaps(means, corpus.faps, test, corpus.faps));
+  if (test.size() > 1)
+    printScores("baseline: this model on the next held-out clip's audio",
+                tracking::scoreFaps(tracking::predictFaps(model, test, {}, 1), modelFaps, test, corpus.faps));
+}
+
+}  // namespace
+
+void addTrainVideoOptions(CLI::App& train) {
+  auto arguments = std::make_shared<TrainVideoArguments>();
+  train.add_option("--video", arguments->folder,
+                   "Train a mouth model from the talking videos in this folder (tracks them, keeps the tracks)");
+  train.add_option("-o,--output", arguments->output, "--video: the model file to write (.json)");
+  train.add_option("--tracks", arguments->tracks,
+                   "--video: folder for the clips' tracks, re-used while newer than the videos (default: "
+                   "beside the model, <name>_tracks)");
+  train.add_option("--hold-out", arguments->holdOutEvery,
+                   "--video: hold out every N-th clip (by name) and report on them; 0 trains on all")
+      ->check(CLI::Range(0, 1000))
+      ->capture_default_str();
+  train.add_option("--compare", arguments->compare, "--video: the mouth model to compare with on the held-out clips")
+      ->capture_default_str();
+  train.add_option("--states", arguments->options.states, "--video: states N")->check(CLI::Range(1, 100))->capture_default_str();
+  train.add_option("--mixtures", arguments->options.mixtures, "--video: Gaussians per state M")
+      ->check(CLI::Range(1, 20))
+      ->capture_default_str();
+  train.add_option("--context", arguments->options.contextFrames, "--video: MFCC context tc")
+      ->check(CLI::Range(0, 10))
+      ->capture_default_str();
+  train.add_option("--components", arguments->options.visualComponents, "--video: visual components K")
+      ->check(CLI::Range(1, 21))
+      ->capture_default_str();
+  train.add_flag_function(
+      "--diagonal", [arguments](std::int64_t) { arguments->options.covariance = hmm::CovarianceType::kDiagonal; },
+      "--video: diagonal covariance (default full)");
+  train.add_option("--threads", arguments->threads, "--video: tracking threads (0: one per core)")->capture_default_str();
+  train.callback([&train, arguments] {
+    if (!train.get_subcommands().empty()) {
+      if (!arguments->folder.empty()) throw Error("train: --video goes without a subcommand (head, mouth)");
+      return;
+    }
+    if (arguments->folder.empty()) throw Error("train: give a subcommand (head, mouth) or --video DIR");
+    if (arguments->output.empty()) throw Error("train --video: give the model file to write with -o MODEL.json");
+    runTrainVideo(*arguments);
+  });
+}
+
+}  // namespace th::app

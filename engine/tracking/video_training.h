@@ -1,0 +1,108 @@
+// Training data from talking videos: each clip tracked and fitted (track.h), its jaw and lip FAPs resampled to
+// the animation rate and paired with the MFCCs of its own sound, as the mouth model trains on them
+// (animation/mouth_model.h, visual parameters = FAPs).
+//
+//   std::vector<std::filesystem::path> clips = th::tracking::listVideos("grid/s1");
+//   th::tracking::VideoCorpus corpus = th::tracking::loadVideoCorpus(clips, faceModel, {.trackFolder = "tracks"});
+//   th::animation::MouthModel model = th::tracking::trainVideoMouthModel(corpus.recordings(), {});
+//
+// A clip's sound is its own audio track, or, for a video without one, the WAV of the same name beside it (what
+// `talkinghead record` and `talkinghead track --audio` write). Tracks are kept in trackFolder (one TRACK.csv
+// per clip, named after it) and read back instead of tracking again while they are newer than their video and
+// hold the FAPs asked for. A clip that cannot be used (no face, no sound, unreadable) is left out with its
+// reason; the corpus fails only if no clip is left.
+// Thread contract: loadVideoCorpus tracks clips on `threads` threads of its own; the face model is shared
+// read-only; progress is called under a lock, from any of them.
+#pragma once
+
+#include <filesystem>
+#include <functional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "animation/mouth_data.h"
+#include "audio/audio_file.h"
+#include "animation/mouth_model.h"
+#include "face/face_model.h"
+#include "tracking/face_fit.h"
+#include "tracking/track.h"
+
+namespace th::tracking {
+
+// The videos in a folder (not its sub-folders), by name: .mpg .mpeg .mp4 .m4v .avi .mov .mkv .webm, any case.
+// Throws th::Error naming the folder if it is missing or holds none.
+std::vector<std::filesystem::path> listVideos(const std::filesystem::path& folder);
+
+// A clip's sound at 16 kHz: its own audio track, else the WAV of its name beside it. Errors name the video.
+audio::AudioClip readClipSound(const std::filesystem::path& video);
+
+// The fitted FAPs of a track (track.fittedFaps, ascending) at `framesPerSecond` (linear between video frames,
+// the ends held), paired with the MFCCs of the clip's 16 kHz sound at the same rate; both cut to the shorter.
+animation::MouthRecording mouthRecordingOf(const Track& fittedTrack, std::span<const float> samples16k,
+                                           double framesPerSecond = 30.0);
+
+struct VideoClip {
+  std::filesystem::path video;
+  animation::MouthRecording recording;  // visual rows: `faps` of the corpus
+  double meanResidualPixels = 0.0;
+  double faceFoundShare = 0.0;  // of its frames
+  bool trackedNow = false;      // false: its track was read from trackFolder
+};
+
+struct SkippedClip {
+  std::filesystem::path video;
+  std::string reason;  // the one-line error
+};
+
+struct VideoCorpus {
+  std::vector<int> faps;  // the visual rows of every recording
+  std::vector<VideoClip> clips;  // in the order given, the skipped ones left out
+  std::vector<SkippedClip> skipped;
+  double trackingSeconds = 0.0;  // wall-clock time of the whole load
+  std::vector<animation::MouthRecording> recordings() const;
+};
+
+struct VideoCorpusOptions {
+  std::filesystem::path trackFolder;  // empty: track every clip, keep nothing
+  FitOptions fit{};
+  TrackOptions track{};
+  unsigned threads = 0;  // 0: the machine's cores
+};
+
+// progress(clipsDone, clipsTotal) after each clip.
+VideoCorpus loadVideoCorpus(const std::vector<std::filesystem::path>& videos, const face::FaceModel& face,
+                            const VideoCorpusOptions& options = {},
+                            const std::function<void(int, int)>& progress = {});
+
+// The mouth model on FAP recordings: FAPs share one unit (FAPU counts), so they are not standardised before
+// PCA (the lips' small, noisy FAPs would weigh as much as the jaw); the model's visualFaps name the rows.
+animation::MouthModel trainVideoMouthModel(const std::vector<animation::MouthRecording>& recordings,
+                                           const std::vector<int>& faps, animation::MouthModelOptions options);
+
+}  // namespace th::tracking
+
+namespace th::tracking {
+
+// The paper's ε and ρ (animation/mouth_evaluation.h) of FAP estimates against tracked clips, over all their
+// frames together: on the jaw (FAP 3) alone and on every FAP both the estimate and the truth hold.
+struct FapScores {
+  double jawEpsilon = 0.0;  // NaN if either side lacks FAP 3
+  double jawRho = 0.0;
+  double epsilon = 0.0;  // over `faps` FAPs
+  double rho = 0.0;
+  int faps = 0;
+  int frames = 0;
+};
+
+// estimates[i] (rows: estimateFaps) against truth[i].visual (rows: truthFaps), each cut to the shorter.
+FapScores scoreFaps(const std::vector<Eigen::MatrixXd>& estimates, const std::vector<int>& estimateFaps,
+                    const std::vector<animation::MouthRecording>& truth, const std::vector<int>& truthFaps);
+
+// A mouth model's FAPs (rows: mouthFapNumbers(model)) for each clip's audio; with audioShift k, clip i gets
+// clip (i + k) mod n's audio instead (a baseline: the right kind of sound, the wrong words).
+std::vector<Eigen::MatrixXd> predictFaps(const animation::MouthModel& model,
+                                         const std::vector<animation::MouthRecording>& clips,
+                                         const animation::MouthSynthesisOptions& options = {}, int audioShift = 0);
+
+}  // namespace th::tracking

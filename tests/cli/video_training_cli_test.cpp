@@ -1,0 +1,121 @@
+// Training from video as a user meets it: `train --video DIR` tracks the clips (keeping the tracks), trains a
+// mouth model, reports it on held-out clips, and writes a model that animate, live and sidebyside load;
+// `sidebyside` writes the clip beside our face; `record` says clearly when there is no camera or microphone.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <string>
+
+#include "audio/media_audio.h"
+#include "cli_runner.h"
+#include "core/data_path.h"
+#include "tracking/video_reader.h"
+#include "tracking/video_training.h"
+#include "tracking_test_support.h"
+#include "video/animation_file.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+using th::test::CliResult;
+using th::test::expectOneLineFailure;
+using th::test::runCli;
+
+class VideoTrainingCliTest : public th::test::CliTest {
+ protected:
+  // Four GRID clips and a video without a face, in a folder of their own.
+  fs::path clipFolder() {
+    const fs::path folder = folder_.path() / "clips";
+    fs::create_directories(folder);
+    const std::vector<fs::path> grid = th::tracking::listVideos(th::sharedDataPath("grid/s1"));
+    for (std::size_t i = 0; i < 4; ++i) fs::create_symlink(grid[i], folder / grid[i].filename());
+    th::test::writeFacelessVideo(folder / "zz_faceless.mp4");
+    return folder;
+  }
+};
+
+TEST_F(VideoTrainingCliTest, TrainsAModelThatTheOtherCommandsPlay) {
+  const fs::path clips = clipFolder();
+  const fs::path model = out() / "speaker.json";
+  const std::vector<std::string> train{"train", "--video", clips.string(), "-o", model.string(), "--hold-out", "2",
+                                       "--states", "3", "--mixtures", "1", "--components", "2", "--threads", "2"};
+  CliResult result = runCli(train, logs());
+  ASSERT_EQ(result.exitCode, 0) << result.err;
+  EXPECT_NE(result.out.find("4 clips from"), std::string::npos) << result.out;
+  EXPECT_NE(result.out.find("4 tracked now"), std::string::npos) << result.out;
+  EXPECT_NE(result.out.find("left out: " + (clips / "zz_faceless.mp4").string() + ": no face"), std::string::npos) << result.out;
+  EXPECT_NE(result.out.find("trained on 2 clips"), std::string::npos) << result.out;
+  for (const char* row : {"this model, inversion", "this model, MMSE", "BEAT2 mouth model", "baseline: the training mean",
+                          "baseline: this model on the next held-out clip's audio"})
+    EXPECT_NE(result.out.find(row), std::string::npos) << row << '\n' << result.out;
+  // The tracks are kept beside the model and read back the next time.
+  EXPECT_EQ(th::test::listFolder(out() / "speaker_tracks").size(), 4u);
+  fs::remove(model);
+  result = runCli(train, logs());
+  ASSERT_EQ(result.exitCode, 0) << result.err;
+  EXPECT_NE(result.out.find("0 tracked now, 4 read from"), std::string::npos) << result.out;
+
+  // animate and live play it: the jaw and the 20 lip FAPs it learnt.
+  const std::string speech = th::sharedDataPath("beat2/2_scott_0_1_1.wav").string();
+  const fs::path csv = out() / "a.csv";
+  ASSERT_EQ(runCli({"animate", speech, "-o", csv.string(), "--mouth-model", model.string(), "--head", "none"}, logs()).exitCode, 0);
+  const th::video::Animation animation = th::video::readAnimation(csv);
+  EXPECT_EQ(animation.faps.size(), 21u);
+  EXPECT_GT(animation.values.col(0).maxCoeff(), animation.values.col(0).minCoeff());  // FAP 3 moves
+  const fs::path dump = out() / "live.csv";
+  result = runCli({"live", "--headless", "--input", speech, "--duration", "3", "--speed", "0", "--mouth-model",
+                   model.string(), "--dump", dump.string()},
+                  logs());
+  ASSERT_EQ(result.exitCode, 0) << result.err;
+  EXPECT_EQ(th::video::readAnimation(dump).values.rows(), 90);
+
+  // sidebyside: the clip's picture beside the face, its sound, as long as the clip.
+  const fs::path video = out() / "side.mp4";
+  const fs::path clip = th::tracking::listVideos(clips).front();
+  result = runCli({"sidebyside", clip.string(), "-o", video.string(), "--mouth-model", model.string()}, logs());
+  ASSERT_EQ(result.exitCode, 0) << result.err;
+  th::tracking::VideoReader reader(video);
+  EXPECT_EQ(reader.width(), 720);  // two 360x288 halves
+  EXPECT_EQ(reader.height(), 288);
+  EXPECT_NEAR(reader.framesPerSecond(), 25.0, 1e-6);
+  EXPECT_NEAR(th::audio::readMediaAudio(video).durationSeconds(), 3.0, 0.1);
+}
+
+TEST_F(VideoTrainingCliTest, BadInputFailsInOneLineAndLeavesNothing) {
+  const std::string model = (out() / "m.json").string();
+  expectOneLineFailure(runCli({"train", "--video", (out() / "missing").string(), "-o", model}, logs()), "missing",
+                       "is not a folder");
+  expectOneLineFailure(runCli({"train", "--video", out().string(), "-o", model}, logs()), out().string(), "holds no videos");
+  const CliResult noOutput = runCli({"train", "--video", out().string()}, logs());
+  EXPECT_NE(noOutput.exitCode, 0);
+  EXPECT_NE(noOutput.err.find("-o MODEL.json"), std::string::npos) << noOutput.err;
+  expectOneLineFailure(runCli({"train", "--video", out().string(), "-o", (out() / "m.txt").string()}, logs()), "m.txt",
+                       "give a .json name");
+  // A folder whose only video has no face.
+  const fs::path faceless = folder_.path() / "faceless";
+  fs::create_directories(faceless);
+  th::test::writeFacelessVideo(faceless / "a.mp4");
+  const CliResult noFace = runCli({"train", "--video", faceless.string(), "-o", model}, logs());
+  EXPECT_NE(noFace.exitCode, 0);
+  EXPECT_NE(noFace.err.find("no clip could be used"), std::string::npos) << noFace.err;
+  EXPECT_NE(noFace.err.find("no face"), std::string::npos) << noFace.err;
+  EXPECT_FALSE(fs::exists(model));
+  expectOneLineFailure(runCli({"sidebyside", (faceless / "b.mp4").string(), "-o", (out() / "s.mp4").string()}, logs()),
+                       "b.mp4", "no such file");
+  expectOneLineFailure(runCli({"sidebyside", (faceless / "a.mp4").string(), "-o", (out() / "s.avi").string()}, logs()),
+                       "s.avi", ".mp4");
+  EXPECT_TRUE(outFolderIsEmpty());
+}
+
+TEST_F(VideoTrainingCliTest, RecordSaysWhenThereIsNoCamera) {
+  // CI machines have no camera (and this test does not ask for one): one line, nothing written.
+  const CliResult result = runCli({"record", out().string(), "--camera", "63", "--duration", "1"}, logs());
+  EXPECT_TRUE(result.exited);
+  EXPECT_NE(result.exitCode, 0);
+  EXPECT_EQ(result.err.find('\n'), result.err.size() - 1) << result.err;
+  EXPECT_NE(result.err.find("record: no camera (/dev/video63 cannot be opened"), std::string::npos) << result.err;
+  EXPECT_TRUE(outFolderIsEmpty());
+  expectOneLineFailure(runCli({"record", (out() / "missing").string()}, logs()), "missing", "is not a folder");
+}
+
+}  // namespace

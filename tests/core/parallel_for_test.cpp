@@ -1,0 +1,43 @@
+// parallelFor: every index once, results in place, the first error rethrown and no new work after it. Runs
+// under ThreadSanitizer (label threads).
+#include "core/parallel_for.h"
+
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <stdexcept>
+#include <vector>
+
+namespace {
+
+TEST(ParallelFor, RunsEveryIndexExactlyOnce) {
+  for (unsigned threads : {0u, 1u, 2u, 4u, 16u}) {
+    std::vector<int> visits(1000, 0);
+    th::parallelFor(visits.size(), threads, [&](std::size_t i) { visits[i] += static_cast<int>(i) + 1; });
+    for (std::size_t i = 0; i < visits.size(); ++i) ASSERT_EQ(visits[i], static_cast<int>(i) + 1) << "threads " << threads;
+  }
+}
+
+TEST(ParallelFor, NothingToDoIsNoWork) {
+  std::atomic<int> calls{0};
+  th::parallelFor(0, 4, [&](std::size_t) { ++calls; });
+  EXPECT_EQ(calls.load(), 0);
+}
+
+TEST(ParallelFor, RethrowsTheFirstErrorAndStartsNothingAfterIt) {
+  std::atomic<int> started{0};
+  try {
+    th::parallelFor(10000, 4, [&](std::size_t i) {
+      ++started;
+      if (i == 3) throw std::runtime_error("item 3 failed");
+    });
+    FAIL() << "no exception";
+  } catch (const std::runtime_error& error) {
+    EXPECT_STREQ(error.what(), "item 3 failed");
+  }
+  // The threads stop taking items once one has failed: far fewer than all were started.
+  EXPECT_LT(started.load(), 10000);
+  EXPECT_GE(started.load(), 4);
+}
+
+}  // namespace
