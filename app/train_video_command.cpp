@@ -10,6 +10,7 @@
 #include <string>
 #include <system_error>
 
+#include "animation/mouth_evaluation.h"
 #include "animation/mouth_model.h"
 #include "commands.h"
 #include "core/atomic_file.h"
@@ -107,6 +108,26 @@ void runTrainVideo(const TrainVideoArguments& arguments) {
   printScores("this model, MMSE estimate",
               tracking::scoreFaps(tracking::predictFaps(model, test, {.method = animation::MouthMethod::kMmse}),
                                   modelFaps, test, corpus.faps));
+  {
+    // The paper's own measure: on the model's K visual components rather than on FAPs.
+    std::vector<Eigen::MatrixXd> estimates, truths;
+    Eigen::Index frames = 0;
+    for (const auto& recording : test) {
+      estimates.push_back(animation::synthesiseMouth(model, recording.mfcc));
+      truths.push_back(model.basis.transform(recording.visual));
+      frames += recording.numFrames();
+    }
+    Eigen::MatrixXd estimate(model.basis.components(), frames), truth(model.basis.components(), frames);
+    Eigen::Index column = 0;
+    for (std::size_t i = 0; i < test.size(); ++i) {
+      estimate.middleCols(column, estimates[i].cols()) = estimates[i];
+      truth.middleCols(column, truths[i].cols()) = truths[i];
+      column += truths[i].cols();
+    }
+    std::printf("  %-58s %6.3f / %6.3f   on its %d visual components (the paper's measure)\n", "this model, inversion",
+                animation::averageMse(estimate, truth), animation::averageCorrelation(estimate, truth),
+                model.basis.components());
+  }
   printScores("BEAT2 mouth model (another speaker's, --compare), inversion",
               tracking::scoreFaps(tracking::predictFaps(beat2, test), animation::mouthFapNumbers(beat2), test, corpus.faps));
   // The training clips' mean FAPs in every frame.
