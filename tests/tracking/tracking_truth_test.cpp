@@ -4,7 +4,8 @@
 // the head model's rotations on that clip's sound. The head's rotations come back within 2° per axis (root mean
 // square over the frames) with the shipped models' curves; with the real speaker's lips the roll is 2.2° off
 // (held here at 2.5° so that it cannot get worse unseen). The jaw and lip FAPs' errors are printed as shares of
-// each one's range, not held to the 10 %: they are not there yet (README, "Tracking").
+// each one's range, not held to the 10 %, which dlib's landmarks on our rendered face do not allow
+// (README, "Tracking"); from perfect landmarks the fit meets it (the last test).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -74,6 +75,28 @@ std::vector<FapError> renderTrackAndFit(const std::vector<th::face::FapValues>& 
   th::tracking::FitOptions fitOptions;
   fitOptions.focalLengthPixels = 0.5 * kHeight / std::tan(0.5 * camera.fovYDegrees * std::numbers::pi / 180.0);
   th::tracking::fitTrack(track, face, fitOptions, 0);
+  {
+    // How far dlib's points lie from the model's own (projected with the rest frame's calibration), by group.
+    th::tracking::FaceFitter calibrated(face, fitOptions);
+    const th::tracking::FaceFit rest = calibrated.calibrate(track.frames[0].landmarks);
+    const struct {
+      const char* name;
+      int first, last;
+    } groups[] = {{"chin", 8, 8}, {"eyes", 36, 47}, {"nose", 27, 35}, {"outer lips", 48, 59}, {"inner lips", 60, 67}};
+    for (const auto& group : groups) {
+      double squared = 0.0;
+      int count = 0;
+      for (std::size_t f = 1; f < shown.size(); ++f) {
+        th::tracking::FaceFit truthFit = rest;
+        truthFit.faps = shown[f];
+        const th::tracking::Landmarks want = calibrated.project(truthFit);
+        for (int i = group.first; i <= group.last; ++i, ++count)
+          squared += (track.frames[f].landmarks.col(i) - want.col(i)).squaredNorm();
+      }
+      std::printf("dlib's %s: %.1f px RMS from the model's (eye corners %.0f px apart)\n", group.name,
+                  std::sqrt(squared / count), (track.frames[0].landmarks.col(36) - track.frames[0].landmarks.col(45)).norm());
+    }
+  }
 
   std::vector<int> faps{48, 49, 50};
   faps.insert(faps.end(), track.fittedFaps.begin(), track.fittedFaps.end());
@@ -118,12 +141,13 @@ TEST(TrackingTruth, TheShippedModelsCurvesRotationsComeBackWithinTwoDegrees) {
   expectRotationsWithin(2.0, renderTrackAndFit(poses, truth.framesPerSecond));
 }
 
-TEST(TrackingTruth, ARealSpeakersLipsWithModelledHeadRotations) {
-  // A GRID clip's jaw and lips, as the tracker fitted them, at its 25 fps; the head model's rotations on its
-  // sound.
+// A GRID clip's jaw and lips, as the tracker fitted them, at its 25 fps, with the head model's rotations on
+// its sound.
+std::vector<th::face::FapValues> realSpeakersPoses(const th::tracking::FitOptions& options, double& framesPerSecond) {
   const std::filesystem::path clip = th::sharedDataPath("grid/s1/bbaz7a.mpg");
   th::tracking::Track real = th::tracking::trackVideo(clip);
-  th::tracking::fitTrack(real, faceModel());
+  th::tracking::fitTrack(real, faceModel(), options);
+  framesPerSecond = real.framesPerSecond;
   const th::audio::AudioClip sound = th::tracking::readClipSound(clip);
   const th::animation::HeadModel head = th::animation::loadHeadModel(modelFile("head.json"));
   const th::video::Animation rotations = th::animation::animate(sound.samples, &head, nullptr, {});
@@ -133,8 +157,61 @@ TEST(TrackingTruth, ARealSpeakersLipsWithModelledHeadRotations) {
     for (int fap : real.fittedFaps) faps[static_cast<std::size_t>(fap)] = frame.fit.faps[static_cast<std::size_t>(fap)];
     poses.push_back(faps);
   }
+  return poses;
+}
+
+TEST(TrackingTruth, ARealSpeakersLipsWithModelledHeadRotations) {
+  double fps = 0.0;
+  const std::vector<th::face::FapValues> poses = realSpeakersPoses({}, fps);
   // Not yet the 2°: the roll comes back 2.2° RMS off (the lips' asymmetric FAPs trade with it).
-  expectRotationsWithin(2.5, renderTrackAndFit(poses, real.framesPerSecond));
+  expectRotationsWithin(2.5, renderTrackAndFit(poses, fps));
+}
+
+// Where the FAPs' errors above come from: given perfect landmarks (the model's own, projected as the renderer's
+// camera would, the face 170 px between the eye corners as in the renders) and a pull to 0 too light to bias
+// them, the fit gives every FAP back within 3 % of its range and the rotations within 0.1°. So the fit can tell
+// the 21 FAPs and the head apart from 68 points; what it lacks is dlib's accuracy on our rendered face, whose
+// lip points lie 2-6 px from the mesh's (tracking_truth_test prints the FAPs' errors).
+TEST(TrackingTruth, FromPerfectLandmarksEveryFapComesBackWithinThreePercentOfItsRange) {
+  th::tracking::FitOptions options;
+  options.jawPrior = options.fapPrior = 0.001;
+  double fps = 0.0;
+  const std::vector<th::face::FapValues> poses = realSpeakersPoses(options, fps);
+  options.focalLengthPixels = 0.5 * 480 / std::tan(0.5 * th::render::OrbitCamera{}.fovYDegrees * std::numbers::pi / 180.0);
+  const th::tracking::FaceFitter projector(faceModel(), options);
+  th::tracking::FaceFit place;
+  const th::tracking::Landmarks unit = projector.project(place);
+  place.scale = 170.0 / (unit.col(36) - unit.col(45)).norm();
+  place.offset = {320.0, 240.0};
+  th::tracking::Track track;
+  track.framesPerSecond = fps;
+  std::vector<th::face::FapValues> shown{th::face::FapValues{}};
+  shown.insert(shown.end(), poses.begin(), poses.end());
+  for (std::size_t f = 0; f < shown.size(); ++f) {
+    th::tracking::FaceFit pose = place;
+    pose.faps = shown[f];
+    track.frames.push_back({.seconds = static_cast<double>(f) / fps, .found = true, .landmarks = projector.project(pose), .fit = {}});
+  }
+  th::tracking::fitTrack(track, faceModel(), options, 0);
+  for (int fap : {48, 49, 50}) {
+    double squared = 0.0;
+    for (std::size_t f = 1; f < shown.size(); ++f)
+      squared += std::pow(degrees(track.frames[f].fit.faps[static_cast<std::size_t>(fap)] - shown[f][static_cast<std::size_t>(fap)]), 2);
+    EXPECT_LE(std::sqrt(squared / static_cast<double>(shown.size() - 1)), 0.1) << "FAP " << fap;
+  }
+  for (int fap : track.fittedFaps) {
+    const auto n = static_cast<std::size_t>(fap);
+    double squared = 0.0, low = 1e300, high = -1e300;
+    for (std::size_t f = 1; f < shown.size(); ++f) {
+      squared += std::pow(track.frames[f].fit.faps[n] - shown[f][n], 2);
+      low = std::min(low, shown[f][n]);
+      high = std::max(high, shown[f][n]);
+    }
+    ASSERT_GT(high - low, 10.0) << "FAP " << fap << " hardly moves in these curves";
+    const double share = std::sqrt(squared / static_cast<double>(shown.size() - 1)) / (high - low);
+    std::printf("perfect landmarks: FAP %2d within %.1f %% of its range %.0f\n", fap, 100.0 * share, high - low);
+    EXPECT_LE(share, 0.03) << "FAP " << fap;
+  }
 }
 
 }  // namespace
