@@ -123,6 +123,10 @@ void runRecord(const RecordArguments& arguments) {
   std::vector<float> sound, block(4096);
   while (ring.read(block.data(), block.size()) > 0) {
   }
+  const auto takeSound = [&] {
+    for (std::size_t got; (got = ring.read(block.data(), block.size())) > 0;)
+      sound.insert(sound.end(), block.begin(), block.begin() + static_cast<std::ptrdiff_t>(got));
+  };
   const std::int64_t startNs = nowNs();
   const double periodNs = 1e9 / arguments.fps;
   cv::Mat shown = frame.clone();  // the latest camera frame grabbed
@@ -141,12 +145,12 @@ void runRecord(const RecordArguments& arguments) {
       ++written;
     }
     camera.retrieve(shown);
-    for (std::size_t got; (got = ring.read(block.data(), block.size())) > 0;) sound.insert(sound.end(), block.begin(), block.begin() + static_cast<std::ptrdiff_t>(got));
+    takeSound();
     if (!microphone.active()) stoppedBy = "the sound input went away";
     if (InterruptGuard::requested()) stoppedBy = "interrupted";
     if (arguments.seconds > 0.0 && static_cast<double>(grabbedNs - startNs) >= arguments.seconds * 1e9) stoppedBy = "the duration was reached";
   }
-  for (std::size_t got; (got = ring.read(block.data(), block.size())) > 0;) sound.insert(sound.end(), block.begin(), block.begin() + static_cast<std::ptrdiff_t>(got));
+  takeSound();
   writer.release();
   if (written < 2 || sound.empty()) throw Error("record: " + stoppedBy + " before anything was recorded");
   // A device that would not run at 16 kHz ran at its own rate (Capture); the take is kept at 16 kHz.

@@ -26,8 +26,8 @@ struct AnimateOptions {
 
 inline constexpr double kAnimationFramesPerSecond = 30.0;
 
-// samples16k: mono at 16 kHz. Throws th::Error if both models are null, the mouth model drives no FAPs (no FAP map and no visual FAPs), or
-// the recording is shorter than one frame.
+// samples16k: mono at 16 kHz. Throws th::Error if both models are null, the mouth model drives no FAPs (no
+// FAP map and no visual FAPs), or the recording is shorter than one frame.
 video::Animation animate(std::span<const float> samples16k, const HeadModel* head, const MouthModel* mouth,
                          const AnimateOptions& options = {});
 

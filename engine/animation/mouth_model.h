@@ -7,8 +7,8 @@
 //
 // The visual components are ICA after PCA (visual_basis.h) of the visual parameters, fitted on the training
 // part: [jaw opening, 100 expression coefficients] for BEAT2 (turned into FAPs by the FAP map), or the jaw and
-// lip FAPs themselves for models trained from tracked video (tracking/video_training.h; visualFaps names them). The HMM is trained by Baum-Welch (maximum likelihood, as the paper) with full or
-// diagonal covariance. Synthesis: HMM inversion (hmm/inversion.h, eq. 7/8) from the paper's random start or
+// lip FAPs themselves for models trained from tracked video (tracking/video_training.h; visualFaps names
+// them). The HMM is trained by Baum-Welch (maximum likelihood, as the paper) with full or diagonal covariance. Synthesis: HMM inversion (hmm/inversion.h, eq. 7/8) from the paper's random start or
 // from the audio-only conditional mean (ours), batch or windowed; or the non-iterative MMSE estimate.
 // Thread contract: models are values; synthesis is a pure function.
 #pragma once

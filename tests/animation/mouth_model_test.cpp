@@ -166,6 +166,49 @@ TEST(MouthModel, FileRoundTripAndRefusals) {
   }
 }
 
+TEST(MouthModel, AModelOfFapsDrivesThemAndItsFileSaysWhich) {
+  // The synthetic visual rows taken as FAPs 3, 4, 51, 52 (as a model trained from tracked video has them).
+  MouthModelOptions options{.states = 3, .mixtures = 1, .contextFrames = 1};
+  options.standardiseVisual = false;
+  MouthModel model = trainMouthModel({synthetic(1500, 5)}, options);
+  EXPECT_FALSE(th::animation::drivesFaps(model));
+  EXPECT_THROW(th::animation::mouthFapNumbers(model), Error);
+  model.visualFaps = {3, 4, 51, 52};
+  EXPECT_TRUE(th::animation::drivesFaps(model));
+  const MouthRecording test = synthetic(300, 6);
+  const Eigen::MatrixXd components = synthesiseMouth(model, test.mfcc);
+  const Eigen::MatrixXd faps = th::animation::mouthFapsOf(model, components);
+  Eigen::MatrixXd expected = model.basis.reconstruct(components);
+  expected.row(0) = expected.row(0).cwiseMax(0.0);  // the jaw does not close past rest
+  EXPECT_EQ(faps, expected);
+  EXPECT_LT(expected.row(0).minCoeff(), 1e-12);
+  EXPECT_THROW(th::animation::jawOpeningOf(model, components), Error);
+
+  const TemporaryFile file(".json");
+  saveMouthModel(file.path(), model, options);
+  const MouthModel loaded = loadMouthModel(file.path());
+  EXPECT_EQ(loaded.visualFaps, model.visualFaps);
+  EXPECT_EQ(th::animation::mouthFapsOf(loaded, components), faps);
+  // A list that does not match the basis, or is not ascending FAP numbers, is refused naming the file.
+  std::ostringstream buffer;
+  buffer << std::ifstream(file.path()).rdbuf();
+  const std::string text = buffer.str();
+  for (const char* broken : {"[3,4,51]", "[3,51,4,52]", "[3,4,51,99]", "\"3\""}) {
+    const std::string good = "\"visual_faps\":[3,4,51,52]";
+    const size_t at = text.find(good);
+    ASSERT_NE(at, std::string::npos);
+    const TemporaryFile damaged(".json");
+    std::ofstream(damaged.path()) << text.substr(0, at) << "\"visual_faps\":" << broken << text.substr(at + good.size());
+    try {
+      loadMouthModel(damaged.path());
+      FAIL() << broken << " was accepted";
+    } catch (const Error& error) {
+      EXPECT_NE(std::string(error.what()).find("visual_faps"), std::string::npos) << error.what();
+      EXPECT_NE(std::string(error.what()).find(damaged.path().string()), std::string::npos) << error.what();
+    }
+  }
+}
+
 TEST(MouthData, Beat2TakeIsAligned) {
   const MouthRecording take = loadBeat2Mouth();
   EXPECT_EQ(take.numFrames(), 1906);
