@@ -77,14 +77,22 @@ Landmarks FaceFitter::project(const FaceFit& fit) const {
   const Eigen::Vector3d& pivot = face_.neckPivot();
   // Perspective: the camera's distance in model units at this scale (infinite: orthographic).
   const double distance = options_.focalLengthPixels > 0.0 ? options_.focalLengthPixels / fit.scale : 0.0;
+  // The model's origin off the camera's axis, in model units at its depth (0 without a principal point): a
+  // point's sideways place is enlarged from the axis, not from the origin.
+  const Eigen::Vector2d offAxis = distance > 0.0 && options_.principalPoint.allFinite()
+                                      ? Eigen::Vector2d((fit.offset.x() - options_.principalPoint.x()) / fit.scale,
+                                                        -(fit.offset.y() - options_.principalPoint.y()) / fit.scale)
+                                      : Eigen::Vector2d::Zero();
   Landmarks image;
   for (int i = 0; i < kNumLandmarks; ++i) {
     const double share = shares_[static_cast<std::size_t>(i)];
     const Eigen::Vector3d p =
-        pivot + (share >= 1.0 ? turn : face::headRotation(share * pitch, share * yaw, share * roll)) * (model.col(i) - pivot);
+        pivot + restRotation_ *
+                    ((share >= 1.0 ? turn : face::headRotation(share * pitch, share * yaw, share * roll)) *
+                     (model.col(i) - pivot));
     const double enlarge = distance > 0.0 ? distance / std::max(distance - p.z(), 1e-3 * distance) : 1.0;
-    image(0, i) = fit.scale * enlarge * p.x() + fit.offset.x();
-    image(1, i) = -fit.scale * enlarge * p.y() + fit.offset.y();
+    image(0, i) = fit.scale * (enlarge * (p.x() + offAxis.x()) - offAxis.x()) + fit.offset.x();
+    image(1, i) = -fit.scale * (enlarge * (p.y() + offAxis.y()) - offAxis.y()) + fit.offset.y();
   }
   return image;
 }
@@ -135,10 +143,8 @@ FaceFit FaceFitter::fit(const Landmarks& points, const FaceFit* start) const {
   // Finite-difference steps: a thousandth of the scale, a tenth of a pixel, a milliradian, one FAP unit.
   const std::array<double, kRigid> rigidStep{1e-3 * x[0], 0.1, 0.1, 1e-3 / face::kAngleUnit, 1e-3 / face::kAngleUnit,
                                              1e-3 / face::kAngleUnit};
-  // The parameters that move: all, or all but the head's angles.
-  std::vector<Eigen::Index> free;
-  for (Eigen::Index k = 0; k < n; ++k)
-    if (fitRotation_ || k < 3 || k >= kRigid) free.push_back(k);
+  std::vector<Eigen::Index> free;  // the parameters that move: all of them
+  for (Eigen::Index k = 0; k < n; ++k) free.push_back(k);
   const Eigen::Index m = static_cast<Eigen::Index>(free.size());
   Eigen::VectorXd r = residuals(points, x);
   double cost = r.squaredNorm();
@@ -197,22 +203,31 @@ FaceFit FaceFitter::fit(const Landmarks& points, const FaceFit* start) const {
 
 FaceFit FaceFitter::calibrate(const Landmarks& points) {
   calibration_.setZero();
-  // The rest face: its scale and place alone (the head at 0°, no FAPs), then its residual carried back into the
-  // model's frame (image y down, model y up).
+  restRotation_.setIdentity();
+  // The rest face: its scale, place and turn alone (no FAPs); the turn becomes the rest orientation, and what
+  // is left, carried back into the model's frame (image y down, model y up), the speaker's own shape.
   FitOptions placeOnly = options_;
   placeOnly.faps.clear();
-  FaceFitter place(face_, placeOnly);
-  place.fitRotation_ = false;
-  const FaceFit fit = place.fit(points);
+  const FaceFitter place(face_, placeOnly);
+  FaceFit fit = place.fit(points);
+  restRotation_ = face::headRotation(fit.faps[48] * face::kAngleUnit, fit.faps[49] * face::kAngleUnit,
+                                     fit.faps[50] * face::kAngleUnit);
+  fit.faps[48] = fit.faps[49] = fit.faps[50] = 0.0;
   const Landmarks projected = project(fit);
   const Eigen::Matrix3Xd model = face_.deform(face::FapValues{}, selection_);
   const double distance = options_.focalLengthPixels > 0.0 ? options_.focalLengthPixels / fit.scale : 0.0;
   for (int i = 0; i < kNumLandmarks; ++i) {
-    // Pixels to model units at this point's depth (as project() enlarges it).
-    const double enlarge = distance > 0.0 ? distance / std::max(distance - model(2, i), 1e-3 * distance) : 1.0;
+    // Pixels to model units at this point's depth (as project() enlarges it), turned back into the model.
+    const double depth = (restRotation_ * (model.col(i) - face_.neckPivot())).z() + face_.neckPivot().z();
+    const double enlarge = distance > 0.0 ? distance / std::max(distance - depth, 1e-3 * distance) : 1.0;
     const Eigen::Vector2d image = (points.col(i) - projected.col(i)) / (fit.scale * enlarge);
-    calibration_.col(i) = Eigen::Vector2d(image.x(), -image.y());
+    const Eigen::Vector3d inModel = restRotation_.transpose() * Eigen::Vector3d(image.x(), -image.y(), 0.0);
+    calibration_.col(i) = inModel.head<2>();
   }
+  fit.residualPixels = 0.0;
+  const Landmarks calibrated = project(fit);
+  for (int i : options_.landmarks) fit.residualPixels += (points.col(i) - calibrated.col(i)).squaredNorm();
+  fit.residualPixels = std::sqrt(fit.residualPixels / static_cast<double>(options_.landmarks.size()));
   return fit;
 }
 

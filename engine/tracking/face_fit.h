@@ -12,7 +12,8 @@
 // Camera: scaled orthographic by default: image x = s·X + ox, image y = −s·Y + oy, for the deformed model point
 // (X, Y, Z) (model y up, image y down; the face's left, +X, is the image's right). Where the camera's focal
 // length f is known (FitOptions::focalLengthPixels), perspective about the model's origin: the camera is
-// D = f / s model units away, and a point nearer by Z is enlarged by D / (D − Z). Near cameras matter: seen
+// D = f / s model units away, and a point nearer by Z is enlarged by D / (D − Z); a face away from the
+// camera's axis (FitOptions::principalPoint) is seen from the side by as much, as a lens sees it. Near cameras matter: seen
 // orthographically, a turn of the head moves the nose further than the model expects, and the fitted yaw
 // comes out about a quarter too large at a 24° field of view. Solved with Levenberg-Marquardt on numerical
 // derivatives (the model deforms only the landmark vertices: face::VertexSelection, tens of microseconds).
@@ -25,15 +26,20 @@
 // not fixed vertices: only the chin (8) is used from it by default.
 //
 // Person and annotation differ from the model: call calibrate() on a frame of the speaker at rest (mouth
-// closed, looking ahead). That frame is taken as the head at 0° on every axis with no FAPs: only its scale and
-// place are fitted, and its residual, carried into the model's frame, is added to the model's landmarks from
-// then on. So the head's angles and the FAPs measure change from that rest face, rather than the difference
-// between two faces (or between dlib's idea of a landmark and the mesh's annotation).
+// closed). That frame is taken as the head's rest pose, with no FAPs: its scale, place and the way it faces the
+// camera are fitted (a camera above the eyes, or a speaker who holds the head a little down, sees the rest face
+// turned), and its residual, carried into the model's frame, is added to the model's landmarks from then on.
+// So the head's angles (FAPs 48-50, about the head's own axes) and the FAPs measure change from that rest
+// face, rather than the difference between two faces (or between dlib's idea of a landmark and the mesh's
+// annotation), and a head that faces the camera at an angle at rest still turns about its own axes.
+// (Taking the rest face as facing the camera squarely cost a lot where it does not: our face rendered from 8°
+// above came back with a jaw error of 56 MNS instead of 13, the rotations' errors doubled.)
 //
 // Thread contract: fit() is const; a fitter may be shared by threads once calibrated.
 #pragma once
 
 #include <Eigen/Core>
+#include <limits>
 #include <vector>
 
 #include "face/face_model.h"
@@ -52,6 +58,9 @@ struct FitOptions {
   double typicalFapRange = 300.0;  // FAPU counts: a wide-open jaw is ~500 MNS, a lip movement ~100-300
   int iterations = 30;             // Levenberg-Marquardt steps at most
   double focalLengthPixels = 0.0;  // 0: orthographic; else the camera's focal length in pixels
+  // With a focal length: where the camera's axis meets the image (pixels; NaN: on the model's origin, wherever
+  // the face is). fitTrack puts it at the frame's centre, where a camera's usually is.
+  Eigen::Vector2d principalPoint = Eigen::Vector2d::Constant(std::numeric_limits<double>::quiet_NaN());
 };
 
 struct FaceFit {
@@ -82,7 +91,7 @@ class FaceFitter {
 
   const face::FaceModel& face_;
   FitOptions options_;
-  bool fitRotation_ = true;  // false: the head's angles stay where the start put them (calibrate)
+  Eigen::Matrix3d restRotation_ = Eigen::Matrix3d::Identity();  // how the rest face faces the camera
   face::VertexSelection selection_;        // the 68 landmark vertices
   std::vector<double> shares_;             // each one's share of the head's turn
   Eigen::Matrix<double, 2, kNumLandmarks> calibration_ = Eigen::Matrix<double, 2, kNumLandmarks>::Zero();  // model X, Y

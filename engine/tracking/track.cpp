@@ -79,7 +79,10 @@ void fitTrack(Track& track, const face::FaceModel& face, const FitOptions& optio
   if (restFrame >= static_cast<int>(track.frames.size()) ||
       (restFrame >= 0 && !track.frames[static_cast<std::size_t>(restFrame)].found))
     throw Error("fitTrack: the rest frame " + std::to_string(restFrame) + " is not a frame with a face");
-  FaceFitter fitter(face, options);
+  FitOptions withCentre = options;
+  if (!withCentre.principalPoint.allFinite() && track.width > 0 && track.height > 0)
+    withCentre.principalPoint = Eigen::Vector2d(0.5 * track.width, 0.5 * track.height);
+  FaceFitter fitter(face, withCentre);
   int neutral = restFrame;
   for (std::size_t f = 0; f < track.frames.size() && restFrame < 0; ++f)
     if (track.frames[f].found &&

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cctype>
 #include <chrono>
+#include <sstream>
 #include <limits>
 #include <mutex>
 #include <optional>
@@ -10,8 +11,10 @@
 
 #include "audio/audio_file.h"
 #include "audio/media_audio.h"
+#include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/parallel_for.h"
+#include "core/text_files.h"
 #include "animation/mouth_evaluation.h"
 
 namespace th::tracking {
@@ -38,6 +41,22 @@ double meanResidual(const Track& track) {
   double sum = 0.0;
   for (const TrackedFrame& frame : track.frames) sum += frame.fit.residualPixels;
   return track.frames.empty() ? 0.0 : sum / static_cast<double>(track.frames.size());
+}
+
+// What a track depends on besides its video: the tracker's version (raise it when tracking or fitting changes
+// what they give) and the options.
+constexpr int kTrackerVersion = 2;
+
+std::string trackerStamp(const VideoCorpusOptions& options) {
+  std::ostringstream stamp;
+  stamp.precision(17);
+  stamp << "talkinghead tracker " << kTrackerVersion << "\nfaps";
+  for (int fap : options.fit.faps) stamp << ' ' << fap;
+  stamp << "\nlandmarks";
+  for (int landmark : options.fit.landmarks) stamp << ' ' << landmark;
+  stamp << "\npriors " << options.fit.jawPrior << ' ' << options.fit.fapPrior << ' ' << options.fit.typicalFapRange
+        << "\nfocal length " << options.fit.focalLengthPixels << "\nsmooth " << options.track.smooth << '\n';
+  return stamp.str();
 }
 
 std::vector<int> sorted(std::vector<int> faps) {
@@ -117,6 +136,19 @@ VideoCorpus loadVideoCorpus(const std::vector<std::filesystem::path>& videos, co
       throw fileError(options.trackFolder, "is not a folder and cannot be made one");
   }
   const std::vector<int> faps = sorted(options.fit.faps);
+  // Tracks made by another tracker, or fitted another way, are not re-used: the folder's stamp says how its
+  // tracks were made.
+  bool reuse = false;
+  std::filesystem::path stampFile;
+  std::string stamp;
+  if (!options.trackFolder.empty()) {
+    stampFile = options.trackFolder / "tracker.txt";
+    stamp = trackerStamp(options);
+    std::error_code missing;
+    reuse = std::filesystem::is_regular_file(stampFile, missing) && readTextFile(stampFile, "tracker stamp") == stamp;
+    // Stamped again only once this run's tracks are all written (an interrupted run leaves the folder unstamped).
+    if (!reuse) std::filesystem::remove(stampFile, missing);
+  }
   // Each slot is written by the one thread that takes its clip.
   std::vector<std::optional<VideoClip>> loaded(videos.size());
   std::vector<std::string> reasons(videos.size());
@@ -130,7 +162,7 @@ VideoCorpus loadVideoCorpus(const std::vector<std::filesystem::path>& videos, co
       const std::filesystem::path cached =
           options.trackFolder.empty() ? std::filesystem::path() : options.trackFolder / (video.stem().string() + ".csv");
       std::optional<Track> track;
-      if (!cached.empty() && upToDate(cached, video)) {
+      if (reuse && upToDate(cached, video)) {
         track = readTrackCsv(cached);
         if (sorted(track->fittedFaps) != faps) track.reset();  // fitted with other FAPs: fit again
       }
@@ -155,6 +187,11 @@ VideoCorpus loadVideoCorpus(const std::vector<std::filesystem::path>& videos, co
       progress(++done, static_cast<int>(videos.size()));
     }
   });
+  if (!stampFile.empty() && !reuse && std::any_of(loaded.begin(), loaded.end(), [](const auto& clip) { return clip.has_value(); })) {
+    AtomicFile out(stampFile);
+    out.stream() << stamp;
+    out.commit();
+  }
   VideoCorpus corpus;
   corpus.faps = faps;
   for (std::size_t i = 0; i < videos.size(); ++i) {

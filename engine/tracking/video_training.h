@@ -9,7 +9,7 @@
 // A clip's sound is its own audio track, or, for a video without one, the WAV of the same name beside it (what
 // `talkinghead record` and `talkinghead track --audio` write). Tracks are kept in trackFolder (one TRACK.csv
 // per clip, named after it) and read back instead of tracking again while they are newer than their video and
-// hold the FAPs asked for. A clip that cannot be used (no face, no sound, unreadable) is left out with its
+// were made by this tracker with the same options (the folder's tracker.txt says how). A clip that cannot be used (no face, no sound, unreadable) is left out with its
 // reason; the corpus fails only if no clip is left.
 // Thread contract: loadVideoCorpus tracks clips on `threads` threads of its own; the face model is shared
 // read-only; progress is called under a lock, from any of them.

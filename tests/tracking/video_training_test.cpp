@@ -118,7 +118,7 @@ TEST(ScoreFaps, IsPerfectForTheTruthAndNeutralForItsMean) {
   EXPECT_THROW(th::tracking::scoreFaps({clip.visual}, {6, 7}, {clip}, faps), th::Error);
 }
 
-TEST(VideoCorpus, KeepsTheTracksAndLeavesOutAClipWithoutAFace) {
+TEST(VideoCorpus, KeepsTheTracksReusesThemOnlyAsMadeAndLeavesOutAClipWithoutAFace) {
   th::TemporaryFolder folder;
   const fs::path faceless = folder.path() / "faceless.mp4";
   th::test::writeFacelessVideo(faceless);
@@ -147,6 +147,14 @@ TEST(VideoCorpus, KeepsTheTracksAndLeavesOutAClipWithoutAFace) {
     EXPECT_FALSE(second.clips[i].trackedNow);
     EXPECT_LT((second.clips[i].recording.visual - first.clips[i].recording.visual).cwiseAbs().maxCoeff(), 1e-3);
   }
+  // Tracks made another way (another tracker version, other options) are made again.
+  std::ofstream(tracks / "tracker.txt") << "talkinghead tracker 1\n";
+  const th::tracking::VideoCorpus third = th::tracking::loadVideoCorpus(videos, faceModel(), onThreads(2, tracks));
+  for (const th::tracking::VideoClip& clip : third.clips) EXPECT_TRUE(clip.trackedNow);
+  th::tracking::VideoCorpusOptions otherPriors = onThreads(2, tracks);
+  otherPriors.fit.fapPrior = 0.2;
+  for (const th::tracking::VideoClip& clip : th::tracking::loadVideoCorpus(videos, faceModel(), otherPriors).clips)
+    EXPECT_TRUE(clip.trackedNow);
   // Nothing usable at all is an error that says why.
   try {
     th::tracking::loadVideoCorpus({faceless}, faceModel(), {});
