@@ -24,7 +24,7 @@ for context in 2 3; do
       for components in 2 3 4; do
         line=$( ("$repo/build/talkinghead" train --video "$work/clips" -o "$work/model.json" --tracks "$tracks" \
           --hold-out 4 --states $states --mixtures $mixtures --components $components --context $context 2>/dev/null || true) |
-          grep 'this model, inversion' || echo "start) failed (a model that did not train)")
+          grep 'this model, inversion (conditional-mean start)' || echo "start) failed (a model that did not train)")
         echo "$states $mixtures $components $context ${line#*start)}"
       done
     done
