@@ -1,16 +1,12 @@
 #include "tracking/landmarks.h"
 
-#include <dlib/image_processing/frontal_face_detector.h>
-#include <dlib/image_processing/shape_predictor.h>
-#include <dlib/opencv/cv_image.h>
-#include <dlib/serialize.h>
-
 #include <algorithm>
 #include <cstdlib>
 #include <opencv2/imgproc.hpp>
 #include <system_error>
 
 #include "core/error.h"
+#include "tracking/dlib_faces.h"
 
 namespace th::tracking {
 namespace {
@@ -36,8 +32,8 @@ std::filesystem::path shapePredictorPath(const std::filesystem::path& given) {
 }
 
 struct LandmarkDetector::Dlib {
-  dlib::frontal_face_detector detector = dlib::get_frontal_face_detector();
-  dlib::shape_predictor predictor;
+  explicit Dlib(const std::filesystem::path& shapePredictor) : faces(shapePredictor) {}
+  DlibFaces faces;
   cv::Mat gray;     // the frame
   cv::Mat scaled;   // the searched region, enlarged where the face is small
   bool haveFace = false;
@@ -54,18 +50,17 @@ struct LandmarkDetector::Dlib {
       cv::resize(crop, scaled, cv::Size(), scale, scale, cv::INTER_LINEAR);
     else
       scaled = crop;
-    const dlib::cv_image<unsigned char> image(scaled);
-    const std::vector<dlib::rectangle> faces = detector(image);
-    if (faces.empty()) return false;
-    const auto toFrame = [&](const dlib::rectangle& r) {
-      return Box{region.x + static_cast<double>(r.left()) / scale, region.y + static_cast<double>(r.top()) / scale,
-                 region.x + static_cast<double>(r.right() + 1) / scale,
-                 region.y + static_cast<double>(r.bottom() + 1) / scale};
+    const std::vector<cv::Rect> found = faces.detect(scaled);
+    if (found.empty()) return false;
+    const auto toFrame = [&](const cv::Rect& r) {
+      return Box{region.x + static_cast<double>(r.x) / scale, region.y + static_cast<double>(r.y) / scale,
+                 region.x + static_cast<double>(r.x + r.width) / scale,
+                 region.y + static_cast<double>(r.y + r.height) / scale};
     };
     std::size_t best = 0;
     double bestScore = -1e300;
-    for (std::size_t i = 0; i < faces.size(); ++i) {
-      const Box box = toFrame(faces[i]);
+    for (std::size_t i = 0; i < found.size(); ++i) {
+      const Box box = toFrame(found[i]);
       const double score = near == nullptr
                                ? box.width() * box.height()
                                : -std::hypot(box.centreX() - near->centreX(), box.centreY() - near->centreY());
@@ -74,36 +69,36 @@ struct LandmarkDetector::Dlib {
         best = i;
       }
     }
-    const dlib::full_object_detection shape = predictor(image, faces[best]);
-    if (shape.num_parts() != static_cast<unsigned long>(kNumLandmarks)) return false;
+    const std::vector<cv::Point> shape = faces.shape(scaled, found[best]);
+    if (shape.size() != static_cast<std::size_t>(kNumLandmarks)) return false;
     for (int i = 0; i < kNumLandmarks; ++i) {
-      const dlib::point p = shape.part(static_cast<unsigned long>(i));
+      const cv::Point& p = shape[static_cast<std::size_t>(i)];
       // dlib's points are pixel indices; +0.5 and back puts them on pixel centres in the frame's coordinates.
-      out(0, i) = region.x + (static_cast<double>(p.x()) + 0.5) / scale - 0.5;
-      out(1, i) = region.y + (static_cast<double>(p.y()) + 0.5) / scale - 0.5;
+      out(0, i) = region.x + (static_cast<double>(p.x) + 0.5) / scale - 0.5;
+      out(1, i) = region.y + (static_cast<double>(p.y) + 0.5) / scale - 0.5;
     }
-    lastFace = toFrame(faces[best]);
+    lastFace = toFrame(found[best]);
     lastScale = scale;
     haveFace = true;
     return true;
   }
 };
 
-LandmarkDetector::LandmarkDetector(const LandmarkOptions& options) : dlib_(std::make_unique<Dlib>()), options_(options) {
+LandmarkDetector::LandmarkDetector(const LandmarkOptions& options) : options_(options) {
   const std::filesystem::path path = shapePredictorPath(options.shapePredictor);
   std::error_code error;
   if (!std::filesystem::is_regular_file(path, error))
     throw fileError(path, "no such file (dlib's 68-landmark shape predictor: Debian's libdlib-data, or set "
                           "TALKINGHEAD_SHAPE_PREDICTOR)");
   try {
-    dlib::deserialize(path.string()) >> dlib_->predictor;
+    dlib_ = std::make_unique<Dlib>(path);
   } catch (const std::exception& e) {
     // dlib's message runs over several lines: its first says what went wrong.
     const std::string message = e.what();
     throw fileError(path, "not a dlib shape predictor (" + message.substr(0, std::min<std::size_t>(message.find('\n'), 120)) + ")");
   }
-  if (dlib_->predictor.num_parts() != static_cast<unsigned long>(kNumLandmarks))
-    throw fileError(path, "a shape predictor of " + std::to_string(dlib_->predictor.num_parts()) +
+  if (dlib_->faces.numParts() != static_cast<unsigned long>(kNumLandmarks))
+    throw fileError(path, "a shape predictor of " + std::to_string(dlib_->faces.numParts()) +
                               " points, not the 68 iBUG landmarks");
 }
 
