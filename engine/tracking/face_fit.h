@@ -19,8 +19,9 @@
 // derivatives (the model deforms only the landmark vertices: face::VertexSelection, tens of microseconds).
 // The FAPs are pulled towards 0 (FitOptions::jawPrior, fapPrior, in eye distances per typical range): lightly
 // the jaw, which the chin shows; more the lips, whose 20 FAPs would otherwise trade motion with the jaw and each
-// other (our rendered face, the head moving: the jaw's RMS error 101 MNS with the lips' pull as light as the
-// jaw's, 59 with it ten times heavier; the jaw alone opened 0-400 comes back within 38).
+// other (our rendered face, the head moving, before the rest orientation was fitted: the jaw's RMS error 101
+// MNS with the lips' pull as light as the jaw's, 59 with it ten times heavier; the jaw alone opened 0-400 came
+// back within 38).
 //
 // The jaw line's contour points (1-7, 9-15 and the ends 0, 16) slide over the cheek as the head turns and are
 // not fixed vertices: only the chin (8) is used from it by default.

@@ -26,6 +26,8 @@ int main(int argc, char** argv) {
   const double focal = 0.5 * kHeight / std::tan(0.5 * camera.fovYDegrees * std::numbers::pi / 180.0);
   th::tracking::LandmarkDetector detector;
   th::tracking::Track track;
+  track.width = kWidth;  // the camera's axis at the frame's centre
+  track.height = kHeight;
   std::vector<double> jaws;
   th::render::Image widest;
   for (double jaw = 0.0; jaw <= 400.0; jaw += 50.0) {
