@@ -18,6 +18,7 @@
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/progress.h"
+#include "core/text_files.h"
 #include "face/face_model.h"
 #include "face/poses.h"
 #include "render/camera.h"
@@ -114,9 +115,7 @@ void runExport(const ExportArguments& arguments) {
   InterruptGuard guard;
   // Everything that can be checked before the work is checked first.
   const auto [width, height] = parseSize(arguments.size);
-  std::string extension = std::filesystem::path(arguments.output).extension().string();
-  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  if (extension != ".mp4") throw fileError(arguments.output, "an export is an .mp4 file");
+  if (lowercaseExtension(arguments.output) != ".mp4") throw fileError(arguments.output, "an export is an .mp4 file");
   checkOutputTarget(arguments.output);
   for (const std::string& path : arguments.saveAnimation) {
     video::animationFormatOf(path);

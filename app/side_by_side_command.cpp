@@ -13,6 +13,7 @@
 #include "commands.h"
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "core/text_files.h"
 #include "face_stage.h"
 #include "interrupt.h"
 #include "text_overlay.h"
@@ -36,9 +37,7 @@ struct SideBySideArguments {
 void runSideBySide(const SideBySideArguments& arguments) {
   InterruptGuard guard;
   const std::filesystem::path output = arguments.output;
-  std::string extension = output.extension().string();
-  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  if (extension != ".mp4") throw fileError(output, "a side-by-side video is an .mp4 file");
+  if (lowercaseExtension(output) != ".mp4") throw fileError(output, "a side-by-side video is an .mp4 file");
   checkOutputTarget(output);
   const AnimationModels models = loadAnimationModels("sidebyside", arguments.stillHead ? "none" : "trajectory",
                                                      arguments.headModel, "inversion", arguments.mouthModel);

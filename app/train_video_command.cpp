@@ -30,8 +30,9 @@ struct TrainVideoArguments {
   unsigned threads = 0;
   std::string compare = std::string(TALKINGHEAD_SOURCE_DIR) + "/models/mouth.json";
   // Chosen on the GRID s1 training clips alone, by tools/choose_video_mouth.sh (README: "Training from video").
+  // FAPs are not standardised (trainVideoMouthModel), and the model file's options say so.
   animation::MouthModelOptions options{.states = 6, .mixtures = 1, .covariance = hmm::CovarianceType::kFull,
-                                       .contextFrames = 2, .visualComponents = 3};
+                                       .contextFrames = 2, .visualComponents = 3, .standardiseVisual = false};
 };
 
 void printScores(const char* label, const tracking::FapScores& scores) {

@@ -23,6 +23,7 @@ extern "C" {
 #include <vector>
 
 #include "audio/resampler.h"
+#include "core/text_files.h"
 #include "core/error.h"
 #include "core/ffmpeg_support.h"
 
@@ -291,9 +292,7 @@ AudioClip readMediaAudio(const std::filesystem::path& path, const AudioReadOptio
 }
 
 AudioClip readRecording(const std::filesystem::path& path, const AudioReadOptions& options) {
-  std::string extension = path.extension().string();
-  std::transform(extension.begin(), extension.end(), extension.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  const std::string extension = lowercaseExtension(path);
   const bool soundFile = extension == ".wav" || extension == ".flac" || extension == ".ogg" || extension == ".aiff" ||
                          extension == ".au" || extension == ".w64" || extension == ".caf";
   return soundFile ? readAudioFile(path, options) : readMediaAudio(path, options);

@@ -1,5 +1,6 @@
 #include "core/text_files.h"
 
+#include <cctype>
 #include <fstream>
 #include <system_error>
 #include <vector>
@@ -49,6 +50,12 @@ std::string jsonReason(const std::string& what) {
   }
   if (const auto lastRead = reason.find("; last read"); lastRead != reason.npos) reason = reason.substr(0, lastRead);
   return printable(reason, 200);
+}
+
+std::string lowercaseExtension(const std::filesystem::path& path) {
+  std::string extension = path.extension().string();
+  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return extension;
 }
 
 }  // namespace th

@@ -29,4 +29,8 @@ std::string printable(std::string_view text, std::size_t maxLength = 40);
 // bytes it quotes ("; last read: '...'" can be long), on one line.
 std::string jsonReason(const std::string& what);
 
+// A file name's extension in lower case, with its dot (".MP4" -> ".mp4"; "" if it has none): for choosing a
+// reader or checking an output's kind by name.
+std::string lowercaseExtension(const std::filesystem::path& path);
+
 }  // namespace th

@@ -22,8 +22,7 @@ namespace th::tracking {
 namespace {
 
 bool isVideoName(const std::filesystem::path& path) {
-  std::string extension = path.extension().string();
-  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  const std::string extension = lowercaseExtension(path);
   for (const char* known : {".mpg", ".mpeg", ".mp4", ".m4v", ".avi", ".mov", ".mkv", ".webm"})
     if (extension == known) return true;
   return false;
