@@ -5,7 +5,9 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <chrono>
 #include <stdexcept>
+#include <thread>
 #include <vector>
 
 namespace {
@@ -24,19 +26,35 @@ TEST(ParallelFor, NothingToDoIsNoWork) {
   EXPECT_EQ(calls.load(), 0);
 }
 
+TEST(ParallelFor, OnOneThreadNothingStartsAfterTheFailingItem) {
+  std::atomic<int> started{0};
+  EXPECT_THROW(th::parallelFor(100, 1,
+                               [&](std::size_t i) {
+                                 ++started;
+                                 if (i == 3) throw std::runtime_error("item 3 failed");
+                               }),
+               std::runtime_error);
+  EXPECT_EQ(started.load(), 4);
+}
+
 TEST(ParallelFor, RethrowsTheFirstErrorAndStartsNothingAfterIt) {
+  // Each item takes a little time, so running all of them would take far longer than unwinding one exception
+  // (slow under the sanitizers). With trivial items the other threads could finish every item before the
+  // failing one had been caught, and the test would fail for a reason that is not a fault.
+  constexpr int kItems = 4000;
   std::atomic<int> started{0};
   try {
-    th::parallelFor(10000, 4, [&](std::size_t i) {
+    th::parallelFor(kItems, 4, [&](std::size_t i) {
       ++started;
       if (i == 3) throw std::runtime_error("item 3 failed");
+      std::this_thread::sleep_for(std::chrono::microseconds(250));
     });
     FAIL() << "no exception";
   } catch (const std::runtime_error& error) {
     EXPECT_STREQ(error.what(), "item 3 failed");
   }
   // The threads stop taking items once one has failed: far fewer than all were started.
-  EXPECT_LT(started.load(), 10000);
+  EXPECT_LT(started.load(), kItems);
   EXPECT_GE(started.load(), 4);
 }
 
