@@ -24,6 +24,7 @@ struct TrackArguments {
   std::string video;
   std::string output;
   std::string audio;  // empty: the track's name with .wav
+  bool noSmooth = false;
 };
 
 void runTrack(const TrackArguments& arguments) {
@@ -38,9 +39,11 @@ void runTrack(const TrackArguments& arguments) {
   // The sound first: a video without it is refused before the (longer) tracking.
   const audio::AudioClip sound = audio::readMediaAudio(arguments.video);
   const auto started = std::chrono::steady_clock::now();
+  tracking::TrackOptions trackOptions;
+  trackOptions.smooth = !arguments.noSmooth;
   // The sound's length stands for the video's (containers do not always say how many frames they hold).
   ProgressBar bar(static_cast<double>(sound.samples.size()) / sound.sampleRateHz, "track", std::cerr);
-  tracking::Track track = tracking::trackVideo(arguments.video, {}, [&](double done) { bar.update(done); });
+  tracking::Track track = tracking::trackVideo(arguments.video, trackOptions, [&](double done) { bar.update(done); });
   bar.finish();
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   const face::FaceModel face = face::FaceModel::build(face::loadIctFace(face::ictFaceDirectory()));
@@ -80,6 +83,9 @@ void addTrackCommand(CLI::App& app) {
                     "Track: .csv (time_s, face, pitch_deg, yaw_deg, roll_deg, fapN..., residual_px, x0, y0 ... x67, y67)")
       ->required();
   track->add_option("--audio", arguments->audio, "The sound as WAV (default: the track's name with .wav)");
+  track->add_flag("--no-smooth", arguments->noSmooth,
+                  "Landmarks as dlib gave them in each frame, and the model fitted to those (default: each landmark's "
+                  "path smoothed over 5 frames, Savitzky-Golay)");
   track->callback([arguments] { runTrack(*arguments); });
 }
 

@@ -65,6 +65,10 @@ std::vector<int> sorted(std::vector<int> faps) {
 
 }  // namespace
 
+std::filesystem::path trackFileName(const std::filesystem::path& video) {
+  return video.filename().string() + ".csv";
+}
+
 audio::AudioClip readClipSound(const std::filesystem::path& video) {
   try {
     return audio::readMediaAudio(video);
@@ -159,7 +163,7 @@ VideoCorpus loadVideoCorpus(const std::vector<std::filesystem::path>& videos, co
       VideoClip clip;
       clip.video = video;
       const std::filesystem::path cached =
-          options.trackFolder.empty() ? std::filesystem::path() : options.trackFolder / (video.stem().string() + ".csv");
+          options.trackFolder.empty() ? std::filesystem::path() : options.trackFolder / trackFileName(video);
       std::optional<Track> track;
       if (reuse && upToDate(cached, video)) {
         track = readTrackCsv(cached);

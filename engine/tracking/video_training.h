@@ -7,8 +7,8 @@
 //   th::animation::MouthModel model = th::tracking::trainVideoMouthModel(corpus.recordings(), {});
 //
 // A clip's sound is its own audio track, or, for a video without one, the WAV of the same name beside it (what
-// `talkinghead record` and `talkinghead track --audio` write). Tracks are kept in trackFolder (one TRACK.csv
-// per clip, named after it) and read back instead of tracking again while they are newer than their video and
+// `talkinghead record` and `talkinghead track --audio` write). Tracks are kept in trackFolder (one CSV per
+// clip, trackFileName) and read back instead of tracking again while they are newer than their video and
 // were made by this tracker with the same options (the folder's tracker.txt says how). A clip that cannot be used (no face, no sound, unreadable) is left out with its
 // reason; the corpus fails only if no clip is left.
 // Thread contract: loadVideoCorpus tracks clips on `threads` threads of its own; the face model is shared
@@ -62,6 +62,10 @@ struct VideoCorpus {
   double trackingSeconds = 0.0;  // wall-clock time of the whole load
   std::vector<animation::MouthRecording> recordings() const;
 };
+
+// A clip's track file in trackFolder: its whole file name with ".csv" added ("a.mp4" -> "a.mp4.csv"), so clips
+// that differ only in their extension keep tracks of their own.
+std::filesystem::path trackFileName(const std::filesystem::path& video);
 
 struct VideoCorpusOptions {
   std::filesystem::path trackFolder;  // empty: track every clip, keep nothing

@@ -1,9 +1,10 @@
-// `talkinghead track` as a user meets it: a GRID clip gives a landmark track and its sound; a video without a
-// face, without sound, or not a video at all fails in one line and leaves nothing behind.
+// `talkinghead track` as a user meets it: a GRID clip gives a landmark track (smoothed, or as dlib gave it) and its
+// sound; a video without a face, without sound, or not a video at all fails in one line and leaves nothing behind.
 #include <gtest/gtest.h>
 
 #include <filesystem>
 #include <algorithm>
+#include <cmath>
 #include <fstream>
 #include <string>
 
@@ -45,13 +46,28 @@ TEST_F(TrackCliTest, AGridClipGivesItsLandmarksAndItsSound) {
   // The sound beside it: the clip's 3 s.
   const th::audio::AudioClip sound = th::audio::readAudioFile(out() / "bbal7s.wav");
   EXPECT_NEAR(static_cast<double>(sound.samples.size()) / sound.sampleRateHz, 3.0, 0.05);
-  // --audio puts it elsewhere.
-  ASSERT_EQ(runCli({"track", clip().string(), "-o", (out() / "b.csv").string(), "--audio", (out() / "sound.wav").string()},
+  // --audio puts it elsewhere; --no-smooth writes dlib's landmarks as each frame gave them, which jitter more
+  // from frame to frame than the smoothed ones (the sum of the second differences of every landmark's path).
+  ASSERT_EQ(runCli({"track", clip().string(), "-o", (out() / "b.csv").string(), "--audio", (out() / "sound.wav").string(),
+                    "--no-smooth"},
                    logs())
                 .exitCode,
             0);
   EXPECT_TRUE(fs::exists(out() / "sound.wav"));
   EXPECT_FALSE(fs::exists(out() / "b.wav"));
+  const auto jitter = [](const th::NumericTable& landmarks) {
+    double sum = 0.0;
+    for (int point = 0; point < 68; ++point)
+      for (const char* axis : {"x", "y"}) {
+        const auto column = static_cast<std::size_t>(landmarks.column(axis + std::to_string(point)));
+        for (std::size_t f = 1; f + 1 < landmarks.rows.size(); ++f)
+          sum += std::abs(landmarks.rows[f + 1][column] - 2 * landmarks.rows[f][column] + landmarks.rows[f - 1][column]);
+      }
+    return sum;
+  };
+  const th::NumericTable raw = th::readNumericCsv(out() / "b.csv");
+  ASSERT_EQ(raw.rows.size(), 75u);
+  EXPECT_GT(jitter(raw), 1.5 * jitter(table));
 }
 
 TEST_F(TrackCliTest, BadVideosFailInOneLineAndLeaveNothing) {

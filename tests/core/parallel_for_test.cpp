@@ -38,16 +38,21 @@ TEST(ParallelFor, OnOneThreadNothingStartsAfterTheFailingItem) {
 }
 
 TEST(ParallelFor, RethrowsTheFirstErrorAndStartsNothingAfterIt) {
-  // Each item takes a little time, so running all of them would take far longer than unwinding one exception
-  // (slow under the sanitizers). With trivial items the other threads could finish every item before the
-  // failing one had been caught, and the test would fail for a reason that is not a fault.
+  // Items take time, and more once item 3 is failing, so that running them all would take far longer than
+  // unwinding one exception (slow under the sanitizers) even on a loaded machine. With trivial items the other
+  // threads could finish every item before the failing one had been caught, and the test would fail for a
+  // reason that is not a fault.
   constexpr int kItems = 4000;
   std::atomic<int> started{0};
+  std::atomic<bool> failing{false};
   try {
     th::parallelFor(kItems, 4, [&](std::size_t i) {
       ++started;
-      if (i == 3) throw std::runtime_error("item 3 failed");
-      std::this_thread::sleep_for(std::chrono::microseconds(250));
+      if (i == 3) {
+        failing = true;
+        throw std::runtime_error("item 3 failed");
+      }
+      std::this_thread::sleep_for(std::chrono::microseconds(failing ? 5000 : 250));
     });
     FAIL() << "no exception";
   } catch (const std::runtime_error& error) {

@@ -7,6 +7,7 @@
 #include <numbers>
 
 #include "core/error.h"
+#include "core/temporary_file.h"
 #include "face/fap.h"
 #include "face/feature_points.h"
 #include "face/jaw.h"
@@ -96,9 +97,8 @@ TEST(JawHinge, ATranslationAloneIsNotAHinge) {
 }
 
 TEST(IctFace, MissingOrBrokenAssetsAreOneLineErrorsNamingTheFile) {
-  const auto dir = std::filesystem::temp_directory_path() / "talkinghead_face_test";
-  std::filesystem::remove_all(dir);
-  std::filesystem::create_directories(dir);
+  const th::TemporaryFolder folder;  // unique: two test runs at once do not share it
+  const std::filesystem::path& dir = folder.path();
   try {
     th::face::loadIctFace(dir);
     FAIL();
@@ -116,7 +116,6 @@ TEST(IctFace, MissingOrBrokenAssetsAreOneLineErrorsNamingTheFile) {
     EXPECT_NE(message.find("2 vertices"), std::string::npos) << message;
     EXPECT_EQ(message.find('\n'), std::string::npos);
   }
-  std::filesystem::remove_all(dir);
 }
 
 }  // namespace

@@ -59,6 +59,11 @@ TEST(ListVideos, FindsTheVideosOfAFolderByNameAndRefusesAnEmptyOne) {
   EXPECT_THROW(th::tracking::listVideos(folder.path() / "missing"), th::Error);
 }
 
+TEST(TrackFileName, ClipsThatDifferOnlyInTheirExtensionKeepTracksOfTheirOwn) {
+  EXPECT_NE(th::tracking::trackFileName("talks/a.mp4"), th::tracking::trackFileName("talks/a.avi"));
+  EXPECT_EQ(th::tracking::trackFileName("talks/a.mp4"), fs::path("a.mp4.csv"));  // in the track folder, not beside
+}
+
 TEST(MouthRecordingOf, ResamplesTheFapsToTheAnimationRateBesideTheSoundsMfccs) {
   // 2 s at 25 fps; FAP 3 a ramp in time, FAP 4 a constant.
   th::tracking::Track track;
@@ -137,7 +142,7 @@ TEST(VideoCorpus, KeepsTheTracksReusesThemOnlyAsMadeAndLeavesOutAClipWithoutAFac
     EXPECT_EQ(clip.recording.visual.rows(), 21);
     EXPECT_NEAR(clip.recording.numFrames(), 90, 2);  // GRID: 3 s
     EXPECT_LT(clip.meanResidualPixels, 3.0);
-    EXPECT_TRUE(fs::exists(tracks / (clip.video.stem().string() + ".csv")));
+    EXPECT_TRUE(fs::exists(tracks / th::tracking::trackFileName(clip.video)));
   }
   // Again: read from the tracks, the same numbers (to the CSV's precision).
   const th::tracking::VideoCorpus second =
