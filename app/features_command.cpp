@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "audio/audio_file.h"
+#include "audio/media_audio.h"
 #include "commands.h"
 #include "core/atomic_file.h"
 #include "core/error.h"
@@ -116,7 +117,7 @@ void runFeatures(const FeaturesArguments& arguments) {
   std::unique_ptr<AtomicFile> output;
   if (!arguments.output.empty()) output = std::make_unique<AtomicFile>(arguments.output);
 
-  const audio::AudioClip clip = audio::readAudioFile(arguments.input);
+  const audio::AudioClip clip = audio::readRecording(arguments.input);
   const features::FeatureMatrix matrix = features::computeFeatures(clip.samples, options);
   const features::OnlineFeatureExtractor probe(options);
   if (output) {
@@ -138,7 +139,7 @@ void addFeaturesCommand(CLI::App& app) {
   auto arguments = std::make_shared<FeaturesArguments>();
   CLI::App* command = app.add_subcommand(
       "features", "Speech features per animation frame (F0, energy, deltas, MFCC, context) of a recording");
-  command->add_option("input", arguments->input, "WAV, FLAC or OGG file (any rate 8-96 kHz, any channels)")
+  command->add_option("input", arguments->input, "Recording: WAV, FLAC, OGG (any rate 8-96 kHz, any channels), or a video's or MP3's sound")
       ->required();
   command->add_option("-o,--output", arguments->output, "CSV or JSON file to write; without it, print a summary");
   command->add_option("--format", arguments->format, "csv, json, or auto (from the output's extension)")

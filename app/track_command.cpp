@@ -16,6 +16,7 @@
 #include "core/progress.h"
 #include "face/face_model.h"
 #include "tracking/track.h"
+#include "tracking/video_training.h"
 
 namespace th::app {
 namespace {
@@ -35,9 +36,13 @@ void runTrack(const TrackArguments& arguments) {
   if (audioPath == output) throw fileError(audioPath, "the sound and the track cannot be the same file");
   checkOutputTarget(output);
   checkOutputTarget(audioPath);
+  std::error_code noSuchFile;
+  if (std::filesystem::equivalent(audioPath, tracking::clipSoundFile(arguments.video), noSuchFile))
+    throw fileError(audioPath, "is the video's own sound; write the track's sound elsewhere (--audio) or name the track otherwise");
 
-  // The sound first: a video without it is refused before the (longer) tracking.
-  const audio::AudioClip sound = audio::readMediaAudio(arguments.video);
+  // The sound first: a video without it (and without a WAV of its name beside it) is refused before the
+  // (longer) tracking.
+  const audio::AudioClip sound = tracking::readClipSound(arguments.video);
   const auto started = std::chrono::steady_clock::now();
   tracking::TrackOptions trackOptions;
   trackOptions.smooth = !arguments.noSmooth;
@@ -77,7 +82,7 @@ void addTrackCommand(CLI::App& app) {
   CLI::App* track = app.add_subcommand(
       "track", "Talking video -> per frame the head's rotation, jaw and lip FAPs and the 68 landmarks (dlib) as CSV; its "
                "sound as WAV");
-  track->add_option("video", arguments->video, "Video: MPEG-1/2, MP4, AVI, MKV, ... with a face and a sound track")
+  track->add_option("video", arguments->video, "Video: MPEG-1/2, MP4, AVI, MKV, ... with a face, and a sound track or a WAV of its name beside it")
       ->required();
   track->add_option("-o,--output", arguments->output,
                     "Track: .csv (time_s, face, pitch_deg, yaw_deg, roll_deg, fapN..., residual_px, x0, y0 ... x67, y67)")

@@ -1,5 +1,5 @@
 // `talkinghead track` as a user meets it: a GRID clip gives a landmark track (smoothed, or as dlib gave it) and its
-// sound; a video without a face, without sound, or not a video at all fails in one line and leaves nothing behind.
+// sound (its own, or a silent video's WAV beside it); a video without a face, without sound, or not a video at all fails in one line and leaves nothing behind.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -9,6 +9,7 @@
 #include <string>
 
 #include "audio/audio_file.h"
+#include "audio/media_audio.h"
 #include "cli_runner.h"
 #include "core/data_path.h"
 #include "core/numeric_csv.h"
@@ -68,6 +69,27 @@ TEST_F(TrackCliTest, AGridClipGivesItsLandmarksAndItsSound) {
   const th::NumericTable raw = th::readNumericCsv(out() / "b.csv");
   ASSERT_EQ(raw.rows.size(), 75u);
   EXPECT_GT(jitter(raw), 1.5 * jitter(table));
+}
+
+TEST_F(TrackCliTest, ASilentVideoTakesTheWavOfItsNameBesideIt) {
+  // A corpus that ships its sound apart from the picture (StyleTalk's clips): NAME.mp4 without a sound track and
+  // NAME.wav beside it.
+  const fs::path folder = folder_.path() / "clips";
+  fs::create_directories(folder);
+  const fs::path silent = folder / "speaker.avi";
+  th::test::writeSoundlessCopy(clip(), silent);
+  const th::audio::AudioClip original = th::audio::readMediaAudio(clip());
+  th::audio::writeWav16(folder / "speaker.wav", original.samples, original.sampleRateHz);
+  const CliResult result = runCli({"track", silent.string(), "-o", (out() / "speaker.csv").string()}, logs());
+  ASSERT_EQ(result.exitCode, 0) << result.err;
+  const th::audio::AudioClip sound = th::audio::readAudioFile(out() / "speaker.wav");
+  ASSERT_EQ(sound.samples.size(), original.samples.size());
+  EXPECT_TRUE(std::equal(sound.samples.begin(), sound.samples.end(), original.samples.begin(),
+                         [](float a, float b) { return std::abs(a - b) < 1e-3F; }));
+  // The track's sound is never written over that WAV, its input.
+  expectOneLineFailure(runCli({"track", silent.string(), "-o", (folder / "speaker.csv").string()}, logs()),
+                       "speaker.wav", "the video's own sound");
+  EXPECT_FALSE(fs::exists(folder / "speaker.csv"));
 }
 
 TEST_F(TrackCliTest, BadVideosFailInOneLineAndLeaveNothing) {
