@@ -21,6 +21,7 @@
 #include "animation/mouth_model.h"
 #include "animation/time_split.h"
 #include "commands.h"
+#include "mouth_corpus_command.h"
 #include "core/atomic_file.h"
 #include "core/data_path.h"
 #include "core/error.h"
@@ -65,6 +66,14 @@ std::vector<int> integerList(const std::string& text, const std::string& option)
   return values;
 }
 
+// The same frames, shifted by half their length (animation/time_split.h's baseline), level and MFCCs together.
+animation::SpeechFrames anotherSegment(const animation::SpeechFrames& speech) {
+  Eigen::MatrixXd both(speech.mfcc.rows() + 1, speech.mfcc.cols());
+  both << speech.mfcc, speech.levelDb;
+  const Eigen::MatrixXd shifted = animation::anotherSegment(both);
+  return {shifted.topRows(speech.mfcc.rows()), shifted.bottomRows(1)};
+}
+
 void printRow(const std::string& name, const Eigen::MatrixXd& estimate, const Eigen::MatrixXd& truth, int iterations) {
   std::printf("  %-52s %6.3f  %6.3f", name.c_str(), animation::averageMse(estimate, truth),
               animation::averageCorrelation(estimate, truth));
@@ -79,17 +88,17 @@ void evaluatePart(const std::string& title, const animation::MouthModel& model, 
               static_cast<int>(40 - title.size()), "");
   int iterations = 0;
   using animation::MouthMethod;
-  const Eigen::MatrixXd mean = animation::synthesiseMouth(model, part.mfcc, {.start = hmm::InversionStart::kConditionalMean}, &iterations);
+  const Eigen::MatrixXd mean = animation::synthesiseMouth(model, part.speech, {.start = hmm::InversionStart::kConditionalMean}, &iterations);
   printRow("inversion, conditional-mean start (ours)", mean, truth, iterations);
-  const Eigen::MatrixXd random = animation::synthesiseMouth(model, part.mfcc, {.start = hmm::InversionStart::kRandom}, &iterations);
+  const Eigen::MatrixXd random = animation::synthesiseMouth(model, part.speech, {.start = hmm::InversionStart::kRandom}, &iterations);
   printRow("inversion, random start (paper)", random, truth, iterations);
-  const Eigen::MatrixXd windowed = animation::synthesiseMouth(model, part.mfcc, {.windowFrames = window}, &iterations);
+  const Eigen::MatrixXd windowed = animation::synthesiseMouth(model, part.speech, {.windowFrames = window}, &iterations);
   printRow("inversion, windows of " + std::to_string(window) + " frames (streaming)", windowed, truth, iterations);
-  printRow("MMSE estimate", animation::synthesiseMouth(model, part.mfcc, {.method = MouthMethod::kMmse}), truth, 0);
+  printRow("MMSE estimate", animation::synthesiseMouth(model, part.speech, {.method = MouthMethod::kMmse}), truth, 0);
   // The training data's mean: the components are zero-mean there by construction.
   printRow("baseline: mean prediction (the training mean)", Eigen::MatrixXd::Zero(truth.rows(), truth.cols()), truth, 0);
   printRow("baseline: inversion of another segment's audio",
-           animation::synthesiseMouth(model, animation::anotherSegment(part.mfcc), {}), truth, 0);
+           animation::synthesiseMouth(model, anotherSegment(part.speech), {}), truth, 0);
 }
 
 struct SweepPoint {
@@ -171,11 +180,11 @@ void runSweep(const MouthArguments& arguments, const animation::MouthRecording& 
           {fit}, {.states = point.states, .mixtures = point.mixtures, .covariance = point.covariance,
                   .contextFrames = point.contextFrames, .maxIterations = arguments.iterations});
       const Eigen::MatrixXd validationTruth = model.basis.transform(validation.visual);
-      const Eigen::MatrixXd validationEstimate = animation::synthesiseMouth(model, validation.mfcc);
+      const Eigen::MatrixXd validationEstimate = animation::synthesiseMouth(model, validation.speech);
       point.validationEpsilon = animation::averageMse(validationEstimate, validationTruth);
       point.validationRho = animation::averageCorrelation(validationEstimate, validationTruth);
       const Eigen::MatrixXd heldOutTruth = model.basis.transform(test.visual);
-      const Eigen::MatrixXd heldOutEstimate = animation::synthesiseMouth(model, test.mfcc);
+      const Eigen::MatrixXd heldOutEstimate = animation::synthesiseMouth(model, test.speech);
       point.heldOutEpsilon = animation::averageMse(heldOutEstimate, heldOutTruth);
       point.heldOutRho = animation::averageCorrelation(heldOutEstimate, heldOutTruth);
     } catch (const Error&) {
@@ -234,7 +243,7 @@ std::vector<Eigen::MatrixXd> speechOnly(const std::vector<std::string>& folders,
   }
   std::sort(files.begin(), files.end());
   std::vector<Eigen::MatrixXd> mfcc;
-  for (const auto& file : files) mfcc.push_back(animation::mfccOf(file));
+  for (const auto& file : files) mfcc.push_back(animation::speechFramesOf(file).mfcc);
   return mfcc;
 }
 
@@ -265,7 +274,7 @@ std::vector<SpeechSet> speechSets() {
 void runStage2(const animation::MouthModel& model, const animation::MouthRecording& test,
                const std::vector<SpeechSet>& sets) {
   const Eigen::MatrixXd truth = model.basis.transform(test.visual);
-  const Eigen::MatrixXd before = animation::synthesiseMouth(model, test.mfcc);
+  const Eigen::MatrixXd before = animation::synthesiseMouth(model, test.speech);
   std::printf("  %-60s ε %.3f  ρ %.3f\n", "held-out part, as trained", animation::averageMse(before, truth),
               animation::averageCorrelation(before, truth));
   for (const auto& set : sets) {
@@ -274,7 +283,7 @@ void runStage2(const animation::MouthModel& model, const animation::MouthRecordi
     const hmm::AudioRetrainingResult retrained = hmm::retrainAudio(model.hmm, audio, {});
     animation::MouthModel adapted = model;
     adapted.hmm = retrained.model;
-    const Eigen::MatrixXd after = animation::synthesiseMouth(adapted, test.mfcc);
+    const Eigen::MatrixXd after = animation::synthesiseMouth(adapted, test.speech);
     std::printf("  %-60s ε %.3f  ρ %.3f   (%.0f s of speech; %d joint covariances repaired)\n",
                 ("re-trained on " + set.name).c_str(), animation::averageMse(after, truth),
                 animation::averageCorrelation(after, truth), set.seconds, retrained.repairedComponents);
@@ -295,7 +304,7 @@ double percentile(Eigen::RowVectorXd values, double fraction) {
 // The jaw as the face will show it: FAP 3 from the predicted and from the true jaw opening, through the model's
 // FAP map, on the held-out part.
 void reportJawFaps(const animation::MouthModel& model, const animation::MouthRecording& test) {
-  const Eigen::RowVectorXd predictedJaw = animation::jawOpeningOf(model, animation::synthesiseMouth(model, test.mfcc, {}));
+  const Eigen::RowVectorXd predictedJaw = animation::jawOpeningOf(model, animation::synthesiseMouth(model, test.speech, {}));
   const Eigen::RowVectorXd trueJaw = test.visual.row(0);
   const Eigen::RowVectorXd predicted = animation::mouthFaps(*model.fapMap, predictedJaw).row(0);
   const Eigen::RowVectorXd truth = animation::mouthFaps(*model.fapMap, trueJaw).row(0);
@@ -385,8 +394,28 @@ void addTrainMouthCommand(CLI::App& train) {
 
 void addEvalMouthCommand(CLI::App& eval) {
   auto arguments = std::make_shared<MouthArguments>();
+  auto corpus = std::make_shared<MouthCorpusArguments>();
+  auto beat2 = std::make_shared<bool>(false);
   CLI::App* mouth = eval.add_subcommand(
-      "mouth", "Mouth from audio on BEAT2: the paper's ε and ρ per synthesis method, beside baselines");
+      "mouth", "Mouth from audio: the default recipe on held-out GRID clips and StyleTalk speakers left out, beside "
+               "baselines (--beat2: the paper's evaluation on BEAT2)");
+  mouth->add_flag("--beat2", *beat2, "The paper's ε and ρ on BEAT2 per synthesis method, beside baselines (and --sweep)");
+  mouth->add_option("--tracks", corpus->tracks, "Folder of the clips' tracks (default: " + defaultMouthTrackFolder().string() + ")");
+  mouth->add_option("--compare", corpus->compare, "Other mouth model files to judge on the same clips");
+  mouth->add_option("--recipe-states", corpus->model.states)->group("Recipe");
+  mouth->add_option("--recipe-mixtures", corpus->model.mixtures)->group("Recipe");
+  mouth->add_option("--recipe-context", corpus->model.contextFrames)->group("Recipe");
+  mouth->add_option("--recipe-components", corpus->model.visualComponents)->group("Recipe");
+  mouth->add_option("--recipe-deltas", corpus->model.visualDeltas)->group("Recipe");
+  mouth->add_option("--recipe-gv-every", corpus->model.varianceValidationEvery)->group("Recipe");
+  mouth->add_option("--recipe-normalise", corpus->model.normaliseSpeech)->group("Recipe");
+  mouth->add_option("--recipe-mean-seconds", corpus->model.normalisation.meanSeconds)->group("Recipe");
+  mouth->add_option("--recipe-peak-decay", corpus->model.normalisation.peakDecayDbPerSecond)->group("Recipe");
+  mouth->add_option("--recipe-iterations", corpus->model.maxIterations)->group("Recipe");
+  mouth->add_flag_function("--recipe-diagonal", [corpus](std::int64_t) { corpus->model.covariance = hmm::CovarianceType::kDiagonal; })->group("Recipe");
+  mouth->add_flag_function("--recipe-inversion", [corpus](std::int64_t) { corpus->synthesis.method = animation::MouthMethod::kInversion; })->group("Recipe");
+  mouth->add_option("--recipe-trajectory", corpus->synthesis.trajectory)->group("Recipe");
+  mouth->add_option("--recipe-window", corpus->synthesis.windowFrames)->group("Recipe");
   mouth->add_option("--train-fraction", arguments->trainingFraction,
                     "The first this fraction of the BEAT2 take trains, the rest is held out")
       ->check(CLI::Range(0.1, 0.95));
@@ -404,7 +433,10 @@ void addEvalMouthCommand(CLI::App& eval) {
       ->check(CLI::Range(1, 1000))
       ->group("Sweep");
   mouth->add_option("--output", arguments->output, "Sweep: folder for the CSV and the plots")->group("Sweep");
-  mouth->callback([arguments] { runEvalMouth(*arguments); });
+  mouth->callback([arguments, corpus, beat2] {
+    if (*beat2) runEvalMouth(*arguments);
+    else runEvalMouthCorpora(*corpus);
+  });
 }
 
 }  // namespace th::app

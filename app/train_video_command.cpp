@@ -114,7 +114,7 @@ void runTrainVideo(const TrainVideoArguments& arguments) {
     std::vector<Eigen::MatrixXd> estimates, truths;
     Eigen::Index frames = 0;
     for (const auto& recording : test) {
-      estimates.push_back(animation::synthesiseMouth(model, recording.mfcc));
+      estimates.push_back(animation::synthesiseMouth(model, recording.speech));
       truths.push_back(model.basis.transform(recording.visual));
       frames += recording.numFrames();
     }

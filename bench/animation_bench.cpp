@@ -92,7 +92,7 @@ void trainMouth(benchmark::State& state) {
 void synthesiseMouth(benchmark::State& state, th::animation::MouthSynthesisOptions options) {
   const MouthData& d = mouthData();
   for (auto _ : state) {
-    const Eigen::MatrixXd components = th::animation::synthesiseMouth(d.model, d.test.mfcc, options);
+    const Eigen::MatrixXd components = th::animation::synthesiseMouth(d.model, d.test.speech, options);
     benchmark::DoNotOptimize(components.data());
   }
   const double seconds = d.test.numFrames() / d.test.framesPerSecond;

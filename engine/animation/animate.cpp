@@ -34,9 +34,9 @@ video::Animation animate(std::span<const float> samples16k, const HeadModel* hea
     }
   }
   if (mouth != nullptr) {
-    const Eigen::MatrixXd mfcc = mfccOf(samples16k);
-    if (mfcc.cols() > 0) {
-      const Eigen::MatrixXd components = synthesiseMouth(*mouth, mfcc, options.mouth);
+    const SpeechFrames speech = speechFramesOf(samples16k);
+    if (speech.numFrames() > 0) {
+      const Eigen::MatrixXd components = synthesiseMouth(*mouth, speech, options.mouth);
       add(mouthFapNumbers(*mouth), mouthFapsOf(*mouth, components));
     } else {
       frames = 0;

@@ -25,6 +25,7 @@ struct AnimateOptions {
 };
 
 inline constexpr double kAnimationFramesPerSecond = 30.0;
+static_assert(kAnimationFramesPerSecond == kMouthFramesPerSecond, "the mouth's frames are the animation's");
 
 // samples16k: mono at 16 kHz. Throws th::Error if both models are null, the mouth model drives no FAPs (no
 // FAP map and no visual FAPs), or the recording is shorter than one frame.

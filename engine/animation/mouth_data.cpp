@@ -20,21 +20,32 @@ constexpr int kExpressionCoefficients = 100;
 
 }  // namespace
 
-Eigen::MatrixXd mfccOf(const std::filesystem::path& recording) {
-  return mfccOf(audio::readRecording(recording).samples);
+SpeechFrames SpeechFrames::middleFrames(Eigen::Index first, Eigen::Index count) const {
+  return {mfcc.middleCols(first, count), levelDb.segment(first, count)};
 }
 
-Eigen::MatrixXd mfccOf(std::span<const float> samples16k) {
+SpeechFrames speechFramesOf(const std::filesystem::path& recording) {
+  return speechFramesOf(audio::readRecording(recording).samples);
+}
+
+SpeechFrames speechFramesOf(std::span<const float> samples16k) {
   features::FeatureOptions options = features::batchFeatureOptions();
   options.contextFrames = 0;
-  const features::FeatureMatrix features = features::computeFeatures(samples16k, options);
-  const int numMfcc = features.layout.numMfcc;
-  Eigen::MatrixXd mfcc(numMfcc, features.numFrames());
-  for (int t = 0; t < features.numFrames(); ++t) {
-    const auto row = features.row(t);
-    for (int k = 0; k < numMfcc; ++k) mfcc(k, t) = row[static_cast<size_t>(features::FeatureLayout::kMfccBegin + k)];
+  options.trackPitch = false;  // neither F0 nor the normalised energy is read: the level is
+  options.energyNormalisation = features::EnergyNormalisation::kNone;
+  features::OnlineFeatureExtractor extractor(options);
+  extractor.acceptWaveform(samples16k);
+  extractor.inputFinished();
+  const int frames = extractor.numBaseFramesReady();
+  const int numMfcc = extractor.layout().numMfcc;
+  SpeechFrames speech{Eigen::MatrixXd(numMfcc, frames), Eigen::RowVectorXd(frames)};
+  std::vector<float> mfcc(static_cast<std::size_t>(numMfcc));
+  for (int t = 0; t < frames; ++t) {
+    extractor.getMfcc(t, mfcc);
+    for (int k = 0; k < numMfcc; ++k) speech.mfcc(k, t) = mfcc[static_cast<std::size_t>(k)];
+    speech.levelDb[t] = extractor.getLevelDb(t);
   }
-  return mfcc;
+  return speech;
 }
 
 MouthRecording loadMouthRecording(const std::filesystem::path& wav, const std::filesystem::path& headPoseCsv,
@@ -48,8 +59,8 @@ MouthRecording loadMouthRecording(const std::filesystem::path& wav, const std::f
     throw fileError(expressionCsv, "has " + std::to_string(expressions.rows.size()) + " frames, the head pose " +
                                        std::to_string(pose.rows.size()));
   }
-  const Eigen::MatrixXd mfcc = mfccOf(wav);
-  const int frames = std::min(static_cast<int>(pose.rows.size()), static_cast<int>(mfcc.cols()));
+  const SpeechFrames speech = speechFramesOf(wav);
+  const int frames = std::min(static_cast<int>(pose.rows.size()), speech.numFrames());
   if (frames < 2) throw fileError(expressionCsv, "has fewer than 2 frames");
   MouthRecording take;
   take.visual.resize(1 + kExpressionCoefficients, frames);
@@ -59,7 +70,7 @@ MouthRecording loadMouthRecording(const std::filesystem::path& wav, const std::f
       take.visual(1 + k, t) = expressions.rows[static_cast<size_t>(t)][static_cast<size_t>(columns[static_cast<size_t>(k)])];
     }
   }
-  take.mfcc = mfcc.leftCols(frames);
+  take.speech = speech.middleFrames(0, frames);
   return take;
 }
 
@@ -74,9 +85,9 @@ std::pair<MouthRecording, MouthRecording> splitByTime(const MouthRecording& take
   MouthRecording train = take;
   MouthRecording test = take;
   train.visual = take.visual.leftCols(boundary);
-  train.mfcc = take.mfcc.leftCols(boundary);
+  train.speech = take.speech.middleFrames(0, boundary);
   test.visual = take.visual.rightCols(take.numFrames() - boundary);
-  test.mfcc = take.mfcc.rightCols(take.numFrames() - boundary);
+  test.speech = take.speech.middleFrames(boundary, take.numFrames() - boundary);
   test.startSeconds = take.startSeconds + boundary / take.framesPerSecond;
   return {train, test};
 }

@@ -1,9 +1,9 @@
-// The mouth model's data: per frame at 30 fps, the visual parameters of BEAT2 (jaw opening and the 100 FLAME
-// expression coefficients) and the MFCCs of the synchronous recording, and MFCC context stacking.
+// The mouth model's data: per frame at 30 fps, the visual parameters (BEAT2's jaw opening and 100 FLAME
+// expression coefficients, or tracked FAPs) and the speech frames of the synchronous recording; context stacking.
 //
 //   th::animation::MouthRecording take = th::animation::loadBeat2Mouth();
 //   auto [train, test] = th::animation::splitByTime(take, 0.75);
-//   Eigen::MatrixXd audio = th::animation::stackContext(train.mfcc, 3);   // 11·7 x T
+//   Eigen::MatrixXd audio = th::animation::stackContext(train.speech.mfcc, 3);   // 11·7 x T
 //
 // Frame i of both streams is at i / 30 s, as for the head (head_data.h); the longer stream is cut to the
 // shorter. The jaw opening is the x component of the SMPL-X jaw axis-angle (degrees; positive opens).
@@ -17,11 +17,23 @@
 
 namespace th::animation {
 
+// The mouth's frame rate: the animation's (animate.h).
+inline constexpr double kMouthFramesPerSecond = 30.0;
+
+// What the mouth model hears, per animation frame (30 fps): c1..c11 and the frame's level. Frame i is centred at
+// i / 30 s (features/online_features.h).
+struct SpeechFrames {
+  Eigen::MatrixXd mfcc;        // 11 x T: c1..c11 (features/mfcc.h conventions)
+  Eigen::RowVectorXd levelDb;  // T: dB re full scale, floored 60 dB below the loudest frame so far
+  int numFrames() const { return static_cast<int>(mfcc.cols()); }
+  SpeechFrames middleFrames(Eigen::Index first, Eigen::Index count) const;
+};
+
 struct MouthRecording {
   double framesPerSecond = 30.0;
   double startSeconds = 0.0;
-  Eigen::MatrixXd visual;  // 101 x T: jaw opening (degrees), expression coefficients e0..e99
-  Eigen::MatrixXd mfcc;    // 11 x T: c1..c11 (features/mfcc.h conventions)
+  Eigen::MatrixXd visual;  // d x T: BEAT2's jaw opening (degrees) and expression coefficients e0..e99, or FAPs
+  SpeechFrames speech;     // T frames
   int numFrames() const { return static_cast<int>(visual.cols()); }
 };
 
@@ -29,10 +41,10 @@ MouthRecording loadMouthRecording(const std::filesystem::path& wav, const std::f
                                   const std::filesystem::path& expressionCsv);
 MouthRecording loadBeat2Mouth();
 
-// MFCC frames alone (11 x T at 30 fps), for synthesis and speech-only training: from 16 kHz samples, or from
-// any recording (audio files through libsndfile, the audio track of videos such as GRID's .mpg through FFmpeg).
-Eigen::MatrixXd mfccOf(std::span<const float> samples16k);
-Eigen::MatrixXd mfccOf(const std::filesystem::path& recording);
+// Speech frames alone, for synthesis and speech-only training: from 16 kHz samples, or from any recording (audio
+// files through libsndfile, the audio track of videos such as GRID's .mpg through FFmpeg).
+SpeechFrames speechFramesOf(std::span<const float> samples16k);
+SpeechFrames speechFramesOf(const std::filesystem::path& recording);
 
 std::pair<MouthRecording, MouthRecording> splitByTime(const MouthRecording& take, double trainingFraction);
 

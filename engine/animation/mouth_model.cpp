@@ -1,10 +1,12 @@
 #include "animation/mouth_model.h"
 
+#include <Eigen/Cholesky>
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <string>
 
+#include "animation/mlpg.h"
 #include "core/error.h"
 #include "face/fap.h"
 #include "hmm/model_file.h"
@@ -12,26 +14,53 @@
 
 namespace th::animation {
 
-MouthModel trainMouthModel(const std::vector<MouthRecording>& parts, const MouthModelOptions& options) {
-  if (parts.empty()) throw Error("mouth model: no training data");
+int MouthModel::speechRowsPerFrame() const {
+  if (normalisation) return static_cast<int>(normalisation->priorMean.size()) + 1;
+  return hmm.block("audio").size / (2 * contextFrames + 1);
+}
+
+Eigen::MatrixXd mouthAudioFrames(const MouthModel& model, const SpeechFrames& speech) {
+  if (!model.normalisation) return speech.mfcc;
+  if (speech.levelDb.size() != speech.mfcc.cols())
+    throw Error("mouth synthesis: the model needs each frame's level (" + std::to_string(speech.levelDb.size()) +
+                " levels for " + std::to_string(speech.mfcc.cols()) + " frames)");
+  return features::normaliseSpeech(model.normalisation->options, kMouthFramesPerSecond, model.normalisation->priorMean,
+                                   speech.levelDb, speech.mfcc);
+}
+
+namespace {
+
+// The model itself, on all the parts given: the visual basis, the speech normalisation's prior, Baum-Welch.
+MouthModel trainOnParts(const std::vector<MouthRecording>& parts, const MouthModelOptions& options) {
   Eigen::Index total = 0;
   for (const auto& part : parts) total += part.numFrames();
   Eigen::MatrixXd allVisual(parts.front().visual.rows(), total);
+  Eigen::VectorXd mfccSum = Eigen::VectorXd::Zero(parts.front().speech.mfcc.rows());
   Eigen::Index column = 0;
   for (const auto& part : parts) {
+    if (part.speech.numFrames() != part.numFrames())
+      throw Error("mouth model: a recording has " + std::to_string(part.speech.numFrames()) + " speech frames for " +
+                  std::to_string(part.numFrames()) + " visual ones");
     allVisual.middleCols(column, part.numFrames()) = part.visual;
+    mfccSum += part.speech.mfcc.rowwise().sum();
     column += part.numFrames();
   }
   MouthModel model;
   model.contextFrames = options.contextFrames;
+  model.visualDeltas = options.visualDeltas;
   model.basis = VisualBasis::fit(allVisual, {.components = options.visualComponents, .standardise = options.standardiseVisual});
+  if (options.normaliseSpeech)
+    model.normalisation = MouthSpeechNormalisation{options.normalisation, mfccSum / static_cast<double>(total)};
 
+  const int visualSize = options.visualComponents * (options.visualDeltas ? 2 : 1);
   std::vector<Eigen::MatrixXd> sequences;
   for (const auto& part : parts) {
-    const Eigen::MatrixXd audio = stackContext(part.mfcc, options.contextFrames);
-    Eigen::MatrixXd joint(audio.rows() + options.visualComponents, part.numFrames());
+    const Eigen::MatrixXd audio = stackContext(mouthAudioFrames(model, part.speech), options.contextFrames);
+    const Eigen::MatrixXd components = model.basis.transform(part.visual);
+    Eigen::MatrixXd joint(audio.rows() + visualSize, part.numFrames());
     joint.topRows(audio.rows()) = audio;
-    joint.bottomRows(options.visualComponents) = model.basis.transform(part.visual);
+    joint.middleRows(audio.rows(), options.visualComponents) = components;
+    if (options.visualDeltas) joint.bottomRows(options.visualComponents) = deltas(components);
     sequences.push_back(std::move(joint));
   }
   hmm::TrainingOptions training;
@@ -43,14 +72,51 @@ MouthModel trainMouthModel(const std::vector<MouthRecording>& parts, const Mouth
   hmm::TrainingResult result = hmm::trainHmm(sequences, training);
   model.hmm = std::move(result.model);
   model.iterations = static_cast<int>(result.history.size()) - 1;
-  const int audioSize = static_cast<int>(sequences.front().rows()) - options.visualComponents;
-  model.hmm.blocks = {{"audio", 0, audioSize}, {"visual", audioSize, options.visualComponents}};
+  const int audioSize = static_cast<int>(sequences.front().rows()) - visualSize;
+  model.hmm.blocks = {{"audio", 0, audioSize}, {"visual", audioSize, visualSize}};
+  const int rowsPerFrame = audioSize / (2 * options.contextFrames + 1);
   for (int k = 0; k < audioSize; ++k) {
-    model.hmm.columnNames.push_back("ctx" + std::to_string(k / parts.front().mfcc.rows() - options.contextFrames) +
-                                    "_mfcc" + std::to_string(k % parts.front().mfcc.rows() + 1));
+    const int row = k % rowsPerFrame;
+    model.hmm.columnNames.push_back("ctx" + std::to_string(k / rowsPerFrame - options.contextFrames) +
+                                    (model.normalisation && row == rowsPerFrame - 1 ? std::string("_level")
+                                                                                    : "_mfcc" + std::to_string(row + 1)));
   }
   for (int k = 0; k < options.visualComponents; ++k) model.hmm.columnNames.push_back("visual" + std::to_string(k + 1));
+  if (options.visualDeltas)
+    for (int k = 0; k < options.visualComponents; ++k) model.hmm.columnNames.push_back("d_visual" + std::to_string(k + 1));
   model.hmm.check();
+  return model;
+}
+
+}  // namespace
+
+MouthModel trainMouthModel(const std::vector<MouthRecording>& parts, const MouthModelOptions& options) {
+  if (parts.empty()) throw Error("mouth model: no training data");
+  const int every = options.varianceValidationEvery;
+  if (every <= 0) return trainOnParts(parts, options);
+  // Global variance compensation: the spread a model's estimates lose on sequences it did not see.
+  std::vector<MouthRecording> fit, validation;
+  for (std::size_t i = 0; i < parts.size(); ++i) ((i + 1) % static_cast<std::size_t>(every) == 0 ? validation : fit).push_back(parts[i]);
+  if (fit.empty() || validation.empty())
+    throw Error("mouth model: variance compensation needs at least " + std::to_string(every) + " training sequences");
+  const MouthModel first = trainOnParts(fit, options);
+  const Eigen::Index k = first.basis.components();
+  Eigen::VectorXd truthSum = Eigen::VectorXd::Zero(k), truthSquares = Eigen::VectorXd::Zero(k);
+  Eigen::VectorXd estimateSum = Eigen::VectorXd::Zero(k), estimateSquares = Eigen::VectorXd::Zero(k);
+  double frames = 0.0;
+  for (const MouthRecording& part : validation) {
+    const Eigen::MatrixXd truth = first.basis.transform(part.visual);
+    const Eigen::MatrixXd estimate = synthesiseMouth(first, part.speech, {.method = MouthMethod::kMmse});
+    truthSum += truth.rowwise().sum();
+    truthSquares += truth.rowwise().squaredNorm();
+    estimateSum += estimate.rowwise().sum();
+    estimateSquares += estimate.rowwise().squaredNorm();
+    frames += static_cast<double>(part.numFrames());
+  }
+  const Eigen::VectorXd truthVariance = truthSquares / frames - (truthSum / frames).cwiseAbs2();
+  const Eigen::VectorXd estimateVariance = estimateSquares / frames - (estimateSum / frames).cwiseAbs2();
+  MouthModel model = trainOnParts(parts, options);
+  model.varianceScale = (truthVariance.array() / estimateVariance.array().max(1e-12)).sqrt().matrix();
   return model;
 }
 
@@ -72,11 +138,12 @@ nlohmann::json vectorJson(const Eigen::VectorXd& v) {
   return values;
 }
 
-Eigen::VectorXd vectorFrom(const nlohmann::json& json, const std::filesystem::path& path, const std::string& field) {
-  if (!json.is_array() || json.empty()) throw fileError(path, "training.visual_basis." + field + " must be a list of numbers");
+Eigen::VectorXd vectorFrom(const nlohmann::json& json, const std::filesystem::path& path, const std::string& field,
+                           const std::string& prefix = "training.visual_basis.") {
+  if (!json.is_array() || json.empty()) throw fileError(path, prefix + field + " must be a list of numbers");
   Eigen::VectorXd v(static_cast<Eigen::Index>(json.size()));
   for (size_t i = 0; i < json.size(); ++i) {
-    if (!json[i].is_number()) throw fileError(path, "training.visual_basis." + field + " must be a list of numbers");
+    if (!json[i].is_number()) throw fileError(path, prefix + field + " must be a list of numbers");
     v[static_cast<Eigen::Index>(i)] = json[i].get<double>();
   }
   return v;
@@ -121,6 +188,18 @@ void saveMouthModel(const std::filesystem::path& path, const MouthModel& model, 
   training["iterations"] = model.iterations;
   if (model.fapMap) training["fap_map"] = mouthFapMapJson(*model.fapMap);
   if (!model.visualFaps.empty()) training["visual_faps"] = model.visualFaps;
+  if (model.normalisation) {
+    const features::SpeechNormalisationOptions& n = model.normalisation->options;
+    training["speech_normalisation"] = {{"mean_seconds", n.meanSeconds},
+                                        {"prior_seconds", n.priorSeconds},
+                                        {"peak_decay_db_per_second", n.peakDecayDbPerSecond},
+                                        {"level_unit_db", n.levelUnitDb},
+                                        {"prior_mean", vectorJson(model.normalisation->priorMean)}};
+  }
+  training["visual_deltas"] = model.visualDeltas;
+  if (model.varianceScale.size() > 0) training["variance_scale"] = vectorJson(model.varianceScale);
+  training["options"]["normalise_speech"] = options.normaliseSpeech;
+  training["options"]["variance_validation_every"] = options.varianceValidationEvery;
   hmm::saveModel(path, model.hmm, training.dump());
 }
 
@@ -169,38 +248,118 @@ MouthModel loadMouthModel(const std::filesystem::path& path) {
       model.visualFaps.push_back(number.get<int>());
     }
   }
-  // The audio block holds 2tc + 1 frames of MFCCs; the visual block the basis's K components.
+  if (training.contains("speech_normalisation")) {
+    const nlohmann::json& n = training["speech_normalisation"];
+    const auto number = [&](const char* field) {
+      if (!n.is_object() || !n.contains(field) || !n[field].is_number())
+        throw fileError(path, std::string("training.speech_normalisation.") + field + " must be a number");
+      return n[field].get<double>();
+    };
+    MouthSpeechNormalisation normalisation;
+    normalisation.options = {.meanSeconds = number("mean_seconds"),
+                             .priorSeconds = number("prior_seconds"),
+                             .peakDecayDbPerSecond = number("peak_decay_db_per_second"),
+                             .levelUnitDb = number("level_unit_db")};
+    try {
+      normalisation.options.check();
+    } catch (const Error& error) {
+      throw fileError(path, std::string("training.speech_normalisation: ") + error.what());
+    }
+    normalisation.priorMean = vectorFrom(n.value("prior_mean", nlohmann::json()), path, "prior_mean", "training.speech_normalisation.");
+    if (!normalisation.priorMean.allFinite()) throw fileError(path, "training.speech_normalisation.prior_mean must be finite");
+    model.normalisation = std::move(normalisation);
+  }
+  if (training.contains("visual_deltas")) {
+    if (!training["visual_deltas"].is_boolean()) throw fileError(path, "training.visual_deltas must be true or false");
+    model.visualDeltas = training["visual_deltas"].get<bool>();
+  }
+  if (training.contains("variance_scale")) {
+    model.varianceScale = vectorFrom(training["variance_scale"], path, "variance_scale", "training.");
+    if (model.varianceScale.size() != model.basis.components() || !model.varianceScale.allFinite() ||
+        (model.varianceScale.array() <= 0.0).any())
+      throw fileError(path, "training.variance_scale must hold one positive factor per visual component (" +
+                                std::to_string(model.basis.components()) + ")");
+  }
+  // The audio block holds 2tc + 1 frames of D values (D = the prior's MFCCs + the level, when normalised); the
+  // visual block the basis's K components (and their deltas).
   const int contextWidth = 2 * model.contextFrames + 1;
+  const int visualSize = model.basis.components() * (model.visualDeltas ? 2 : 1);
   int audioSize = -1;
   bool visualOk = false;
   for (const auto& block : model.hmm.blocks) {
     if (block.name == "audio" && block.begin == 0 && block.size > 0 && block.size % contextWidth == 0) audioSize = block.size;
   }
   for (const auto& block : model.hmm.blocks) {
-    if (block.name == "visual") visualOk = block.begin == audioSize && block.size == model.basis.components();
+    if (block.name == "visual") visualOk = block.begin == audioSize && block.size == visualSize;
   }
   if (audioSize < 0 || !visualOk) {
-    throw fileError(path, "a mouth model needs an audio block at 0 of (2 tc + 1) x MFCCs and a visual block of the "
-                          "basis's " + std::to_string(model.basis.components()) + " components after it");
+    throw fileError(path, "a mouth model needs an audio block at 0 of (2 tc + 1) x its audio features and a visual "
+                          "block of the basis's " + std::to_string(model.basis.components()) + " components" +
+                          (model.visualDeltas ? " and their deltas" : "") + " after it");
   }
+  if (model.normalisation && audioSize != contextWidth * (static_cast<int>(model.normalisation->priorMean.size()) + 1))
+    throw fileError(path, "the audio block does not hold (2 tc + 1) frames of the normalised MFCCs and the level");
   return model;
 }
 
-Eigen::MatrixXd synthesiseMouth(const MouthModel& model, const Eigen::MatrixXd& mfcc,
-                                const MouthSynthesisOptions& options, int* iterations) {
-  const Eigen::MatrixXd audio = stackContext(mfcc, model.contextFrames);
+namespace {
+
+// The visual components among the visual block's rows (the first K; deltas follow), with the model's variance
+// compensation if asked for.
+Eigen::MatrixXd finishComponents(const MouthModel& model, const Eigen::MatrixXd& visual, const MouthSynthesisOptions& options) {
+  Eigen::MatrixXd components = visual.topRows(model.basis.components());
+  if (options.varianceCompensation && model.varianceScale.size() == components.rows())
+    components = model.varianceScale.asDiagonal() * components;
+  return components;
+}
+
+// MLPG over the frames' Gaussians of [components; deltas]: means as given, precisions from the posterior's
+// covariances (the static and delta blocks; their cross-covariance is left out, as MlpgFrame holds none).
+Eigen::MatrixXd generateComponents(const Eigen::MatrixXd& means, const std::vector<Eigen::MatrixXd>& covariances, Eigen::Index k) {
+  std::vector<MlpgFrame> frames(static_cast<std::size_t>(means.cols()));
+  const Eigen::MatrixXd identity = Eigen::MatrixXd::Identity(k, k);
+  for (Eigen::Index t = 0; t < means.cols(); ++t) {
+    const Eigen::MatrixXd& covariance = covariances[static_cast<std::size_t>(t)];
+    // A floor keeps a frame the model is certain of from pinning the curve with an infinite precision.
+    const auto precision = [&](Eigen::Index begin) {
+      Eigen::MatrixXd block = covariance.block(begin, begin, k, k);
+      block = 0.5 * (block + block.transpose()) + 1e-6 * identity;
+      return Eigen::MatrixXd(block.llt().solve(identity));
+    };
+    MlpgFrame& frame = frames[static_cast<std::size_t>(t)];
+    frame.staticMean = means.col(t).head(k);
+    frame.deltaMean = means.col(t).segment(k, k);
+    frame.staticPrecision = precision(0);
+    frame.deltaPrecision = precision(k);
+  }
+  return generateTrajectory(frames);
+}
+
+}  // namespace
+
+Eigen::MatrixXd synthesiseMouth(const MouthModel& model, const SpeechFrames& speech, const MouthSynthesisOptions& options,
+                                int* iterations) {
+  const Eigen::MatrixXd audio = stackContext(mouthAudioFrames(model, speech), model.contextFrames);
   const hmm::HmmInverter inverter(model.hmm, {.maxIterations = options.maxIterations,
                                               .start = options.start,
                                               .seed = options.seed,
                                               .windowFrames = options.windowFrames});
   if (audio.rows() != inverter.audioDimension()) throw Error("mouth synthesis: the audio does not match the model");
+  const bool trajectory = model.visualDeltas && options.trajectory && options.windowFrames == 0 && audio.cols() >= 2;
+  if (iterations != nullptr) *iterations = 0;
+  Eigen::MatrixXd visual;
   if (options.method == MouthMethod::kMmse) {
-    if (iterations != nullptr) *iterations = 0;
-    return inverter.mmse(audio);
+    if (!trajectory) return finishComponents(model, inverter.mmse(audio), options);
+    const hmm::HmmInverter::VisualDistribution distribution = inverter.conditionalDistribution(audio);
+    visual = generateComponents(distribution.mean, distribution.covariance, model.basis.components());
+  } else {
+    hmm::InversionResult result = inverter.invert(audio);
+    if (iterations != nullptr) *iterations = result.iterations;
+    if (!trajectory) return finishComponents(model, result.visual, options);
+    // The inversion's estimates of the components and their deltas, held as surely as the posterior holds them.
+    visual = generateComponents(result.visual, inverter.conditionalDistribution(audio).covariance, model.basis.components());
   }
-  hmm::InversionResult result = inverter.invert(audio);
-  if (iterations != nullptr) *iterations = result.iterations;
-  return result.visual;
+  return finishComponents(model, visual, options);
 }
 
 }  // namespace th::animation
@@ -209,6 +368,7 @@ namespace th::animation {
 
 MouthSynthesiser::MouthSynthesiser(const MouthModel& model, const MouthSynthesisOptions& options)
     : model_(model),
+      options_(options),
       inverter_(model.hmm, {.maxIterations = options.maxIterations, .start = options.start, .seed = options.seed}),
       stream_(inverter_,
               options.method == MouthMethod::kMmse ? hmm::StreamingInverter::Method::kMmse
@@ -217,16 +377,26 @@ MouthSynthesiser::MouthSynthesiser(const MouthModel& model, const MouthSynthesis
       filter_(inverter_.audioModel()) {
   const Eigen::Index width = 2 * model.contextFrames + 1;
   if (inverter_.audioDimension() % width != 0)
-    throw Error("mouth synthesis: the model's audio block is not " + std::to_string(width) + " frames of MFCCs");
+    throw Error("mouth synthesis: the model's audio block is not " + std::to_string(width) + " frames of features");
   recent_.resize(inverter_.audioDimension() / width, width);
+  if (model.normalisation) {
+    normaliser_.emplace(model.normalisation->options, kMouthFramesPerSecond, model.normalisation->priorMean);
+    normalised_.resize(normaliser_->outputDimension());
+  }
 }
 
-void MouthSynthesiser::acceptMfcc(const Eigen::Ref<const Eigen::VectorXd>& mfcc) {
-  if (finished_) throw Error("mouth synthesis: MFCCs after finish()");
-  if (mfcc.size() != recent_.rows())
+void MouthSynthesiser::acceptFrame(double levelDb, const Eigen::Ref<const Eigen::VectorXd>& mfcc) {
+  if (finished_) throw Error("mouth synthesis: speech frames after finish()");
+  const Eigen::Index expected = normaliser_ ? normaliser_->numMfcc() : recent_.rows();
+  if (mfcc.size() != expected)
     throw Error("mouth synthesis: " + std::to_string(mfcc.size()) + " MFCCs a frame, the model has " +
-                std::to_string(recent_.rows()));
-  recent_.col(received_ % recent_.cols()) = mfcc;
+                std::to_string(expected));
+  if (normaliser_) {
+    normaliser_->accept(levelDb, mfcc, normalised_);
+    recent_.col(received_ % recent_.cols()) = normalised_;
+  } else {
+    recent_.col(received_ % recent_.cols()) = mfcc;
+  }
   ++received_;
   // Frame t's context reaches t + tc.
   while (stacked_ + model_.contextFrames < received_) stackFrame(stacked_++);
@@ -240,7 +410,9 @@ void MouthSynthesiser::finish() {
 }
 
 bool MouthSynthesiser::next(Eigen::VectorXd& components) {
-  if (!stream_.next(components)) return false;
+  Eigen::VectorXd visual;
+  if (!stream_.next(visual)) return false;
+  components = finishComponents(model_, visual, options_).col(0);
   if (!posteriors_.empty()) {
     lastPosterior_ = std::move(posteriors_.front());
     posteriors_.pop_front();

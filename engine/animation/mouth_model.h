@@ -2,7 +2,7 @@
 // frames of context | K visual components], inverted to recover the visual part from audio alone.
 //
 //   th::animation::MouthModel model = th::animation::trainMouthModel({trainingPart}, {.states = 4, .mixtures = 2});
-//   Eigen::MatrixXd components = th::animation::synthesiseMouth(model, mfcc, {});   // K x T
+//   Eigen::MatrixXd components = th::animation::synthesiseMouth(model, speech, {});   // K x T
 //   Eigen::MatrixXd visual = model.basis.reconstruct(components);                     // jaw + expressions
 //
 // The visual components are ICA after PCA (visual_basis.h) of the visual parameters, fitted on the training
@@ -23,6 +23,7 @@
 #include "animation/fap_mapping.h"
 #include "animation/mouth_data.h"
 #include "animation/visual_basis.h"
+#include "features/speech_normaliser.h"
 #include "hmm/hmm_model.h"
 #include "hmm/forward_filter.h"
 #include "hmm/inversion.h"
@@ -39,19 +40,43 @@ struct MouthModelOptions {
                                   // degrees and coefficients); FAPs share one unit and keep their scales
   int maxIterations = 60;
   unsigned seed = 1;
+  // The audio front end. false: c1..c11 as they are (the paper). true: c1..c11 less their running mean and the
+  // level relative to its recent peak (features/speech_normaliser.h), for any voice, microphone and level.
+  bool normaliseSpeech = false;
+  features::SpeechNormalisationOptions normalisation{};
+  // true: the visual block holds the K components and their deltas, and synthesis generates the smooth
+  // trajectory that both make most likely (MLPG, mlpg.h) instead of frame-by-frame estimates.
+  bool visualDeltas = false;
+  // Global variance compensation (Toda & Tokuda 2007): every N-th training sequence is held out of a first
+  // model, that model's estimates on them are compared with the truth, and the final model scales its
+  // components by the ratio of the spreads. 0: no compensation.
+  int varianceValidationEvery = 0;
+};
+
+// The speech normalisation a model was trained with: its options and the training speech's mean c1..cN.
+struct MouthSpeechNormalisation {
+  features::SpeechNormalisationOptions options;
+  Eigen::VectorXd priorMean;
 };
 
 struct MouthModel {
-  hmm::HmmModel hmm;    // blocks "audio" (11·(2tc+1)) and "visual" (K)
+  hmm::HmmModel hmm;    // blocks "audio" (D·(2tc+1), D = 11 MFCCs, or 12 with the level) and "visual" (K, or
+                        // 2K with deltas)
   VisualBasis basis;
   int contextFrames = 3;
   int iterations = 0;   // Baum-Welch iterations used
-  // From the jaw opening to MPEG-4 FAPs (fap_mapping.h); `train mouth` measures it on the reference face and
-  // stores it with the model, so the model file alone turns audio into FAPs. Absent in sweep models.
+  // From the jaw opening to MPEG-4 FAPs (fap_mapping.h); `train mouth --beat2` measures it on the reference face
+  // and stores it with the model, so the model file alone turns audio into FAPs. Absent in sweep models.
   std::optional<MouthFapMap> fapMap;
   // Set for models whose visual parameters are FAPs (trained from tracked video): the FAP numbers of the
   // basis's rows, ascending; the basis reconstructs them in FAPU counts and no FAP map is needed.
   std::vector<int> visualFaps;
+  std::optional<MouthSpeechNormalisation> normalisation;  // absent: raw c1..c11
+  bool visualDeltas = false;
+  // Per component: the factor that restores the truth's spread (global variance compensation); empty: none.
+  Eigen::VectorXd varianceScale;
+
+  int speechRowsPerFrame() const;  // D: 11, or 12 with the level
 };
 
 MouthModel trainMouthModel(const std::vector<MouthRecording>& parts, const MouthModelOptions& options);
@@ -70,13 +95,20 @@ struct MouthSynthesisOptions {
   int windowFrames = 0;     // 0: batch
   int maxIterations = 100;
   unsigned seed = 1;
+  // For models with visual deltas: the MMSE estimate's Gaussians (means and posterior spread, per frame) turned
+  // into a trajectory by MLPG; batch only (a window decodes frame by frame). false: the frames' own estimates.
+  bool trajectory = true;
+  bool varianceCompensation = true;  // apply the model's varianceScale, if it has one
 };
 
-// K x T visual components for 11 x T MFCC frames. `iterations`, if given, receives the inversion's EM count.
-Eigen::MatrixXd synthesiseMouth(const MouthModel& model, const Eigen::MatrixXd& mfcc,
+// The model's audio frames (D x T, before context stacking): c1..c11, or normalised as the model was trained.
+Eigen::MatrixXd mouthAudioFrames(const MouthModel& model, const SpeechFrames& speech);
+
+// K x T visual components for T speech frames. `iterations`, if given, receives the inversion's EM count.
+Eigen::MatrixXd synthesiseMouth(const MouthModel& model, const SpeechFrames& speech,
                                 const MouthSynthesisOptions& options = {}, int* iterations = nullptr);
 
-// synthesiseMouth with a window (windowFrames > 0) as a stream, for the live pipeline: MFCC frames in one at a
+// synthesiseMouth with a window (windowFrames > 0) as a stream, for the live pipeline: speech frames in one at a
 // time, visual components out in order, the same values as the batch call on the whole input. Frame t waits
 // for frame t + tc (its context) and then for the rest of its inversion window. Ready frames are kept only
 // until taken. Thread contract: one thread per instance; the model must outlive it.
@@ -86,7 +118,8 @@ class MouthSynthesiser {
   MouthSynthesiser(const MouthSynthesiser&) = delete;
   MouthSynthesiser& operator=(const MouthSynthesiser&) = delete;
 
-  void acceptMfcc(const Eigen::Ref<const Eigen::VectorXd>& mfcc);  // c1..c11 of the next frame
+  // The next frame's level (dB re full scale) and c1..c11.
+  void acceptFrame(double levelDb, const Eigen::Ref<const Eigen::VectorXd>& mfcc);
   void finish();                                                   // the last tc frames, the last window
   bool next(Eigen::VectorXd& components);                          // K values, if a frame is ready
   int lookaheadFrames() const;  // the most frames a frame waits past its own: tc + window - 1
@@ -100,12 +133,15 @@ class MouthSynthesiser {
   void stackFrame(Eigen::Index t);  // frame t of the context-stacked audio into the inverter
 
   const MouthModel& model_;
+  MouthSynthesisOptions options_;
+  std::optional<features::OnlineSpeechNormaliser> normaliser_;
+  Eigen::VectorXd normalised_;
   hmm::HmmInverter inverter_;
   hmm::StreamingInverter stream_;
   hmm::ForwardFilter filter_;                    // over inverter_.audioModel()
   std::deque<Eigen::VectorXd> posteriors_;       // of frames stacked, not yet given by next()
   Eigen::VectorXd lastPosterior_;
-  Eigen::MatrixXd recent_;  // the last 2 tc + 1 MFCC frames, circular by frame number
+  Eigen::MatrixXd recent_;  // the last 2 tc + 1 audio frames (D values each), circular by frame number
   Eigen::Index received_ = 0;
   Eigen::Index stacked_ = 0;
   bool finished_ = false;

@@ -67,6 +67,8 @@ HmmInverter::HmmInverter(const HmmModel& jointModel, const InversionOptions& opt
         c.regression = Eigen::MatrixXd::Zero(visualSize_, audioSize_);
       }
       c.visualTarget = c.visualPrecision * c.visualMean + c.crossPrecision * c.audioMean;
+      c.conditionalCovariance =
+          c.visualPrecision.llt().solve(Eigen::MatrixXd::Identity(visualSize_, visualSize_));
       audioComponents.emplace_back(c.audioMean, sigmaAudio, type);
 
       // The model's overall visual distribution (state occupancy taken as uniform): for the random start.
@@ -137,6 +139,39 @@ Eigen::MatrixXd HmmInverter::mmseWindow(const Eigen::Ref<const Eigen::MatrixXd>&
   Eigen::MatrixXd visual = conditionalMean(audio, componentPosteriors(audioModel_, audio, carried, nullptr, &last));
   next = nextWindowStart(last);
   return visual;
+}
+
+HmmInverter::VisualDistribution HmmInverter::conditionalDistribution(const Eigen::Ref<const Eigen::MatrixXd>& audio) const {
+  if (audio.rows() != audioSize_) throw Error("HMM inversion: audio has the wrong dimension");
+  const Eigen::Index numFrames = audio.cols();
+  VisualDistribution result{Eigen::MatrixXd::Zero(visualSize_, numFrames), {}};
+  result.covariance.assign(static_cast<std::size_t>(numFrames), Eigen::MatrixXd::Zero(visualSize_, visualSize_));
+  const Eigen::Index window = options_.windowFrames > 0 ? options_.windowFrames : std::max<Eigen::Index>(numFrames, 1);
+  Eigen::VectorXd carried;
+  Eigen::VectorXd next;
+  for (Eigen::Index start = 0; start < numFrames; start += window) {
+    const Eigen::Index length = std::min(window, numFrames - start);
+    const auto part = audio.middleCols(start, length);
+    Eigen::VectorXd last;
+    const Eigen::MatrixXd gamma = componentPosteriors(audioModel_, part, start > 0 ? &carried : nullptr, nullptr, &last);
+    carried = nextWindowStart(last);
+    // E[v] = Σ γ m;  Cov[v] = Σ γ (S + m mᵀ) − E[v] E[v]ᵀ.
+    for (size_t k = 0; k < components_.size(); ++k) {
+      const Component& c = components_[k];
+      if (c.visualMean.size() == 0) continue;  // a state with fewer components than the maximum
+      const Eigen::MatrixXd means = (c.regression * (part.colwise() - c.audioMean)).colwise() + c.visualMean;
+      for (Eigen::Index t = 0; t < length; ++t) {
+        const double g = gamma(static_cast<Eigen::Index>(k), t);
+        if (g < 1e-12) continue;
+        result.mean.col(start + t) += g * means.col(t);
+        result.covariance[static_cast<std::size_t>(start + t)] +=
+            g * (c.conditionalCovariance + means.col(t) * means.col(t).transpose());
+      }
+    }
+    for (Eigen::Index t = start; t < start + length; ++t)
+      result.covariance[static_cast<std::size_t>(t)] -= result.mean.col(t) * result.mean.col(t).transpose();
+  }
+  return result;
 }
 
 Eigen::VectorXd HmmInverter::nextWindowStart(const Eigen::VectorXd& lastFrameDistribution) const {

@@ -54,6 +54,16 @@ class HmmInverter {
   // distribution carried from one to the next); else over the whole sequence.
   Eigen::MatrixXd mmse(const Eigen::Ref<const Eigen::MatrixXd>& audio) const;
 
+  // The visual part's distribution given the audio, frame by frame: each component's conditional Gaussian
+  // N(μᵛ + Σᵛᵃ(Σᵃ)⁻¹(o_a − μᵃ), (Φᵛ)⁻¹), weighted by its posterior under the audio-only model and moment-matched
+  // to one Gaussian (the mixture's mean and covariance). The means are mmse()'s; the covariances say how sure
+  // each frame is, for trajectory generation. Windowed as mmse().
+  struct VisualDistribution {
+    Eigen::MatrixXd mean;                   // d_v x T
+    std::vector<Eigen::MatrixXd> covariance;  // T of d_v x d_v
+  };
+  VisualDistribution conditionalDistribution(const Eigen::Ref<const Eigen::MatrixXd>& audio) const;
+
   // One window of the windowed forms, as invert() and mmse() run them one after another. `carried`: the state
   // distribution at the window's first frame (null: the model's start, π); `next` receives the one for the
   // next window's first frame; `random` draws the random start. `iterations` and `logLikelihoods` (if not
@@ -75,6 +85,7 @@ class HmmInverter {
     Eigen::MatrixXd crossPrecision;          // Φᵛᵃ (d_v x d_a)
     Eigen::VectorXd visualTarget;            // Φᵛ μᵛ + Φᵛᵃ μᵃ: the update's constant part
     Eigen::MatrixXd regression;              // Σᵛᵃ (Σᵃ)⁻¹ (d_v x d_a), for the conditional mean
+    Eigen::MatrixXd conditionalCovariance;   // (Φᵛ)⁻¹ = Σᵛ − Σᵛᵃ (Σᵃ)⁻¹ Σᵃᵛ
     Eigen::VectorXd visualMean;              // μᵛ
     Eigen::VectorXd audioMean;               // μᵃ
   };

@@ -100,7 +100,7 @@ void LiveDecoder::pull() {
     for (; mfccFrames_ < mouthExtractor_.numBaseFramesReady(); ++mfccFrames_) {
       mouthExtractor_.getMfcc(mfccFrames_, mfccRow_);
       for (Eigen::Index k = 0; k < mfcc.size(); ++k) mfcc[k] = mfccRow_[static_cast<std::size_t>(k)];
-      mouthStream_->acceptMfcc(mfcc);
+      mouthStream_->acceptFrame(mouthExtractor_.getLevelDb(mfccFrames_), mfcc);
     }
     Eigen::VectorXd components;
     while (mouthStream_->next(components)) {

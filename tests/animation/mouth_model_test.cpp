@@ -64,7 +64,7 @@ MouthRecording synthetic(int frames, unsigned seed) {
   std::mt19937 random(seed);
   const hmm::Sample sample = hmm::sampleHmm(joint, frames, random);
   MouthRecording recording;
-  recording.mfcc = sample.frames.topRows(3);
+  recording.speech.mfcc = sample.frames.topRows(3);
   const Eigen::MatrixXd sources = sample.frames.bottomRows(2);
   Eigen::MatrixXd mixing(4, 2);
   mixing << 1.0, 0.2, 0.5, 1.0, -0.3, 0.8, 0.9, -0.4;
@@ -82,7 +82,7 @@ TEST(MouthModel, RecoversTheVisualPartFromAudioOnHeldOutData) {
     EXPECT_EQ(model.hmm.block("visual").size, 2);
     const Eigen::MatrixXd truth = model.basis.transform(test.visual);
     for (MouthMethod method : {MouthMethod::kInversion, MouthMethod::kMmse}) {
-      const Eigen::MatrixXd estimate = synthesiseMouth(model, test.mfcc, {.method = method});
+      const Eigen::MatrixXd estimate = synthesiseMouth(model, test.speech, {.method = method});
       const double rho = averageCorrelation(estimate, truth);
       const double epsilon = averageMse(estimate, truth);
       std::printf("[ INFO     ] %s, %s: held-out epsilon %.3f, rho %.3f\n",
@@ -92,16 +92,16 @@ TEST(MouthModel, RecoversTheVisualPartFromAudioOnHeldOutData) {
       EXPECT_LT(epsilon, 0.2);
     }
     // Audio from elsewhere: the estimate no longer follows the truth.
-    Eigen::MatrixXd shuffled(test.mfcc.rows(), test.mfcc.cols());
-    shuffled << test.mfcc.rightCols(500), test.mfcc.leftCols(500);
+    th::animation::SpeechFrames shuffled{Eigen::MatrixXd(test.speech.mfcc.rows(), test.speech.mfcc.cols()), {}};
+    shuffled.mfcc << test.speech.mfcc.rightCols(500), test.speech.mfcc.leftCols(500);
     EXPECT_LT(std::abs(averageCorrelation(synthesiseMouth(model, shuffled), truth)), 0.2);
     // Reconstruction gives back the visual parameters' units.
-    const Eigen::MatrixXd visual = model.basis.reconstruct(synthesiseMouth(model, test.mfcc));
+    const Eigen::MatrixXd visual = model.basis.reconstruct(synthesiseMouth(model, test.speech));
     EXPECT_EQ(visual.rows(), 4);
     EXPECT_LT((visual - test.visual).cwiseAbs().mean(), 0.3);
   }
   const MouthModel model = trainMouthModel({train}, {.states = 3, .mixtures = 1, .contextFrames = 1});
-  EXPECT_THROW(synthesiseMouth(model, Eigen::MatrixXd::Zero(5, 10)), Error) << "audio of the wrong dimension";
+  EXPECT_THROW(synthesiseMouth(model, {Eigen::MatrixXd::Zero(5, 10), {}}), Error) << "audio of the wrong dimension";
 }
 
 TEST(MouthSynthesiser, StreamsTheWindowedSynthesisFrameByFrame) {
@@ -111,14 +111,14 @@ TEST(MouthSynthesiser, StreamsTheWindowedSynthesisFrameByFrame) {
   for (const MouthMethod method : {MouthMethod::kInversion, MouthMethod::kMmse}) {
     for (const int window : {1, 4, 30}) {
       const MouthSynthesisOptions options{.method = method, .windowFrames = window, .maxIterations = 20};
-      const Eigen::MatrixXd batch = synthesiseMouth(model, test.mfcc, options);
+      const Eigen::MatrixXd batch = synthesiseMouth(model, test.speech, options);
       MouthSynthesiser stream(model, options);
       EXPECT_EQ(stream.lookaheadFrames(), 2 + window - 1);
       Eigen::MatrixXd streamed(batch.rows(), batch.cols());
       Eigen::Index out = 0;
       Eigen::VectorXd frame;
-      for (Eigen::Index t = 0; t < test.mfcc.cols(); ++t) {
-        stream.acceptMfcc(test.mfcc.col(t));
+      for (Eigen::Index t = 0; t < test.speech.numFrames(); ++t) {
+        stream.acceptFrame(0.0, test.speech.mfcc.col(t));
         while (stream.next(frame)) streamed.col(out++) = frame;
         EXPECT_GE(out, t + 1 - stream.lookaheadFrames()) << "frame " << t;
       }
@@ -131,7 +131,7 @@ TEST(MouthSynthesiser, StreamsTheWindowedSynthesisFrameByFrame) {
   }
   EXPECT_THROW(MouthSynthesiser(model, {.windowFrames = 0}), Error) << "batch is not a stream";
   MouthSynthesiser stream(model, {.windowFrames = 3});
-  EXPECT_THROW(stream.acceptMfcc(Eigen::VectorXd::Zero(5)), Error) << "MFCCs of the wrong size";
+  EXPECT_THROW(stream.acceptFrame(0.0, Eigen::VectorXd::Zero(5)), Error) << "MFCCs of the wrong size";
 }
 
 TEST(MouthModel, FileRoundTripAndRefusals) {
@@ -142,7 +142,7 @@ TEST(MouthModel, FileRoundTripAndRefusals) {
   const MouthModel loaded = loadMouthModel(file.path());
   EXPECT_EQ(loaded.contextFrames, 1);
   const MouthRecording test = synthetic(300, 4);
-  EXPECT_EQ(synthesiseMouth(loaded, test.mfcc), synthesiseMouth(model, test.mfcc));
+  EXPECT_EQ(synthesiseMouth(loaded, test.speech), synthesiseMouth(model, test.speech));
   EXPECT_EQ(loaded.basis.transform(test.visual), model.basis.transform(test.visual));
   // A plain HMM file is not a mouth model; a mouth model with its basis damaged is refused, naming the file.
   const TemporaryFile plain(".json");
@@ -176,7 +176,7 @@ TEST(MouthModel, AModelOfFapsDrivesThemAndItsFileSaysWhich) {
   model.visualFaps = {3, 4, 51, 52};
   EXPECT_TRUE(th::animation::drivesFaps(model));
   const MouthRecording test = synthetic(300, 6);
-  const Eigen::MatrixXd components = synthesiseMouth(model, test.mfcc);
+  const Eigen::MatrixXd components = synthesiseMouth(model, test.speech);
   const Eigen::MatrixXd faps = th::animation::mouthFapsOf(model, components);
   Eigen::MatrixXd expected = model.basis.reconstruct(components);
   expected.row(0) = expected.row(0).cwiseMax(0.0);  // the jaw does not close past rest
@@ -213,8 +213,9 @@ TEST(MouthData, Beat2TakeIsAligned) {
   const MouthRecording take = loadBeat2Mouth();
   EXPECT_EQ(take.numFrames(), 1906);
   EXPECT_EQ(take.visual.rows(), 101);
-  EXPECT_EQ(take.mfcc.rows(), 11);
-  EXPECT_TRUE(take.mfcc.allFinite());
+  EXPECT_EQ(take.speech.mfcc.rows(), 11);
+  EXPECT_EQ(take.speech.levelDb.size(), take.numFrames());
+  EXPECT_TRUE(take.speech.mfcc.allFinite() && take.speech.levelDb.allFinite());
   EXPECT_TRUE(take.visual.allFinite());
 }
 
