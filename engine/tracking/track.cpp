@@ -197,4 +197,9 @@ double mouthOpening(const Landmarks& landmarks) {
   return (gap(61, 67) + gap(62, 66) + gap(63, 65)) / (3.0 * eyes);
 }
 
+double mouthWidth(const Landmarks& landmarks) {
+  const double eyes = (landmarks.col(36) - landmarks.col(45)).norm();
+  return eyes > 0.0 ? (landmarks.col(48) - landmarks.col(54)).norm() / eyes : 0.0;
+}
+
 }  // namespace th::tracking

@@ -68,5 +68,8 @@ Track readTrackCsv(const std::filesystem::path& path);
 // How far the lips are apart, as a share of the distance between the outer eye corners (36 and 45): the mean
 // of the three inner-lip gaps 61-67, 62-66, 63-65. About 0 with the lips closed, 0.3-0.6 wide open.
 double mouthOpening(const Landmarks& landmarks);
+// How wide the mouth is, corner to corner (48-54), as a share of the same distance: it narrows for /u o w/ and
+// widens for /i/.
+double mouthWidth(const Landmarks& landmarks);
 
 }  // namespace th::tracking

@@ -69,14 +69,20 @@ std::filesystem::path trackFileName(const std::filesystem::path& video) {
   return video.filename().string() + ".csv";
 }
 
+std::filesystem::path clipSoundFile(const std::filesystem::path& video) {
+  std::filesystem::path wav = video;
+  wav.replace_extension(".wav");
+  return wav;
+}
+
 audio::AudioClip readClipSound(const std::filesystem::path& video) {
   try {
     return audio::readMediaAudio(video);
-  } catch (const Error&) {
-    std::filesystem::path wav = video;
-    wav.replace_extension(".wav");
-    std::error_code error;
-    if (!std::filesystem::is_regular_file(wav, error)) throw;
+  } catch (const Error& error) {
+    const std::filesystem::path wav = clipSoundFile(video);
+    std::error_code missing;
+    if (!std::filesystem::is_regular_file(wav, missing))
+      throw Error(std::string(error.what()) + ", and there is no " + wav.filename().string() + " beside it");
     return audio::readRecording(wav);
   }
 }
@@ -94,21 +100,25 @@ std::vector<std::filesystem::path> listVideos(const std::filesystem::path& folde
 }
 
 animation::MouthRecording mouthRecordingOf(const Track& fittedTrack, std::span<const float> samples16k,
-                                           double framesPerSecond) {
+                                           double framesPerSecond, double soundLateSeconds,
+                                           Eigen::MatrixXd* lipShape) {
   if (fittedTrack.fittedFaps.empty()) throw fileError(fittedTrack.video, "the track has no fitted FAPs");
   const std::vector<int> faps = sorted(fittedTrack.fittedFaps);
   const std::vector<TrackedFrame>& frames = fittedTrack.frames;
   animation::MouthRecording recording;
   recording.framesPerSecond = framesPerSecond;
-  recording.mfcc = animation::mfccOf(samples16k);
-  // Animation frame i shows time i / fps; the video's frames end at the last frame's time.
-  const auto videoFrames = static_cast<Eigen::Index>(std::floor(frames.back().seconds * framesPerSecond + 1e-9)) + 1;
-  const Eigen::Index count = std::min(videoFrames, recording.mfcc.cols());
-  recording.mfcc.conservativeResize(Eigen::NoChange, count);
+  recording.speech = animation::speechFramesOf(samples16k);
+  // Animation frame i shows time i / fps of the sound, the picture's i / fps − soundLateSeconds; the video's
+  // frames end at the last frame's time (beyond either end of the picture, its first or last frame is held).
+  const auto videoFrames =
+      static_cast<Eigen::Index>(std::floor((frames.back().seconds + soundLateSeconds) * framesPerSecond + 1e-9)) + 1;
+  const Eigen::Index count = std::max<Eigen::Index>(0, std::min<Eigen::Index>(videoFrames, recording.speech.numFrames()));
+  recording.speech = recording.speech.middleFrames(0, count);
   recording.visual.resize(static_cast<Eigen::Index>(faps.size()), count);
+  if (lipShape != nullptr) lipShape->resize(2, count);
   std::size_t after = 0;  // the first video frame at or after the time
   for (Eigen::Index i = 0; i < count; ++i) {
-    const double seconds = static_cast<double>(i) / framesPerSecond;
+    const double seconds = static_cast<double>(i) / framesPerSecond - soundLateSeconds;
     while (after < frames.size() && frames[after].seconds < seconds) ++after;
     const std::size_t hi = std::min(after, frames.size() - 1);
     const std::size_t lo = after == 0 ? 0 : std::min(after - 1, frames.size() - 1);
@@ -118,8 +128,55 @@ animation::MouthRecording mouthRecordingOf(const Track& fittedTrack, std::span<c
       const auto n = static_cast<std::size_t>(faps[k]);
       recording.visual(static_cast<Eigen::Index>(k), i) = (1.0 - w) * frames[lo].fit.faps[n] + w * frames[hi].fit.faps[n];
     }
+    if (lipShape != nullptr) {
+      (*lipShape)(0, i) = (1.0 - w) * mouthOpening(frames[lo].landmarks) + w * mouthOpening(frames[hi].landmarks);
+      (*lipShape)(1, i) = (1.0 - w) * mouthWidth(frames[lo].landmarks) + w * mouthWidth(frames[hi].landmarks);
+    }
   }
   return recording;
+}
+
+namespace {
+
+Eigen::RowVectorXd standardisedChanges(const Eigen::RowVectorXd& values) {
+  const Eigen::Index n = values.size();
+  const Eigen::RowVectorXd changes = values.tail(n - 1) - values.head(n - 1);
+  const double mean = changes.mean();
+  const double spread = std::sqrt((changes.array() - mean).square().mean());
+  return (changes.array() - mean) / std::max(spread, 1e-12);
+}
+
+}  // namespace
+
+SoundOffset estimateSoundOffset(const Eigen::RowVectorXd& levelDb, const Eigen::RowVectorXd& jaw,
+                                const Eigen::RowVectorXd& lipOpening, double framesPerSecond,
+                                const SoundSyncOptions& options) {
+  const Eigen::Index n = std::min({levelDb.size(), jaw.size(), lipOpening.size()});
+  SoundOffset offset;
+  if (static_cast<double>(n) < options.minSeconds * framesPerSecond || n < 4) return offset;
+  const Eigen::RowVectorXd sound = standardisedChanges(levelDb.head(n));
+  const Eigen::RowVectorXd mouth = standardisedChanges(jaw.head(n)) + standardisedChanges(lipOpening.head(n));
+  const int maxLag = std::max(1, static_cast<int>(std::lround(options.maxLagSeconds * framesPerSecond)));
+  // r[lag]: the sound's change at t against the mouth's at t + lag (a negative lag: the mouth moves first).
+  std::vector<double> r;
+  for (int lag = -maxLag; lag <= maxLag; ++lag) {
+    const Eigen::Index first = std::max(0, -lag), last = std::min<Eigen::Index>(sound.size(), sound.size() - lag);
+    const Eigen::RowVectorXd a = sound.segment(first, last - first);
+    const Eigen::RowVectorXd b = mouth.segment(first + lag, last - first);
+    const Eigen::RowVectorXd ca = a.array() - a.mean(), cb = b.array() - b.mean();
+    r.push_back(ca.dot(cb) / std::sqrt(std::max(ca.squaredNorm() * cb.squaredNorm(), 1e-300)));
+  }
+  const auto peak = static_cast<std::size_t>(std::max_element(r.begin(), r.end()) - r.begin());
+  double lag = static_cast<double>(peak) - maxLag;
+  if (peak > 0 && peak + 1 < r.size()) {
+    const double curvature = r[peak - 1] - 2.0 * r[peak] + r[peak + 1];
+    if (curvature < 0.0) lag += 0.5 * (r[peak - 1] - r[peak + 1]) / curvature;
+  }
+  offset.measured = true;
+  offset.correlation = r[peak];
+  // The mouth ahead of the sound by more than its natural lead: the sound is late by the difference.
+  offset.lateSeconds = -lag / framesPerSecond - options.naturalLeadSeconds;
+  return offset;
 }
 
 std::vector<animation::MouthRecording> VideoCorpus::recordings() const {
@@ -177,7 +234,16 @@ VideoCorpus loadVideoCorpus(const std::vector<std::filesystem::path>& videos, co
       }
       track->video = video;
       const audio::AudioClip sound = readClipSound(video);
-      clip.recording = mouthRecordingOf(*track, sound.samples);
+      clip.recording = mouthRecordingOf(*track, sound.samples, animation::kMouthFramesPerSecond, 0.0, &clip.lipShape);
+      if (options.synchronise) {
+        const auto jaw = std::find(faps.begin(), faps.end(), 3);
+        if (jaw == faps.end()) throw fileError(video, "cannot be synchronised without the jaw (FAP 3) fitted");
+        clip.soundOffset = estimateSoundOffset(clip.recording.speech.levelDb, clip.recording.visual.row(jaw - faps.begin()),
+                                               clip.lipShape.row(0), animation::kMouthFramesPerSecond, options.sync);
+        if (clip.soundOffset.lateSeconds != 0.0)
+          clip.recording = mouthRecordingOf(*track, sound.samples, animation::kMouthFramesPerSecond,
+                                            clip.soundOffset.lateSeconds, &clip.lipShape);
+      }
       if (clip.recording.numFrames() < 2) throw fileError(video, "is shorter than two animation frames");
       clip.meanResidualPixels = meanResidual(*track);
       clip.faceFoundShare = static_cast<double>(track->framesFound()) / static_cast<double>(track->frames.size());
@@ -268,7 +334,7 @@ std::vector<Eigen::MatrixXd> predictFaps(const animation::MouthModel& model,
   const auto n = static_cast<int>(clips.size());
   for (int i = 0; i < n; ++i) {
     const animation::MouthRecording& source = clips[static_cast<std::size_t>(((i + audioShift) % n + n) % n)];
-    estimates.push_back(animation::mouthFapsOf(model, animation::synthesiseMouth(model, source.mfcc, options)));
+    estimates.push_back(animation::mouthFapsOf(model, animation::synthesiseMouth(model, source.speech, options)));
   }
   return estimates;
 }

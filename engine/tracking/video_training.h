@@ -34,17 +34,50 @@ namespace th::tracking {
 // Throws th::Error naming the folder if it is missing or holds none.
 std::vector<std::filesystem::path> listVideos(const std::filesystem::path& folder);
 
-// A clip's sound at 16 kHz: its own audio track, else the WAV of its name beside it. Errors name the video.
+// A clip's sound at 16 kHz: its own audio track, else the WAV of its name beside it (clipSoundFile: a silent
+// video and its separately recorded sound, as `record` writes and some corpora ship). Errors name the video.
 audio::AudioClip readClipSound(const std::filesystem::path& video);
+std::filesystem::path clipSoundFile(const std::filesystem::path& video);  // "a/b.mp4" -> "a/b.wav"
 
 // The fitted FAPs of a track (track.fittedFaps, ascending) at `framesPerSecond` (linear between video frames,
-// the ends held), paired with the MFCCs of the clip's 16 kHz sound at the same rate; both cut to the shorter.
+// the ends held), paired with the speech frames of the clip's 16 kHz sound at the same rate; both cut to the
+// shorter. With soundLateSeconds, the sound is taken to lag the picture by that much (a clip whose sound was
+// put in late): animation frame i, at i / fps in the sound, pairs with the picture at i / fps − soundLateSeconds.
+// `lipShape`, if given, receives the landmarks' inner-lip opening and mouth width (track.h's mouthOpening and
+// mouthWidth; 2 x T) at the same times.
 animation::MouthRecording mouthRecordingOf(const Track& fittedTrack, std::span<const float> samples16k,
-                                           double framesPerSecond = 30.0);
+                                           double framesPerSecond = 30.0, double soundLateSeconds = 0.0,
+                                           Eigen::MatrixXd* lipShape = nullptr);
+
+// How far a clip's sound lags its picture, estimated from the clip itself: the lag that best lines up the
+// frame-to-frame changes of the sound's level with those of the mouth (the jaw FAP and the lip opening, each
+// standardised), searched over ±maxLagSeconds and refined between frames (a parabola through the peak), less the
+// lead the lips naturally have over the sound (naturalLeadSeconds: on GRID's speaker s1, whose sound and picture
+// agree, the same measure peaks with the mouth 10 ms ahead; `talkinghead eval mouth` prints it). Changes rather
+// than levels: the slow rise and fall of a sentence would otherwise broaden the peak. Clips shorter than
+// minSeconds are too short to say (on GRID's 3 s clips the estimate scatters over ±200 ms) and count as in sync.
+struct SoundSyncOptions {
+  double maxLagSeconds = 0.3;
+  double naturalLeadSeconds = 0.010;
+  double minSeconds = 10.0;
+};
+
+struct SoundOffset {
+  double lateSeconds = 0.0;    // the sound's lag behind the picture (negative: ahead); 0 when not measured
+  double correlation = 0.0;    // of the changes at the peak
+  bool measured = false;       // false: the clip was too short
+};
+
+// levelDb, jaw and lipOpening: the same frames at framesPerSecond, sound and picture taken as in sync.
+SoundOffset estimateSoundOffset(const Eigen::RowVectorXd& levelDb, const Eigen::RowVectorXd& jaw,
+                                const Eigen::RowVectorXd& lipOpening, double framesPerSecond,
+                                const SoundSyncOptions& options = {});
 
 struct VideoClip {
   std::filesystem::path video;
   animation::MouthRecording recording;  // visual rows: `faps` of the corpus
+  Eigen::MatrixXd lipShape;             // 2 x T: the landmarks' inner-lip opening and mouth width, per frame
+  SoundOffset soundOffset;              // taken out of the recording when the corpus was synchronised
   double meanResidualPixels = 0.0;
   double faceFoundShare = 0.0;  // of its frames
   bool trackedNow = false;      // false: its track was read from trackFolder
@@ -72,6 +105,8 @@ struct VideoCorpusOptions {
   FitOptions fit{};
   TrackOptions track{};
   unsigned threads = 0;  // 0: the machine's cores
+  bool synchronise = false;  // estimate each clip's sound offset (estimateSoundOffset) and take it out
+  SoundSyncOptions sync{};
 };
 
 // progress(clipsDone, clipsTotal) after each clip.

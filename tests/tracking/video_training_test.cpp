@@ -84,7 +84,8 @@ TEST(MouthRecordingOf, ResamplesTheFapsToTheAnimationRateBesideTheSoundsMfccs) {
   EXPECT_EQ(recording.visual.rows(), 2);
   // The last video frame is at 49/25 = 1.96 s: animation frames 0 .. 58 (58/30 = 1.933 s).
   ASSERT_EQ(recording.numFrames(), 59);
-  EXPECT_EQ(recording.mfcc.cols(), 59);
+  EXPECT_EQ(recording.speech.numFrames(), 59);
+  EXPECT_EQ(recording.speech.levelDb.size(), 59);
   for (int i = 0; i < recording.numFrames(); ++i) {
     EXPECT_NEAR(recording.visual(0, i), 100.0 * i / 30.0, 1e-9) << i;  // rows ascending: FAP 3 first
     EXPECT_NEAR(recording.visual(1, i), -7.0, 1e-12);

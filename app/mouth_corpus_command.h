@@ -1,0 +1,31 @@
+// The default mouth models from tracked talking video (mouth_corpus_command.cpp): their arguments and runners,
+// registered as `train mouth` and `eval mouth` by mouth_command.cpp.
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "animation/mouth_model.h"
+
+namespace th::app {
+
+struct MouthCorpusArguments {
+  std::string tracks;                  // where the clips' tracks are kept; empty: defaultMouthTrackFolder()
+  std::vector<std::string> compare;    // eval: other model files judged on the same clips
+  animation::MouthModelOptions model{.states = 8,
+                                     .mixtures = 2,
+                                     .covariance = hmm::CovarianceType::kFull,
+                                     .contextFrames = 2,
+                                     .visualComponents = 4,
+                                     .standardiseVisual = false,
+                                     .normaliseSpeech = true,
+                                     .visualDeltas = true,
+                                     .varianceValidationEvery = 5};
+  animation::MouthSynthesisOptions synthesis{.method = animation::MouthMethod::kMmse};
+};
+
+std::filesystem::path defaultMouthTrackFolder();  // $XDG_CACHE_HOME/talkinghead/tracks, or ~/.cache/...
+void runEvalMouthCorpora(const MouthCorpusArguments& arguments);
+
+}  // namespace th::app

@@ -1,0 +1,116 @@
+#include "tracking/mouth_scores.h"
+
+#include <Eigen/Cholesky>
+#include <algorithm>
+#include <cmath>
+
+#include "animation/mouth_evaluation.h"
+#include "core/error.h"
+#include "features/speech_normaliser.h"
+#include "tracking/track.h"
+
+namespace th::tracking {
+
+MouthShapes::MouthShapes(const face::FaceModel& face) : fitter_(face) {}
+
+Eigen::MatrixXd MouthShapes::of(const Eigen::MatrixXd& faps, const std::vector<int>& fapNumbers) const {
+  if (faps.rows() != static_cast<Eigen::Index>(fapNumbers.size())) throw Error("mouth shapes: one row per FAP number");
+  Eigen::MatrixXd shapes(2, faps.cols());
+  FaceFit fit;  // the head at rest, unscaled: the ratios below do not depend on the scale
+  for (Eigen::Index t = 0; t < faps.cols(); ++t) {
+    fit.faps.fill(0.0);
+    for (std::size_t k = 0; k < fapNumbers.size(); ++k)
+      fit.faps[static_cast<std::size_t>(fapNumbers[k])] = faps(static_cast<Eigen::Index>(k), t);
+    const Landmarks points = fitter_.project(fit);
+    shapes(0, t) = mouthOpening(points);
+    shapes(1, t) = mouthWidth(points);
+  }
+  return shapes;
+}
+
+CurveScore scoreCurve(const Eigen::RowVectorXd& estimate, const Eigen::RowVectorXd& truth) {
+  const Eigen::RowVectorXd e = estimate.array() - estimate.mean();
+  const Eigen::RowVectorXd t = truth.array() - truth.mean();
+  CurveScore score;
+  const double truthNorm = t.squaredNorm();
+  score.rho = e.squaredNorm() > 0.0 && truthNorm > 0.0 ? e.dot(t) / std::sqrt(e.squaredNorm() * truthNorm) : 0.0;
+  score.spread = truthNorm > 0.0 ? std::sqrt(e.squaredNorm() / truthNorm) : 0.0;
+  score.epsilon = truthNorm > 0.0 ? (estimate - truth).squaredNorm() / truthNorm : 0.0;
+  return score;
+}
+
+MouthScores scoreMouth(const std::vector<Eigen::MatrixXd>& estimates, const std::vector<int>& estimateFaps,
+                       const MouthShapes& shapes, const std::vector<const TalkingClip*>& clips,
+                       const std::vector<int>& truthFaps) {
+  if (estimates.size() != clips.size()) throw Error("mouth scores: one estimate per clip");
+  std::vector<std::pair<Eigen::Index, Eigen::Index>> rows;  // estimate row, truth row
+  Eigen::Index jawRow = -1;
+  for (std::size_t e = 0; e < estimateFaps.size(); ++e)
+    for (std::size_t t = 0; t < truthFaps.size(); ++t)
+      if (estimateFaps[e] == truthFaps[t]) {
+        if (estimateFaps[e] == 3) jawRow = static_cast<Eigen::Index>(rows.size());
+        rows.emplace_back(static_cast<Eigen::Index>(e), static_cast<Eigen::Index>(t));
+      }
+  if (jawRow < 0) throw Error("mouth scores: the estimate and the truth need the jaw (FAP 3)");
+  Eigen::Index frames = 0;
+  for (std::size_t i = 0; i < clips.size(); ++i) frames += std::min(estimates[i].cols(), clips[i]->clip.recording.visual.cols());
+  const auto n = static_cast<Eigen::Index>(rows.size());
+  Eigen::MatrixXd estimate(n, frames), truth(n, frames), estimateShape(2, frames), truthShape(2, frames);
+  Eigen::Index column = 0;
+  for (std::size_t i = 0; i < clips.size(); ++i) {
+    const Eigen::Index count = std::min(estimates[i].cols(), clips[i]->clip.recording.visual.cols());
+    for (Eigen::Index r = 0; r < n; ++r) {
+      estimate.row(r).segment(column, count) = estimates[i].row(rows[static_cast<std::size_t>(r)].first).head(count);
+      truth.row(r).segment(column, count) = clips[i]->clip.recording.visual.row(rows[static_cast<std::size_t>(r)].second).head(count);
+    }
+    estimateShape.middleCols(column, count) = shapes.of(estimates[i].leftCols(count), estimateFaps);
+    truthShape.middleCols(column, count) = clips[i]->clip.lipShape.leftCols(count);
+    column += count;
+  }
+  MouthScores scores;
+  scores.frames = static_cast<int>(frames);
+  scores.jaw = scoreCurve(estimate.row(jawRow), truth.row(jawRow));
+  scores.opening = scoreCurve(estimateShape.row(0), truthShape.row(0));
+  scores.width = scoreCurve(estimateShape.row(1), truthShape.row(1));
+  scores.fapsEpsilon = animation::averageMse(estimate, truth);
+  scores.fapsRho = animation::averageCorrelation(estimate, truth);
+  return scores;
+}
+
+LevelBaseline::LevelBaseline(const std::vector<const animation::MouthRecording*>& training, int contextFrames)
+    : contextFrames_(contextFrames) {
+  if (training.empty()) throw Error("level baseline: no training clips");
+  Eigen::Index frames = 0;
+  for (const auto* recording : training) frames += recording->numFrames();
+  const Eigen::Index width = 2 * contextFrames + 2;
+  Eigen::MatrixXd x(width, frames), y(training.front()->visual.rows(), frames);
+  Eigen::Index column = 0;
+  for (const auto* recording : training) {
+    x.middleCols(column, recording->numFrames()) = features(recording->speech);
+    y.middleCols(column, recording->numFrames()) = recording->visual;
+    column += recording->numFrames();
+  }
+  // Least squares, with a whisper of ridge so that a constant level cannot make the system singular.
+  const Eigen::MatrixXd gram = x * x.transpose() + 1e-6 * static_cast<double>(frames) * Eigen::MatrixXd::Identity(width, width);
+  weights_ = gram.llt().solve(x * y.transpose()).transpose();
+}
+
+Eigen::MatrixXd LevelBaseline::features(const animation::SpeechFrames& speech) const {
+  const Eigen::MatrixXd normalised = features::normaliseSpeech(
+      {}, animation::kMouthFramesPerSecond, Eigen::VectorXd::Zero(speech.mfcc.rows()), speech.levelDb, speech.mfcc);
+  const Eigen::RowVectorXd level = normalised.bottomRows(1);
+  const Eigen::Index frames = level.size();
+  Eigen::MatrixXd x(2 * contextFrames_ + 2, frames);
+  for (Eigen::Index t = 0; t < frames; ++t) {
+    for (int offset = -contextFrames_; offset <= contextFrames_; ++offset)
+      x(offset + contextFrames_, t) = level[std::clamp<Eigen::Index>(t + offset, 0, frames - 1)];
+    x(2 * contextFrames_ + 1, t) = 1.0;
+  }
+  return x;
+}
+
+Eigen::MatrixXd LevelBaseline::predict(const animation::SpeechFrames& speech) const {
+  return weights_ * features(speech);
+}
+
+}  // namespace th::tracking

@@ -1,0 +1,71 @@
+// How well mouth curves follow a tracked speaker: the jaw, the lips' opening and the mouth's width, as
+// correlation, spread and error, over clips of talking video (talking_corpus.h); and the baselines a model must
+// beat: the level of the sound alone, the training mean, another clip's sound.
+//
+//   th::tracking::MouthShapes shapes(face);                        // the face model's lips, for FAP curves
+//   th::tracking::MouthScores s = th::tracking::scoreMouth(estimates, fapNumbers, shapes, heldOutClips);
+//   // s.jaw.rho, s.opening.spread, ...
+//
+// Spread is the estimate's standard deviation over the truth's (1: the truth's amplitude; an over-smoothed
+// estimate falls below 1). The lips' opening and width of an estimate are measured on the face model deformed
+// by its FAPs, with the same landmarks and formula as on the tracked video (track.h: mouthOpening, mouthWidth,
+// shares of the eye corners' distance), so the two are in the same units.
+// Thread contract: pure functions; a MouthShapes is immutable and may be shared.
+#pragma once
+
+#include <Eigen/Core>
+#include <vector>
+
+#include "animation/mouth_data.h"
+#include "face/face_model.h"
+#include "tracking/face_fit.h"
+#include "tracking/talking_corpus.h"
+
+namespace th::tracking {
+
+class MouthShapes {
+ public:
+  explicit MouthShapes(const face::FaceModel& face);
+  // 2 x T: the inner-lip opening and the mouth width of the face with these FAPs (rows: fapNumbers).
+  Eigen::MatrixXd of(const Eigen::MatrixXd& faps, const std::vector<int>& fapNumbers) const;
+
+ private:
+  FaceFitter fitter_;
+};
+
+struct CurveScore {
+  double rho = 0.0;     // Pearson correlation
+  double spread = 0.0;  // std(estimate) / std(truth)
+  double epsilon = 0.0; // the paper's ε: mean squared error / the truth's variance (the mean scores 1)
+};
+
+struct MouthScores {
+  CurveScore jaw;      // FAP 3
+  CurveScore opening;  // inner-lip opening
+  CurveScore width;    // mouth width
+  double fapsEpsilon = 0.0;  // ε and ρ averaged over the FAPs both hold (the paper's measures)
+  double fapsRho = 0.0;
+  int frames = 0;
+};
+
+// estimates[i]: FAP curves (rows: estimateFaps) for clips[i]; each cut to the shorter of the two.
+MouthScores scoreMouth(const std::vector<Eigen::MatrixXd>& estimates, const std::vector<int>& estimateFaps,
+                       const MouthShapes& shapes, const std::vector<const TalkingClip*>& clips,
+                       const std::vector<int>& truthFaps);
+
+CurveScore scoreCurve(const Eigen::RowVectorXd& estimate, const Eigen::RowVectorXd& truth);
+
+// The energy-envelope baseline: every FAP a linear function (least squares) of the sound's level, relative to
+// its recent peak (features/speech_normaliser.h), at frames t − tc .. t + tc. Fitted on training clips.
+class LevelBaseline {
+ public:
+  LevelBaseline(const std::vector<const animation::MouthRecording*>& training, int contextFrames);
+  Eigen::MatrixXd predict(const animation::SpeechFrames& speech) const;  // FAPs x T, the training rows
+
+ private:
+  Eigen::MatrixXd features(const animation::SpeechFrames& speech) const;
+  int contextFrames_;
+  Eigen::MatrixXd weights_;  // FAPs x (2 tc + 2): the context's levels and a constant
+};
+
+}  // namespace th::tracking
