@@ -376,20 +376,47 @@ void runTrainMouth(const MouthArguments& arguments) {
 
 void addTrainMouthCommand(CLI::App& train) {
   auto arguments = std::make_shared<MouthArguments>();
-  CLI::App* mouth = train.add_subcommand("mouth", "Audio -> mouth AV-HMM from BEAT2 (training part)");
-  mouth->add_option("--train-fraction", arguments->trainingFraction,
-                    "The first this fraction of the BEAT2 take trains")
-      ->check(CLI::Range(0.1, 0.95));
-  mouth->add_option("--states", arguments->options.states, "States N (default 5, the sweep's choice)")
-      ->check(CLI::Range(1, 100));
-  mouth->add_option("--mixtures", arguments->options.mixtures, "Gaussians per state M (default 2)")
-      ->check(CLI::Range(1, 20));
-  mouth->add_option("--context", arguments->options.contextFrames, "MFCC context tc (default 2)")->check(CLI::Range(0, 10));
-  mouth->add_flag_function(
-      "--diagonal", [arguments](std::int64_t) { arguments->options.covariance = hmm::CovarianceType::kDiagonal; },
-      "Diagonal covariance (default full)");
+  auto corpus = std::make_shared<MouthCorpusArguments>();
+  auto beat2 = std::make_shared<bool>(false);
+  CLI::App* mouth = train.add_subcommand(
+      "mouth", "Audio -> mouth model from the shared talking videos (GRID s1, StyleTalk), the default; --beat2: the "
+               "paper's model from BEAT2's FLAME fits");
   mouth->add_option("-o,--output", arguments->modelOutput, "Model file to write (default models/mouth.json)");
-  mouth->callback([arguments] { runTrainMouth(*arguments); });
+  mouth->add_option("--tracks", corpus->tracks,
+                    "Folder of the clips' tracks, made on first use (default: " + defaultMouthTrackFolder().string() + ")");
+  mouth->add_option("--states", corpus->model.states, "States N")->check(CLI::Range(1, 100))->capture_default_str();
+  mouth->add_option("--mixtures", corpus->model.mixtures, "Gaussians per state M")->check(CLI::Range(1, 20))->capture_default_str();
+  mouth->add_option("--context", corpus->model.contextFrames, "MFCC context tc (frames either side)")
+      ->check(CLI::Range(0, 10))
+      ->capture_default_str();
+  mouth->add_option("--components", corpus->model.visualComponents, "Visual components K")
+      ->check(CLI::Range(1, 21))
+      ->capture_default_str();
+  mouth->add_flag_function(
+      "--diagonal",
+      [arguments, corpus](std::int64_t) {
+        arguments->options.covariance = hmm::CovarianceType::kDiagonal;
+        corpus->model.covariance = hmm::CovarianceType::kDiagonal;
+      },
+      "Diagonal covariance (default full)");
+  mouth->add_option("--stage2", corpus->stageTwo, "Re-train the audio side on speech-only voices (stage 2)")->capture_default_str();
+  mouth->add_flag("--beat2", *beat2, "The paper's model: BEAT2's FLAME fits (the first --train-fraction of the take)")->group("BEAT2");
+  mouth->add_option("--train-fraction", arguments->trainingFraction, "--beat2: the first this fraction of the take trains")
+      ->check(CLI::Range(0.1, 0.95))
+      ->group("BEAT2");
+  mouth->add_option("--beat2-states", arguments->options.states, "--beat2: states N (default 5, the sweep's choice)")
+      ->check(CLI::Range(1, 100))
+      ->group("BEAT2");
+  mouth->add_option("--beat2-mixtures", arguments->options.mixtures, "--beat2: Gaussians per state M (default 2)")
+      ->check(CLI::Range(1, 20))
+      ->group("BEAT2");
+  mouth->add_option("--beat2-context", arguments->options.contextFrames, "--beat2: MFCC context tc (default 2)")
+      ->check(CLI::Range(0, 10))
+      ->group("BEAT2");
+  mouth->callback([arguments, corpus, beat2] {
+    if (*beat2) runTrainMouth(*arguments);
+    else runTrainMouthCorpora(*corpus, arguments->modelOutput);
+  });
 }
 
 void addEvalMouthCommand(CLI::App& eval) {
@@ -402,6 +429,9 @@ void addEvalMouthCommand(CLI::App& eval) {
   mouth->add_flag("--beat2", *beat2, "The paper's ε and ρ on BEAT2 per synthesis method, beside baselines (and --sweep)");
   mouth->add_option("--tracks", corpus->tracks, "Folder of the clips' tracks (default: " + defaultMouthTrackFolder().string() + ")");
   mouth->add_option("--compare", corpus->compare, "Other mouth model files to judge on the same clips");
+  mouth->add_option("--multilingual", corpus->multilingual,
+                    "Folder of phone-aligned speech in other languages (tools/multilingual_speech.py; default: made "
+                    "in the cache on first use)");
   mouth->add_option("--recipe-states", corpus->model.states)->group("Recipe");
   mouth->add_option("--recipe-mixtures", corpus->model.mixtures)->group("Recipe");
   mouth->add_option("--recipe-context", corpus->model.contextFrames)->group("Recipe");
@@ -416,6 +446,7 @@ void addEvalMouthCommand(CLI::App& eval) {
   mouth->add_flag_function("--recipe-inversion", [corpus](std::int64_t) { corpus->synthesis.method = animation::MouthMethod::kInversion; })->group("Recipe");
   mouth->add_option("--recipe-trajectory", corpus->synthesis.trajectory)->group("Recipe");
   mouth->add_option("--recipe-window", corpus->synthesis.windowFrames)->group("Recipe");
+  mouth->add_option("--recipe-stage2", corpus->stageTwo)->group("Recipe");
   mouth->add_option("--train-fraction", arguments->trainingFraction,
                     "The first this fraction of the BEAT2 take trains, the rest is held out")
       ->check(CLI::Range(0.1, 0.95));

@@ -13,6 +13,7 @@ namespace th::app {
 struct MouthCorpusArguments {
   std::string tracks;                  // where the clips' tracks are kept; empty: defaultMouthTrackFolder()
   std::vector<std::string> compare;    // eval: other model files judged on the same clips
+  std::string multilingual;            // eval: the folder tools/multilingual_speech.py made; empty: made in the cache
   animation::MouthModelOptions model{.states = 8,
                                      .mixtures = 2,
                                      .covariance = hmm::CovarianceType::kFull,
@@ -23,9 +24,11 @@ struct MouthCorpusArguments {
                                      .visualDeltas = true,
                                      .varianceValidationEvery = 5};
   animation::MouthSynthesisOptions synthesis{.method = animation::MouthMethod::kMmse};
+  bool stageTwo = false;  // re-train the audio side on speech-only recordings of other voices
 };
 
 std::filesystem::path defaultMouthTrackFolder();  // $XDG_CACHE_HOME/talkinghead/tracks, or ~/.cache/...
 void runEvalMouthCorpora(const MouthCorpusArguments& arguments);
+void runTrainMouthCorpora(const MouthCorpusArguments& arguments, const std::string& output);
 
 }  // namespace th::app

@@ -4,11 +4,13 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <string>
 
 #include "animation/mlpg.h"
 #include "core/error.h"
 #include "face/fap.h"
+#include "hmm/audio_retraining.h"
 #include "hmm/model_file.h"
 #include "hmm/training.h"
 
@@ -31,7 +33,8 @@ Eigen::MatrixXd mouthAudioFrames(const MouthModel& model, const SpeechFrames& sp
 namespace {
 
 // The model itself, on all the parts given: the visual basis, the speech normalisation's prior, Baum-Welch.
-MouthModel trainOnParts(const std::vector<MouthRecording>& parts, const MouthModelOptions& options) {
+MouthModel trainOnParts(const std::vector<MouthRecording>& parts, const std::vector<SpeechFrames>& speechOnly,
+                        const MouthModelOptions& options) {
   Eigen::Index total = 0;
   for (const auto& part : parts) total += part.numFrames();
   Eigen::MatrixXd allVisual(parts.front().visual.rows(), total);
@@ -84,39 +87,54 @@ MouthModel trainOnParts(const std::vector<MouthRecording>& parts, const MouthMod
   for (int k = 0; k < options.visualComponents; ++k) model.hmm.columnNames.push_back("visual" + std::to_string(k + 1));
   if (options.visualDeltas)
     for (int k = 0; k < options.visualComponents; ++k) model.hmm.columnNames.push_back("d_visual" + std::to_string(k + 1));
+  if (!speechOnly.empty()) {
+    // Stage 2: the audio side re-estimated on the training speech and the speech-only recordings together.
+    std::vector<Eigen::MatrixXd> audio;
+    for (const Eigen::MatrixXd& sequence : sequences) audio.push_back(sequence.topRows(audioSize));
+    for (const SpeechFrames& speech : speechOnly)
+      if (speech.numFrames() > 0) audio.push_back(stackContext(mouthAudioFrames(model, speech), options.contextFrames));
+    model.hmm = hmm::retrainAudio(model.hmm, audio, {.iterations = options.speechOnlyIterations}).model;
+  }
   model.hmm.check();
   return model;
 }
 
 }  // namespace
 
-MouthModel trainMouthModel(const std::vector<MouthRecording>& parts, const MouthModelOptions& options) {
+MouthModel trainMouthModel(const std::vector<MouthRecording>& parts, const MouthModelOptions& options,
+                           const std::vector<SpeechFrames>& speechOnly) {
   if (parts.empty()) throw Error("mouth model: no training data");
   const int every = options.varianceValidationEvery;
-  if (every <= 0) return trainOnParts(parts, options);
+  if (every <= 0) return trainOnParts(parts, speechOnly, options);
   // Global variance compensation: the spread a model's estimates lose on sequences it did not see.
   std::vector<MouthRecording> fit, validation;
   for (std::size_t i = 0; i < parts.size(); ++i) ((i + 1) % static_cast<std::size_t>(every) == 0 ? validation : fit).push_back(parts[i]);
   if (fit.empty() || validation.empty())
     throw Error("mouth model: variance compensation needs at least " + std::to_string(every) + " training sequences");
-  const MouthModel first = trainOnParts(fit, options);
+  const MouthModel first = trainOnParts(fit, speechOnly, options);
   const Eigen::Index k = first.basis.components();
-  Eigen::VectorXd truthSum = Eigen::VectorXd::Zero(k), truthSquares = Eigen::VectorXd::Zero(k);
-  Eigen::VectorXd estimateSum = Eigen::VectorXd::Zero(k), estimateSquares = Eigen::VectorXd::Zero(k);
-  double frames = 0.0;
+  Eigen::Index frames = 0;
+  for (const MouthRecording& part : validation) frames += part.numFrames();
+  Eigen::MatrixXd truth(k, frames), estimate(k, frames);
+  Eigen::Index column = 0;
   for (const MouthRecording& part : validation) {
-    const Eigen::MatrixXd truth = first.basis.transform(part.visual);
-    const Eigen::MatrixXd estimate = synthesiseMouth(first, part.speech, {.method = MouthMethod::kMmse});
-    truthSum += truth.rowwise().sum();
-    truthSquares += truth.rowwise().squaredNorm();
-    estimateSum += estimate.rowwise().sum();
-    estimateSquares += estimate.rowwise().squaredNorm();
-    frames += static_cast<double>(part.numFrames());
+    truth.middleCols(column, part.numFrames()) = first.basis.transform(part.visual);
+    estimate.middleCols(column, part.numFrames()) =
+        synthesiseMouth(first, part.speech, {.method = MouthMethod::kMmse, .varianceCompensation = false});
+    column += part.numFrames();
   }
-  const Eigen::VectorXd truthVariance = truthSquares / frames - (truthSum / frames).cwiseAbs2();
-  const Eigen::VectorXd estimateVariance = estimateSquares / frames - (estimateSum / frames).cwiseAbs2();
-  MouthModel model = trainOnParts(parts, options);
-  model.varianceScale = (truthVariance.array() / estimateVariance.array().max(1e-12)).sqrt().matrix();
+  MouthModel model = trainOnParts(parts, speechOnly, options);
+  model.varianceScale.resize(k);
+  for (Eigen::Index c = 0; c < k; ++c) {
+    const Eigen::RowVectorXd t = truth.row(c).array() - truth.row(c).mean();
+    const Eigen::RowVectorXd e = estimate.row(c).array() - estimate.row(c).mean();
+    const double ratio = std::sqrt(t.squaredNorm() / std::max(e.squaredNorm(), 1e-12));
+    const double rho = t.dot(e) / std::sqrt(std::max(t.squaredNorm() * e.squaredNorm(), 1e-300));
+    // The truth's spread, as far as that keeps the component's error below the mean's: scaling an estimate that
+    // correlates ρ with the truth to the truth's spread leaves an error of 2(1 − ρ) of its variance, worse than
+    // predicting the mean when ρ < 0.5; a factor up to 2ρ · ratio never is (on the held-out sequences).
+    model.varianceScale[c] = std::max(1.0, std::min(ratio, 2.0 * std::max(rho, 0.0) * ratio));
+  }
   return model;
 }
 

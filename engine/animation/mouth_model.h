@@ -48,9 +48,14 @@ struct MouthModelOptions {
   // trajectory that both make most likely (MLPG, mlpg.h) instead of frame-by-frame estimates.
   bool visualDeltas = false;
   // Global variance compensation (Toda & Tokuda 2007): every N-th training sequence is held out of a first
-  // model, that model's estimates on them are compared with the truth, and the final model scales its
-  // components by the ratio of the spreads. 0: no compensation.
+  // model, that model's estimates (MMSE) on them are compared with the truth, and the final model scales each
+  // component by the ratio of the spreads, or less where the estimate correlates too weakly for the full ratio
+  // to beat the mean (a factor of at most 2ρ · ratio; never below 1). 0: no compensation.
   int varianceValidationEvery = 0;
+  // Stage 2 (the paper's): with speech-only recordings given to trainMouthModel, the audio side (means and
+  // covariances, π, A and weights kept) is re-estimated on them and the training speech together, this many
+  // Baum-Welch iterations (hmm/audio_retraining.h), so that it covers more voices.
+  int speechOnlyIterations = 5;
 };
 
 // The speech normalisation a model was trained with: its options and the training speech's mean c1..cN.
@@ -79,7 +84,8 @@ struct MouthModel {
   int speechRowsPerFrame() const;  // D: 11, or 12 with the level
 };
 
-MouthModel trainMouthModel(const std::vector<MouthRecording>& parts, const MouthModelOptions& options);
+MouthModel trainMouthModel(const std::vector<MouthRecording>& parts, const MouthModelOptions& options,
+                           const std::vector<SpeechFrames>& speechOnly = {});
 
 // The ordinary HMM model file; its "training" object holds the visual basis (mean, scale, unmixing, mixing),
 // tc and the FAP map if there is one, so the file alone turns audio into jaw and expression parameters (and

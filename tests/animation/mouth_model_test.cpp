@@ -2,6 +2,7 @@
 // learns a known audio-visual link and recovers the visual part from audio by inversion and MMSE.
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <fstream>
 #include <random>
 #include <sstream>
@@ -206,6 +207,145 @@ TEST(MouthModel, AModelOfFapsDrivesThemAndItsFileSaysWhich) {
       EXPECT_NE(std::string(error.what()).find("visual_faps"), std::string::npos) << error.what();
       EXPECT_NE(std::string(error.what()).find(damaged.path().string()), std::string::npos) << error.what();
     }
+  }
+}
+
+// The synthetic recordings with a level per frame (dB, following the first audio dimension), as real speech
+// frames have.
+MouthRecording withLevel(MouthRecording recording, double gainDb = 0.0) {
+  recording.speech.levelDb = (4.0 * recording.speech.mfcc.row(0)).array() - 30.0 + gainDb;
+  return recording;
+}
+
+std::vector<MouthRecording> syntheticSet(int count, int frames, unsigned seed) {
+  std::vector<MouthRecording> set;
+  for (int i = 0; i < count; ++i) set.push_back(withLevel(synthetic(frames, seed + static_cast<unsigned>(i))));
+  return set;
+}
+
+const MouthModelOptions kNormalisedDeltas{.states = 3, .mixtures = 1, .contextFrames = 1, .normaliseSpeech = true,
+                                          .visualDeltas = true, .varianceValidationEvery = 3};
+
+TEST(MouthModel, NormalisedSpeechAndDeltasStreamAsTheirBatchAndSurviveTheirFile) {
+  const MouthModel model = trainMouthModel(syntheticSet(6, 400, 30), kNormalisedDeltas);
+  ASSERT_TRUE(model.normalisation.has_value());
+  EXPECT_EQ(model.speechRowsPerFrame(), 4) << "3 MFCCs and the level";
+  EXPECT_EQ(model.hmm.block("audio").size, 12);
+  EXPECT_EQ(model.hmm.block("visual").size, 4) << "2 components and their deltas";
+  ASSERT_EQ(model.varianceScale.size(), 2);
+  EXPECT_TRUE((model.varianceScale.array() >= 1.0).all());
+  const MouthRecording test = withLevel(synthetic(250, 40));
+  // Streaming, frame by frame: the windowed batch's values (MLPG needs the whole stretch, so windows decode
+  // frame estimates).
+  for (const MouthMethod method : {MouthMethod::kInversion, MouthMethod::kMmse}) {
+    const MouthSynthesisOptions options{.method = method, .windowFrames = 3, .maxIterations = 20};
+    const Eigen::MatrixXd batch = synthesiseMouth(model, test.speech, options);
+    ASSERT_EQ(batch.rows(), 2);
+    MouthSynthesiser stream(model, options);
+    Eigen::MatrixXd streamed(batch.rows(), batch.cols());
+    Eigen::Index out = 0;
+    Eigen::VectorXd frame;
+    for (Eigen::Index t = 0; t < test.speech.numFrames(); ++t) {
+      stream.acceptFrame(test.speech.levelDb[t], test.speech.mfcc.col(t));
+      while (stream.next(frame)) streamed.col(out++) = frame;
+    }
+    stream.finish();
+    while (stream.next(frame)) streamed.col(out++) = frame;
+    ASSERT_EQ(out, batch.cols());
+    EXPECT_LT((streamed - batch).cwiseAbs().maxCoeff(), 1e-12);
+  }
+  const TemporaryFile file(".json");
+  saveMouthModel(file.path(), model, kNormalisedDeltas);
+  const MouthModel loaded = loadMouthModel(file.path());
+  EXPECT_TRUE(loaded.visualDeltas);
+  EXPECT_EQ(loaded.normalisation->priorMean, model.normalisation->priorMean);
+  EXPECT_EQ(loaded.varianceScale, model.varianceScale);
+  EXPECT_EQ(synthesiseMouth(loaded, test.speech, {.method = MouthMethod::kMmse}),
+            synthesiseMouth(model, test.speech, {.method = MouthMethod::kMmse}));
+  // A model that needs levels refuses speech without them; a damaged normalisation or scale is refused naming the
+  // file.
+  EXPECT_THROW(synthesiseMouth(model, {test.speech.mfcc, {}}), Error);
+  std::ostringstream buffer;
+  buffer << std::ifstream(file.path()).rdbuf();
+  const std::string text = buffer.str();
+  for (const auto& [field, broken] : std::vector<std::pair<std::string, std::string>>{
+           {"\"level_unit_db\":", "\"level_unit_db\":-1,"},
+           {"\"variance_scale\":", "\"variance_scale\":[1.0],"},
+           {"\"visual_deltas\":", "\"visual_deltas\":false,"}}) {
+    const size_t at = text.find(field);
+    ASSERT_NE(at, std::string::npos) << field;
+    const size_t end = text[text.find_first_not_of(' ', at + field.size())] == '[' ? text.find(']', at) + 2 : text.find(',', at) + 1;
+    const TemporaryFile damaged(".json");
+    std::ofstream(damaged.path()) << text.substr(0, at) << broken << text.substr(end);
+    try {
+      loadMouthModel(damaged.path());
+      FAIL() << broken << " was accepted";
+    } catch (const Error& error) {
+      EXPECT_NE(std::string(error.what()).find(damaged.path().string()), std::string::npos) << error.what();
+    }
+  }
+}
+
+TEST(MouthModel, AGainOnTheSpeechLeavesTheMouthAsItWas) {
+  const MouthModel model = trainMouthModel(syntheticSet(6, 400, 50), kNormalisedDeltas);
+  const MouthRecording test = withLevel(synthetic(300, 60));
+  const MouthRecording quieter = withLevel(synthetic(300, 60), -20.0);
+  EXPECT_LT((synthesiseMouth(model, test.speech) - synthesiseMouth(model, quieter.speech)).cwiseAbs().maxCoeff(), 1e-9);
+}
+
+// A mouth that moves smoothly (a slow random process) and speech that hears it through noise, frame by frame:
+// the frames' own estimates jitter with the noise, as real ones do.
+MouthRecording smoothSynthetic(int frames, unsigned seed) {
+  std::mt19937 random(seed);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  MouthRecording recording;
+  recording.speech.mfcc.resize(3, frames);
+  recording.visual.resize(4, frames);
+  double s = 0.0, velocity = 0.0;
+  for (int t = 0; t < frames; ++t) {
+    velocity = 0.9 * velocity + 0.1 * normal(random);
+    s = 0.98 * s + velocity;
+    recording.speech.mfcc.col(t) << s + 0.7 * normal(random), std::abs(s) + 0.7 * normal(random), normal(random);
+    recording.visual.col(t) << s, 0.5 * s, -0.3 * s, 0.2 * s;
+    recording.visual.col(t) += 0.05 * Eigen::Vector4d(normal(random), normal(random), normal(random), normal(random));
+  }
+  return withLevel(recording);
+}
+
+TEST(MouthModel, TheTrajectoryIsSmootherAndVarianceCompensationRestoresTheSpread) {
+  std::vector<MouthRecording> training;
+  for (unsigned i = 0; i < 9; ++i) training.push_back(smoothSynthetic(500, 70 + i));
+  MouthModelOptions options = kNormalisedDeltas;
+  options.states = 6;
+  options.visualComponents = 1;  // the mouth here has one degree of freedom
+  const MouthModel model = trainMouthModel(training, options);
+  const MouthRecording test = smoothSynthetic(1500, 90);
+  const Eigen::MatrixXd truth = model.basis.transform(test.visual);
+  const auto roughness = [](const Eigen::MatrixXd& x) {
+    return (x.rightCols(x.cols() - 2) - 2.0 * x.middleCols(1, x.cols() - 2) + x.leftCols(x.cols() - 2)).squaredNorm();
+  };
+  const MouthSynthesisOptions plain{.method = MouthMethod::kMmse, .varianceCompensation = false};
+  MouthSynthesisOptions frames = plain;
+  frames.trajectory = false;
+  const Eigen::MatrixXd trajectory = synthesiseMouth(model, test.speech, plain);
+  const Eigen::MatrixXd frameByFrame = synthesiseMouth(model, test.speech, frames);
+  std::printf("[ INFO     ] roughness: truth %.1f, trajectory %.1f, frames %.1f; rho %.3f / %.3f\n", roughness(truth),
+              roughness(trajectory), roughness(frameByFrame), averageCorrelation(trajectory, truth),
+              averageCorrelation(frameByFrame, truth));
+  EXPECT_LT(roughness(trajectory), 0.9 * roughness(frameByFrame));
+  EXPECT_GT(averageCorrelation(trajectory, truth), averageCorrelation(frameByFrame, truth) - 0.02);
+  // Compensated, each component's spread comes nearer the truth's (the estimates shrink towards the mean).
+  const Eigen::MatrixXd compensated = synthesiseMouth(model, test.speech, {.method = MouthMethod::kMmse});
+  // Standard deviations of each component (rows), over the frames.
+  const auto spreads = [](const Eigen::MatrixXd& x) {
+    const Eigen::MatrixXd centred = x.colwise() - x.rowwise().mean();
+    return Eigen::VectorXd((centred.rowwise().squaredNorm() / static_cast<double>(x.cols())).cwiseSqrt());
+  };
+  const Eigen::VectorXd target = spreads(truth), before = spreads(trajectory), after = spreads(compensated);
+  for (Eigen::Index k = 0; k < truth.rows(); ++k) {
+    std::printf("[ INFO     ] component %ld: spread %.3f -> %.3f, the truth's %.3f (factor %.2f)\n", static_cast<long>(k),
+                before[k], after[k], target[k], model.varianceScale[k]);
+    EXPECT_LE(std::abs(after[k] - target[k]), std::abs(before[k] - target[k]) + 1e-12);
   }
 }
 

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
 #include <Eigen/LU>
 #include <cmath>
 #include <cstdio>
@@ -198,6 +199,32 @@ TEST_P(InversionOnSampledData, StreamingGivesTheWindowedValuesFrameByFrame) {
 INSTANTIATE_TEST_SUITE_P(Covariances, InversionOnSampledData,
                          ::testing::Values(CovarianceType::kFull, CovarianceType::kDiagonal),
                          [](const auto& testInfo) { return testInfo.param == CovarianceType::kFull ? "full" : "diagonal"; });
+
+TEST(Inversion, TheConditionalDistributionHasTheMmseMeansAndTheComponentsSpread) {
+  const HmmModel model = audioVisualModel(CovarianceType::kFull, 23, 4);
+  std::mt19937 random(23);
+  const Eigen::MatrixXd audio = sampleHmm(model, 400, random).frames.topRows(4);
+  for (const int window : {0, 7}) {
+    const HmmInverter inverter(model, {.windowFrames = window});
+    const HmmInverter::VisualDistribution distribution = inverter.conditionalDistribution(audio);
+    EXPECT_LT((distribution.mean - inverter.mmse(audio)).cwiseAbs().maxCoeff(), 1e-9) << "window " << window;
+    ASSERT_EQ(distribution.covariance.size(), 400u);
+    for (const Eigen::MatrixXd& covariance : distribution.covariance) {
+      EXPECT_LT((covariance - covariance.transpose()).cwiseAbs().maxCoeff(), 1e-9);
+      // Never below a component's own conditional spread (0.05 on each visual dimension here, by construction
+      // of the model): the mixture adds the spread between components' means.
+      EXPECT_GT(Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(covariance).eigenvalues().minCoeff(), 0.05 - 1e-6);
+    }
+  }
+  // One Gaussian: the spread is that Gaussian's conditional covariance, Σᵛ − Σᵛᵃ(Σᵃ)⁻¹Σᵃᵛ, in every frame.
+  HmmModel single = withBlocks(test::randomModel(1, 1, 5, CovarianceType::kFull, 4), 3);
+  const Eigen::MatrixXd sigma = single.states[0].components()[0].covariance();
+  const Eigen::MatrixXd expected =
+      sigma.block(3, 3, 2, 2) - sigma.block(3, 0, 2, 3) * sigma.block(0, 0, 3, 3).inverse() * sigma.block(0, 3, 3, 2);
+  const Eigen::MatrixXd someAudio = sampleHmm(single, 5, random).frames.topRows(3);
+  for (const Eigen::MatrixXd& covariance : HmmInverter(single, {}).conditionalDistribution(someAudio).covariance)
+    EXPECT_LT((covariance - expected).cwiseAbs().maxCoeff(), 1e-9);
+}
 
 TEST(Inversion, NeedsAudioAndVisualBlocks) {
   const HmmModel unnamed = test::randomModel(2, 1, 3, CovarianceType::kFull, 1);
