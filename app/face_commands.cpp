@@ -1,5 +1,7 @@
 // The face on screen and in files: `render` (animation → PNG frames), `poses` (a contact sheet of key poses),
-// `export` (recording → MP4 with the face speaking it, plus the animation files on request).
+// `strip` (a film strip of a stretch of speech), `export` (recording → MP4 with the face speaking it, plus the
+// animation files on request).
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <csignal>
@@ -32,6 +34,7 @@
 #include "video/animation_sampling.h"
 #include "video/arkit.h"
 #include "video/mp4_writer.h"
+#include "tracking/talking_corpus.h"
 
 namespace th::app {
 namespace {
@@ -93,6 +96,66 @@ void runPoses(const PosesArguments& arguments) {
   }
   render::writePng(arguments.output, sheet);
   std::cout << "wrote " << arguments.output << ": " << poses.size() << " poses\n";
+}
+
+// ---- strip ----
+
+struct StripArguments {
+  std::string animation;
+  std::string output;
+  double fromSeconds = 0.0;
+  double seconds = 2.0;
+  int every = 2;  // animation frames between tiles
+  int columns = 10;
+  int tile = 160;
+  std::string phones;  // a TextGrid whose "phones" tier labels each tile
+  bool wholeHead = false;
+};
+
+// Film strip: every `every`-th frame of a stretch of an animation side by side, the mouth framed close (the head
+// held still), each tile labelled with its time (and its phone, given a TextGrid), so a reader sees the lips follow the
+// syllables.
+void runStrip(const StripArguments& arguments) {
+  if (lowercaseExtension(arguments.output) != ".png") throw fileError(arguments.output, "a film strip is written as .png");
+  checkOutputTarget(arguments.output);
+  const video::Animation animation = video::readAnimation(arguments.animation);
+  std::vector<tracking::LabelInterval> phones;
+  if (!arguments.phones.empty()) phones = tracking::readTextGridPhones(arguments.phones);
+  const double step = arguments.every / animation.framesPerSecond;
+  const int count = std::max(1, static_cast<int>(std::floor(arguments.seconds / step + 1e-9)));
+  if (arguments.fromSeconds + (count - 1) * step > video::durationOf(animation) + 1e-9)
+    throw fileError(arguments.animation, "ends before the strip does (" + std::to_string(video::durationOf(animation)) + " s)");
+  FaceStage stage({.width = arguments.tile, .height = arguments.tile});
+  if (!arguments.wholeHead) {
+    // The lips at the centre, the face from the nose to the chin in view.
+    Eigen::Vector3d lips = Eigen::Vector3d::Zero();
+    const std::vector<int> inner = stage.face.innerLipVertices();
+    for (int v : inner) lips += stage.face.mesh().positions.col(v);
+    stage.camera.target = (lips / static_cast<double>(inner.size())).cast<float>();
+    stage.camera.distance *= 0.3f;
+  }
+  const int rows = (count + arguments.columns - 1) / arguments.columns;
+  const int labelHeight = 22;
+  render::Image sheet(arguments.tile * std::min(count, arguments.columns), (arguments.tile + labelHeight) * rows);
+  std::fill(sheet.pixels.begin(), sheet.pixels.end(), static_cast<unsigned char>(255));
+  for (int i = 0; i < count; ++i) {
+    const double seconds = arguments.fromSeconds + i * step;
+    face::FapValues faps = video::fapValuesAt(animation, seconds);
+    if (!arguments.wholeHead) faps[48] = faps[49] = faps[50] = 0.0;  // the head held still under a close camera
+    const render::Image& tile = stage.draw(faps);
+    const int left = i % arguments.columns * arguments.tile;
+    const int top = i / arguments.columns * (arguments.tile + labelHeight);
+    for (int y = 0; y < tile.height; ++y) std::copy_n(tile.pixel(0, y), tile.width * 3, sheet.pixel(left, top + y));
+    char label[64];
+    std::snprintf(label, sizeof label, "%.2f", seconds);
+    std::string text = label;
+    for (const tracking::LabelInterval& phone : phones)
+      if (phone.startSeconds <= seconds && seconds < phone.endSeconds && phone.label != "SIL") text += " " + phone.label;
+    drawLabel(sheet, left + 4, top + arguments.tile + 3, text, 2);
+  }
+  render::writePng(arguments.output, sheet);
+  std::cout << "wrote " << arguments.output << ": " << count << " frames from " << arguments.fromSeconds << " s, every "
+            << arguments.every << " frames\n";
 }
 
 // ---- export ----
@@ -177,6 +240,19 @@ void addFaceCommands(CLI::App& app) {
   poses->add_option("-o,--output", posesArguments->output, "PNG to write")->capture_default_str();
   poses->add_option("--tile", posesArguments->tile, "Pixels per pose (square)")->check(CLI::Range(64, 2048))->capture_default_str();
   poses->callback([posesArguments] { runPoses(*posesArguments); });
+
+  auto stripArguments = std::make_shared<StripArguments>();
+  CLI::App* strip = app.add_subcommand("strip", "Animation -> a film strip PNG: every N-th frame of a stretch, the mouth close");
+  strip->add_option("animation", stripArguments->animation, "Animation file (.csv, .json or .fap)")->required();
+  strip->add_option("-o,--output", stripArguments->output, "PNG to write")->required();
+  strip->add_option("--from", stripArguments->fromSeconds, "Start (seconds)")->check(CLI::Range(0.0, 1e6))->capture_default_str();
+  strip->add_option("--seconds", stripArguments->seconds, "Length (seconds)")->check(CLI::Range(0.01, 60.0))->capture_default_str();
+  strip->add_option("--every", stripArguments->every, "Animation frames between tiles")->check(CLI::Range(1, 1000))->capture_default_str();
+  strip->add_option("--columns", stripArguments->columns, "Tiles per row")->check(CLI::Range(1, 100))->capture_default_str();
+  strip->add_option("--tile", stripArguments->tile, "Pixels per tile (square)")->check(CLI::Range(64, 1024))->capture_default_str();
+  strip->add_option("--phones", stripArguments->phones, "Praat TextGrid with a \"phones\" tier: each tile's phone under it");
+  strip->add_flag("--whole-head", stripArguments->wholeHead, "Frame the whole head, turning as animated, rather than the mouth");
+  strip->callback([stripArguments] { runStrip(*stripArguments); });
 
   auto exportArguments = std::make_shared<ExportArguments>();
   CLI::App* exporter = app.add_subcommand(

@@ -384,8 +384,11 @@ void addTrainMouthCommand(CLI::App& train) {
   mouth->add_option("-o,--output", arguments->modelOutput, "Model file to write (default models/mouth.json)");
   mouth->add_option("--tracks", corpus->tracks,
                     "Folder of the clips' tracks, made on first use (default: " + defaultMouthTrackFolder().string() + ")");
-  mouth->add_option("--states", corpus->model.states, "States N")->check(CLI::Range(1, 100))->capture_default_str();
-  mouth->add_option("--mixtures", corpus->model.mixtures, "Gaussians per state M")->check(CLI::Range(1, 20))->capture_default_str();
+  CLI::Option* states = mouth->add_option("--states", corpus->model.states, "States N (default 8; 16 with --diagonal)")
+                            ->check(CLI::Range(1, 100));
+  CLI::Option* mixtures = mouth->add_option("--mixtures", corpus->model.mixtures,
+                                            "Gaussians per state M (default 2; 3 with --diagonal)")
+                              ->check(CLI::Range(1, 20));
   mouth->add_option("--context", corpus->model.contextFrames, "MFCC context tc (frames either side)")
       ->check(CLI::Range(0, 10))
       ->capture_default_str();
@@ -413,9 +416,17 @@ void addTrainMouthCommand(CLI::App& train) {
   mouth->add_option("--beat2-context", arguments->options.contextFrames, "--beat2: MFCC context tc (default 2)")
       ->check(CLI::Range(0, 10))
       ->group("BEAT2");
-  mouth->callback([arguments, corpus, beat2] {
-    if (*beat2) runTrainMouth(*arguments);
-    else runTrainMouthCorpora(*corpus, arguments->modelOutput);
+  mouth->callback([arguments, corpus, beat2, states, mixtures] {
+    if (*beat2) {
+      runTrainMouth(*arguments);
+      return;
+    }
+    // Diagonal Gaussians each hold less: more of them (as the paper's best diagonal model, N = 19, M = 3).
+    if (corpus->model.covariance == hmm::CovarianceType::kDiagonal) {
+      if (states->count() == 0) corpus->model.states = 16;
+      if (mixtures->count() == 0) corpus->model.mixtures = 3;
+    }
+    runTrainMouthCorpora(*corpus, arguments->modelOutput);
   });
 }
 

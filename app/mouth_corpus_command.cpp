@@ -245,9 +245,26 @@ void reportPhoneClasses(const std::string& title, const Clips& clips, const std:
   for (std::size_t e = 0; e < estimators.size(); ++e) printClassRow(estimators[e]->name, estimated[e]);
 }
 
+// The truth's chin drop (FAP 3, 5th / 50th / 95th percentile) in mm on the reference face.
+std::string chinDropOf(const Clips& clips, const std::vector<int>& faps) {
+  const face::FaceAssets assets = face::loadIctFace(face::ictFaceDirectory());
+  const double millimetres = 10.0 * face::measureFapUnits(assets.points, assets.neutral.positions).mns;
+  const auto jaw = std::find(faps.begin(), faps.end(), 3) - faps.begin();
+  std::vector<double> drop;
+  for (const TalkingClip* clip : clips)
+    for (Eigen::Index t = 0; t < clip->clip.recording.numFrames(); ++t)
+      drop.push_back(std::max(0.0, clip->clip.recording.visual(jaw, t)) * millimetres);
+  std::sort(drop.begin(), drop.end());
+  const auto at = [&](double p) { return drop[static_cast<std::size_t>(p * static_cast<double>(drop.size() - 1))]; };
+  char text[80];
+  std::snprintf(text, sizeof text, "%.1f / %.1f / %.1f mm", at(0.05), at(0.5), at(0.95));
+  return text;
+}
+
 void judge(const std::string& title, const Clips& clips, const std::vector<const Estimator*>& estimators,
            const Estimator* shuffled, const std::vector<int>& faps, const tracking::MouthShapes& shapes) {
   printHeader(title, clips);
+  std::printf("  the truth's chin drop (5th / 50th / 95th percentile): %s\n", chinDropOf(clips, faps).c_str());
   for (const Estimator* estimator : estimators)
     printScores(estimator->name, tracking::scoreMouth(estimatesFor(*estimator, clips), estimator->faps, shapes, clips, faps));
   if (shuffled != nullptr && clips.size() > 1)
@@ -380,8 +397,8 @@ void reportChinDrop(const std::vector<const Estimator*>& estimators) {
   for (const Estimator* estimator : estimators) {
     const Eigen::MatrixXd faps = estimator->estimate(speech);
     const auto jaw = std::find(estimator->faps.begin(), estimator->faps.end(), 3) - estimator->faps.begin();
-    std::vector<double> drop(faps.row(jaw).data(), faps.row(jaw).data() + faps.cols());
-    for (double& value : drop) value = std::max(0.0, value) * mnsMillimetres / 1024.0;
+    std::vector<double> drop;
+    for (Eigen::Index t = 0; t < faps.cols(); ++t) drop.push_back(std::max(0.0, faps(jaw, t)) * mnsMillimetres / 1024.0);
     std::sort(drop.begin(), drop.end());
     const auto at = [&](double p) { return drop[static_cast<std::size_t>(p * static_cast<double>(drop.size() - 1))]; };
     std::printf("  %-50s %5.1f / %5.1f / %5.1f\n", estimator->name.c_str(), at(0.05), at(0.5), at(0.95));

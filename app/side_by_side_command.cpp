@@ -2,6 +2,8 @@
 // driven by the clip's sound alone (the mouth model, and the head model unless --still-head), with the clip's
 // sound: for a person to judge a model trained from video (`train --video`) against the speaker it learnt.
 #include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <iostream>
 #include <memory>
@@ -15,6 +17,7 @@
 #include "core/error.h"
 #include "core/text_files.h"
 #include "face_stage.h"
+#include "render/image.h"
 #include "interrupt.h"
 #include "text_overlay.h"
 #include "tracking/video_reader.h"
@@ -32,12 +35,61 @@ struct SideBySideArguments {
   std::string mouthModel = defaultMouthModel();
   bool stillHead = false;
   int height = 0;  // 0: the clip's (made even)
+  // A .png output: a film strip of the stretch [fromSeconds, fromSeconds + seconds), every `every`-th video frame,
+  // the clip's frame above the face's.
+  double fromSeconds = 0.0;
+  double seconds = 2.0;
+  int every = 2;
 };
+
+// The clip's frame `frame` (BGR), read through from the start.
+struct ClipFrames {
+  tracking::VideoReader& reader;
+  cv::Mat current;
+  int index = -1;
+  const cv::Mat& at(int frame) {
+    double seconds = 0.0;
+    while (index < frame && reader.read(current, seconds)) ++index;
+    return current;
+  }
+};
+
+void writeStrip(const SideBySideArguments& arguments, tracking::VideoReader& clip, const video::Animation& animation) {
+  const int height = (arguments.height > 0 ? arguments.height : 160) / 2 * 2;
+  const int width = std::max(2, static_cast<int>(static_cast<double>(clip.width()) * height / clip.height()) / 2 * 2);
+  const double fps = clip.framesPerSecond();
+  const int first = static_cast<int>(std::lround(arguments.fromSeconds * fps));
+  const int count = std::max(1, static_cast<int>(std::floor(arguments.seconds * fps / arguments.every + 1e-9)));
+  FaceStage stage({.width = width, .height = height});
+  const int labelHeight = 20;
+  render::Image sheet(width * count, 2 * height + labelHeight);
+  std::fill(sheet.pixels.begin(), sheet.pixels.end(), static_cast<unsigned char>(255));
+  ClipFrames frames{clip, cv::Mat(), -1};
+  cv::Mat scaled, rgb;
+  for (int i = 0; i < count; ++i) {
+    const int f = first + i * arguments.every;
+    const cv::Mat& frame = frames.at(f);
+    if (frame.empty() || frames.index < f) throw fileError(arguments.clip, "ends before the strip does");
+    cv::resize(frame, scaled, cv::Size(width, height), 0.0, 0.0, cv::INTER_AREA);
+    cv::cvtColor(scaled, rgb, cv::COLOR_BGR2RGB);
+    for (int y = 0; y < height; ++y) std::copy_n(rgb.ptr<std::uint8_t>(y), width * 3, sheet.pixel(i * width, y));
+    const render::Image& face = stage.draw(video::fapValuesAt(animation, f / fps));
+    for (int y = 0; y < height; ++y) std::copy_n(face.pixel(0, y), width * 3, sheet.pixel(i * width, height + y));
+    char label[32];
+    std::snprintf(label, sizeof label, "%.2f", f / fps);
+    drawLabel(sheet, i * width + 4, 2 * height + 2, label, 2);
+  }
+  render::writePng(arguments.output, sheet);
+  std::cout << "wrote " << arguments.output << ": " << count << " frames of " << arguments.clip << " from "
+            << arguments.fromSeconds << " s, every " << arguments.every << ", the clip above the face from its sound\n";
+}
 
 void runSideBySide(const SideBySideArguments& arguments) {
   InterruptGuard guard;
   const std::filesystem::path output = arguments.output;
-  if (lowercaseExtension(output) != ".mp4") throw fileError(output, "a side-by-side video is an .mp4 file");
+  const bool strip = lowercaseExtension(output) == ".png";
+  if (!strip && lowercaseExtension(output) != ".mp4")
+    throw fileError(output, "a side-by-side video is an .mp4 file (or a .png film strip)");
   checkOutputTarget(output);
   const AnimationModels models = loadAnimationModels("sidebyside", arguments.stillHead ? "none" : "trajectory",
                                                      arguments.headModel, "inversion", arguments.mouthModel);
@@ -50,6 +102,10 @@ void runSideBySide(const SideBySideArguments& arguments) {
     throw fileError(arguments.clip, error.what());
   }
 
+  if (strip) {
+    writeStrip(arguments, clip, animation);
+    return;
+  }
   // Both halves as high as the output, each as wide as the clip scaled to it.
   const int height = (arguments.height > 0 ? arguments.height : clip.height()) / 2 * 2;
   const int half = std::max(2, static_cast<int>(static_cast<double>(clip.width()) * height / clip.height()) / 2 * 2);
@@ -96,7 +152,11 @@ void addSideBySideCommand(CLI::App& app) {
   CLI::App* command = app.add_subcommand(
       "sidebyside", "Talking video -> MP4 of it beside our face driven by its sound alone (to judge a model by eye)");
   command->add_option("clip", arguments->clip, "Talking video (its sound, or the .wav of its name beside it)")->required();
-  command->add_option("-o,--output", arguments->output, "MP4 file to write")->required();
+  command->add_option("-o,--output", arguments->output, "MP4 file to write, or a .png film strip (--from, --seconds, --every)")
+      ->required();
+  command->add_option("--from", arguments->fromSeconds, ".png: where the strip starts (seconds)")->check(CLI::Range(0.0, 1e6));
+  command->add_option("--seconds", arguments->seconds, ".png: how long it lasts")->check(CLI::Range(0.01, 60.0));
+  command->add_option("--every", arguments->every, ".png: video frames between tiles")->check(CLI::Range(1, 1000));
   command->add_option("--mouth-model", arguments->mouthModel, "Mouth model file (e.g. one from train --video)")
       ->capture_default_str();
   command->add_option("--head-model", arguments->headModel, "Head model file")->capture_default_str();

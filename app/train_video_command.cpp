@@ -31,8 +31,17 @@ struct TrainVideoArguments {
   std::string compare = std::string(TALKINGHEAD_SOURCE_DIR) + "/models/mouth.json";
   // Chosen on the GRID s1 training clips alone, by tools/choose_video_mouth.sh (README: "Training from video").
   // FAPs are not standardised (trainVideoMouthModel), and the model file's options say so.
-  animation::MouthModelOptions options{.states = 6, .mixtures = 1, .covariance = hmm::CovarianceType::kFull,
-                                       .contextFrames = 2, .visualComponents = 3, .standardiseVisual = false};
+  // The speech normalised, the components' deltas generated as a trajectory and the spread compensated, as the
+  // shipped models are (`train mouth`).
+  animation::MouthModelOptions options{.states = 6,
+                                       .mixtures = 1,
+                                       .covariance = hmm::CovarianceType::kFull,
+                                       .contextFrames = 2,
+                                       .visualComponents = 3,
+                                       .standardiseVisual = false,
+                                       .normaliseSpeech = true,
+                                       .visualDeltas = true,
+                                       .varianceValidationEvery = 5};
 };
 
 void printScores(const char* label, const tracking::FapScores& scores) {
@@ -56,7 +65,7 @@ void runTrainVideo(const TrainVideoArguments& arguments) {
   const bool tracksExisted = std::filesystem::exists(tracks, error);
   try {
     ProgressBar bar(static_cast<double>(videos.size()), "track", std::cerr);
-    corpus = tracking::loadVideoCorpus(videos, face, {.trackFolder = tracks, .threads = arguments.threads},
+    corpus = tracking::loadVideoCorpus(videos, face, {.trackFolder = tracks, .threads = arguments.threads, .synchronise = true},
                                        [&](int done, int) { bar.update(done); });
     bar.finish();
   } catch (...) {
@@ -75,6 +84,10 @@ void runTrainVideo(const TrainVideoArguments& arguments) {
               corpus.clips.size(), arguments.folder.c_str(), trackedNow, corpus.clips.size() - static_cast<std::size_t>(trackedNow),
               tracks.c_str(), corpus.trackingSeconds, 100.0 * found, residual);
   for (const tracking::SkippedClip& skipped : corpus.skipped) std::printf("  left out: %s\n", skipped.reason.c_str());
+  for (const tracking::VideoClip& clip : corpus.clips)
+    if (clip.soundOffset.measured)
+      std::printf("  %s: the sound lags the picture by %.0f ms (taken out)\n", clip.video.filename().c_str(),
+                  1000.0 * clip.soundOffset.lateSeconds);
 
   // Every holdOutEvery-th clip (by name) is held out; the rest train.
   std::vector<animation::MouthRecording> train, test;
@@ -114,7 +127,7 @@ void runTrainVideo(const TrainVideoArguments& arguments) {
     std::vector<Eigen::MatrixXd> estimates, truths;
     Eigen::Index frames = 0;
     for (const auto& recording : test) {
-      estimates.push_back(animation::synthesiseMouth(model, recording.speech));
+      estimates.push_back(animation::synthesiseMouth(model, recording.speech, {.varianceCompensation = false}));
       truths.push_back(model.basis.transform(recording.visual));
       frames += recording.numFrames();
     }
