@@ -126,14 +126,7 @@ void runStrip(const StripArguments& arguments) {
   if (arguments.fromSeconds + (count - 1) * step > video::durationOf(animation) + 1e-9)
     throw fileError(arguments.animation, "ends before the strip does (" + std::to_string(video::durationOf(animation)) + " s)");
   FaceStage stage({.width = arguments.tile, .height = arguments.tile});
-  if (!arguments.wholeHead) {
-    // The lips at the centre, the face from the nose to the chin in view.
-    Eigen::Vector3d lips = Eigen::Vector3d::Zero();
-    const std::vector<int> inner = stage.face.innerLipVertices();
-    for (int v : inner) lips += stage.face.mesh().positions.col(v);
-    stage.camera.target = (lips / static_cast<double>(inner.size())).cast<float>();
-    stage.camera.distance *= 0.3f;
-  }
+  if (!arguments.wholeHead) stage.frameMouth();
   const int rows = (count + arguments.columns - 1) / arguments.columns;
   const int labelHeight = 22;
   render::Image sheet(arguments.tile * std::min(count, arguments.columns), (arguments.tile + labelHeight) * rows);

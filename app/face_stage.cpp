@@ -31,6 +31,14 @@ FaceStage::FaceStage(render::RenderOptions options)
   renderer.setEyeOpenings(face.eyeLidVertices(0), face.eyeLidVertices(1));
 }
 
+void FaceStage::frameMouth() {
+  Eigen::Vector3d lips = Eigen::Vector3d::Zero();
+  const std::vector<int> inner = face.innerLipVertices();
+  for (int v : inner) lips += face.mesh().positions.col(v);
+  camera.target = (lips / static_cast<double>(inner.size())).cast<float>();
+  camera.distance *= 0.3f;
+}
+
 const render::Image& FaceStage::draw(const face::FapValues& faps) {
   renderer.setPositions(face.deform(faps));
   renderer.setPupilScale(face.pupilScale(faps));

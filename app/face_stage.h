@@ -34,6 +34,7 @@ struct FaceStage {
 
   explicit FaceStage(render::RenderOptions options);
   const render::Image& draw(const face::FapValues& faps);
+  void frameMouth();  // the camera close on the lips (film strips): the face from the nose to the chin
 };
 
 }  // namespace th::app

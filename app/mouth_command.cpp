@@ -403,6 +403,9 @@ void addTrainMouthCommand(CLI::App& train) {
       },
       "Diagonal covariance (default full)");
   mouth->add_option("--stage2", corpus->stageTwo, "Re-train the audio side on speech-only voices (stage 2)")->capture_default_str();
+  mouth->add_option("--corpus", corpus->corpora,
+                    "A folder of talking clips to train on, FOLDER or FOLDER=SPEAKER (repeatable; default: the shared "
+                    "GRID s1 and StyleTalk folders)");
   mouth->add_flag("--beat2", *beat2, "The paper's model: BEAT2's FLAME fits (the first --train-fraction of the take)")->group("BEAT2");
   mouth->add_option("--train-fraction", arguments->trainingFraction, "--beat2: the first this fraction of the take trains")
       ->check(CLI::Range(0.1, 0.95))

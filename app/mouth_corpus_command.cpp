@@ -311,8 +311,15 @@ void judgeLanguages(const std::filesystem::path& folder, const std::vector<const
               "  %-8s", folder.c_str(), "");
   for (const Estimator* e : estimators) std::printf(" %24.24s", e->name.c_str());
   std::printf("\n");
+  // Means over the languages other than English (en is there to compare with), and per estimator the languages
+  // where its correlation beats the sound's level (the estimator so named, if judged).
   std::vector<std::pair<double, double>> sums(estimators.size(), {0.0, 0.0});
+  std::vector<int> beatsLevel(estimators.size(), 0);
+  const auto level = std::find_if(estimators.begin(), estimators.end(),
+                                  [](const Estimator* e) { return e->name.rfind("baseline: the sound's level", 0) == 0; });
+  const double others = static_cast<double>(byLanguage.size() - byLanguage.count("en"));
   for (const auto& [language, files] : byLanguage) {
+    std::vector<double> rhos;
     std::printf("  %-8s", language.c_str());
     for (std::size_t e = 0; e < estimators.size(); ++e) {
       std::vector<double> opening, target;
@@ -362,15 +369,26 @@ void judgeLanguages(const std::filesystem::path& folder, const std::vector<const
       const tracking::CurveScore score = tracking::scoreCurve(o, g);
       const double spread = std::sqrt((o.array() - o.mean()).square().mean());
       const double gap = (open / std::max(openCount, 1) - closed / std::max(closedCount, 1)) / std::max(spread, 1e-12);
-      sums[e].first += score.rho / static_cast<double>(byLanguage.size());
-      sums[e].second += gap / static_cast<double>(byLanguage.size());
+      rhos.push_back(score.rho);
+      if (language != "en") {
+        sums[e].first += score.rho / others;
+        sums[e].second += gap / others;
+      }
       std::printf("       ρ %6.3f  gap %5.2f", score.rho, gap);
     }
     std::printf("\n");
+    if (language != "en" && level != estimators.end())
+      for (std::size_t e = 0; e < estimators.size(); ++e)
+        beatsLevel[e] += rhos[e] > rhos[static_cast<std::size_t>(level - estimators.begin())] ? 1 : 0;
   }
   std::printf("  %-8s", "mean");
   for (const auto& [rho, gap] : sums) std::printf("       ρ %6.3f  gap %5.2f", rho, gap);
-  std::printf("\n");
+  std::printf("   (the %.0f languages other than English)\n", others);
+  if (level != estimators.end()) {
+    std::printf("  %-8s", "> level");
+    for (const int wins : beatsLevel) std::printf(" %15d of %.0f    ", wins, others);
+    std::printf("   (languages where ρ beats the sound's level)\n");
+  }
 }
 
 // The multilingual folder: made by the tool on first use.
@@ -420,6 +438,9 @@ void runEvalMouthCorpora(const MouthCorpusArguments& arguments) {
   const tracking::MouthShapes shapes(face);
 
   std::printf("Mouth from audio, the recipe: %s\n", describeRecipe(arguments).c_str());
+  if (!arguments.compare.empty())
+    std::printf("Model files given with --compare are judged as they are: on clips they were trained on (the shipped "
+                "models/mouth.json on StyleTalk's speakers) they are not held out.\n");
   std::printf("\nSound against picture, per clip of 10 s or more (the offset is taken out before training and "
               "scoring):\n");
   for (const TalkingClip& clip : corpus.clips)
@@ -433,7 +454,7 @@ void runEvalMouthCorpora(const MouthCorpusArguments& arguments) {
     const int jawRow = static_cast<int>(std::find(corpus.faps.begin(), corpus.faps.end(), 3) - corpus.faps.begin());
     for (const TalkingClip& clip : corpus.clips)
       if (clip.speaker == "grid-s1")
-        leads.push_back(-1000.0 * tracking::estimateSoundOffset(clip.clip.recording.speech.levelDb,
+        leads.push_back(1000.0 * tracking::estimateSoundOffset(clip.clip.recording.speech.levelDb,
                                                                 clip.clip.recording.visual.row(jawRow), clip.clip.lipShape.row(0),
                                                                 animation::kMouthFramesPerSecond,
                                                                 {.naturalLeadSeconds = 0.0, .minSeconds = 0.0})
@@ -521,8 +542,14 @@ void runTrainMouthCorpora(const MouthCorpusArguments& arguments, const std::stri
   const std::filesystem::path path = output;
   if (path.extension() != ".json") throw fileError(path, "a model is written as JSON: give a .json name");
   checkOutputTarget(path);
+  std::vector<tracking::TalkingFolder> folders;
+  for (const std::string& corpus : arguments.corpora) {
+    const std::size_t equals = corpus.find('=');
+    folders.push_back({corpus.substr(0, equals), equals == std::string::npos ? std::string() : corpus.substr(equals + 1)});
+  }
+  if (folders.empty()) folders = tracking::sharedTalkingFolders();
   const face::FaceModel face = face::FaceModel::build(face::loadIctFace(face::ictFaceDirectory()));
-  const tracking::TalkingCorpus corpus = loadCorpus(tracking::sharedTalkingFolders(), arguments.tracks, face);
+  const tracking::TalkingCorpus corpus = loadCorpus(folders, arguments.tracks, face);
   Clips gridTrain, gridTest;
   std::map<std::string, Clips> otherSpeakers;
   splitGrid(corpus, gridTrain, gridTest, otherSpeakers);
@@ -534,9 +561,9 @@ void runTrainMouthCorpora(const MouthCorpusArguments& arguments, const std::stri
   animation::saveMouthModel(path, model, arguments.model);
   double seconds = 0.0;
   for (const TalkingClip* clip : training) seconds += clip->clip.recording.numFrames() / animation::kMouthFramesPerSecond;
-  std::fprintf(stderr, "mouth model: %s; trained on %zu clips (%.0f s of talking video: GRID s1 but every fifth clip, "
-               "kept for `eval mouth`, and StyleTalk)%s; wrote %s\n",
+  std::fprintf(stderr, "mouth model: %s; trained on %zu clips (%.0f s of talking video%s)%s; wrote %s\n",
                describeRecipe(arguments).c_str(), training.size(), seconds,
+               gridTest.empty() ? "" : ", GRID s1's every fifth clip kept for `eval mouth`",
                arguments.stageTwo ? (" and " + std::to_string(static_cast<int>(speechSeconds)) + " s of speech-only voices").c_str() : "",
                path.c_str());
 }

@@ -20,6 +20,7 @@
 #include "render/image.h"
 #include "interrupt.h"
 #include "text_overlay.h"
+#include "tracking/landmarks.h"
 #include "tracking/video_reader.h"
 #include "tracking/video_training.h"
 #include "video/animation_sampling.h"
@@ -36,7 +37,7 @@ struct SideBySideArguments {
   bool stillHead = false;
   int height = 0;  // 0: the clip's (made even)
   // A .png output: a film strip of the stretch [fromSeconds, fromSeconds + seconds), every `every`-th video frame,
-  // the clip's frame above the face's.
+  // the clip's mouth above the face's.
   double fromSeconds = 0.0;
   double seconds = 2.0;
   int every = 2;
@@ -54,15 +55,21 @@ struct ClipFrames {
   }
 };
 
+// Film strip: the speaker's mouth (a square round the lips, placed by the landmarks of the strip's first frame)
+// above our face's, framed as close.
 void writeStrip(const SideBySideArguments& arguments, tracking::VideoReader& clip, const video::Animation& animation) {
   const int height = (arguments.height > 0 ? arguments.height : 160) / 2 * 2;
-  const int width = std::max(2, static_cast<int>(static_cast<double>(clip.width()) * height / clip.height()) / 2 * 2);
+  const int width = height;
   const double fps = clip.framesPerSecond();
   const int first = static_cast<int>(std::lround(arguments.fromSeconds * fps));
   const int count = std::max(1, static_cast<int>(std::floor(arguments.seconds * fps / arguments.every + 1e-9)));
   FaceStage stage({.width = width, .height = height});
+  stage.frameMouth();
+  cv::Rect box;
   const int labelHeight = 20;
-  render::Image sheet(width * count, 2 * height + labelHeight);
+  const int columns = std::min(count, 10);
+  const int rowHeight = 2 * height + labelHeight;
+  render::Image sheet(width * columns, rowHeight * ((count + columns - 1) / columns));
   std::fill(sheet.pixels.begin(), sheet.pixels.end(), static_cast<unsigned char>(255));
   ClipFrames frames{clip, cv::Mat(), -1};
   cv::Mat scaled, rgb;
@@ -70,14 +77,26 @@ void writeStrip(const SideBySideArguments& arguments, tracking::VideoReader& cli
     const int f = first + i * arguments.every;
     const cv::Mat& frame = frames.at(f);
     if (frame.empty() || frames.index < f) throw fileError(arguments.clip, "ends before the strip does");
-    cv::resize(frame, scaled, cv::Size(width, height), 0.0, 0.0, cv::INTER_AREA);
+    if (i == 0) {
+      tracking::LandmarkDetector detector;
+      tracking::Landmarks points;
+      if (!detector.find(frame, points)) throw fileError(arguments.clip, "no face at the strip's start");
+      // As much of the face round the lips as the close camera shows of ours: from the nose to the chin.
+      const Eigen::Vector2d lips = points.middleCols(48, 20).rowwise().mean();
+      const double side = 1.25 * (points.col(8) - points.col(33)).norm();
+      box = cv::Rect(static_cast<int>(lips.x() - side / 2), static_cast<int>(lips.y() - side / 2), static_cast<int>(side),
+                     static_cast<int>(side)) &
+            cv::Rect(0, 0, frame.cols, frame.rows);
+    }
+    cv::resize(frame(box), scaled, cv::Size(width, height), 0.0, 0.0, cv::INTER_AREA);
     cv::cvtColor(scaled, rgb, cv::COLOR_BGR2RGB);
-    for (int y = 0; y < height; ++y) std::copy_n(rgb.ptr<std::uint8_t>(y), width * 3, sheet.pixel(i * width, y));
+    const int left = i % columns * width, top = i / columns * rowHeight;
+    for (int y = 0; y < height; ++y) std::copy_n(rgb.ptr<std::uint8_t>(y), width * 3, sheet.pixel(left, top + y));
     const render::Image& face = stage.draw(video::fapValuesAt(animation, f / fps));
-    for (int y = 0; y < height; ++y) std::copy_n(face.pixel(0, y), width * 3, sheet.pixel(i * width, height + y));
+    for (int y = 0; y < height; ++y) std::copy_n(face.pixel(0, y), width * 3, sheet.pixel(left, top + height + y));
     char label[32];
     std::snprintf(label, sizeof label, "%.2f", f / fps);
-    drawLabel(sheet, i * width + 4, 2 * height + 2, label, 2);
+    drawLabel(sheet, left + 4, top + 2 * height + 2, label, 2);
   }
   render::writePng(arguments.output, sheet);
   std::cout << "wrote " << arguments.output << ": " << count << " frames of " << arguments.clip << " from "

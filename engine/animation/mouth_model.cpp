@@ -109,8 +109,7 @@ MouthModel trainMouthModel(const std::vector<MouthRecording>& parts, const Mouth
   // Global variance compensation: the spread a model's estimates lose on sequences it did not see.
   std::vector<MouthRecording> fit, validation;
   for (std::size_t i = 0; i < parts.size(); ++i) ((i + 1) % static_cast<std::size_t>(every) == 0 ? validation : fit).push_back(parts[i]);
-  if (fit.empty() || validation.empty())
-    throw Error("mouth model: variance compensation needs at least " + std::to_string(every) + " training sequences");
+  if (fit.empty() || validation.empty()) return trainOnParts(parts, speechOnly, options);  // too few to measure it
   const MouthModel first = trainOnParts(fit, speechOnly, options);
   const Eigen::Index k = first.basis.components();
   Eigen::Index frames = 0;

@@ -50,7 +50,7 @@ struct MouthModelOptions {
   // Global variance compensation (Toda & Tokuda 2007): every N-th training sequence is held out of a first
   // model, that model's estimates (MMSE) on them are compared with the truth, and the final model scales each
   // component by the ratio of the spreads, or less where the estimate correlates too weakly for the full ratio
-  // to beat the mean (a factor of at most 2ρ · ratio; never below 1). 0: no compensation.
+  // to beat the mean (a factor of at most 2ρ · ratio; never below 1). 0, or fewer than N sequences: none.
   int varianceValidationEvery = 0;
   // Stage 2 (the paper's): with speech-only recordings given to trainMouthModel, the audio side (means and
   // covariances, π, A and weights kept) is re-estimated on them and the training speech together, this many

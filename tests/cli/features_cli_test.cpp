@@ -243,20 +243,20 @@ TEST_F(FeaturesCliTest, TrainHeadThenEvaluateItBesideItsBaselines) {
 }
 
 TEST_F(FeaturesCliTest, EvalMouthReportsThePapersMeasuresAndTheSweepWritesPlots) {
-  CliResult result = runCli({"eval", "mouth"}, logs());
+  CliResult result = runCli({"eval", "mouth", "--beat2"}, logs());
   ASSERT_EQ(result.exitCode, 0) << result.err;
   for (const std::string expected : {"held-out part", "inversion, random start (paper)", "MMSE estimate",
                                      "baseline: mean prediction", "another segment", "ρ = 0.75"}) {
     EXPECT_NE(result.out.find(expected), std::string::npos) << expected;
   }
   const fs::path model = out() / "mouth.json";
-  result = runCli({"train", "mouth", "--states", "3", "--mixtures", "1", "-o", model.string()}, logs());
+  result = runCli({"train", "mouth", "--beat2", "--beat2-states", "3", "--beat2-mixtures", "1", "-o", model.string()}, logs());
   ASSERT_EQ(result.exitCode, 0) << result.err;
-  result = runCli({"eval", "mouth", "--model", model.string()}, logs());
+  result = runCli({"eval", "mouth", "--beat2", "--model", model.string()}, logs());
   ASSERT_EQ(result.exitCode, 0) << result.err;
   EXPECT_NE(result.out.find("held-out part"), std::string::npos) << result.out;
   const fs::path folder = out() / "sweep";
-  result = runCli({"eval", "mouth", "--sweep", "--states", "3,4", "--mixtures", "1", "--contexts", "2",
+  result = runCli({"eval", "mouth", "--beat2", "--sweep", "--states", "3,4", "--mixtures", "1", "--contexts", "2",
                    "--iterations", "5", "--output", folder.string()},
                   logs());
   ASSERT_EQ(result.exitCode, 0) << result.err;
@@ -267,7 +267,7 @@ TEST_F(FeaturesCliTest, EvalMouthReportsThePapersMeasuresAndTheSweepWritesPlots)
     ASSERT_GT(bytes.size(), 1000u) << png;
     EXPECT_EQ(bytes.substr(1, 3), "PNG") << png;
   }
-  expectOneLineFailure(runCli({"eval", "mouth", "--sweep", "--states", "3,x", "--output", folder.string()}, logs()),
+  expectOneLineFailure(runCli({"eval", "mouth", "--beat2", "--sweep", "--states", "3,x", "--output", folder.string()}, logs()),
                        "--states", "not a positive integer");
 }
 

@@ -1,6 +1,8 @@
 // Training from video as a user meets it: `train --video DIR` tracks the clips (keeping the tracks), trains a
 // mouth model, reports it on held-out clips, and writes a model that animate, live and sidebyside load;
-// `sidebyside` writes the clip beside our face; `record` says clearly when there is no camera or microphone.
+// `sidebyside` writes the clip beside our face (or a film strip of both mouths); `train mouth` makes the shipped
+// kind of model from a folder and `strip` draws a stretch of its animation; `record` says clearly when there is
+// no camera or microphone.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -9,6 +11,7 @@
 #include "audio/media_audio.h"
 #include "cli_runner.h"
 #include "core/data_path.h"
+#include "render/image.h"
 #include "tracking/video_reader.h"
 #include "tracking/video_training.h"
 #include "tracking_test_support.h"
@@ -82,6 +85,45 @@ TEST_F(VideoTrainingCliTest, TrainsAModelThatTheOtherCommandsPlay) {
   EXPECT_EQ(reader.height(), 288);
   EXPECT_NEAR(reader.framesPerSecond(), 25.0, 1e-6);
   EXPECT_NEAR(th::audio::readMediaAudio(video).durationSeconds(), 3.0, 0.1);
+}
+
+TEST_F(VideoTrainingCliTest, TrainMouthOnAFolderThenFilmStripsOfItsMouth) {
+  // `train mouth` as the shipped models are made, on a folder of one's own (the shipped ones: the shared corpora).
+  const fs::path clips = clipFolder();
+  const fs::path model = out() / "mouth.json";
+  CliResult result = runCli({"train", "mouth", "--corpus", clips.string() + "=me", "--tracks", (folder_.path() / "tracks").string(),
+                             "--states", "3", "--mixtures", "1", "--components", "2", "-o", model.string()},
+                            logs());
+  ASSERT_EQ(result.exitCode, 0) << result.err;
+  EXPECT_NE(result.err.find("trained on 4 clips"), std::string::npos) << result.err;
+  EXPECT_NE(result.err.find("normalised speech"), std::string::npos) << result.err;
+  // animate plays it; strip draws a stretch of it; sidebyside draws a clip's mouth above ours.
+  const fs::path csv = out() / "a.csv";
+  ASSERT_EQ(runCli({"animate", th::sharedDataPath("beat2/2_scott_0_1_1.wav").string(), "-o", csv.string(), "--mouth-model",
+                    model.string(), "--head", "none"},
+                   logs())
+                .exitCode,
+            0);
+  const fs::path strip = out() / "strip.png";
+  result = runCli({"strip", csv.string(), "-o", strip.string(), "--from", "1", "--seconds", "1", "--every", "3", "--columns",
+                   "5", "--tile", "96", "--phones", th::sharedDataPath("beat2/2_scott_0_1_1.TextGrid").string()},
+                  logs());
+  ASSERT_EQ(result.exitCode, 0) << result.err;
+  const th::render::Image sheet = th::render::readPng(strip);
+  EXPECT_EQ(sheet.width, 5 * 96) << "ten frames, five a row";
+  EXPECT_EQ(sheet.height, 2 * (96 + 22));
+  const fs::path pairs = out() / "pairs.png";
+  const fs::path clip = th::tracking::listVideos(clips).front();
+  result = runCli({"sidebyside", clip.string(), "-o", pairs.string(), "--mouth-model", model.string(), "--from", "0.5",
+                   "--seconds", "0.8", "--every", "2", "--height", "64"},
+                  logs());
+  ASSERT_EQ(result.exitCode, 0) << result.err;
+  const th::render::Image side = th::render::readPng(pairs);
+  EXPECT_EQ(side.width, 10 * 64) << "0.8 s of 25 fps, every second frame";
+  EXPECT_EQ(side.height, 2 * 64 + 20);
+  expectOneLineFailure(runCli({"strip", csv.string(), "-o", (out() / "s.png").string(), "--from", "100"}, logs()), "a.csv",
+                       "ends before the strip does");
+  expectOneLineFailure(runCli({"strip", csv.string(), "-o", (out() / "s.jpg").string()}, logs()), "s.jpg", ".png");
 }
 
 TEST_F(VideoTrainingCliTest, BadInputFailsInOneLineAndLeavesNothing) {

@@ -188,6 +188,7 @@ TEST(LiveDecoder, RefusesWhatCannotStream) {
   EXPECT_THROW(LiveDecoder(nullptr, nullptr, {}), th::Error);
   th::animation::MouthModel sweep = models().mouth;
   sweep.fapMap.reset();
+  sweep.visualFaps.clear();
   EXPECT_THROW(LiveDecoder(nullptr, &sweep, {}), th::Error);
   // One model alone: its FAPs only.
   LiveDecoder headOnly(&models().head, nullptr, {});
