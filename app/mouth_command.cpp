@@ -461,6 +461,7 @@ void addEvalMouthCommand(CLI::App& eval) {
   mouth->add_option("--recipe-trajectory", corpus->synthesis.trajectory)->group("Recipe");
   mouth->add_option("--recipe-window", corpus->synthesis.windowFrames)->group("Recipe");
   mouth->add_option("--recipe-stage2", corpus->stageTwo)->group("Recipe");
+  mouth->add_option("--recipe-other-weight", corpus->otherSpeakerWeight)->group("Recipe");
   mouth->add_option("--train-fraction", arguments->trainingFraction,
                     "The first this fraction of the BEAT2 take trains, the rest is held out")
       ->check(CLI::Range(0.1, 0.95));

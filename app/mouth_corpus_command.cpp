@@ -79,9 +79,11 @@ void splitGrid(const tracking::TalkingCorpus& corpus, Clips& train, Clips& heldO
   }
 }
 
-std::vector<animation::MouthRecording> recordingsOf(const Clips& clips) {
+std::vector<animation::MouthRecording> recordingsOf(const Clips& clips, int otherSpeakerWeight = 1) {
   std::vector<animation::MouthRecording> recordings;
-  for (const TalkingClip* clip : clips) recordings.push_back(clip->clip.recording);
+  for (const TalkingClip* clip : clips)
+    for (int copy = 0; copy < (clip->speaker == "grid-s1" ? 1 : otherSpeakerWeight); ++copy)
+      recordings.push_back(clip->clip.recording);
   return recordings;
 }
 
@@ -115,7 +117,8 @@ std::string describeRecipe(const MouthCorpusArguments& a) {
        << " visual components" << (a.model.visualDeltas ? " with deltas (MLPG)" : "")
        << (a.model.normaliseSpeech ? ", normalised speech" : ", raw MFCCs")
        << (a.model.varianceValidationEvery > 0 ? ", variance compensation" : "")
-       << (a.stageTwo ? ", stage 2 on speech-only voices" : "");
+       << (a.stageTwo ? ", stage 2 on speech-only voices" : "")
+       << (a.otherSpeakerWeight > 1 ? ", speakers other than GRID's weighing " + std::to_string(a.otherSpeakerWeight) + "x" : "");
   return text.str();
 }
 
@@ -125,7 +128,8 @@ animation::MouthModel trainRecipe(const Clips& clips, const std::vector<int>& fa
                                   const std::vector<animation::SpeechFrames>& speechOnly) {
   const auto started = std::chrono::steady_clock::now();
   animation::MouthModel model = animation::trainMouthModel(
-      recordingsOf(clips), arguments.model, arguments.stageTwo ? speechOnly : std::vector<animation::SpeechFrames>{});
+      recordingsOf(clips, arguments.otherSpeakerWeight), arguments.model,
+      arguments.stageTwo ? speechOnly : std::vector<animation::SpeechFrames>{});
   model.visualFaps = faps;
   std::fprintf(stderr, "trained on %zu clips in %.1f s (%d Baum-Welch iterations)\n", clips.size(),
                std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count(), model.iterations);

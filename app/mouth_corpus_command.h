@@ -28,6 +28,9 @@ struct MouthCorpusArguments {
                                      .varianceValidationEvery = 5};
   animation::MouthSynthesisOptions synthesis{.method = animation::MouthMethod::kMmse};
   bool stageTwo = false;  // re-train the audio side on speech-only recordings of other voices
+  // How many times each clip of a speaker other than GRID's s1 counts in training (GRID's one speaker has 16
+  // minutes, the others 18-70 s each).
+  int otherSpeakerWeight = 1;
 };
 
 std::filesystem::path defaultMouthTrackFolder();  // $XDG_CACHE_HOME/talkinghead/tracks, or ~/.cache/...

@@ -57,7 +57,7 @@ void runTrainVideo(const TrainVideoArguments& arguments) {
   if (tracks.empty()) tracks = std::filesystem::path(output).replace_extension().string() + "_tracks";
   const std::vector<std::filesystem::path> videos = tracking::listVideos(arguments.folder);
   // The comparison model is read first: a wrong path fails before the tracking.
-  const animation::MouthModel beat2 = animation::loadMouthModel(arguments.compare);
+  const animation::MouthModel compared = animation::loadMouthModel(arguments.compare);
 
   const face::FaceModel face = face::FaceModel::build(face::loadIctFace(face::ictFaceDirectory()));
   tracking::VideoCorpus corpus;
@@ -142,8 +142,8 @@ void runTrainVideo(const TrainVideoArguments& arguments) {
                 animation::averageMse(estimate, truth), animation::averageCorrelation(estimate, truth),
                 model.basis.components());
   }
-  printScores("BEAT2 mouth model (another speaker's, --compare), inversion",
-              tracking::scoreFaps(tracking::predictFaps(beat2, test), animation::mouthFapNumbers(beat2), test, corpus.faps));
+  printScores(("--compare " + std::filesystem::path(arguments.compare).filename().string() + ", inversion").c_str(),
+              tracking::scoreFaps(tracking::predictFaps(compared, test), animation::mouthFapNumbers(compared), test, corpus.faps));
   // The training clips' mean FAPs in every frame.
   Eigen::VectorXd mean = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(corpus.faps.size()));
   for (const auto& recording : train) mean += recording.visual.rowwise().sum() / trainFrames;

@@ -48,7 +48,7 @@ TEST_F(VideoTrainingCliTest, TrainsAModelThatTheOtherCommandsPlay) {
   EXPECT_NE(result.out.find("4 tracked now"), std::string::npos) << result.out;
   EXPECT_NE(result.out.find("left out: " + (clips / "zz_faceless.mp4").string() + ": no face"), std::string::npos) << result.out;
   EXPECT_NE(result.out.find("trained on 2 clips"), std::string::npos) << result.out;
-  for (const char* row : {"this model, inversion", "this model, MMSE", "BEAT2 mouth model", "baseline: the training mean",
+  for (const char* row : {"this model, inversion", "this model, MMSE", "--compare mouth.json", "baseline: the training mean",
                           "baseline: this model on the next held-out clip's audio"})
     EXPECT_NE(result.out.find(row), std::string::npos) << row << '\n' << result.out;
   // The tracks are kept beside the model and read back the next time.
