@@ -1,6 +1,6 @@
 // `talkinghead train --video DIR -o MODEL.json`: a mouth model of one's own speaker from talking videos. Every
 // clip is tracked and fitted (tracks kept for the next run), the jaw and lip FAPs become the visual part of
-// the audio-visual HMM, and the model is checked on held-out clips against baselines and the BEAT2 model
+// the audio-visual HMM, and the model is checked on held-out clips against baselines and another model
 // (engine/tracking/video_training.h).
 #include <chrono>
 #include <cstdio>

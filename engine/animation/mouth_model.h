@@ -1,15 +1,21 @@
-// Mouth from audio (the second source paper, Terissi & Gómez): a joint audio-visual HMM over [MFCC with ±tc
-// frames of context | K visual components], inverted to recover the visual part from audio alone.
+// Mouth from audio (the second source paper, Terissi & Gómez): a joint audio-visual HMM over [audio features with
+// ±tc frames of context | K visual components (and their deltas)], inverted to recover the visual part from
+// audio alone.
 //
-//   th::animation::MouthModel model = th::animation::trainMouthModel({trainingPart}, {.states = 4, .mixtures = 2});
+//   th::animation::MouthModel model = th::animation::trainMouthModel(recordings, {.states = 8, .mixtures = 2});
 //   Eigen::MatrixXd components = th::animation::synthesiseMouth(model, speech, {});   // K x T
-//   Eigen::MatrixXd visual = model.basis.reconstruct(components);                     // jaw + expressions
+//   Eigen::MatrixXd faps = th::animation::mouthFapsOf(model, components);             // jaw and lip FAPs
 //
 // The visual components are ICA after PCA (visual_basis.h) of the visual parameters, fitted on the training
-// part: [jaw opening, 100 expression coefficients] for BEAT2 (turned into FAPs by the FAP map), or the jaw and
-// lip FAPs themselves for models trained from tracked video (tracking/video_training.h; visualFaps names
-// them). The HMM is trained by Baum-Welch (maximum likelihood, as the paper) with full or diagonal covariance. Synthesis: HMM inversion (hmm/inversion.h, eq. 7/8) from the paper's random start or
-// from the audio-only conditional mean (ours), batch or windowed; or the non-iterative MMSE estimate.
+// part: the jaw and lip FAPs themselves for models trained from tracked video (the shipped ones: `talkinghead
+// train mouth`, tracking/talking_corpus.h; visualFaps names them), or BEAT2's [jaw opening, 100 expression
+// coefficients] for the paper's model (turned into FAPs by the FAP map). The audio is c1..c11 as the paper has
+// it, or normalised for any voice, microphone and level (features/speech_normaliser.h). The HMM is trained by
+// Baum-Welch (maximum likelihood, as the paper) with full or diagonal covariance. Synthesis: HMM inversion
+// (hmm/inversion.h, eq. 7/8) from the paper's random start or from the audio-only conditional mean (ours), or
+// the non-iterative MMSE estimate; batch or windowed. A model with the components' deltas generates the
+// trajectory (MLPG, mlpg.h) from the frames' Gaussians in batch; one with a variance scale restores the spread
+// that averaging over states takes away (global variance compensation, measured on held-out sequences).
 // Thread contract: models are values; synthesis is a pure function.
 #pragma once
 

@@ -1,6 +1,7 @@
 // The live pipeline's presets: which mouth model (a file in models/), inversion window and display mode trade
 // latency for accuracy. Measured by bench/latency_bench (onset → rendered mouth) and `talkinghead eval mouth
-// --model models/FILE --window W` (ε and ρ on BEAT2's held-out part); the README lists the figures.
+// --recipe-context C --recipe-window W --recipe-inversion` (on held-out GRID clips and speakers left out); the
+// README lists the figures.
 //
 // Thread contract: constants.
 #pragma once
@@ -12,7 +13,7 @@ namespace th::pipeline {
 
 struct LivePreset {
   std::string_view name;
-  std::string_view mouthModelFile;  // in models/: trained by `talkinghead train mouth --context tc`
+  std::string_view mouthModelFile;  // in models/: made by `talkinghead train mouth --context tc`
   int windowFrames;                 // inversion window: windowFrames - 1 frames of look-ahead
   bool interpolate;                 // display: smooth 60 Hz motion (+ a frame and the jitter margin)
   std::string_view summary;
