@@ -200,6 +200,32 @@ Baselines baselinesFor(const Clips& training, const std::vector<int>& faps) {
            faps}};
 }
 
+// What a set is judged with: the recipe's model with and without its variance compensation, the other model
+// files, and the baselines fitted on the model's training clips (in that order; the training mean last).
+struct Judged {
+  Estimator recipe;
+  Estimator plain;
+  Baselines baselines;
+  std::vector<const Estimator*> all;
+  Judged(const animation::MouthModel& model, const animation::MouthSynthesisOptions& synthesis, const Clips& training,
+         const std::vector<int>& faps, const std::vector<Estimator>& compared)
+      : recipe(modelEstimator("this recipe", model, synthesis)),
+        plain(modelEstimator("this recipe, no variance compensation", model, withoutCompensation(synthesis))),
+        baselines(baselinesFor(training, faps)) {
+    all = {&recipe, &plain};
+    for (const Estimator& e : compared) all.push_back(&e);
+    all.push_back(&baselines.level);
+    all.push_back(&baselines.mean);
+  }
+  Judged(const Judged&) = delete;
+  Judged& operator=(const Judged&) = delete;
+
+  static animation::MouthSynthesisOptions withoutCompensation(animation::MouthSynthesisOptions options) {
+    options.varianceCompensation = false;
+    return options;
+  }
+};
+
 // Mean lip opening and width per phone class, truth and estimates, over clips with labels.
 struct ClassShapes {
   std::map<PhoneClass, std::pair<Eigen::Vector2d, int>> sums;
@@ -489,21 +515,15 @@ void runEvalMouthCorpora(const MouthCorpusArguments& arguments) {
 
   std::vector<Estimator> compared;
   for (const auto& [name, model] : others) compared.push_back(modelEstimator(name, model, arguments.synthesis));
-  animation::MouthSynthesisOptions plain = arguments.synthesis;
-  plain.varianceCompensation = false;
 
   // The recipe trained on GRID's training clips and every StyleTalk speaker: judged on GRID's held-out clips, its
   // other speakers, BEAT2, other languages and the demo.
   Clips training = gridTrain;
   training.insert(training.end(), styleTalk.begin(), styleTalk.end());
   const animation::MouthModel model = trainRecipe(training, corpus.faps, arguments, speechOnly);
-  const Estimator recipe = modelEstimator("this recipe", model, arguments.synthesis);
-  const Estimator recipePlain = modelEstimator("this recipe, no variance compensation", model, plain);
-  const Baselines baselines = baselinesFor(training, corpus.faps);
-  std::vector<const Estimator*> all{&recipe, &recipePlain};
-  for (const Estimator& e : compared) all.push_back(&e);
-  all.push_back(&baselines.level);
-  all.push_back(&baselines.mean);
+  const Judged judged(model, arguments.synthesis, training, corpus.faps, compared);
+  const Estimator& recipe = judged.recipe;
+  const std::vector<const Estimator*>& all = judged.all;
   std::printf("\nTrained on GRID s1's training clips and all StyleTalk speakers (%zu clips); variance scale:", training.size());
   for (Eigen::Index k = 0; k < model.varianceScale.size(); ++k) std::printf(" %.2f", model.varianceScale[k]);
   std::printf("\n");
@@ -512,31 +532,23 @@ void runEvalMouthCorpora(const MouthCorpusArguments& arguments) {
   reportPhoneClasses("GRID s1, held-out clips (word alignments)", gridTest, all, shapes);
 
   // Each StyleTalk speaker left out.
-  Clips styleTalkHeldOut;
   ClassShapes styleTalkTruth;
   for (const auto& [speaker, clips] : styleTalkSpeakers) {
     Clips foldTraining = gridTrain;
     for (const TalkingClip* clip : styleTalk)
       if (clip->speaker != speaker) foldTraining.push_back(clip);
     const animation::MouthModel fold = trainRecipe(foldTraining, corpus.faps, arguments, speechOnly);
-    const Estimator foldRecipe = modelEstimator("this recipe", fold, arguments.synthesis);
-    const Estimator foldPlain = modelEstimator("this recipe, no variance compensation", fold, plain);
-    const Baselines foldBaselines = baselinesFor(foldTraining, corpus.faps);
-    std::vector<const Estimator*> foldAll{&foldRecipe, &foldPlain};
-    for (const Estimator& e : compared) foldAll.push_back(&e);
-    foldAll.push_back(&foldBaselines.level);
-    foldAll.push_back(&foldBaselines.mean);
-    judge("StyleTalk speaker left out: " + speaker, clips, foldAll, &foldRecipe, corpus.faps, shapes);
-    reportPhoneClasses("StyleTalk speaker left out: " + speaker + " (phones)", clips, foldAll, shapes);
+    const Judged foldJudged(fold, arguments.synthesis, foldTraining, corpus.faps, compared);
+    judge("StyleTalk speaker left out: " + speaker, clips, foldJudged.all, &foldJudged.recipe, corpus.faps, shapes);
+    reportPhoneClasses("StyleTalk speaker left out: " + speaker + " (phones)", clips, foldJudged.all, shapes);
     for (const TalkingClip* clip : clips)
       styleTalkTruth.add(tracking::labelClassesAt(clip->labels, clip->labelsAreWords, animation::kMouthFramesPerSecond,
                                                   clip->clip.recording.numFrames()),
                          clip->clip.lipShape);
   }
 
-  std::vector<const Estimator*> speechJudged{&recipe, &recipePlain};
-  for (const Estimator& e : compared) speechJudged.push_back(&e);
-  speechJudged.push_back(&baselines.level);
+  std::vector<const Estimator*> speechJudged = all;
+  speechJudged.pop_back();  // the training mean says nothing of speech without video
   judgeBeat2(speechJudged, animation::defineMouthFapMap(face::loadIctFace(face::ictFaceDirectory())));
   judgeLanguages(languages, speechJudged, styleTalkTruth, shapes);
   reportChinDrop(speechJudged);

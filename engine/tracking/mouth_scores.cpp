@@ -43,14 +43,8 @@ MouthScores scoreMouth(const std::vector<Eigen::MatrixXd>& estimates, const std:
                        const MouthShapes& shapes, const std::vector<const TalkingClip*>& clips,
                        const std::vector<int>& truthFaps) {
   if (estimates.size() != clips.size()) throw Error("mouth scores: one estimate per clip");
-  std::vector<std::pair<Eigen::Index, Eigen::Index>> rows;  // estimate row, truth row
   Eigen::Index jawRow = -1;
-  for (std::size_t e = 0; e < estimateFaps.size(); ++e)
-    for (std::size_t t = 0; t < truthFaps.size(); ++t)
-      if (estimateFaps[e] == truthFaps[t]) {
-        if (estimateFaps[e] == 3) jawRow = static_cast<Eigen::Index>(rows.size());
-        rows.emplace_back(static_cast<Eigen::Index>(e), static_cast<Eigen::Index>(t));
-      }
+  const std::vector<std::pair<Eigen::Index, Eigen::Index>> rows = commonFapRows(estimateFaps, truthFaps, jawRow);
   if (jawRow < 0) throw Error("mouth scores: the estimate and the truth need the jaw (FAP 3)");
   Eigen::Index frames = 0;
   for (std::size_t i = 0; i < clips.size(); ++i) frames += std::min(estimates[i].cols(), clips[i]->clip.recording.visual.cols());

@@ -289,17 +289,24 @@ animation::MouthModel trainVideoMouthModel(const std::vector<animation::MouthRec
 
 namespace th::tracking {
 
-FapScores scoreFaps(const std::vector<Eigen::MatrixXd>& estimates, const std::vector<int>& estimateFaps,
-                    const std::vector<animation::MouthRecording>& truth, const std::vector<int>& truthFaps) {
-  if (estimates.size() != truth.size()) throw Error("scoreFaps: as many estimates as clips are needed");
-  std::vector<std::pair<Eigen::Index, Eigen::Index>> rows;  // estimate row, truth row, of each FAP both hold
-  Eigen::Index jawRow = -1;
+std::vector<std::pair<Eigen::Index, Eigen::Index>> commonFapRows(const std::vector<int>& estimateFaps,
+                                                                 const std::vector<int>& truthFaps, Eigen::Index& jawPair) {
+  std::vector<std::pair<Eigen::Index, Eigen::Index>> rows;
+  jawPair = -1;
   for (std::size_t e = 0; e < estimateFaps.size(); ++e)
     for (std::size_t t = 0; t < truthFaps.size(); ++t)
       if (estimateFaps[e] == truthFaps[t]) {
-        if (estimateFaps[e] == 3) jawRow = static_cast<Eigen::Index>(rows.size());
+        if (estimateFaps[e] == 3) jawPair = static_cast<Eigen::Index>(rows.size());
         rows.emplace_back(static_cast<Eigen::Index>(e), static_cast<Eigen::Index>(t));
       }
+  return rows;
+}
+
+FapScores scoreFaps(const std::vector<Eigen::MatrixXd>& estimates, const std::vector<int>& estimateFaps,
+                    const std::vector<animation::MouthRecording>& truth, const std::vector<int>& truthFaps) {
+  if (estimates.size() != truth.size()) throw Error("scoreFaps: as many estimates as clips are needed");
+  Eigen::Index jawRow = -1;
+  const std::vector<std::pair<Eigen::Index, Eigen::Index>> rows = commonFapRows(estimateFaps, truthFaps, jawRow);
   if (rows.empty()) throw Error("scoreFaps: the estimate and the truth have no FAP in common");
   Eigen::Index frames = 0;
   for (std::size_t i = 0; i < truth.size(); ++i) frames += std::min(estimates[i].cols(), truth[i].visual.cols());
