@@ -30,6 +30,7 @@ struct AnimateArguments {
   int windowFrames = 30;
   std::string headModel = defaultHeadModel();
   std::string mouthModel = defaultMouthModel();
+  MotionControls motion;
 };
 
 const std::map<std::string, HeadVariant> kHeadVariants{
@@ -46,6 +47,7 @@ void runAnimate(const AnimateArguments& arguments) {
   options.mouth.method = kMouthMethods.count(arguments.mouthMethod) ? kMouthMethods.at(arguments.mouthMethod) : MouthMethod::kInversion;
   options.mouth.start = arguments.start == "random" ? hmm::InversionStart::kRandom : hmm::InversionStart::kConditionalMean;
   options.mouth.windowFrames = arguments.online ? arguments.windowFrames : 0;
+  applyMotionControls(arguments.motion, options);
 
   const AnimationModels models = loadAnimationModels("animate", arguments.headVariant, arguments.headModel,
                                                      arguments.mouthMethod, arguments.mouthModel);
@@ -74,7 +76,7 @@ void runAnimate(const AnimateArguments& arguments) {
 void addAnimateCommand(CLI::App& app) {
   auto arguments = std::make_shared<AnimateArguments>();
   CLI::App* animate = app.add_subcommand(
-      "animate", "Recording -> MPEG-4 FAP animation (head FAPs 48-50, jaw FAP 3, lip FAPs) as .csv, .json or .fap");
+      "animate", "Recording -> MPEG-4 FAP animation (head FAPs 48-50, jaw FAP 3, lip FAPs, blinks and gaze) as .csv, .json or .fap");
   animate->add_option("input", arguments->input, "Recording: WAV/FLAC/... or a video's audio track")->required();
   animate->add_option("-o,--output", arguments->output, "Animation file: .csv, .json or .fap (MPEG-4 FAP stream)")
       ->required();
@@ -99,6 +101,7 @@ void addAnimateCommand(CLI::App& app) {
       ->check(CLI::Range(1, 3000))
       ->capture_default_str();
   addModelFileOptions(*animate, arguments->headModel, arguments->mouthModel);
+  addMotionControls(*animate, arguments->motion);
   animate->callback([arguments] { runAnimate(*arguments); });
 }
 

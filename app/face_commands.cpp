@@ -28,6 +28,7 @@
 #include "render/gl_context.h"
 #include "render/image.h"
 #include "render/video_export.h"
+#include "animation_models.h"
 #include "face_stage.h"
 #include "text_overlay.h"
 #include "video/animation_file.h"
@@ -46,12 +47,21 @@ struct RenderArguments {
   std::string output;
   std::string size = "640x480";
   double fps = 0.0;  // 0: the animation's
+  MotionControls motion;
 };
+
+// A file made elsewhere (or with --no-idle) may lack blinks and gaze: they are added unless it has its own
+// eyelids. With no sound to hear, the head stays as the file has it.
+void addIdleIfMissing(video::Animation& animation, const MotionControls& motion) {
+  if (animation.columnOf(19) >= 0 || animation.columnOf(20) >= 0) return;
+  animation::addIdleMotion(animation, Eigen::RowVectorXd(), idleOptionsOf(motion), {});
+}
 
 void runRender(const RenderArguments& arguments) {
   InterruptGuard guard;
   const auto [width, height] = parseSize(arguments.size);
-  const video::Animation animation = video::readAnimation(arguments.animation);
+  video::Animation animation = video::readAnimation(arguments.animation);
+  if (arguments.motion.idle) addIdleIfMissing(animation, arguments.motion);
   const std::filesystem::path folder = arguments.output;
   std::error_code error;
   std::filesystem::create_directories(folder, error);
@@ -161,8 +171,9 @@ struct ExportArguments {
   std::string animation;              // --anim: play this instead of the models' animation
   std::vector<std::string> saveAnimation;  // --save-anim: .fap / .csv / .json beside the video
   std::string arkit;                  // --arkit: ARKit blendshape weights CSV
-  std::string headModel = std::string(TALKINGHEAD_SOURCE_DIR) + "/models/head.json";
-  std::string mouthModel = std::string(TALKINGHEAD_SOURCE_DIR) + "/models/mouth.json";
+  std::string headModel = defaultHeadModel();
+  std::string mouthModel = defaultMouthModel();
+  MotionControls motion;
   int crf = 20;
   std::string preset = "veryfast";
 };
@@ -188,11 +199,14 @@ void runExport(const ExportArguments& arguments) {
   video::Animation animation;
   if (!arguments.animation.empty()) {
     animation = video::readAnimation(arguments.animation);
+    if (arguments.motion.idle) addIdleIfMissing(animation, arguments.motion);
   } else {
     const animation::HeadModel head = animation::loadHeadModel(arguments.headModel);
     const animation::MouthModel mouth = animation::loadMouthModel(arguments.mouthModel);
+    animation::AnimateOptions options;
+    applyMotionControls(arguments.motion, options);
     try {
-      animation = animation::animate(clip.samples, &head, &mouth, {});
+      animation = animation::animate(clip.samples, &head, &mouth, options);
     } catch (const Error& error) {
       throw fileError(arguments.input, error.what());
     }
@@ -226,6 +240,7 @@ void addFaceCommands(CLI::App& app) {
   render->add_option("--size", renderArguments->size, "WIDTHxHEIGHT")->capture_default_str();
   render->add_option("--fps", renderArguments->fps, "Frames per second (default: the animation's)")
       ->check(CLI::Range(1.0, 240.0));
+  addIdleControls(*render, renderArguments->motion);
   render->callback([renderArguments] { runRender(*renderArguments); });
 
   auto posesArguments = std::make_shared<PosesArguments>();
@@ -258,8 +273,8 @@ void addFaceCommands(CLI::App& app) {
   exporter->add_option("--save-anim", exportArguments->saveAnimation,
                        "Also write the animation (.fap MPEG-4 FAP stream, .csv or .json); repeatable");
   exporter->add_option("--arkit", exportArguments->arkit, "Also write ARKit blendshape weights (CSV: time_s + 52 names)");
-  exporter->add_option("--head-model", exportArguments->headModel, "Head model file")->capture_default_str();
-  exporter->add_option("--mouth-model", exportArguments->mouthModel, "Mouth model file")->capture_default_str();
+  addModelFileOptions(*exporter, exportArguments->headModel, exportArguments->mouthModel);
+  addMotionControls(*exporter, exportArguments->motion);
   exporter->add_option("--crf", exportArguments->crf, "H.264 quality (lower is better and larger)")->check(CLI::Range(0, 51))->capture_default_str();
   exporter->add_option("--preset", exportArguments->preset, "x264 preset (ultrafast ... veryslow)")->capture_default_str();
   exporter->callback([exportArguments] { runExport(*exportArguments); });

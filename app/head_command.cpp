@@ -1,15 +1,19 @@
-// `talkinghead train head` and `talkinghead eval head`: the prosody → head-motion model on BEAT2, trained on
-// the first part of the take and evaluated on both parts beside baselines that show whether the voice matters.
+// `talkinghead train head` and `talkinghead eval head`: the prosody → head-motion model trained on several
+// speakers (BEAT2's training part and StyleTalk's clips), and judged leave-one-speaker-out beside baselines that
+// show whether the voice matters, by the paper's error and by what a viewer sees (speed, spread, stillness in
+// pauses, the distribution of the motion).
 #include <chrono>
 #include <cstdio>
 #include <iostream>
+#include <map>
 #include <memory>
+#include <set>
 #include <string>
+#include <vector>
 
 #include "animation/head_data.h"
 #include "animation/head_evaluation.h"
 #include "animation/head_model.h"
-#include "animation/time_split.h"
 #include "commands.h"
 #include "core/atomic_file.h"
 #include "hmm/entropic_training.h"
@@ -17,127 +21,312 @@
 namespace th::app {
 namespace {
 
+using animation::HeadModel;
+using animation::HeadRecording;
+using animation::HeadSynthesisOptions;
 using animation::HeadVariant;
 
 struct HeadArguments {
-  std::string model;       // eval: a trained model to evaluate instead of training one
+  std::string model;       // eval: judge this model file too (trained on what it was trained on)
+  std::string compare;     // eval: another model file to judge beside (e.g. an older default)
   std::string output;      // train: where to write it
   double trainingFraction = 0.75;
   int lagFrames = 6;
+  bool beat2Only = false;  // train: the single-speaker model of the paper's setting
   animation::HeadModelOptions options;
 };
 
 void addModelOptions(CLI::App* command, HeadArguments& arguments) {
   command->add_option("--train-fraction", arguments.trainingFraction,
                       "The first this fraction of the BEAT2 take trains, the rest is held out")
-      ->check(CLI::Range(0.1, 0.95));
+      ->check(CLI::Range(0.1, 0.95))
+      ->capture_default_str();
   command->add_option("--start-states", arguments.options.startStates, "Fully connected states to start from")
-      ->check(CLI::Range(2, 100));
+      ->check(CLI::Range(2, 100))
+      ->capture_default_str();
   command->add_option("--entropic", arguments.options.entropicWeightPerFrame,
                       "Entropic prior weight per training frame (Z = this x frames)")
-      ->check(CLI::Range(0.0, 10.0));
-  command->add_option("--seed", arguments.options.seed, "Seed of the k-means++ start");
+      ->check(CLI::Range(0.0, 10.0))
+      ->capture_default_str();
+  command->add_option("--seed", arguments.options.seed, "Seed of the k-means++ start")->capture_default_str();
+  command->add_flag("--no-speaker-normalisation", [&arguments](std::int64_t) { arguments.options.normaliseSpeakers = false; },
+                    "Keep each speaker's motion in degrees instead of in units of its own spread");
 }
 
-struct TrainedHead {
-  animation::HeadModel model;
-  double seconds = 0.0;
+// Every recording with head pose: BEAT2's take split by time (its held-out part is never trained on) and
+// StyleTalk's clips.
+struct HeadCorpus {
+  HeadRecording beat2Train;
+  HeadRecording beat2Test;
+  std::vector<HeadRecording> styleTalk;
 };
 
-TrainedHead trainOnBeat2(const animation::HeadRecording& train, const animation::HeadModelOptions& options) {
+HeadCorpus loadHeadCorpus(double trainingFraction) {
+  HeadCorpus corpus;
+  std::tie(corpus.beat2Train, corpus.beat2Test) = animation::splitByTime(animation::loadBeat2Head(), trainingFraction);
+  corpus.styleTalk = animation::loadStyleTalkHeads();
+  return corpus;
+}
+
+// The training recordings without `heldOut` ("" keeps every speaker).
+std::vector<HeadRecording> trainingSet(const HeadCorpus& corpus, const std::string& heldOut) {
+  std::vector<HeadRecording> parts;
+  if (heldOut != corpus.beat2Train.speaker) parts.push_back(corpus.beat2Train);
+  for (const auto& clip : corpus.styleTalk)
+    if (clip.speaker != heldOut) parts.push_back(clip);
+  return parts;
+}
+
+HeadModel train(const std::vector<HeadRecording>& parts, const animation::HeadModelOptions& options, double* seconds) {
   const auto start = std::chrono::steady_clock::now();
-  TrainedHead trained{animation::trainHeadModel({train}, options), 0.0};
-  trained.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  return trained;
+  HeadModel model = animation::trainHeadModel(parts, options);
+  if (seconds) *seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return model;
 }
 
 void runTrain(const HeadArguments& arguments) {
   checkOutputTarget(arguments.output);
-  const auto [train, test] = animation::splitByTime(animation::loadBeat2Head(), arguments.trainingFraction);
-  const TrainedHead trained = trainOnBeat2(train, arguments.options);
-  animation::saveHeadModel(arguments.output, trained.model, arguments.options);
-  std::cerr << "head model: " << trained.model.hmm.numStates() << " states (from " << arguments.options.startStates
-            << "), " << hmm::countTransitions(trained.model.hmm) << " transitions, trained on " << train.numFrames()
-            << " frames in " << trained.seconds << " s; wrote " << arguments.output << '\n';
+  const HeadCorpus corpus = loadHeadCorpus(arguments.trainingFraction);
+  const std::vector<HeadRecording> parts =
+      arguments.beat2Only ? std::vector<HeadRecording>{corpus.beat2Train} : trainingSet(corpus, "");
+  int frames = 0;
+  for (const auto& part : parts) frames += part.numFrames();
+  double seconds = 0.0;
+  const HeadModel model = train(parts, arguments.options, &seconds);
+  animation::saveHeadModel(arguments.output, model, arguments.options);
+  std::cerr << "head model: " << model.hmm.numStates() << " states (from " << arguments.options.startStates << "), "
+            << hmm::countTransitions(model.hmm) << " transitions, trained on " << frames << " frames of "
+            << model.speakers.size() << " speakers in " << seconds << " s; wrote " << arguments.output << '\n';
 }
 
-void printRow(const std::string& name, const animation::HeadMetrics& m) {
-  std::printf("  %-56s %6.3f   %5.2f %5.2f %5.2f   %4.1f %4.1f %4.1f   %5.2f %5.2f %5.2f   %5.1f\n", name.c_str(),
-              m.error, m.correlation[0], m.correlation[1], m.correlation[2], m.poseStd[0], m.poseStd[1], m.poseStd[2],
-              m.velocityStd[0], m.velocityStd[1], m.velocityStd[2], 100.0 * m.jumpRate);
+// ---- eval ----
+
+// One held-out clip: its truth (about its own mean pose), its pauses, and what the estimators make of it.
+struct JudgedClip {
+  const HeadRecording* clip = nullptr;
+  Eigen::MatrixXd truth;
+  Eigen::RowVectorXd pauses;
+};
+
+// The measures of one estimator over a speaker's clips (means weighted by frames; the distribution distance
+// over all the clips' windows).
+struct Row {
+  std::string name;
+  double error = 0.0;
+  Eigen::Vector3d correlation = Eigen::Vector3d::Zero();
+  Eigen::Vector3d stdRatio = Eigen::Vector3d::Zero();
+  double speedRatio = 0.0;
+  double pauseRatio = 0.0;
+  double jumpPercent = 0.0;
+  double frechet = 0.0;
+  bool pauses = true;  // the speech has pauses (else pauseRatio means nothing)
+};
+
+struct SpeakerTruth {
+  double speedP95 = 0.0;
+  double pauseRatio = 0.0;
+  bool pauses = false;
+  Eigen::Vector3d poseStd = Eigen::Vector3d::Zero();
+  double frames = 0.0;
+};
+
+constexpr double kFps = 30.0;
+
+SpeakerTruth truthOf(const std::vector<JudgedClip>& clips) {
+  SpeakerTruth truth;
+  for (const auto& c : clips) truth.frames += c.clip->numFrames();
+  for (const auto& c : clips) {
+    const double w = c.clip->numFrames() / truth.frames;
+    const animation::HeadMotionStatistics s = animation::motionStatistics(c.truth, c.pauses, kFps);
+    truth.speedP95 += w * s.speedP95;
+    truth.pauseRatio += w * s.pauseSpeechRatio;
+    truth.poseStd += w * s.poseStd;
+    truth.pauses = truth.pauses || c.pauses.sum() >= kFps;  // a second of pauses at least
+  }
+  return truth;
 }
 
-void evaluatePart(const std::string& title, const animation::HeadModel& model, const animation::HeadRecording& part,
-                  int lag) {
-  const Eigen::MatrixXd truth = part.rotations.colwise() - model.meanPose;
-  const double jump = animation::stepQuantile(truth, 0.99);
-  const animation::HeadMetrics reference = animation::evaluateHead(truth, truth, jump);
-  std::printf("\n%s: %d frames (%.1f s from %.1f s); jumps: steps over %.2f deg (the truth's 99th percentile)\n",
-              title.c_str(), part.numFrames(), part.numFrames() / part.framesPerSecond, part.startSeconds, jump);
-  std::printf("  %-56s %6s   %-17s   %-14s   %-17s   %5s\n", "", "E", "corr p / y / r", "std p / y / r",
-              "vel std p / y / r", "jump%");
-  std::printf("  %-56s %6s   %5s %5s %5s   %4.1f %4.1f %4.1f   %5.2f %5.2f %5.2f   %5.1f\n", "truth", "", "", "", "",
-              reference.poseStd[0], reference.poseStd[1], reference.poseStd[2], reference.velocityStd[0],
-              reference.velocityStd[1], reference.velocityStd[2], 100.0 * reference.jumpRate);
-  const struct {
-    const char* name;
-    HeadVariant variant;
-  } variants[] = {{"(a) Viterbi state means (paper)", HeadVariant::kStateMeans},
-                  {"(b) ML trajectory (ours)", HeadVariant::kTrajectory},
-                  {"(b') posterior means (ours)", HeadVariant::kPosteriorMeans}};
-  for (const auto& v : variants) {
-    printRow(v.name, animation::evaluateHead(animation::synthesiseHead(model, part.prosody, {.variant = v.variant}), truth, jump));
+// estimate(clip index) → 3 x T rotations; averaged over `repeats` calls with different seeds when random.
+template <typename Estimate>
+Row judge(const std::string& name, const std::vector<JudgedClip>& clips, const SpeakerTruth& truth, Estimate estimate) {
+  Row row;
+  row.name = name;
+  row.pauses = truth.pauses;
+  std::vector<Eigen::MatrixXd> predictions, truths;
+  for (std::size_t i = 0; i < clips.size(); ++i) {
+    const JudgedClip& c = clips[i];
+    const double w = c.clip->numFrames() / truth.frames;
+    const Eigen::MatrixXd predicted = estimate(i);
+    const animation::HeadMetrics m =
+        animation::evaluateHead(predicted, c.truth, animation::stepQuantile(c.truth, 0.99));
+    const animation::HeadMotionStatistics s = animation::motionStatistics(predicted, c.pauses, kFps);
+    row.error += w * m.error;
+    row.correlation += w * m.correlation;
+    row.stdRatio += w * s.poseStd.cwiseQuotient(truth.poseStd);
+    row.speedRatio += w * s.speedP95 / truth.speedP95;
+    row.pauseRatio += w * s.pauseSpeechRatio;
+    row.jumpPercent += w * 100.0 * m.jumpRate;
+    predictions.push_back(predicted);
+    truths.push_back(c.truth);
   }
-  for (const auto& v : variants) {
-    const animation::HeadSynthesisOptions online{.variant = v.variant, .maxLagFrames = lag};
-    printRow(std::string("(c) ") + v.name + ", online, lag " + std::to_string(animation::headLookaheadFrames(online)),
-             animation::evaluateHead(animation::synthesiseHead(model, part.prosody, online), truth, jump));
+  row.frechet = animation::frechetDistance(predictions, truths, kFps);
+  return row;
+}
+
+std::string pauseText(bool pauses, double ratio) {
+  char text[16];
+  std::snprintf(text, sizeof text, "%6.2f", ratio);
+  return pauses ? text : "     -";
+}
+
+void printHeader(const SpeakerTruth& truth) {
+  std::printf("  %-44s %6s  %-17s  %-17s  %6s  %6s  %5s  %7s\n", "", "E", "corr p / y / r", "std ratio p/y/r",
+              "p95 v", "pause", "jump%", "FD");
+  std::printf("  %-44s %6s  %-17s  %5.1f %5.1f %5.1f  %6.1f  %s  %5s  %7s\n", "truth (std deg, p95 deg/s, pause/speech)",
+              "", "", truth.poseStd[0], truth.poseStd[1], truth.poseStd[2], truth.speedP95,
+              pauseText(truth.pauses, truth.pauseRatio).c_str(), "", "");
+}
+
+void printRow(const Row& r) {
+  std::printf("  %-44s %6.3f  %5.2f %5.2f %5.2f  %5.2f %5.2f %5.2f  %6.2f  %s  %5.1f  %7.1f\n", r.name.c_str(), r.error,
+              r.correlation[0], r.correlation[1], r.correlation[2], r.stdRatio[0], r.stdRatio[1], r.stdRatio[2],
+              r.speedRatio, pauseText(r.pauses, r.pauseRatio).c_str(), r.jumpPercent, r.frechet);
+}
+
+// Whether a row meets the targets, given the truth's pause ratio.
+std::string verdict(const Row& r, const SpeakerTruth& truth) {
+  std::string missed;
+  if (r.speedRatio > 1.25) missed += " speed";
+  if (r.stdRatio.minCoeff() < 0.7 || r.stdRatio.maxCoeff() > 1.3) missed += " spread";
+  if (truth.pauses && r.pauseRatio > truth.pauseRatio + 0.15) missed += " pauses";
+  return missed.empty() ? "meets speed, spread and pauses" : "misses:" + missed;
+}
+
+// A clip of another speaker's real motion, as long as `frames` (repeated from its start when shorter).
+Eigen::MatrixXd otherMotion(const HeadRecording& other, int frames) {
+  const Eigen::MatrixXd centred = other.rotations.colwise() - other.rotations.rowwise().mean();
+  Eigen::MatrixXd out(3, frames);
+  for (int t = 0; t < frames; ++t) out.col(t) = centred.col(t % centred.cols());
+  return out;
+}
+
+void evaluateSpeaker(const HeadCorpus& corpus, const std::string& speaker, const std::vector<const HeadRecording*>& heldOut,
+                     const HeadArguments& arguments, const HeadModel* compare, std::map<std::string, std::vector<Row>>& all) {
+  double seconds = 0.0;
+  const std::vector<HeadRecording> parts = trainingSet(corpus, speaker);
+  const HeadModel model = train(parts, arguments.options, &seconds);
+  std::vector<JudgedClip> clips;
+  int frames = 0;
+  for (const HeadRecording* clip : heldOut) {
+    clips.push_back({clip, clip->rotations.colwise() - clip->rotations.rowwise().mean(),
+                     animation::pauseFrames(clip->levelDb)});
+    frames += clip->numFrames();
   }
+  const SpeakerTruth truth = truthOf(clips);
+  std::set<std::string> trainedOn(model.speakers.begin(), model.speakers.end());
+  std::printf("\n%s left out: %d frames (%.1f s) in %zu clip(s); the recipe trained on", speaker.c_str(), frames,
+              frames / kFps, heldOut.size());
+  for (const auto& s : trainedOn) std::printf(" %s", s.c_str());
+  std::printf(" (%d states, %.1f s)\n", model.hmm.numStates(), seconds);
+  printHeader(truth);
+
+  std::vector<Row> rows;
+  const auto synthesise = [&](const HeadModel& m, const HeadSynthesisOptions& options) {
+    return [&, options](std::size_t i) {
+      return animation::synthesiseHead(m, clips[i].clip->prosody, clips[i].clip->voiced, options);
+    };
+  };
+  rows.push_back(judge("trajectory (the default)", clips, truth, synthesise(model, {})));
+  rows.push_back(judge("trajectory, online (live, lag " + std::to_string(arguments.lagFrames) + ")", clips, truth,
+                       synthesise(model, {.maxLagFrames = arguments.lagFrames})));
+  rows.push_back(judge("Viterbi state means (paper)", clips, truth, synthesise(model, {.variant = HeadVariant::kStateMeans})));
+  rows.push_back(judge("trajectory, unvoiced frames decoded too", clips, truth, synthesise(model, {.voicedOnly = false})));
+  if (compare != nullptr) {
+    rows.push_back(judge("compared model, its own settings", clips, truth, [&](std::size_t i) {
+      return animation::synthesiseHead(*compare, clips[i].clip->prosody, Eigen::RowVectorXd(),
+                                       {.voicedOnly = false});
+    }));
+  }
+  for (const auto& row : rows) printRow(row);
   std::printf("  baselines:\n");
-  printRow("constant mean pose", animation::evaluateHead(Eigen::MatrixXd::Zero(3, truth.cols()), truth, jump));
-  const Eigen::MatrixXd other = animation::anotherSegment(part.prosody);
-  printRow("(a) with prosody from another segment",
-           animation::evaluateHead(animation::synthesiseHead(model, other, {.variant = HeadVariant::kStateMeans}), truth, jump));
-  printRow("(b) with prosody from another segment",
-           animation::evaluateHead(animation::synthesiseHead(model, other, {.variant = HeadVariant::kTrajectory}), truth, jump));
-  // One walk can land near the truth's mean offsets by luck: the average over kWalks seeds.
-  constexpr int kWalks = 20;
-  animation::HeadMetrics walks = animation::evaluateHead(Eigen::MatrixXd::Zero(3, truth.cols()), truth, jump);
-  walks.error = 0.0;
-  walks.correlation.setZero();
-  walks.jumpRate = 0.0;
+  std::vector<Row> baselines;
+  baselines.push_back(judge("the mean pose", clips, truth, [&](std::size_t i) {
+    return Eigen::MatrixXd::Zero(3, clips[i].clip->numFrames()).eval();
+  }));
+  // Another speaker's real motion: the longest training clip of a speaker other than this one.
+  const HeadRecording* other = nullptr;
+  for (const auto& part : parts)
+    if (other == nullptr || part.numFrames() > other->numFrames()) other = &part;
+  baselines.push_back(judge("another clip's real motion (" + other->name + ")", clips, truth,
+                            [&](std::size_t i) { return otherMotion(*other, clips[i].clip->numFrames()); }));
+  // A random walk with the training speakers' statistics (their mean pose std and step std), mean of 10 seeds.
+  Eigen::Vector3d poseStd = Eigen::Vector3d::Zero(), stepStd = Eigen::Vector3d::Zero();
+  for (const auto& part : parts) {
+    const animation::HeadMetrics self = animation::evaluateHead(part.rotations, part.rotations, 1e9);
+    poseStd += self.truthPoseStd / static_cast<double>(parts.size());
+    stepStd += self.truthVelocityStd / static_cast<double>(parts.size());
+  }
+  constexpr unsigned kWalks = 10;
+  Row walks;
+  walks.pauses = truth.pauses;
   for (unsigned seed = 1; seed <= kWalks; ++seed) {
-    const animation::HeadMetrics walk = animation::evaluateHead(animation::randomWalkHead(model, part.numFrames(), seed), truth, jump);
+    const Row walk = judge("", clips, truth, [&](std::size_t i) {
+      return animation::matchedRandomWalk(poseStd, stepStd, clips[i].clip->numFrames(), seed * 100 + static_cast<unsigned>(i));
+    });
     walks.error += walk.error / kWalks;
     walks.correlation += walk.correlation / kWalks;
-    walks.poseStd += walk.poseStd / kWalks;
-    walks.velocityStd += walk.velocityStd / kWalks;
-    walks.jumpRate += walk.jumpRate / kWalks;
+    walks.stdRatio += walk.stdRatio / kWalks;
+    walks.speedRatio += walk.speedRatio / kWalks;
+    walks.pauseRatio += walk.pauseRatio / kWalks;
+    walks.jumpPercent += walk.jumpPercent / kWalks;
+    walks.frechet += walk.frechet / kWalks;
   }
-  printRow("random walk through the motion HMM (mean of 20)", walks);
+  walks.name = "random walk, matched statistics (mean of 10)";
+  baselines.push_back(walks);
+  for (const auto& row : baselines) printRow(row);
+  double bestBaseline = 1e300;
+  for (const auto& row : baselines) bestBaseline = std::min(bestBaseline, row.frechet);
+  std::printf("  the default %s; its FD %s every baseline's\n", verdict(rows.front(), truth).c_str(),
+              rows.front().frechet < bestBaseline ? "is below" : "is NOT below");
+  all[speaker] = rows;
+  all[speaker].insert(all[speaker].end(), baselines.begin(), baselines.end());
 }
 
 void runEval(const HeadArguments& arguments) {
-  const auto [train, test] = animation::splitByTime(animation::loadBeat2Head(), arguments.trainingFraction);
-  animation::HeadModel model;
-  if (!arguments.model.empty()) {
-    model = animation::loadHeadModel(arguments.model);
-    std::printf("head model %s: %d states, %d transitions\n", arguments.model.c_str(), model.hmm.numStates(),
-                hmm::countTransitions(model.hmm));
-  } else {
-    const TrainedHead trained = trainOnBeat2(train, arguments.options);
-    model = trained.model;
-    std::printf("head model trained on the first %d frames: %d states (from %d, Z = %.3f x frames), %d transitions, "
-                "%.1f s\n",
-                train.numFrames(), model.hmm.numStates(), arguments.options.startStates,
-                arguments.options.entropicWeightPerFrame, hmm::countTransitions(model.hmm), trained.seconds);
+  const HeadCorpus corpus = loadHeadCorpus(arguments.trainingFraction);
+  std::unique_ptr<HeadModel> compare;
+  if (!arguments.compare.empty()) compare = std::make_unique<HeadModel>(animation::loadHeadModel(arguments.compare));
+  std::printf("Head motion, leave one speaker out: for each speaker, the recipe is trained on the others and judged on "
+              "its speech (BEAT2's scott: the held-out last %.0f %% of the take).\n",
+              100.0 * (1.0 - arguments.trainingFraction));
+  std::printf("E: the paper's error; corr: per axis; std ratio: the estimate's spread over the truth's; p95 v: the "
+              "95th percentile of the angular speed over the truth's; pause: mean speed in pauses over mean speed in "
+              "speech (pause: 30 dB under the loud frames); jump%%: steps over the truth's 99th percentile; FD: Fréchet "
+              "distance of 1 s windows of pose and velocity. Poses about each clip's own mean.\n");
+  std::map<std::string, std::vector<Row>> all;
+  evaluateSpeaker(corpus, corpus.beat2Test.speaker, {&corpus.beat2Test}, arguments, compare.get(), all);
+  std::vector<std::string> speakers;
+  for (const auto& clip : corpus.styleTalk)
+    if (std::find(speakers.begin(), speakers.end(), clip.speaker) == speakers.end()) speakers.push_back(clip.speaker);
+  for (const auto& speaker : speakers) {
+    std::vector<const HeadRecording*> heldOut;
+    for (const auto& clip : corpus.styleTalk)
+      if (clip.speaker == speaker) heldOut.push_back(&clip);
+    evaluateSpeaker(corpus, speaker, heldOut, arguments, compare.get(), all);
   }
-  std::printf("E = mean of |x^ - x|^2 / (|x^|^2 + |x|^2) over frames, rotations in degrees from the training mean "
-              "pose; std in degrees, velocity std in degrees per frame (30 fps)\n");
-  evaluatePart("training part", model, train, arguments.lagFrames);
-  evaluatePart("held-out part", model, test, arguments.lagFrames);
-  std::printf("\nThe paper's own figures, on its own data (not comparable frame for frame): E = 0.2362 train, "
-              "0.2727 test.\n");
+  if (!arguments.model.empty()) {
+    const HeadModel model = animation::loadHeadModel(arguments.model);
+    std::vector<JudgedClip> clips{{&corpus.beat2Test, corpus.beat2Test.rotations.colwise() - corpus.beat2Test.rotations.rowwise().mean(),
+                                   animation::pauseFrames(corpus.beat2Test.levelDb)}};
+    const SpeakerTruth truth = truthOf(clips);
+    std::printf("\n%s on BEAT2's held-out part (trained on", arguments.model.c_str());
+    for (const auto& s : model.speakers) std::printf(" %s", s.c_str());
+    std::printf(")\n");
+    printHeader(truth);
+    printRow(judge("trajectory", clips, truth, [&](std::size_t) {
+      return animation::synthesiseHead(model, corpus.beat2Test.prosody, corpus.beat2Test.voiced, {});
+    }));
+  }
 }
 
 }  // namespace
@@ -147,9 +336,11 @@ void addTrainCommand(CLI::App& app) {
   train->require_subcommand(0, 1);  // none with --video
   auto arguments = std::make_shared<HeadArguments>();
   arguments->output = "models/head.json";
-  CLI::App* head = train->add_subcommand("head", "Prosody -> head motion HMM from BEAT2 (training part)");
+  CLI::App* head = train->add_subcommand(
+      "head", "Prosody -> head motion HMM from BEAT2's training part and StyleTalk's speakers");
   addModelOptions(head, *arguments);
-  head->add_option("-o,--output", arguments->output, "Model file to write (default models/head.json)");
+  head->add_option("-o,--output", arguments->output, "Model file to write")->capture_default_str();
+  head->add_flag("--beat2", arguments->beat2Only, "BEAT2's one speaker only (the paper's setting)");
   head->callback([arguments] { runTrain(*arguments); });
   addTrainMouthCommand(*train);
   addTrainVideoOptions(*train);
@@ -158,11 +349,14 @@ void addTrainCommand(CLI::App& app) {
 void addEvalHeadCommand(CLI::App& eval) {
   auto arguments = std::make_shared<HeadArguments>();
   CLI::App* head = eval.add_subcommand(
-      "head", "Head motion from prosody on BEAT2: the paper's error E and more, per variant, beside baselines");
+      "head", "Head motion from prosody, leave one speaker out: the paper's E, speed, spread, pauses, jumps and the "
+              "Fréchet distance beside baselines");
   addModelOptions(head, *arguments);
-  head->add_option("--model", arguments->model, "Evaluate this head model instead of training one");
-  head->add_option("--lag", arguments->lagFrames, "Decoding lag of the online variants, frames")
-      ->check(CLI::Range(0, 300));
+  head->add_option("--model", arguments->model, "Also judge this model file on BEAT2's held-out part");
+  head->add_option("--compare", arguments->compare, "Judge this model file beside the recipe (e.g. an older default)");
+  head->add_option("--lag", arguments->lagFrames, "Decoding lag of the online variant, frames")
+      ->check(CLI::Range(0, 300))
+      ->capture_default_str();
   head->callback([arguments] { runEval(*arguments); });
 }
 

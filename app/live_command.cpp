@@ -48,6 +48,7 @@ struct LiveArguments {
   int msaa = 0;
   double maxFps = 60.0;
   LiveSettings given;        // the options as typed (which ones were typed: CLI11's count)
+  MotionControls motion;     // the head and idle options animate and export share
 };
 
 // Milliseconds in 10 µs bins up to 100 ms, for percentiles over hours of frames in constant memory.
@@ -127,6 +128,12 @@ LiveSettings resolveSettings(const LiveArguments& arguments, const CLI::App& com
   if (typed("--wait-for-head")) settings.waitForHead = given.waitForHead;
   if (typed("--min-f0")) settings.minF0Hz = given.minF0Hz;
   if (typed("--max-f0")) settings.maxF0Hz = given.maxF0Hz;
+  if (typed("--head-amplitude")) settings.headAmplitude = arguments.motion.headAmplitude;
+  if (typed("--head-smoothing")) settings.headSmoothing = arguments.motion.headSmoothing;
+  if (typed("--head-variation")) settings.headVariation = arguments.motion.headVariation;
+  if (typed("--no-idle")) settings.idle = false;
+  if (typed("--blinks-per-minute")) settings.blinksPerMinute = arguments.motion.blinksPerMinute;
+  if (typed("--seed")) settings.seed = arguments.motion.seed;
   if (!(settings.minF0Hz < settings.maxF0Hz)) throw Error("live: --min-f0 must be below --max-f0");
   return settings;
 }
@@ -331,6 +338,7 @@ void addLiveCommand(CLI::App& app) {
       ->capture_default_str();
   live->add_option("--min-f0", given.minF0Hz, "Lowest F0 the prosody tracker searches, Hz")->check(CLI::Range(20.0, 1000.0))->capture_default_str();
   live->add_option("--max-f0", given.maxF0Hz, "Highest F0, Hz")->check(CLI::Range(40.0, 2000.0))->capture_default_str();
+  addMotionControls(*live, arguments->motion);
   live->add_option("--head-model", given.headModel, "Head model file (default models/head.json)");
   live->add_option("--mouth-model", given.mouthModel, "Mouth model file (default: the preset's, in models/)");
   live->add_option("--settings", arguments->settingsFile,

@@ -24,6 +24,9 @@ pipeline::LiveDecoderOptions decoderOptionsOf(const LiveSettings& settings) {
   options.waitForHead = settings.waitForHead;
   options.minF0Hz = settings.minF0Hz;
   options.maxF0Hz = settings.maxF0Hz;
+  options.head.smoothing = settings.headSmoothing;
+  options.head.variation = settings.headVariation;
+  options.head.seed = settings.seed;
   return options;
 }
 
@@ -107,6 +110,11 @@ LiveSettings loadLiveSettings(const std::filesystem::path& path) {
   take(document, "interpolate", settings.interpolate, path);
   take(document, "blinks", settings.blinks, path);
   take(document, "gaze", settings.gaze, path);
+  take(document, "idle", settings.idle, path);
+  take(document, "head_smoothing", settings.headSmoothing, path);
+  take(document, "head_variation", settings.headVariation, path);
+  take(document, "blinks_per_minute", settings.blinksPerMinute, path);
+  take(document, "seed", settings.seed, path);
   requireThat(pipeline::findLivePreset(settings.preset) != nullptr, path, "\"preset\" names no preset");
   requireThat(settings.headVariant == "trajectory" || settings.headVariant == "paper" || settings.headVariant == "none",
               path, "\"head\" must be trajectory, paper or none");
@@ -120,6 +128,10 @@ LiveSettings loadLiveSettings(const std::filesystem::path& path) {
   requireThat(settings.minF0Hz >= 20.0 && settings.maxF0Hz <= 2000.0 && settings.minF0Hz < settings.maxF0Hz, path,
               "\"min_f0_hz\" and \"max_f0_hz\" must satisfy 20 <= min < max <= 2000");
   requireThat(settings.headAmplitude >= 0.0 && settings.headAmplitude <= 5.0, path, "\"head_amplitude\" must be 0..5");
+  requireThat(settings.headSmoothing >= 0.1 && settings.headSmoothing <= 10.0, path, "\"head_smoothing\" must be 0.1..10");
+  requireThat(settings.headVariation >= 0.0 && settings.headVariation <= 3.0, path, "\"head_variation\" must be 0..3");
+  requireThat(settings.blinksPerMinute >= 1.0 && settings.blinksPerMinute <= 60.0, path,
+              "\"blinks_per_minute\" must be 1..60");
   return settings;
 }
 
@@ -136,7 +148,9 @@ void saveLiveSettings(const std::filesystem::path& path, const LiveSettings& set
       {"wait_for_head", settings.waitForHead}, {"min_f0_hz", settings.minF0Hz},
       {"max_f0_hz", settings.maxF0Hz},       {"head_amplitude", settings.headAmplitude},
       {"interpolate", settings.interpolate}, {"blinks", settings.blinks},
-      {"gaze", settings.gaze}};
+      {"gaze", settings.gaze},               {"idle", settings.idle},
+      {"head_smoothing", settings.headSmoothing}, {"head_variation", settings.headVariation},
+      {"blinks_per_minute", settings.blinksPerMinute}, {"seed", settings.seed}};
   AtomicFile out(path);
   out.stream() << document.dump(2) << '\n';
   out.commit();

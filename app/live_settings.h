@@ -33,6 +33,11 @@ struct LiveSettings {
   bool interpolate = false;    // display: smooth 60 Hz motion between frames (+33 ms and the jitter margin)
   bool blinks = true;          // display: idle blinks
   bool gaze = true;            // display: small gaze shifts
+  bool idle = true;            // display: blinks, gaze and the head at rest in silence at all (--no-idle)
+  double headSmoothing = 1.0;  // head trajectory: times its velocity and acceleration precisions
+  double headVariation = 1.0;  // head: times the motion the voice does not explain
+  double blinksPerMinute = 17.0;
+  unsigned seed = 1;           // of the head's variation and of the idle behaviour
 };
 
 pipeline::LiveDecoderOptions decoderOptionsOf(const LiveSettings& settings);

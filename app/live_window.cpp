@@ -131,6 +131,7 @@ class LiveWindow {
         playout_(pipeline::PlayoutOptions{.interpolate = settings_.interpolate}) {
     renderer_.setMouthOpening(face_.innerLipVertices());
     renderer_.setEyeOpenings(face_.eyeLidVertices(0), face_.eyeLidVertices(1));
+    idle_ = animation::IdleMotion({.blinksPerMinute = settings_.blinksPerMinute, .seed = settings_.seed});
     models_ = loadModels(settings_);  // a bad model file is an error before the window is of any use
     showModelPaths();
     if (!arguments_.input.empty()) {
@@ -521,7 +522,8 @@ class LiveWindow {
       for (double& value : lastDecoded_) value *= 0.9;
     }
     for (const int fap : animation::kHeadFaps) faps[static_cast<std::size_t>(fap)] *= settings_.headAmplitude;
-    idle_.apply(secondsSince(opened_), levelDb, {.blinks = settings_.blinks, .gaze = settings_.gaze}, faps);
+    if (settings_.idle)
+      idle_.apply(secondsSince(opened_), levelDb, {.blinks = settings_.blinks, .gaze = settings_.gaze}, faps);
     const auto setupStart = std::chrono::steady_clock::now();
     if (faps != shown_) {
       renderer_.setPositions(face_.deform(faps));
@@ -700,6 +702,18 @@ class LiveWindow {
     if (ImGui::SliderFloat("head amplitude", &amplitude, 0.0f, 3.0f, "%.2f")) settings_.headAmplitude = amplitude;
     if (ImGui::Checkbox("smooth motion (interpolate, +33 ms)", &settings_.interpolate))
       playout_ = pipeline::Playout(pipeline::PlayoutOptions{.interpolate = settings_.interpolate});
+    float smoothing = static_cast<float>(settings_.headSmoothing);
+    if (ImGui::SliderFloat("head smoothing", &smoothing, 0.1f, 10.0f, "%.2f", ImGuiSliderFlags_Logarithmic)) {
+      settings_.headSmoothing = smoothing;
+      redecode = true;
+    }
+    float variation = static_cast<float>(settings_.headVariation);
+    if (ImGui::SliderFloat("head variation", &variation, 0.0f, 3.0f, "%.2f")) {
+      settings_.headVariation = variation;
+      redecode = true;
+    }
+    ImGui::Checkbox("idle", &settings_.idle);
+    ImGui::SameLine();
     ImGui::Checkbox("blinks", &settings_.blinks);
     ImGui::SameLine();
     ImGui::Checkbox("gaze shifts", &settings_.gaze);

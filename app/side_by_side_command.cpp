@@ -35,6 +35,7 @@ struct SideBySideArguments {
   std::string headModel = defaultHeadModel();
   std::string mouthModel = defaultMouthModel();
   bool stillHead = false;
+  MotionControls motion;
   int height = 0;  // 0: the clip's (made even)
   // A .png output: a film strip of the stretch [fromSeconds, fromSeconds + seconds), every `every`-th video frame,
   // the clip's mouth above the face's.
@@ -116,7 +117,9 @@ void runSideBySide(const SideBySideArguments& arguments) {
   const audio::AudioClip sound = tracking::readClipSound(arguments.clip);
   video::Animation animation;
   try {
-    animation = animation::animate(sound.samples, models.head.get(), models.mouth.get(), {});
+    animation::AnimateOptions options;
+    applyMotionControls(arguments.motion, options);
+    animation = animation::animate(sound.samples, models.head.get(), models.mouth.get(), options);
   } catch (const Error& error) {
     throw fileError(arguments.clip, error.what());
   }
@@ -180,6 +183,7 @@ void addSideBySideCommand(CLI::App& app) {
       ->capture_default_str();
   command->add_option("--head-model", arguments->headModel, "Head model file")->capture_default_str();
   command->add_flag("--still-head", arguments->stillHead, "The face's head still: the mouth alone");
+  addMotionControls(*command, arguments->motion);
   command->add_option("--height", arguments->height, "Output height in pixels (default: the clip's)")
       ->check(CLI::Range(64, 2160));
   command->callback([arguments] { runSideBySide(*arguments); });

@@ -50,7 +50,7 @@ void synthesiseHead(benchmark::State& state, HeadVariant variant, int lag) {
   const Data& d = data();
   for (auto _ : state) {
     const Eigen::MatrixXd rotations =
-        th::animation::synthesiseHead(d.model, d.test.prosody, {.variant = variant, .maxLagFrames = lag});
+        th::animation::synthesiseHead(d.model, d.test.prosody, d.test.voiced, {.variant = variant, .maxLagFrames = lag});
     benchmark::DoNotOptimize(rotations.data());
   }
   const double seconds = d.test.numFrames() / d.test.framesPerSecond;

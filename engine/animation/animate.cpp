@@ -24,17 +24,17 @@ video::Animation animate(std::span<const float> samples16k, const HeadModel* hea
     for (std::size_t i = 0; i < numbers.size(); ++i) curves[numbers[i]] = values.row(static_cast<Eigen::Index>(i));
   };
   if (head != nullptr) {
-    const Eigen::MatrixXd prosody =
-        prosodyOf(features::computeFeatures(samples16k, prosodyFeatureOptions(kAnimationFramesPerSecond)));
+    const features::FeatureMatrix rows = features::computeFeatures(samples16k, prosodyFeatureOptions(kAnimationFramesPerSecond));
+    const Eigen::MatrixXd prosody = prosodyOf(rows);
     if (prosody.cols() > 0) {
-      const Eigen::MatrixXd rotations = synthesiseHead(*head, prosody, options.head);
+      const Eigen::MatrixXd rotations = synthesiseHead(*head, prosody, voicingOf(rows), options.head);
       add({kHeadFaps.begin(), kHeadFaps.end()}, headFaps(rotations));
     } else {
       frames = 0;
     }
   }
+  const SpeechFrames speech = speechFramesOf(samples16k);
   if (mouth != nullptr) {
-    const SpeechFrames speech = speechFramesOf(samples16k);
     if (speech.numFrames() > 0) {
       const Eigen::MatrixXd components = synthesiseMouth(*mouth, speech, options.mouth);
       add(mouthFapNumbers(*mouth), mouthFapsOf(*mouth, components));
@@ -51,6 +51,12 @@ video::Animation animate(std::span<const float> samples16k, const HeadModel* hea
   for (const auto& [number, curve] : curves) {
     animation.faps.push_back(number);
     animation.values.col(column++) = curve.head(frames).transpose();
+  }
+  if (options.idle) {
+    Eigen::RowVectorXd level = Eigen::RowVectorXd::Constant(frames, -140.0);  // past the sound's end: silence
+    const Eigen::Index known = std::min<Eigen::Index>(frames, speech.levelDb.size());
+    level.head(known) = speech.levelDb.head(known);
+    addIdleMotion(animation, level, options.idleOptions, {});
   }
   return animation;
 }

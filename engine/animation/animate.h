@@ -7,21 +7,25 @@
 //   th::video::writeAnimation("speech.fap", anim);
 //
 // Frame i is at i / 30 s for both parts (the feature extractor centres frame i there). A null model leaves its
-// FAPs out. Head rotations are relative to the model's mean pose (the face's rest pose looks ahead).
+// FAPs out. Head rotations are relative to the model's mean pose (the face's rest pose looks ahead). With idle
+// on, the eyelid and eyeball FAPs (19, 20, 23–26) carry blinks and gaze shifts and the head rests in silence.
 // Thread contract: a pure function; models are shared read-only.
 #pragma once
 
 #include <span>
 
 #include "animation/head_model.h"
+#include "animation/idle_motion.h"
 #include "animation/mouth_model.h"
 #include "video/animation_file.h"
 
 namespace th::animation {
 
 struct AnimateOptions {
-  HeadSynthesisOptions head;    // variant; maxLagFrames ≥ 0 for the online (fixed-lag) decoder
-  MouthSynthesisOptions mouth;  // method; windowFrames > 0 for the streaming inversion
+  HeadSynthesisOptions head = {};    // variant; maxLagFrames ≥ 0 for the online (fixed-lag) decoder
+  MouthSynthesisOptions mouth = {};  // method; windowFrames > 0 for the streaming inversion
+  bool idle = true;             // blinks, gaze shifts and the head at rest in silence (idle_motion.h)
+  IdleMotionOptions idleOptions = {};
 };
 
 inline constexpr double kAnimationFramesPerSecond = 30.0;

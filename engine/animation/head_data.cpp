@@ -1,54 +1,102 @@
 #include "animation/head_data.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
-#include "audio/audio_file.h"
+#include "animation/mouth_data.h"
 #include "animation/time_split.h"
+#include "audio/audio_file.h"
 #include "core/data_path.h"
 #include "core/error.h"
 #include "core/numeric_csv.h"
 
 namespace th::animation {
+namespace {
+
+// The pose columns of either set: BEAT2 names the head's rotation relative to the torso "neckhead_…".
+std::array<int, 3> poseColumns(const NumericTable& pose) {
+  if (pose.findColumn("neckhead_pitch_deg") >= 0)
+    return {pose.column("neckhead_pitch_deg"), pose.column("neckhead_yaw_deg"), pose.column("neckhead_roll_deg")};
+  if (pose.findColumn("pitch_deg") >= 0)
+    return {pose.column("pitch_deg"), pose.column("yaw_deg"), pose.column("roll_deg")};
+  throw fileError(pose.source, "has neither neckhead_pitch_deg nor pitch_deg columns (a head-pose CSV needs one set)");
+}
+
+}  // namespace
 
 HeadRecording loadHeadRecording(const std::filesystem::path& wav, const std::filesystem::path& headPoseCsv,
                                 const ProsodyOptions& prosody) {
   const NumericTable pose = readNumericCsv(headPoseCsv);
-  const int pitch = pose.column("neckhead_pitch_deg");
-  const int yaw = pose.column("neckhead_yaw_deg");
-  const int roll = pose.column("neckhead_roll_deg");
+  const std::array<int, 3> columns = poseColumns(pose);
   if (pose.rows.size() < 2) throw fileError(headPoseCsv, "has fewer than 2 frames of head pose");
 
   const audio::AudioClip clip = audio::readAudioFile(wav);
   const features::FeatureMatrix features = features::computeFeatures(clip.samples, prosodyFeatureOptions(30.0));
   const Eigen::MatrixXd allProsody = prosodyOf(features, prosody);
+  const SpeechFrames speech = speechFramesOf(clip.samples);
 
   HeadRecording take;
-  const int frames = std::min(static_cast<int>(pose.rows.size()), static_cast<int>(allProsody.cols()));
+  take.name = headPoseCsv.stem().string();
+  const int frames = std::min({static_cast<int>(pose.rows.size()), static_cast<int>(allProsody.cols()),
+                               static_cast<int>(speech.numFrames())});
+  if (frames < 2) throw fileError(wav, "is shorter than two animation frames");
   take.rotations.resize(3, frames);
   for (int t = 0; t < frames; ++t) {
     const auto& row = pose.rows[static_cast<size_t>(t)];
-    take.rotations.col(t) << row[static_cast<size_t>(pitch)], row[static_cast<size_t>(yaw)], row[static_cast<size_t>(roll)];
+    for (int axis = 0; axis < 3; ++axis) take.rotations(axis, t) = row[static_cast<size_t>(columns[static_cast<size_t>(axis)])];
   }
   take.prosody = allProsody.leftCols(frames);
+  take.voiced = voicingOf(features).head(frames);
+  take.levelDb = speech.levelDb.head(frames);
   return take;
 }
 
 HeadRecording loadBeat2Head(const ProsodyOptions& prosody) {
-  return loadHeadRecording(sharedDataPath("beat2/2_scott_0_1_1.wav"),
-                           sharedDataPath("beat2/2_scott_0_1_1_headpose_30fps.csv"), prosody);
+  HeadRecording take = loadHeadRecording(sharedDataPath("beat2/2_scott_0_1_1.wav"),
+                                         sharedDataPath("beat2/2_scott_0_1_1_headpose_30fps.csv"), prosody);
+  take.speaker = "scott";
+  take.name = "2_scott_0_1_1";
+  return take;
+}
+
+std::vector<HeadRecording> loadStyleTalkHeads(const ProsodyOptions& prosody) {
+  const std::filesystem::path folder = sharedDataPath("talking/styletalk");
+  const std::string suffix = "_headpose_30fps.csv";
+  std::vector<std::filesystem::path> poses;
+  std::error_code error;
+  for (const auto& entry : std::filesystem::directory_iterator(folder, error)) {
+    const std::string file = entry.path().filename().string();
+    if (file.size() > suffix.size() && file.ends_with(suffix)) poses.push_back(entry.path());
+  }
+  if (error) throw fileError(folder, "cannot be listed: " + error.message());
+  if (poses.empty()) throw fileError(folder, "holds no *" + suffix + " files");
+  std::sort(poses.begin(), poses.end());
+  std::vector<HeadRecording> clips;
+  for (const auto& path : poses) {
+    const std::string name = path.filename().string().substr(0, path.filename().string().size() - suffix.size());
+    HeadRecording clip = loadHeadRecording(folder / (name + ".wav"), path, prosody);
+    clip.name = name;
+    clip.speaker = name.substr(0, name.find("_clip"));
+    clips.push_back(std::move(clip));
+  }
+  return clips;
+}
+
+HeadRecording framesOf(const HeadRecording& take, int begin, int count) {
+  if (begin < 0 || count < 0 || begin + count > take.numFrames()) throw Error("head data: frames out of range");
+  HeadRecording part = take;
+  part.rotations = take.rotations.middleCols(begin, count);
+  part.prosody = take.prosody.middleCols(begin, count);
+  part.voiced = take.voiced.segment(begin, count);
+  part.levelDb = take.levelDb.segment(begin, count);
+  part.startSeconds = take.startSeconds + begin / take.framesPerSecond;
+  return part;
 }
 
 std::pair<HeadRecording, HeadRecording> splitByTime(const HeadRecording& take, double trainingFraction) {
   const int boundary = trainingFrames(take.numFrames(), trainingFraction, "head data");
-  HeadRecording train = take;
-  HeadRecording test = take;
-  train.rotations = take.rotations.leftCols(boundary);
-  train.prosody = take.prosody.leftCols(boundary);
-  test.rotations = take.rotations.rightCols(take.numFrames() - boundary);
-  test.prosody = take.prosody.rightCols(take.numFrames() - boundary);
-  test.startSeconds = take.startSeconds + boundary / take.framesPerSecond;
-  return {train, test};
+  return {framesOf(take, 0, boundary), framesOf(take, boundary, take.numFrames() - boundary)};
 }
 
 }  // namespace th::animation

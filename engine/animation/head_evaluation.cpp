@@ -1,7 +1,9 @@
 #include "animation/head_evaluation.h"
 
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
+#include <random>
 #include <vector>
 
 #include "core/error.h"
@@ -52,7 +54,135 @@ Eigen::Vector3d rowStd(const Eigen::MatrixXd& m) {
 
 Eigen::MatrixXd steps(const Eigen::MatrixXd& m) { return m.rightCols(m.cols() - 1) - m.leftCols(m.cols() - 1); }
 
+double percentile(std::vector<double> values, double quantile) {
+  if (values.empty()) return 0.0;
+  std::sort(values.begin(), values.end());
+  const double position = std::clamp(quantile, 0.0, 1.0) * static_cast<double>(values.size() - 1);
+  const auto below = static_cast<size_t>(std::floor(position));
+  const size_t above = std::min(below + 1, values.size() - 1);
+  return values[below] + (position - static_cast<double>(below)) * (values[above] - values[below]);
+}
+
+// The symmetric square root of a symmetric positive semi-definite matrix (negative round-off clipped).
+Eigen::MatrixXd symmetricSqrt(const Eigen::MatrixXd& m) {
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> solver(0.5 * (m + m.transpose()));
+  const Eigen::VectorXd roots = solver.eigenvalues().cwiseMax(0.0).cwiseSqrt();
+  return solver.eigenvectors() * roots.asDiagonal() * solver.eigenvectors().transpose();
+}
+
+// One row per window: the pose at 6 equally spaced frames and the mean velocity over the 6 parts.
+Eigen::MatrixXd windowFeatures(const Eigen::MatrixXd& rotations, double fps, int windowFrames) {
+  constexpr int kParts = 6;
+  constexpr int kHop = 5;
+  if (rotations.cols() < windowFrames || windowFrames < kParts)
+    throw Error("head evaluation: a motion shorter than one window (" + std::to_string(windowFrames) + " frames)");
+  const Eigen::MatrixXd centred = rotations.colwise() - rotations.rowwise().mean();
+  const Eigen::Index windows = (rotations.cols() - windowFrames) / kHop + 1;
+  Eigen::MatrixXd features(windows, 2 * 3 * kParts);
+  const int partFrames = windowFrames / kParts;
+  for (Eigen::Index w = 0; w < windows; ++w) {
+    const Eigen::Index begin = w * kHop;
+    for (int part = 0; part < kParts; ++part) {
+      const Eigen::Index first = begin + part * partFrames;
+      const Eigen::Index last = std::min<Eigen::Index>(first + partFrames, rotations.cols() - 1);
+      features.block<1, 3>(w, 3 * part) = centred.col(first).transpose();
+      features.block<1, 3>(w, 3 * (kParts + part)) =
+          ((centred.col(last) - centred.col(first)) * fps / static_cast<double>(std::max<Eigen::Index>(1, last - first))).transpose();
+    }
+  }
+  return features;
+}
+
 }  // namespace
+
+HeadMotionStatistics motionStatistics(const Eigen::MatrixXd& rotations, const Eigen::RowVectorXd& pauses, double fps) {
+  if (rotations.rows() != 3 || rotations.cols() < 2) throw Error("head evaluation: need a 3 x T motion with T >= 2");
+  if (pauses.size() != 0 && pauses.size() != rotations.cols()) throw Error("head evaluation: pauses and motion differ in length");
+  HeadMotionStatistics statistics;
+  std::vector<double> speeds;
+  double pauseSum = 0.0, speechSum = 0.0;
+  int pauseCount = 0, speechCount = 0;
+  for (Eigen::Index t = 1; t < rotations.cols(); ++t) {
+    const double speed = (rotations.col(t) - rotations.col(t - 1)).norm() * fps;
+    speeds.push_back(speed);
+    if (pauses.size() == 0) continue;
+    // A step belongs to a pause when both its frames do.
+    if (pauses[t] > 0.0 && pauses[t - 1] > 0.0) {
+      pauseSum += speed;
+      ++pauseCount;
+    } else {
+      speechSum += speed;
+      ++speechCount;
+    }
+  }
+  statistics.speedP95 = percentile(speeds, 0.95);
+  if (pauseCount > 0 && speechCount > 0 && speechSum > 0.0)
+    statistics.pauseSpeechRatio = (pauseSum / pauseCount) / (speechSum / speechCount);
+  statistics.poseStd = rowStd(rotations);
+  return statistics;
+}
+
+Eigen::RowVectorXd pauseFrames(const Eigen::RowVectorXd& levelDb, double marginDb) {
+  std::vector<double> levels(levelDb.data(), levelDb.data() + levelDb.size());
+  const double loud = percentile(levels, 0.95);
+  Eigen::RowVectorXd pauses(levelDb.size());
+  for (Eigen::Index t = 0; t < levelDb.size(); ++t) pauses[t] = levelDb[t] < loud - marginDb ? 1.0 : 0.0;
+  return pauses;
+}
+
+double frechetDistance(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b, double fps, int windowFrames) {
+  return frechetDistance(std::vector<Eigen::MatrixXd>{a}, std::vector<Eigen::MatrixXd>{b}, fps, windowFrames);
+}
+
+double frechetDistance(const std::vector<Eigen::MatrixXd>& a, const std::vector<Eigen::MatrixXd>& b, double fps,
+                       int windowFrames) {
+  const auto stacked = [&](const std::vector<Eigen::MatrixXd>& clips) {
+    std::vector<Eigen::MatrixXd> parts;
+    Eigen::Index rows = 0;
+    for (const auto& clip : clips) {
+      parts.push_back(windowFeatures(clip, fps, windowFrames));
+      rows += parts.back().rows();
+    }
+    if (parts.empty()) throw Error("head evaluation: no motion for the Fréchet distance");
+    Eigen::MatrixXd all(rows, parts.front().cols());
+    Eigen::Index row = 0;
+    for (const auto& part : parts) {
+      all.middleRows(row, part.rows()) = part;
+      row += part.rows();
+    }
+    return all;
+  };
+  const Eigen::MatrixXd fa = stacked(a);
+  const Eigen::MatrixXd fb = stacked(b);
+  const Eigen::RowVectorXd ma = fa.colwise().mean();
+  const Eigen::RowVectorXd mb = fb.colwise().mean();
+  const Eigen::MatrixXd ca = fa.rowwise() - ma;
+  const Eigen::MatrixXd cb = fb.rowwise() - mb;
+  const Eigen::MatrixXd sa = ca.transpose() * ca / static_cast<double>(std::max<Eigen::Index>(1, fa.rows() - 1));
+  const Eigen::MatrixXd sb = cb.transpose() * cb / static_cast<double>(std::max<Eigen::Index>(1, fb.rows() - 1));
+  const Eigen::MatrixXd rootA = symmetricSqrt(sa);
+  const double crossTrace = symmetricSqrt(rootA * sb * rootA).trace();
+  return std::max(0.0, (ma - mb).squaredNorm() + sa.trace() + sb.trace() - 2.0 * crossTrace);
+}
+
+Eigen::MatrixXd matchedRandomWalk(const Eigen::Vector3d& poseStd, const Eigen::Vector3d& stepStd, int numFrames,
+                                  unsigned seed) {
+  std::mt19937 random(seed);
+  std::normal_distribution<double> normal;
+  Eigen::MatrixXd out(3, std::max(0, numFrames));
+  for (int axis = 0; axis < 3; ++axis) {
+    // x_t = a x_{t-1} + σ ε: stationary std s = σ / √(1 − a²), step std √(2(1 − a)) s.
+    const double s = std::max(poseStd[axis], 1e-9);
+    const double a = std::clamp(1.0 - stepStd[axis] * stepStd[axis] / (2.0 * s * s), -0.999, 0.99999);
+    const double sigma = s * std::sqrt(1.0 - a * a);
+    double x = s * normal(random);
+    for (int t = 0; t < numFrames; ++t) {
+      if (t > 0) x = a * x + sigma * normal(random);
+      out(axis, t) = x;
+    }
+  }
+  return out;
+}
 
 double headError(const Eigen::MatrixXd& predicted, const Eigen::MatrixXd& truth) {
   requireSameShape(predicted, truth);

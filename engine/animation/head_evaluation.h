@@ -7,12 +7,43 @@
 // paper's error E = mean over frames of ‖x̂ − x‖² / (‖x̂‖² + ‖x‖²) is only meaningful for rotations measured
 // from a rest pose: with absolute angles a constant prediction would score near 0. With this convention the
 // constant rest pose scores exactly 1, and an unrelated motion of the right size scores about 1.
+// What a viewer sees besides: the head's angular speed ‖Δ(pitch, yaw, roll)‖ in deg/s (its 95th percentile), how
+// much slower it moves in pauses than in speech (a pause: a frame more than pauseMarginDb below the take's loud
+// frames, their 95th percentile level), and how far the distribution of its motion lies from the truth's: the
+// Fréchet distance between Gaussians fitted to 1 s windows of pose and velocity (frechetDistance), the measure
+// gesture-generation work uses.
 // Thread contract: pure functions.
 #pragma once
 
 #include <Eigen/Core>
+#include <vector>
 
 namespace th::animation {
+
+struct HeadMotionStatistics {
+  double speedP95 = 0.0;          // deg/s
+  double pauseSpeechRatio = 0.0;  // mean speed in pauses / in speech (0 without pauses or speech)
+  Eigen::Vector3d poseStd = Eigen::Vector3d::Zero();
+};
+
+// pauses: T, 1 in a pause (pauseFrames). fps: frames per second.
+HeadMotionStatistics motionStatistics(const Eigen::MatrixXd& rotations, const Eigen::RowVectorXd& pauses, double fps);
+
+// 1 where the level is more than marginDb below the 95th percentile of levelDb, else 0.
+Eigen::RowVectorXd pauseFrames(const Eigen::RowVectorXd& levelDb, double marginDb = 30.0);
+
+// The Fréchet distance between the motions' window distributions: windows of windowFrames (hop 5 frames), each
+// described by its pose (relative to the sequence's own mean) and its mean velocity (deg/s) over 6 equal parts
+// (36 numbers); ‖μa − μb‖² + tr(Σa + Σb − 2(Σa Σb)^½). Throws th::Error if either is shorter than a window.
+double frechetDistance(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b, double fps, int windowFrames = 30);
+// The same over the windows of several clips on each side.
+double frechetDistance(const std::vector<Eigen::MatrixXd>& a, const std::vector<Eigen::MatrixXd>& b, double fps,
+                       int windowFrames = 30);
+
+// The baseline that has the truth's statistics but no voice: per axis an Ornstein-Uhlenbeck process (a random
+// walk pulled back to 0) with the given pose std and frame-to-frame step std (degrees). 3 x numFrames.
+Eigen::MatrixXd matchedRandomWalk(const Eigen::Vector3d& poseStd, const Eigen::Vector3d& stepStd, int numFrames,
+                                  unsigned seed);
 
 struct HeadMetrics {
   double error = 0.0;                 // the paper's E

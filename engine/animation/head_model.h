@@ -2,21 +2,30 @@
 //
 //   th::animation::HeadModel model = th::animation::trainHeadModel({trainingPart}, {});
 //   th::animation::saveHeadModel("models/head.json", model);
-//   Eigen::MatrixXd rotations = th::animation::synthesiseHead(model, prosody, {.variant = HeadVariant::kTrajectory});
+//   Eigen::MatrixXd rotations = th::animation::synthesiseHead(model, prosody, voiced, {});   // the trajectory
 //
 //   th::animation::HeadSynthesiser live(model, {.variant = HeadVariant::kTrajectory, .maxLagFrames = 6});
-//   live.acceptProsody(p);  while (live.numReady() > next) use(live.rotation(next++));
+//   live.acceptProsody(p, voiced);  while (live.numReady() > next) use(live.rotation(next++));
 //
-// Training (paper, steps 1-3): an HMM of head rotations [pitch, yaw, roll] (degrees, relative to the mean pose)
-// with one full Gaussian per state, trained with Brand's entropic prior from a generous fully connected start;
-// then, with the state posteriors γ of the motion training data, every state gets the γ-weighted mean and
-// covariance of the prosody [pitch, energy, Δpitch, Δenergy] and of the rotation velocities (Δ, for the
-// trajectory). The result is one HMM with three independent blocks: "motion" (3), "motion_delta" (3) and
-// "prosody" (4), saved in the ordinary model file with the mean pose in its "training" object.
-// Synthesis decodes the prosody block with the shared transitions:
+// Training (paper, steps 1-3): an HMM of head rotations [pitch, yaw, roll] with one full Gaussian per state,
+// trained with Brand's entropic prior from a generous fully connected start; then, with the state posteriors γ
+// of the motion training data, every state gets the γ-weighted mean and covariance of the rotation velocities
+// (Δ) and accelerations (ΔΔ, for the trajectory) and, over voiced frames only, of the prosody [pitch, energy,
+// Δpitch, Δenergy]. The result is one HMM with four independent blocks: "motion" (3), "motion_delta" (3),
+// "motion_acceleration" (3) and "prosody" (4), saved in the ordinary model file with the mean pose and the
+// amplitude in its "training" object.
+// Several speakers: each speaker's rotations are taken about its own mean pose and (normaliseSpeakers) divided
+// by its own per-axis spread, so the states hold shapes of motion rather than one speaker's size; synthesis
+// multiplies by `amplitude`, the speakers' geometric mean spread (and by the options' amplitude).
+// Step 3 (ours): the training motion less its trajectory from the prosody is the motion the voice does not
+// explain; its per-axis spread and step are kept, and the trajectory variant adds a random process like it
+// (seeded), quieter in pauses: the states alone give a curve far smoother and smaller than real motion.
+// Synthesis decodes the prosody block with the shared transitions. Frames without a voice (unvoiced or
+// silent) carry no prosody the model learnt: with voicedOnly their emissions are equal for every state, so the
+// decoder keeps its state through pauses and the head settles instead of wandering.
 //   kStateMeans      the paper: Viterbi states, each frame the state's mean pose (steps at state changes);
-//   kTrajectory      ours: the same states, then the maximum-likelihood trajectory of poses and velocities
-//                    (mlpg.h), which has no jumps;
+//   kTrajectory      ours: the same states, then the maximum-likelihood trajectory of poses, velocities and
+//                    accelerations (mlpg.h), which has no jumps, plus the residual motion;
 //   kPosteriorMeans  ours: each frame Σⱼ γₜ(j) μⱼ (forward-backward), smooth but damped.
 // Online (maxLagFrames ≥ 0): online Viterbi with that maximum lag, or fixed-lag smoothing for posterior means;
 // the trajectory waits trajectoryLookaheadFrames more and solves over a window of past frames.
@@ -26,6 +35,7 @@
 #include <Eigen/Core>
 #include <filesystem>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "animation/head_data.h"
@@ -42,12 +52,22 @@ struct HeadModelOptions {
   int rampIterations = 20;
   int maxIterations = 150;
   unsigned seed = 1;
+  bool normaliseSpeakers = true;  // each speaker's motion in units of its own per-axis spread
+  // The residual's size from each speaker's trajectory under a model trained without it (one more training
+  // per speaker), rather than from the model's own trajectory on its training speech.
+  bool residualFromHeldOutSpeakers = true;
 };
 
 struct HeadModel {
-  hmm::HmmModel hmm;                            // blocks motion | motion_delta | prosody
-  Eigen::Vector3d meanPose = Eigen::Vector3d::Zero();  // degrees; the motion block is relative to it
-  std::vector<hmm::IterationRecord> history;    // of the motion HMM's training (empty when loaded)
+  hmm::HmmModel hmm;  // blocks motion | motion_delta | motion_acceleration | prosody (older: no acceleration)
+  bool hasAcceleration = false;
+  Eigen::Vector3d meanPose = Eigen::Vector3d::Zero();   // degrees: the training speakers' mean rest pose
+  Eigen::Vector3d amplitude = Eigen::Vector3d::Ones();  // degrees per unit of the motion block
+  // The motion the voice does not explain (model units, per axis): its spread and frame-to-frame step.
+  Eigen::Vector3d residualStd = Eigen::Vector3d::Zero();
+  Eigen::Vector3d residualStepStd = Eigen::Vector3d::Zero();
+  std::vector<std::string> speakers;                    // trained on
+  std::vector<hmm::IterationRecord> history;            // of the motion HMM's training (empty when loaded)
 };
 
 HeadModel trainHeadModel(const std::vector<HeadRecording>& parts, const HeadModelOptions& options);
@@ -63,13 +83,20 @@ struct HeadSynthesisOptions {
   int maxLagFrames = -1;              // < 0: batch (whole input); >= 0: online with this decoding lag
   int trajectoryLookaheadFrames = 3;  // online trajectory: decided states needed past the output frame
   int trajectoryWindowFrames = 30;    // online trajectory: past frames in each solve
+  double amplitude = 1.0;             // times the model's amplitude
+  double smoothing = 1.0;             // times the velocity and acceleration precisions: above 1, slower and smoother
+  bool voicedOnly = true;             // unvoiced and silent frames do not move the decoder
+  double variation = 1.0;             // trajectory: times the residual motion (0: the states' smooth curve alone)
+  double pauseVariation = 0.4;        // the residual's gain in pauses (eased to after 0.3 s without a voice)
+  unsigned seed = 1;                  // of the residual motion
 };
 
 // The most frames a rotation waits for past its own input under these options (batch: unbounded, -1).
 int headLookaheadFrames(const HeadSynthesisOptions& options);
 
-// Rotations relative to the mean pose (3 x T, degrees) for a prosody sequence (4 x T).
-Eigen::MatrixXd synthesiseHead(const HeadModel& model, const Eigen::MatrixXd& prosody,
+// Rotations relative to the rest pose (3 x T, degrees) for a prosody sequence (4 x T) and its voicing (T: 1
+// voiced, 0 not; empty: every frame voiced).
+Eigen::MatrixXd synthesiseHead(const HeadModel& model, const Eigen::MatrixXd& prosody, const Eigen::RowVectorXd& voiced,
                                const HeadSynthesisOptions& options = {});
 
 class HeadSynthesiser {
@@ -79,7 +106,7 @@ class HeadSynthesiser {
   HeadSynthesiser(const HeadSynthesiser&) = delete;
   HeadSynthesiser& operator=(const HeadSynthesiser&) = delete;
 
-  void acceptProsody(const Eigen::Vector4d& prosody);
+  void acceptProsody(const Eigen::Vector4d& prosody, bool voiced);
   void finish();
   int numReady() const;
   Eigen::Vector3d rotation(int frame) const;  // relative to the mean pose, degrees

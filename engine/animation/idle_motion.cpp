@@ -33,10 +33,18 @@ IdleMotion::IdleMotion(const IdleMotionOptions& options) : options_(options), ra
 
 double IdleMotion::uniform(double low, double high) { return std::uniform_real_distribution<double>(low, high)(random_); }
 
-void IdleMotion::scheduleBlink(double after) {
+void IdleMotion::scheduleBlink() {
   const double mean = 60.0 / options_.blinksPerMinute;
   std::gamma_distribution<double> interval(3.0, mean / 3.0);
-  nextBlink_ = after + std::max(options_.minBlinkGapSeconds, interval(random_));
+  blinkDue_ = interval(random_);
+}
+
+void IdleMotion::startBlink(bool atBoundary) {
+  blinkStart_ = now_;
+  ++blinks_;
+  if (atBoundary) ++boundaryBlinks_;
+  boundaryBlink_ = -1.0;
+  scheduleBlink();
 }
 
 void IdleMotion::scheduleFixation(double after) {
@@ -48,7 +56,7 @@ void IdleMotion::apply(double seconds, double levelDb, const IdleSwitches& switc
     started_ = true;
     now_ = seconds;
     floorDb_ = levelDb;
-    scheduleBlink(seconds);
+    scheduleBlink();
     scheduleFixation(seconds);
   }
   const double elapsed = std::max(0.0, seconds - now_);
@@ -56,18 +64,30 @@ void IdleMotion::apply(double seconds, double levelDb, const IdleSwitches& switc
 
   // Speech: the floor drops at once to a quieter level and rises slowly to a louder room.
   floorDb_ = std::min(levelDb, floorDb_ + options_.floorRiseDbPerSecond * elapsed);
-  if (levelDb > floorDb_ + options_.speechMarginDb) lastSpeech_ = now_;
+  const bool voice = levelDb > floorDb_ + options_.speechMarginDb;
+  if (voice) lastSpeech_ = now_;
   speaking_ = now_ - lastSpeech_ < options_.restAfterSeconds;
   const double target = speaking_ ? 1.0 : 0.0;
   headGain_ = target + (headGain_ - target) * std::exp(-elapsed / options_.restSeconds);
   if (switches.restHead)
     for (int fap : {48, 49, 50}) faps[static_cast<std::size_t>(fap)] *= headGain_;
 
-  // Blinks: close, hold, open.
-  if (now_ >= nextBlink_) {
-    blinkStart_ = nextBlink_;
-    ++blinks_;
-    scheduleBlink(nextBlink_ + options_.closeSeconds + options_.closedSeconds + options_.openSeconds);
+  // Blinks: close, hold, open; spontaneous ones slower while the voice is on, one likely where a phrase ends.
+  if (voice) {
+    if (voiceStart_ < 0.0) voiceStart_ = now_;
+    lastVoice_ = now_;
+    voicedRun_ = now_ - voiceStart_;
+  } else if (voiceStart_ >= 0.0 && now_ - lastVoice_ >= options_.boundaryPauseSeconds) {
+    voiceStart_ = -1.0;
+    if (voicedRun_ >= options_.boundarySpeechSeconds && uniform(0.0, 1.0) < options_.boundaryBlinkProbability)
+      boundaryBlink_ = now_ + uniform(0.0, 0.2);
+  }
+  blinkDue_ -= elapsed * (voice ? options_.speechBlinkFactor : 1.0);
+  const bool gapOk = blinkStart_ < 0.0 || now_ - blinkStart_ >= options_.minBlinkGapSeconds;
+  if (gapOk && boundaryBlink_ >= 0.0 && now_ >= boundaryBlink_) {
+    startBlink(true);
+  } else if (gapOk && blinkDue_ <= 0.0) {
+    startBlink(false);
   }
   double closure = 0.0;
   if (blinkStart_ >= 0.0) {
@@ -106,6 +126,35 @@ void IdleMotion::apply(double seconds, double levelDb, const IdleSwitches& switc
     faps[25] += angleUnits(pitch_);
     faps[26] += angleUnits(pitch_);
   }
+}
+
+void addIdleMotion(video::Animation& animation, const Eigen::RowVectorXd& levelDb, const IdleMotionOptions& options,
+                   const IdleSwitches& switches) {
+  if (levelDb.size() != 0 && levelDb.size() < animation.numFrames())
+    throw Error("idle motion: fewer levels than animation frames");
+  constexpr int kIdleFaps[] = {19, 20, 23, 24, 25, 26};
+  std::vector<int> numbers = animation.faps;
+  for (const int fap : kIdleFaps)
+    if (animation.columnOf(fap) < 0) numbers.push_back(fap);
+  std::sort(numbers.begin(), numbers.end());
+  Eigen::MatrixXd values = Eigen::MatrixXd::Zero(animation.numFrames(), static_cast<Eigen::Index>(numbers.size()));
+  for (std::size_t c = 0; c < numbers.size(); ++c) {
+    const int from = animation.columnOf(numbers[c]);
+    if (from >= 0) values.col(static_cast<Eigen::Index>(c)) = animation.values.col(from);
+  }
+  IdleMotion idle(options);
+  // With no sound, a level that always counts as speech keeps the head where the animation has it.
+  const bool hearing = levelDb.size() != 0;
+  IdleSwitches used = switches;
+  if (!hearing) used.restHead = false;
+  for (int t = 0; t < animation.numFrames(); ++t) {
+    face::FapValues faps{};
+    for (std::size_t c = 0; c < numbers.size(); ++c) faps[static_cast<std::size_t>(numbers[c])] = values(t, static_cast<Eigen::Index>(c));
+    idle.apply(t / animation.framesPerSecond, hearing ? levelDb[t] : 0.0, used, faps);
+    for (std::size_t c = 0; c < numbers.size(); ++c) values(t, static_cast<Eigen::Index>(c)) = faps[static_cast<std::size_t>(numbers[c])];
+  }
+  animation.faps = std::move(numbers);
+  animation.values = std::move(values);
 }
 
 }  // namespace th::animation

@@ -4,11 +4,16 @@
 //
 //   th::animation::IdleMotion idle({});
 //   idle.apply(secondsSinceStart, frame.levelDb, {.blinks = true, .gaze = true}, faps);   // every display frame
+//   th::animation::addIdleMotion(animation, levelDb, {}, {});     // the same over a whole animation (files)
 //
 // Blinks: spontaneous blinks come about 17 a minute in adults at rest (Bentivoglio et al. 1997, Movement
 // Disorders 12(6): 17 a minute at rest, 26 in conversation), never closer than a second apart; the intervals
-// are drawn from a gamma distribution (shape 3, our choice: less bursty than a Poisson process). A blink closes the top lids in 80 ms, holds 30 ms and opens in 150 ms (the
-// opening is the slower phase). Gaze: a fixation holds for 1–5 s, then a 50 ms saccade moves the eyes to a
+// are drawn from a gamma distribution (shape 3, our choice: less bursty than a Poisson process). They follow
+// speech as people's do (speakers blink at phrase boundaries and seldom mid-word: Cummins 2012, "Gaze and
+// blinking in dyadic conversation"; Nakano & Kitazawa 2010): while the voice is on, the spontaneous clock runs
+// at speechBlinkFactor of its pace, and where a phrase ends (boundaryPauseSeconds of quiet after at least
+// boundarySpeechSeconds of speech) a blink follows with boundaryBlinkProbability. A blink closes the top lids in
+// 80 ms, holds 30 ms and opens in 150 ms (the opening is the slower phase). Gaze: a fixation holds for 1–5 s, then a 50 ms saccade moves the eyes to a
 // point within a few degrees, half the time back to the centre. Head: a frame is speech if its level is
 // speechMarginDb over the floor (a slow follower of the quietest level); after restAfterSeconds without
 // speech the head's rotation eases to the mean pose with time constant restSeconds, and back when speech
@@ -17,15 +22,21 @@
 // Thread contract: one thread (the render thread); deterministic for a seed.
 #pragma once
 
+#include <Eigen/Core>
 #include <random>
 
 #include "face/face_model.h"
+#include "video/animation_file.h"
 
 namespace th::animation {
 
 struct IdleMotionOptions {
   double blinksPerMinute = 17.0;
   double minBlinkGapSeconds = 1.0;
+  double speechBlinkFactor = 0.5;         // the spontaneous blinks' pace while the voice is on
+  double boundaryBlinkProbability = 0.6;  // a blink where a phrase ends
+  double boundaryPauseSeconds = 0.15;     // quiet that ends a phrase
+  double boundarySpeechSeconds = 0.4;     // speech that makes one
   double closeSeconds = 0.08;
   double closedSeconds = 0.03;
   double openSeconds = 0.15;
@@ -57,12 +68,15 @@ class IdleMotion {
   bool speaking() const { return speaking_; }
   double headGain() const { return headGain_; }  // 1 while speaking, easing to 0 at rest
   int blinks() const { return blinks_; }         // blinks begun so far
+  int boundaryBlinks() const { return boundaryBlinks_; }  // of them, at a phrase's end
+  double blinkStart() const { return blinkStart_; }       // of the latest blink (< 0: none yet)
   double yawDegrees() const { return yaw_; }     // the gaze now
   double pitchDegrees() const { return pitch_; }
 
  private:
   double uniform(double low, double high);
-  void scheduleBlink(double after);
+  void scheduleBlink();
+  void startBlink(bool atBoundary);
   void scheduleFixation(double after);
 
   IdleMotionOptions options_;
@@ -70,9 +84,14 @@ class IdleMotion {
   bool started_ = false;
   double now_ = 0.0;
   // Blinks
-  double nextBlink_ = 0.0;
+  double blinkDue_ = 0.0;         // seconds of the spontaneous clock to the next blink
+  double boundaryBlink_ = -1.0;   // when a blink at a phrase's end is due (< 0: none)
   double blinkStart_ = -1.0;
   int blinks_ = 0;
+  int boundaryBlinks_ = 0;
+  double voiceStart_ = -1.0;      // the current stretch of voice began (< 0: quiet)
+  double lastVoice_ = -1e9;
+  double voicedRun_ = 0.0;        // how long the last stretch of speech lasted
   // Gaze
   double nextFixation_ = 0.0;
   double saccadeStart_ = -1.0;
@@ -84,5 +103,12 @@ class IdleMotion {
   bool speaking_ = false;
   double headGain_ = 0.0;
 };
+
+// The idle behaviour over a whole animation, frame i at i / fps, for the outputs made from files (animate,
+// export, render, sidebyside): the eyelid and eyeball FAPs (19, 20, 23–26) are added (or overlaid), and the head
+// FAPs (48–50), where present, eased to rest in silence. levelDb: the sound's level per frame; empty when there
+// is no sound to hear (the face counts as speaking: blinks and gaze, the head untouched).
+void addIdleMotion(video::Animation& animation, const Eigen::RowVectorXd& levelDb, const IdleMotionOptions& options,
+                   const IdleSwitches& switches);
 
 }  // namespace th::animation

@@ -2,6 +2,7 @@
 
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseCore>
+#include <algorithm>
 #include <array>
 #include <cstddef>
 #include <limits>
@@ -26,6 +27,17 @@ std::array<DeltaTap, 2> deltaTaps(Eigen::Index t, Eigen::Index numFrames) {
   if (t == numFrames - 1) return {{{t - 1, -1.0}, {t, 1.0}}};
   return {{{t - 1, -0.5}, {t + 1, 0.5}}};
 }
+
+// ΔΔx_t = x_{t+1} − 2x_t + x_{t−1}; the edges take their neighbour's window. Needs numFrames ≥ 3.
+std::array<DeltaTap, 3> accelerationTaps(Eigen::Index t, Eigen::Index numFrames) {
+  const Eigen::Index centre = std::clamp<Eigen::Index>(t, 1, numFrames - 2);
+  return {{{centre - 1, 1.0}, {centre, -2.0}, {centre + 1, 1.0}}};
+}
+
+// Adds the normal-equation terms of one linear window (Σ_k c_k x_k ~ N(mean, precision⁻¹)).
+template <std::size_t N>
+void addWindow(std::vector<Eigen::Triplet<double>>& triplets, Eigen::VectorXd& rhs, Eigen::Index d,
+               const std::array<DeltaTap, N>& taps, const Eigen::MatrixXd& precision, const Eigen::VectorXd& mean);
 
 std::string framePrefix(std::size_t frame) {
   return "MLPG: frame " + std::to_string(frame) + " has ";
@@ -62,6 +74,20 @@ void addLowerBlock(std::vector<Eigen::Triplet<double>>& triplets, Eigen::Index r
   }
 }
 
+template <std::size_t N>
+void addWindow(std::vector<Eigen::Triplet<double>>& triplets, Eigen::VectorXd& rhs, Eigen::Index d,
+               const std::array<DeltaTap, N>& taps, const Eigen::MatrixXd& precision, const Eigen::VectorXd& mean) {
+  const Eigen::MatrixXd symmetric = 0.5 * (precision + precision.transpose());
+  const Eigen::VectorXd weightedMean = symmetric * mean;
+  for (const DeltaTap& row : taps) {
+    rhs.segment(row.frame * d, d) += row.weight * weightedMean;
+    for (const DeltaTap& col : taps) {
+      if (row.frame < col.frame) continue;  // upper triangle
+      addLowerBlock(triplets, row.frame, col.frame, row.weight * col.weight * symmetric);
+    }
+  }
+}
+
 }  // namespace
 
 Eigen::MatrixXd deltas(const Eigen::MatrixXd& x) {
@@ -71,6 +97,16 @@ Eigen::MatrixXd deltas(const Eigen::MatrixXd& x) {
   if (numFrames == 1) return result;
   for (Eigen::Index t = 0; t < numFrames; ++t) {
     for (const DeltaTap& tap : deltaTaps(t, numFrames)) result.col(t) += tap.weight * x.col(tap.frame);
+  }
+  return result;
+}
+
+Eigen::MatrixXd accelerations(const Eigen::MatrixXd& x) {
+  const Eigen::Index numFrames = x.cols();
+  Eigen::MatrixXd result = Eigen::MatrixXd::Zero(x.rows(), numFrames);
+  if (numFrames < 3) return result;
+  for (Eigen::Index t = 0; t < numFrames; ++t) {
+    for (const DeltaTap& tap : accelerationTaps(t, numFrames)) result.col(t) += tap.weight * x.col(tap.frame);
   }
   return result;
 }
@@ -85,6 +121,10 @@ Eigen::MatrixXd generateTrajectory(const std::vector<MlpgFrame>& frames) {
     checkMatrix(frame.staticPrecision, d, t, "static precision");
     checkVector(frame.deltaMean, d, t, "delta mean");
     checkMatrix(frame.deltaPrecision, d, t, "delta precision");
+    if (frame.accelerationMean.size() > 0 || frame.accelerationPrecision.size() > 0) {
+      checkVector(frame.accelerationMean, d, t, "acceleration mean");
+      checkMatrix(frame.accelerationPrecision, d, t, "acceleration precision");
+    }
   }
   const auto numFrames = static_cast<Eigen::Index>(frames.size());
   const Eigen::Index size = d * numFrames;
@@ -108,15 +148,9 @@ Eigen::MatrixXd generateTrajectory(const std::vector<MlpgFrame>& frames) {
     addLowerBlock(triplets, t, t, staticPrecision);
     rhs.segment(t * d, d) += staticPrecision * frame.staticMean;
     if (numFrames == 1) continue;  // Δx_0 ≡ 0: the delta term is a constant
-    const Eigen::MatrixXd deltaPrecision = 0.5 * (frame.deltaPrecision + frame.deltaPrecision.transpose());
-    const Eigen::VectorXd weightedDeltaMean = deltaPrecision * frame.deltaMean;
-    const auto taps = deltaTaps(t, numFrames);
-    for (const DeltaTap& row : taps) {
-      rhs.segment(row.frame * d, d) += row.weight * weightedDeltaMean;
-      for (const DeltaTap& col : taps) {
-        if (row.frame < col.frame) continue;  // upper triangle
-        addLowerBlock(triplets, row.frame, col.frame, row.weight * col.weight * deltaPrecision);
-      }
+    addWindow(triplets, rhs, d, deltaTaps(t, numFrames), frame.deltaPrecision, frame.deltaMean);
+    if (numFrames >= 3 && frame.accelerationPrecision.size() > 0) {
+      addWindow(triplets, rhs, d, accelerationTaps(t, numFrames), frame.accelerationPrecision, frame.accelerationMean);
     }
   }
   Eigen::SparseMatrix<double> system(size, size);

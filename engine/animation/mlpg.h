@@ -12,7 +12,8 @@
 // deltas(x) and this generator agree. Central differences never see x_{t+1} − x_t, only x_{t+1} − x_{t−1}, so
 // at a sharp change of the means the trajectory can climb in two-frame plateaus (a unit step with equal
 // static and delta precisions gives one frame-to-frame step of 0.71); a larger delta precision makes the
-// steps smaller.
+// steps smaller, and an acceleration term (the second difference x_{t+1} − 2x_t + x_{t−1}, as speech synthesis
+// adds ΔΔ) ties neighbouring frames directly, which removes the plateaus.
 // Thread contract: pure functions.
 #pragma once
 
@@ -25,12 +26,18 @@ namespace th::animation {
 // x: d x T, one frame per column. Throws th::Error when T = 0.
 Eigen::MatrixXd deltas(const Eigen::MatrixXd& x);
 
-// The Gaussian of one output frame over [x_t; Δx_t]; static and delta parts independent (each full d x d).
+// x_{t+1} − 2x_t + x_{t−1} inside; at each edge its neighbour's; 0 when T < 3. x: d x T.
+Eigen::MatrixXd accelerations(const Eigen::MatrixXd& x);
+
+// The Gaussian of one output frame over [x_t; Δx_t; ΔΔx_t]; the parts independent (each full d x d). The
+// acceleration part is optional: empty (size 0) leaves it out.
 struct MlpgFrame {
   Eigen::VectorXd staticMean;       // d
   Eigen::MatrixXd staticPrecision;  // d x d, symmetric positive definite
   Eigen::VectorXd deltaMean;        // d
-  Eigen::MatrixXd deltaPrecision;   // d x d, symmetric positive definite
+  Eigen::MatrixXd deltaPrecision;   // d x d, symmetric positive semi-definite
+  Eigen::VectorXd accelerationMean;       // d, or empty
+  Eigen::MatrixXd accelerationPrecision;  // d x d, or empty
 };
 
 // The most likely trajectory (d x T), d = frames[0].staticMean.size(). Throws th::Error, naming the frame, on

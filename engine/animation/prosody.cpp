@@ -50,4 +50,12 @@ Eigen::MatrixXd prosodyOf(const features::FeatureMatrix& features, const Prosody
   return prosody;
 }
 
+bool isVoiced(std::span<const float> featureRow) { return featureRow[features::FeatureLayout::kF0Hz] > 0.0f; }
+
+Eigen::RowVectorXd voicingOf(const features::FeatureMatrix& features) {
+  Eigen::RowVectorXd voiced(features.numFrames());
+  for (int t = 0; t < features.numFrames(); ++t) voiced[t] = isVoiced(features.row(t)) ? 1.0 : 0.0;
+  return voiced;
+}
+
 }  // namespace th::animation

@@ -50,4 +50,8 @@ features::FeatureOptions prosodyFeatureOptions(double framesPerSecond = 30.0);
 // The tracker over every row of `features`: 4 x numFrames.
 Eigen::MatrixXd prosodyOf(const features::FeatureMatrix& features, const ProsodyOptions& options = {});
 
+// Whether the pitch tracker found a voice in a feature row, and that over every row (1 voiced, 0 not).
+bool isVoiced(std::span<const float> featureRow);
+Eigen::RowVectorXd voicingOf(const features::FeatureMatrix& features);
+
 }  // namespace th::animation

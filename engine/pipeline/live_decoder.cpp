@@ -86,7 +86,7 @@ void LiveDecoder::pull() {
                               .energy = row_[FeatureLayout::kEnergy],
                               .levelDb = prosodyExtractor_.getLevelDb(prosodyRows_)});
     if (headStream_) {
-      headStream_->acceptProsody(prosody_.accept(row_));
+      headStream_->acceptProsody(prosody_.accept(row_), animation::isVoiced(row_));
       const Eigen::VectorXd& posterior = headStream_->filteredPosterior();
       for (Eigen::Index k = 0; k < std::min<Eigen::Index>(posterior.size(), AnimationFrame::kMaxHeadStates); ++k)
         prosodyFrames_.back().posterior[static_cast<std::size_t>(k)] = static_cast<float>(posterior[k]);

@@ -44,7 +44,7 @@ TEST(Animate, HeadAndMouthFapsInFapOrderAt30FramesPerSecond) {
   EXPECT_DOUBLE_EQ(anim.framesPerSecond, 30.0);
   EXPECT_NEAR(anim.numFrames(), 300, 1);
   std::vector<int> expected = mouthFapNumbers(*models().mouth.fapMap);
-  expected.insert(expected.end(), {48, 49, 50});
+  expected.insert(expected.end(), {19, 20, 23, 24, 25, 26, 48, 49, 50});  // the model's, and blinks and gaze
   std::sort(expected.begin(), expected.end());
   EXPECT_EQ(anim.faps, expected);
   EXPECT_TRUE(anim.values.allFinite());
@@ -54,9 +54,38 @@ TEST(Animate, HeadAndMouthFapsInFapOrderAt30FramesPerSecond) {
 
 TEST(Animate, EachModelAloneGivesItsOwnFaps) {
   const std::vector<float> samples = speech(3.0);
-  EXPECT_EQ(animate(samples, &models().head, nullptr).faps, (std::vector<int>{48, 49, 50}));
-  EXPECT_EQ(animate(samples, nullptr, &models().mouth).faps.front(), 3);
-  EXPECT_EQ(animate(samples, nullptr, &models().mouth).columnOf(48), -1);
+  const AnimateOptions noIdle{.idle = false};
+  EXPECT_EQ(animate(samples, &models().head, nullptr, noIdle).faps, (std::vector<int>{48, 49, 50}));
+  EXPECT_EQ(animate(samples, nullptr, &models().mouth, noIdle).faps.front(), 3);
+  EXPECT_EQ(animate(samples, nullptr, &models().mouth, noIdle).columnOf(48), -1);
+  EXPECT_GE(animate(samples, nullptr, &models().mouth).columnOf(19), 0) << "blinks come with the mouth alone too";
+}
+
+// Blinks, gaze shifts and the head at rest in silence are in the file, the same for a seed, other for another.
+TEST(Animate, IdleBehaviourIsInTheFileAndFollowsTheSeed) {
+  std::vector<float> samples = speech(20.0);
+  samples.resize(samples.size() + 16000 * 4, 0.0f);  // 4 s of silence at the end
+  const th::video::Animation a = animate(samples, &models().head, &models().mouth);
+  const th::video::Animation b = animate(samples, &models().head, &models().mouth);
+  AnimateOptions otherSeed;
+  otherSeed.idleOptions.seed = 7;
+  const th::video::Animation c = animate(samples, &models().head, &models().mouth, otherSeed);
+  EXPECT_EQ(a.values, b.values);
+  const Eigen::VectorXd lidA = a.values.col(a.columnOf(19));
+  const Eigen::VectorXd lidC = c.values.col(c.columnOf(19));
+  EXPECT_GT((lidA - lidC).cwiseAbs().maxCoeff(), 100.0) << "another seed blinks at other times";
+  int blinks = 0;
+  for (Eigen::Index t = 1; t < lidA.size(); ++t) blinks += lidA[t] > 512.0 && lidA[t - 1] <= 512.0;
+  const double minutes = a.numFrames() / 30.0 / 60.0;
+  EXPECT_GE(blinks / minutes, 8.0);
+  EXPECT_LE(blinks / minutes, 30.0);
+  // The last second is silence: the head has come to rest there, and no FAP in it is far from it.
+  const int last = a.numFrames() - 1;
+  for (const int fap : {48, 49, 50}) EXPECT_LT(std::abs(a.values(last, a.columnOf(fap))), 1e-3 * 1e5) << fap;
+  const AnimateOptions noIdle{.idle = false};
+  const th::video::Animation still = animate(samples, &models().head, &models().mouth, noIdle);
+  EXPECT_EQ(still.columnOf(19), -1);
+  EXPECT_GT(std::abs(still.values(last, still.columnOf(49))), std::abs(a.values(last, a.columnOf(49))));
 }
 
 TEST(Animate, RefusesWhatItCannotAnimate) {

@@ -4,6 +4,8 @@
 
 #include <cmath>
 #include <random>
+#include <set>
+#include <string>
 #include <vector>
 
 #include "animation/head_data.h"
@@ -98,9 +100,9 @@ TEST(HeadModel, LearnsAVoiceThatDrivesTheHeadAndBeatsItsBaselines) {
   EXPECT_LE(model.hmm.numStates(), 8);
   EXPECT_GE(model.hmm.numStates(), 3);
   const Eigen::MatrixXd truth = test.rotations.colwise() - model.meanPose;
-  const double paper = headError(synthesiseHead(model, test.prosody, {.variant = HeadVariant::kStateMeans}), truth);
-  const double trajectory = headError(synthesiseHead(model, test.prosody, {.variant = HeadVariant::kTrajectory}), truth);
-  const double posterior = headError(synthesiseHead(model, test.prosody, {.variant = HeadVariant::kPosteriorMeans}), truth);
+  const double paper = headError(synthesiseHead(model, test.prosody, test.voiced, {.variant = HeadVariant::kStateMeans}), truth);
+  const double trajectory = headError(synthesiseHead(model, test.prosody, test.voiced, {.variant = HeadVariant::kTrajectory}), truth);
+  const double posterior = headError(synthesiseHead(model, test.prosody, test.voiced, {.variant = HeadVariant::kPosteriorMeans}), truth);
   const double walk = headError(randomWalkHead(model, test.numFrames(), 4), truth);
   std::printf("[ INFO     ] synthetic held-out E: paper %.3f, trajectory %.3f, posterior means %.3f, random walk %.3f\n",
               paper, trajectory, posterior, walk);
@@ -115,24 +117,94 @@ TEST(HeadModel, OnlineVariantsMatchBatchWithALongLagAndRespectTheirLag) {
   const HeadModel model = trainHeadModel({train}, {.startStates = 6, .maxIterations = 40});
   const HeadRecording test = synthetic(600, 6);
   for (HeadVariant variant : {HeadVariant::kStateMeans, HeadVariant::kPosteriorMeans}) {
-    const Eigen::MatrixXd batch = synthesiseHead(model, test.prosody, {.variant = variant});
-    const Eigen::MatrixXd online = synthesiseHead(model, test.prosody, {.variant = variant, .maxLagFrames = 600});
+    const Eigen::MatrixXd batch = synthesiseHead(model, test.prosody, test.voiced, {.variant = variant});
+    const Eigen::MatrixXd online = synthesiseHead(model, test.prosody, test.voiced, {.variant = variant, .maxLagFrames = 600});
     EXPECT_LT((batch - online).cwiseAbs().maxCoeff(), 1e-9) << static_cast<int>(variant);
   }
   for (HeadVariant variant : {HeadVariant::kStateMeans, HeadVariant::kTrajectory, HeadVariant::kPosteriorMeans}) {
     HeadSynthesiser live(model, {.variant = variant, .maxLagFrames = 4});
     for (Eigen::Index t = 0; t < test.prosody.cols(); ++t) {
-      live.acceptProsody(test.prosody.col(t));
+      live.acceptProsody(test.prosody.col(t), true);
       ASSERT_GE(live.numReady(), static_cast<int>(t) + 1 - live.lookaheadFrames()) << "variant " << static_cast<int>(variant);
     }
     live.finish();
     EXPECT_EQ(live.numReady(), test.prosody.cols());
   }
   // The online trajectory, solved over windows, stays close to the batch trajectory.
-  const Eigen::MatrixXd batch = synthesiseHead(model, test.prosody, {.variant = HeadVariant::kTrajectory});
+  const Eigen::MatrixXd batch = synthesiseHead(model, test.prosody, test.voiced, {.variant = HeadVariant::kTrajectory});
   const Eigen::MatrixXd online =
-      synthesiseHead(model, test.prosody, {.variant = HeadVariant::kTrajectory, .maxLagFrames = 600});
+      synthesiseHead(model, test.prosody, test.voiced, {.variant = HeadVariant::kTrajectory, .maxLagFrames = 600});
   EXPECT_LT(std::sqrt((batch - online).squaredNorm() / static_cast<double>(batch.size())), 0.2);
+}
+
+// Two speakers who move the same way at different sizes: the model learns the shapes in units of each one's
+// spread and gives the geometric mean size; the voice still drives the head.
+TEST(HeadModel, NormalisesEachSpeakersAmplitude) {
+  HeadRecording calm = synthetic(2000, 11);
+  calm.speaker = "calm";
+  HeadRecording lively = synthetic(2000, 12);
+  lively.speaker = "lively";
+  lively.rotations = (4.0 * lively.rotations).colwise() + Eigen::Vector3d(10.0, -5.0, 2.0);
+  const HeadModel model = trainHeadModel({calm, lively}, {.startStates = 8, .maxIterations = 40});
+  EXPECT_EQ(model.speakers, (std::vector<std::string>{"calm", "lively"}));
+  const auto spread = [](const Eigen::MatrixXd& x) {
+    return Eigen::Vector3d(((x.colwise() - x.rowwise().mean()).cwiseAbs2().rowwise().mean()).cwiseSqrt());
+  };
+  const Eigen::Vector3d calmSpread = spread(calm.rotations);
+  for (int axis = 0; axis < 3; ++axis) EXPECT_NEAR(model.amplitude[axis], 2.0 * calmSpread[axis], 0.15 * calmSpread[axis]);
+  const HeadRecording test = synthetic(1000, 13);
+  const Eigen::MatrixXd out = synthesiseHead(model, test.prosody, test.voiced, {.variation = 0.0});
+  const Eigen::MatrixXd truth = test.rotations.colwise() - test.rotations.rowwise().mean();
+  EXPECT_LT(headError(out / 2.0, truth), 0.25) << "the shapes at the calm speaker's size";
+  // Without normalisation the lively speaker's offset mean pose and size dominate.
+  const HeadModel raw = trainHeadModel({calm, lively}, {.startStates = 8, .maxIterations = 40, .normaliseSpeakers = false});
+  EXPECT_EQ(raw.amplitude, Eigen::Vector3d::Ones());
+}
+
+// Frames without a voice do not move the decoder: over a long unvoiced stretch the smooth trajectory holds still,
+// while decoding those frames' prosody too lets it wander.
+TEST(HeadModel, UnvoicedFramesDoNotDriveTheStates) {
+  const HeadModel model = trainHeadModel({synthetic(2000, 21)}, {.startStates = 6, .maxIterations = 40});
+  HeadRecording test = synthetic(600, 22);
+  test.voiced = Eigen::RowVectorXd::Ones(600);
+  test.voiced.segment(200, 300).setZero();
+  const Eigen::MatrixXd gated = synthesiseHead(model, test.prosody, test.voiced, {.variation = 0.0});
+  const Eigen::MatrixXd free = synthesiseHead(model, test.prosody, test.voiced, {.voicedOnly = false, .variation = 0.0});
+  const auto travel = [](const Eigen::MatrixXd& x) {
+    return (x.middleCols(231, 239) - x.middleCols(230, 239)).colwise().norm().sum();
+  };
+  EXPECT_LT(travel(gated), 1e-6) << "one state throughout the silence";
+  EXPECT_GT(travel(free), 1.0);
+  // The online decoder agrees.
+  const Eigen::MatrixXd online = synthesiseHead(model, test.prosody, test.voiced, {.maxLagFrames = 600, .variation = 0.0});
+  EXPECT_LT(travel(online), 1e-3);
+}
+
+// The residual motion: real motion's spread and step, the same for a seed, quieter in pauses, and the same in
+// batch and online synthesis.
+TEST(HeadModel, ResidualMotionIsSeededAndQuieterInPauses) {
+  HeadRecording train = synthetic(3000, 31);
+  std::mt19937 random(3);
+  std::normal_distribution<double> wobble(0.0, 1.0);
+  for (Eigen::Index t = 0; t < train.rotations.cols(); ++t)
+    for (int axis = 0; axis < 3; ++axis) train.rotations(axis, t) += wobble(random);
+  const HeadModel model = trainHeadModel({train}, {.startStates = 6, .maxIterations = 40});
+  EXPECT_GT(model.residualStd.minCoeff(), 0.1);
+  EXPECT_GT(model.residualStepStd.minCoeff(), 0.1);
+  HeadRecording test = synthetic(900, 32);
+  test.voiced = Eigen::RowVectorXd::Ones(900);
+  test.voiced.segment(300, 300).setZero();
+  const Eigen::MatrixXd smooth = synthesiseHead(model, test.prosody, test.voiced, {.variation = 0.0});
+  const Eigen::MatrixXd a = synthesiseHead(model, test.prosody, test.voiced, {});
+  const Eigen::MatrixXd b = synthesiseHead(model, test.prosody, test.voiced, {});
+  const Eigen::MatrixXd c = synthesiseHead(model, test.prosody, test.voiced, {.seed = 2});
+  EXPECT_EQ(a, b);
+  EXPECT_GT((a - c).cwiseAbs().maxCoeff(), 0.1);
+  const Eigen::MatrixXd residual = a - smooth;
+  const auto energy = [&](Eigen::Index begin) { return residual.middleCols(begin, 200).squaredNorm(); };
+  EXPECT_LT(energy(380), 0.4 * energy(80)) << "a pause: the residual eased down";
+  const Eigen::MatrixXd online = synthesiseHead(model, test.prosody, test.voiced, {.maxLagFrames = 900});
+  EXPECT_LT(std::sqrt((a - online).squaredNorm() / static_cast<double>(a.size())), 0.2);
 }
 
 TEST(HeadModel, FileRoundTripAndRefusals) {
@@ -141,8 +213,12 @@ TEST(HeadModel, FileRoundTripAndRefusals) {
   saveHeadModel(file.path(), model, {});
   const HeadModel loaded = loadHeadModel(file.path());
   EXPECT_EQ(loaded.meanPose, model.meanPose);
+  EXPECT_EQ(loaded.amplitude, model.amplitude);
+  EXPECT_EQ(loaded.residualStd, model.residualStd);
+  EXPECT_EQ(loaded.residualStepStd, model.residualStepStd);
+  EXPECT_TRUE(loaded.hasAcceleration);
   const HeadRecording test = synthetic(300, 8);
-  EXPECT_EQ(synthesiseHead(loaded, test.prosody), synthesiseHead(model, test.prosody));
+  EXPECT_EQ(synthesiseHead(loaded, test.prosody, test.voiced), synthesiseHead(model, test.prosody, test.voiced));
   // A plain HMM file is not a head model.
   const TemporaryFile plain(".json");
   hmm::saveModel(plain.path(), model.hmm);
@@ -165,9 +241,53 @@ TEST(HeadModel, FileRoundTripAndRefusals) {
   }
 }
 
+// The viewer's measures: speed percentiles, pauses, the Fréchet distance and the matched random walk.
+TEST(HeadEvaluation, SpeedPausesFrechetAndTheMatchedWalk) {
+  const int frames = 3000;
+  const Eigen::MatrixXd walk = matchedRandomWalk(Eigen::Vector3d(2.0, 4.0, 1.0), Eigen::Vector3d(0.5, 0.5, 0.25), frames, 5);
+  const HeadMetrics self = evaluateHead(walk, walk, 1e9);
+  EXPECT_NEAR(self.poseStd[1], 4.0, 1.0);
+  EXPECT_NEAR(self.velocityStd[0], 0.5, 0.05);
+  EXPECT_NEAR(self.velocityStd[2], 0.25, 0.03);
+  EXPECT_LT(frechetDistance(walk, walk, 30.0), 1e-6);
+  const Eigen::MatrixXd other = matchedRandomWalk(Eigen::Vector3d(2.0, 4.0, 1.0), Eigen::Vector3d(0.5, 0.5, 0.25), frames, 6);
+  const double sameKind = frechetDistance(walk, other, 30.0);
+  EXPECT_LT(sameKind, frechetDistance(walk, 3.0 * other, 30.0));
+  EXPECT_LT(sameKind, frechetDistance(walk, Eigen::MatrixXd::Zero(3, frames), 30.0));
+  EXPECT_THROW(frechetDistance(walk.leftCols(10), walk, 30.0), Error);
+  // Pauses: the second half is 40 dB down; a head that stops there has a pause/speech speed ratio of 0.
+  Eigen::RowVectorXd level = Eigen::RowVectorXd::Constant(frames, -20.0);
+  level.tail(frames / 2).setConstant(-60.0);
+  const Eigen::RowVectorXd pauses = pauseFrames(level);
+  EXPECT_EQ(pauses.sum(), frames / 2);
+  Eigen::MatrixXd stops = walk;
+  for (int t = frames / 2; t < frames; ++t) stops.col(t) = walk.col(frames / 2 - 1);
+  const HeadMotionStatistics statistics = motionStatistics(stops, pauses, 30.0);
+  EXPECT_NEAR(statistics.pauseSpeechRatio, 0.0, 1e-12);
+  EXPECT_NEAR(motionStatistics(walk, pauses, 30.0).pauseSpeechRatio, 1.0, 0.1);
+  EXPECT_GT(statistics.speedP95, 0.0);
+}
+
+TEST(HeadData, StyleTalkClipsHaveTheirSpeakersVoicingAndLevel) {
+  const std::vector<HeadRecording> clips = loadStyleTalkHeads();
+  ASSERT_EQ(clips.size(), 6u);
+  std::set<std::string> speakers;
+  for (const auto& clip : clips) {
+    speakers.insert(clip.speaker);
+    EXPECT_EQ(clip.voiced.size(), clip.numFrames());
+    EXPECT_EQ(clip.levelDb.size(), clip.numFrames());
+    const double voicedShare = clip.voiced.mean();
+    EXPECT_GT(voicedShare, 0.3) << clip.name;
+    EXPECT_LT(voicedShare, 0.9) << clip.name;
+    EXPECT_GT(clip.rotations.cwiseAbs().maxCoeff(), 1.0) << clip.name;
+  }
+  EXPECT_EQ(speakers, (std::set<std::string>{"KristiNoem", "Obama", "andrew"}));
+}
+
 TEST(HeadData, Beat2TakeIsAlignedAndPlausible) {
   const HeadRecording take = loadBeat2Head();
   EXPECT_EQ(take.numFrames(), 1906);
+  EXPECT_EQ(take.speaker, "scott");
   EXPECT_TRUE(take.prosody.allFinite());
   const Eigen::Vector3d spread =
       ((take.rotations.colwise() - take.rotations.rowwise().mean()).cwiseAbs2().rowwise().mean()).cwiseSqrt();

@@ -2,7 +2,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <numbers>
+#include <vector>
 
 #include "animation/idle_motion.h"
 #include "core/error.h"
@@ -95,6 +97,54 @@ TEST(IdleMotion, TheHeadComesToRestWhenNobodySpeaks) {
   for (const double back = t; t < back + 2.0; t += 1.0 / kDisplayHz) headAt(t, -20.0);
   EXPECT_NEAR(headAt(t, -20.0), 1000.0, 20.0);
   EXPECT_THROW(IdleMotion({.blinksPerMinute = 0.0}), th::Error);
+}
+
+// Blinks follow speech: phrases of 2 s of voice and 1 s of quiet. Per second, more blinks start in the quiet
+// (or just after a phrase ends) than while the voice is on, and the rate stays a human one.
+TEST(IdleMotion, BlinksComeAtPhraseEndsMoreThanMidSpeech) {
+  IdleMotion idle({.seed = 3});
+  int inQuiet = 0;
+  int inVoice = 0;
+  double lastStart = -1.0;
+  const double seconds = 1200.0;
+  for (int f = 0; f < static_cast<int>(seconds * 30.0); ++f) {
+    const double t = f / 30.0;
+    const bool voice = std::fmod(t, 3.0) < 2.0;
+    th::face::FapValues faps{};
+    idle.apply(t, voice ? -20.0 : -70.0, {}, faps);
+    if (idle.blinkStart() > lastStart) {
+      lastStart = idle.blinkStart();
+      (voice ? inVoice : inQuiet) += 1;
+    }
+  }
+  const double quietRate = inQuiet / (seconds / 3.0);
+  const double voiceRate = inVoice / (seconds * 2.0 / 3.0);
+  std::printf("[ INFO     ] blinks a minute: %.1f in the quiet, %.1f in the voice, %.1f in all; %d of %d at a phrase's end\n",
+              60.0 * quietRate, 60.0 * voiceRate, 60.0 * (inQuiet + inVoice) / seconds, idle.boundaryBlinks(), idle.blinks());
+  EXPECT_GT(quietRate, 2.0 * voiceRate);
+  EXPECT_GE(60.0 * (inQuiet + inVoice) / seconds, 8.0);
+  EXPECT_LE(60.0 * (inQuiet + inVoice) / seconds, 30.0);
+}
+
+// Over a file: the idle FAPs are added in FAP order, the head eases to rest where the sound is quiet, and with no
+// sound the head is left as it is.
+TEST(IdleMotion, AddsItsFapsToAnAnimation) {
+  th::video::Animation animation;
+  animation.faps = {3, 48, 49, 50};
+  animation.values = Eigen::MatrixXd::Constant(300, 4, 1000.0);
+  Eigen::RowVectorXd level(300);  // 5 s of speech (syllables, louder and quieter), then 5 s of quiet
+  for (int t = 0; t < 300; ++t) level[t] = t >= 150 ? -90.0 : (t % 9 < 6 ? -20.0 : -35.0);
+  level[0] = -60.0;  // the room before the first word
+  th::video::Animation heard = animation;
+  th::animation::addIdleMotion(heard, level, {}, {});
+  EXPECT_EQ(heard.faps, (std::vector<int>{3, 19, 20, 23, 24, 25, 26, 48, 49, 50}));
+  EXPECT_EQ(heard.values.col(0), animation.values.col(0)) << "the jaw untouched";
+  EXPECT_NEAR(heard.values(140, heard.columnOf(49)), 1000.0, 1.0);
+  EXPECT_LT(heard.values(299, heard.columnOf(49)), 50.0) << "at rest 4 s into the quiet";
+  th::video::Animation unheard = animation;
+  th::animation::addIdleMotion(unheard, Eigen::RowVectorXd(), {}, {});
+  EXPECT_EQ(unheard.values.col(unheard.columnOf(49)), animation.values.col(1));
+  EXPECT_THROW(th::animation::addIdleMotion(unheard, Eigen::RowVectorXd::Zero(10), {}, {}), th::Error);
 }
 
 }  // namespace

@@ -39,7 +39,7 @@ std::vector<MlpgFrame> framesWithRandomPrecisions(std::mt19937& rng, const Eigen
   std::vector<MlpgFrame> frames;
   for (Eigen::Index t = 0; t < staticMeans.cols(); ++t) {
     frames.push_back({staticMeans.col(t), randomSpd(rng, staticMeans.rows()), deltaMeans.col(t),
-                      randomSpd(rng, staticMeans.rows())});
+                      randomSpd(rng, staticMeans.rows()), {}, {}});
   }
   return frames;
 }
@@ -186,7 +186,7 @@ TEST(Mlpg, SmoothsAStepIntoAMonotoneRamp) {
   for (Eigen::Index t = 0; t < numFrames; ++t) {
     const double level = t < 50 ? 0.0 : 1.0;
     frames.push_back({Eigen::VectorXd::Constant(1, level), Eigen::MatrixXd::Identity(1, 1),
-                      Eigen::VectorXd::Zero(1), Eigen::MatrixXd::Constant(1, 1, 10.0)});
+                      Eigen::VectorXd::Zero(1), Eigen::MatrixXd::Constant(1, 1, 10.0), {}, {}});
   }
   const Eigen::MatrixXd x = generateTrajectory(frames);
   ASSERT_EQ(x.cols(), numFrames);
@@ -195,6 +195,39 @@ TEST(Mlpg, SmoothsAStepIntoAMonotoneRamp) {
   EXPECT_GE(steps.minCoeff(), -1e-12) << x;
   EXPECT_NEAR(x(0, 0), 0.0, 1e-3);  // far from the step the means win
   EXPECT_NEAR(x(0, numFrames - 1), 1.0, 1e-3);
+}
+
+// An acceleration term ties neighbouring frames: the two-frame plateaus go, the largest step falls and the
+// ramp's steps change smoothly.
+TEST(Mlpg, AccelerationsRemoveThePlateaus) {
+  const Eigen::Index numFrames = 100;
+  std::vector<MlpgFrame> plain;
+  std::vector<MlpgFrame> withAcceleration;
+  for (Eigen::Index t = 0; t < numFrames; ++t) {
+    const double level = t < 50 ? 0.0 : 1.0;
+    plain.push_back({Eigen::VectorXd::Constant(1, level), Eigen::MatrixXd::Identity(1, 1), Eigen::VectorXd::Zero(1),
+                     Eigen::MatrixXd::Constant(1, 1, 1.0), {}, {}});
+    withAcceleration.push_back(plain.back());
+    withAcceleration.back().accelerationMean = Eigen::VectorXd::Zero(1);
+    withAcceleration.back().accelerationPrecision = Eigen::MatrixXd::Constant(1, 1, 10.0);
+  }
+  const auto stepsOf = [&](const Eigen::MatrixXd& x) {
+    return Eigen::RowVectorXd(x.rightCols(numFrames - 1) - x.leftCols(numFrames - 1));
+  };
+  const Eigen::RowVectorXd a = stepsOf(generateTrajectory(plain));
+  const Eigen::RowVectorXd b = stepsOf(generateTrajectory(withAcceleration));
+  EXPECT_LT(b.maxCoeff(), 0.6 * a.maxCoeff());
+  // Plateaus: steps that alternate large and small. Their second difference is what the term penalises.
+  const auto zigzag = [&](const Eigen::RowVectorXd& steps) {
+    return (steps.tail(steps.size() - 1) - steps.head(steps.size() - 1)).cwiseAbs().maxCoeff();
+  };
+  EXPECT_LT(zigzag(b), 0.5 * zigzag(a));
+  EXPECT_GE(b.minCoeff(), -0.01) << "at most a slight overshoot, as a penalty on acceleration gives";
+  // accelerations() is what the generator inverts: a parabola's is constant, the edges take their neighbours'.
+  Eigen::MatrixXd parabola(1, 6);
+  parabola << 0, 1, 4, 9, 16, 25;
+  EXPECT_EQ(accelerations(parabola), Eigen::MatrixXd::Constant(1, 6, 2.0));
+  EXPECT_EQ(accelerations(Eigen::MatrixXd::Ones(2, 2)), Eigen::MatrixXd::Zero(2, 2));
 }
 
 TEST(Mlpg, AgreesWithADenseSolveOfTheNormalEquations) {

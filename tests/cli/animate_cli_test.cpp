@@ -143,7 +143,29 @@ TEST_F(AnimateCliTest, VariantsAndPartsAreSelectable) {
 
   const fs::path headOnly = out() / "head.csv";
   ASSERT_EQ(runCli({"animate", speech().string(), "-o", headOnly.string(), "--mouth", "none"}, logs()).exitCode, 0);
-  EXPECT_EQ(th::video::readAnimation(headOnly).faps, (std::vector<int>{48, 49, 50}));
+  EXPECT_EQ(th::video::readAnimation(headOnly).faps, (std::vector<int>{19, 20, 23, 24, 25, 26, 48, 49, 50}));
+  const fs::path noIdle = out() / "head_no_idle.csv";
+  ASSERT_EQ(runCli({"animate", speech().string(), "-o", noIdle.string(), "--mouth", "none", "--no-idle"}, logs()).exitCode, 0);
+  EXPECT_EQ(th::video::readAnimation(noIdle).faps, (std::vector<int>{48, 49, 50}));
+  // The head's controls: amplitude scales it, a larger smoothing slows it.
+  const fs::path twice = out() / "head_twice.csv";
+  ASSERT_EQ(runCli({"animate", speech().string(), "-o", twice.string(), "--mouth", "none", "--no-idle",
+                    "--head-amplitude", "2"}, logs()).exitCode, 0);
+  const th::video::Animation one = th::video::readAnimation(noIdle);
+  const th::video::Animation two = th::video::readAnimation(twice);
+  EXPECT_NEAR((two.values - 2.0 * one.values).cwiseAbs().maxCoeff(), 0.0, 1e-3 * one.values.cwiseAbs().maxCoeff() + 1.0);
+  const fs::path smooth = out() / "head_smooth.csv";
+  ASSERT_EQ(runCli({"animate", speech().string(), "-o", smooth.string(), "--mouth", "none", "--no-idle",
+                    "--head-smoothing", "8", "--head-variation", "0"}, logs()).exitCode, 0);
+  const fs::path plain = out() / "head_plain.csv";
+  ASSERT_EQ(runCli({"animate", speech().string(), "-o", plain.string(), "--mouth", "none", "--no-idle",
+                    "--head-variation", "0"}, logs()).exitCode, 0);
+  const auto roughness = [](const th::video::Animation& animation) {
+    const Eigen::MatrixXd& v = animation.values;
+    return (v.bottomRows(v.rows() - 1) - v.topRows(v.rows() - 1)).norm();
+  };
+  EXPECT_LT(roughness(th::video::readAnimation(smooth)), roughness(th::video::readAnimation(plain)));
+  EXPECT_LT(roughness(th::video::readAnimation(plain)), roughness(one)) << "the variation adds motion";
   const fs::path mouthOnly = out() / "mouth.csv";
   ASSERT_EQ(runCli({"animate", speech().string(), "-o", mouthOnly.string(), "--head", "none"}, logs()).exitCode, 0);
   EXPECT_EQ(th::video::readAnimation(mouthOnly).columnOf(48), -1);
