@@ -6,7 +6,8 @@
 //   auto [train, test] = th::animation::splitByTime(take, 0.75);
 //
 // Sets: BEAT2's speaker "scott" (63.5 s; neck+head rotations relative to the torso, from motion capture) and
-// StyleTalk's 6 clips of Obama, KristiNoem and andrew (117 s; head pose of a 3DMM fitted to the video). The two
+// StyleTalk's 6 clips of Obama, KristiNoem and andrew (117 s; head pose of a 3DMM fitted to the video, smoothed
+// over a frame to take out the fit's frame-to-frame jitter). The two
 // measure rotation from different rest poses, which is why models normalise each speaker's motion (head_model.h).
 // Frame i of both streams is at i / 30 s (the feature extractor centres frame i there; the pose's frame i is
 // sampled there). The longer stream is cut to the shorter.
@@ -50,6 +51,9 @@ std::vector<HeadRecording> loadStyleTalkHeads(const ProsodyOptions& prosody = {}
 // Frames [0, fraction·T) and [fraction·T, T). The prosody of the second part was computed on the whole take,
 // so its running normalisations start warm, as they would be a minute into a live session.
 std::pair<HeadRecording, HeadRecording> splitByTime(const HeadRecording& take, double trainingFraction);
+
+// Each row smoothed with a Gaussian of sigmaFrames (edges: the edge frame repeated). d x T in, d x T out.
+Eigen::MatrixXd smoothFrames(const Eigen::MatrixXd& frames, double sigmaFrames);
 
 // Frames [begin, begin + count) of a recording.
 HeadRecording framesOf(const HeadRecording& take, int begin, int count);

@@ -122,10 +122,12 @@ Eigen::Vector3d outputScale(const HeadModel& model, const HeadSynthesisOptions& 
 }
 
 // The motion the voice does not explain — the variance the states' smooth trajectory leaves out of the training
-// motion's, in pose and in frame-to-frame step — as a random process with that spread and step: per axis an Ornstein-Uhlenbeck process
-// (x_t = a x_{t−1} + σ ε_t; stationary std s = σ / √(1 − a²), step std √(2(1 − a)) s). It is quieter in pauses:
-// after kHoldSeconds without a voice its gain eases to pauseGain (people move less while silent).
-// Deterministic for a seed; frames in order, so the batch and the online synthesis give the same values.
+// motion's, in pose and in frame-to-frame step — as a random process with that spread and step. Per axis a
+// second-order autoregression with a double pole r, x_t = 2r x_{t−1} − r² x_{t−2} + σ ε_t: unlike a first-order
+// one (white steps) its velocity is smooth, as a head's is. With ρ₁ its lag-1 autocorrelation, the step variance
+// is 2 s² (1 − ρ₁), so ρ₁ = 1 − v² / (2 s²), r solves 2r / (1 + r²) = ρ₁, and σ gives the stationary variance s².
+// It is quieter in pauses: after kHoldSeconds without a voice its gain eases to pauseVariation (people move less
+// while silent). Deterministic for a seed; frames in order, so the batch and the online synthesis agree.
 class ResidualMotion {
  public:
   static constexpr double kHoldSeconds = 0.3;
@@ -136,14 +138,14 @@ class ResidualMotion {
     for (int axis = 0; axis < 3; ++axis) {
       const double s = model.residualStd[axis];
       const double v = model.residualStepStd[axis];
-      if (s <= 0.0 || v <= 0.0) {
-        a_[axis] = 0.0;
-        sigma_[axis] = 0.0;
-        continue;
-      }
-      a_[axis] = std::clamp(1.0 - v * v / (2.0 * s * s), -0.999, 0.99999);
-      sigma_[axis] = s * std::sqrt(1.0 - a_[axis] * a_[axis]);
-      state_[axis] = 0.0;
+      if (s <= 0.0 || v <= 0.0) continue;  // a1 = a2 = σ = 0: no residual on this axis
+      const double rho = std::clamp(1.0 - v * v / (2.0 * s * s), 0.0, 0.9999);
+      const double r = rho > 0.0 ? (1.0 - std::sqrt(1.0 - rho * rho)) / rho : 0.0;
+      a1_[axis] = 2.0 * r;
+      a2_[axis] = -r * r;
+      // γ₀ = σ² (1 − φ₂) / ((1 + φ₂)((1 − φ₂)² − φ₁²)) for x_t = φ₁ x_{t−1} + φ₂ x_{t−2} + σ ε_t.
+      const double phi1 = a1_[axis], phi2 = a2_[axis];
+      sigma_[axis] = s * std::sqrt((1.0 + phi2) * ((1.0 - phi2) * (1.0 - phi2) - phi1 * phi1) / (1.0 - phi2));
     }
   }
 
@@ -152,8 +154,12 @@ class ResidualMotion {
     framesSinceVoice_ = voiced ? 0 : framesSinceVoice_ + 1;
     const double target = framesSinceVoice_ <= kHoldSeconds * kFps ? 1.0 : pauseGain_;
     gain_ += (target - gain_) / (kEaseSeconds * kFps);
-    for (int axis = 0; axis < 3; ++axis) state_[axis] = a_[axis] * state_[axis] + sigma_[axis] * normal_(random_);
-    return variation_ * gain_ * state_;
+    for (int axis = 0; axis < 3; ++axis) {
+      const double x = a1_[axis] * last_[axis] + a2_[axis] * beforeLast_[axis] + sigma_[axis] * normal_(random_);
+      beforeLast_[axis] = last_[axis];
+      last_[axis] = x;
+    }
+    return variation_ * gain_ * last_;
   }
 
  private:
@@ -161,9 +167,11 @@ class ResidualMotion {
   std::normal_distribution<double> normal_;
   double variation_;
   double pauseGain_;
-  Eigen::Vector3d a_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3d a1_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3d a2_ = Eigen::Vector3d::Zero();
   Eigen::Vector3d sigma_ = Eigen::Vector3d::Zero();
-  Eigen::Vector3d state_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3d last_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3d beforeLast_ = Eigen::Vector3d::Zero();
   int framesSinceVoice_ = 1 << 20;  // the start counts as a pause
   double gain_ = 0.0;
 };

@@ -34,7 +34,7 @@ struct IdleMotionOptions {
   double blinksPerMinute = 17.0;
   double minBlinkGapSeconds = 1.0;
   double speechBlinkFactor = 0.5;         // the spontaneous blinks' pace while the voice is on
-  double boundaryBlinkProbability = 0.6;  // a blink where a phrase ends
+  double boundaryBlinkProbability = 0.8;  // a blink where a phrase ends
   double boundaryPauseSeconds = 0.15;     // quiet that ends a phrase
   double boundarySpeechSeconds = 0.4;     // speech that makes one
   double closeSeconds = 0.08;

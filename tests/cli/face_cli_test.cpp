@@ -8,6 +8,7 @@ extern "C" {
 }
 
 #include <chrono>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -114,6 +115,37 @@ TEST_F(FaceCliTest, ExportWritesAnMp4WhoseVideoLastsAsLongAsItsSound) {
   EXPECT_EQ(header.rfind("time_s,eyeBlinkLeft,", 0), 0u);
   for (const auto& entry : fs::directory_iterator(out()))
     EXPECT_EQ(entry.path().string().find(".tmp"), std::string::npos) << "left behind: " << entry.path();
+}
+
+// An export of a minute of speech blinks at a human rate (the saved animation's lids), deterministically for a
+// seed; an animation played with --anim that has no lids gets them, and --no-idle leaves them out.
+TEST_F(FaceCliTest, ExportsBlinkAtAHumanRate) {
+  const std::string speech = th::sharedDataPath("beat2/audio_only/2_scott_0_2_2.wav").string();
+  const fs::path saved = out() / "minute.csv";
+  ASSERT_EQ(runCli({"export", speech, "-o", (out() / "minute.mp4").string(), "--size", "64x48", "--fps", "5",
+                    "--save-anim", saved.string()}, logs()).exitCode, 0);
+  const th::video::Animation animation = th::video::readAnimation(saved);
+  ASSERT_GE(animation.columnOf(19), 0);
+  const Eigen::VectorXd lid = animation.values.col(animation.columnOf(19));
+  int blinks = 0;
+  for (Eigen::Index t = 1; t < lid.size(); ++t) blinks += lid[t] > 512.0 && lid[t - 1] <= 512.0;
+  const double perMinute = blinks / (animation.numFrames() / animation.framesPerSecond / 60.0);
+  std::printf("[ INFO     ] %d blinks in %.1f s: %.1f a minute\n", blinks, animation.numFrames() / animation.framesPerSecond,
+              perMinute);
+  EXPECT_GE(perMinute, 8.0);
+  EXPECT_LE(perMinute, 30.0);
+
+  const fs::path lidless = out() / "lidless.csv";
+  ASSERT_EQ(runCli({"animate", speech, "-o", lidless.string(), "--no-idle"}, logs()).exitCode, 0);
+  EXPECT_EQ(th::video::readAnimation(lidless).columnOf(19), -1);
+  const fs::path replayed = out() / "replayed.csv";
+  ASSERT_EQ(runCli({"export", speech, "-o", (out() / "replayed.mp4").string(), "--size", "64x48", "--fps", "5", "--anim",
+                    lidless.string(), "--save-anim", replayed.string()}, logs()).exitCode, 0);
+  EXPECT_GE(th::video::readAnimation(replayed).columnOf(19), 0) << "blinks added to a file without lids";
+  const fs::path still = out() / "still.csv";
+  ASSERT_EQ(runCli({"export", speech, "-o", (out() / "still.mp4").string(), "--size", "64x48", "--fps", "5", "--anim",
+                    lidless.string(), "--save-anim", still.string(), "--no-idle"}, logs()).exitCode, 0);
+  EXPECT_EQ(th::video::readAnimation(still).columnOf(19), -1);
 }
 
 TEST_F(FaceCliTest, ExportRefusesBadInputAndBadSizesInOneLine) {
