@@ -14,6 +14,7 @@
 #include "animation/head_data.h"
 #include "animation/head_evaluation.h"
 #include "animation/head_model.h"
+#include "animation/idle_motion.h"
 #include "commands.h"
 #include "core/atomic_file.h"
 #include "hmm/entropic_training.h"
@@ -292,6 +293,50 @@ void evaluateSpeaker(const HeadCorpus& corpus, const std::string& speaker, const
   all[speaker].insert(all[speaker].end(), baselines.begin(), baselines.end());
 }
 
+// The idle behaviour's blinks on each take's sound: how many a minute, and how many start in the sound's pauses
+// (30 dB under its loud frames, as above) or within half a second after one begins, per minute of such time,
+// against those that start while the voice goes on.
+void reportBlinks(const std::vector<const HeadRecording*>& takes) {
+  std::printf("\nBlinks (the idle behaviour on each take's sound, as animate and export add it): a minute in all, "
+              "at pauses (in one or within 0.5 s after it begins) and in speech\n");
+  double allMinutes = 0.0, allBlinks = 0.0, pauseMinutes = 0.0, pauseBlinks = 0.0;
+  for (const HeadRecording* take : takes) {
+    video::Animation animation;
+    animation.framesPerSecond = kFps;
+    animation.values.resize(take->numFrames(), 0);
+    animation::addIdleMotion(animation, take->levelDb, {}, {});
+    const Eigen::VectorXd lid = animation.values.col(animation.columnOf(19));
+    const Eigen::RowVectorXd pauses = animation::pauseFrames(take->levelDb);
+    // Frames at a pause: in one, or within 0.5 s after one begins.
+    std::vector<bool> atPause(static_cast<std::size_t>(take->numFrames()), false);
+    for (int t = 0; t < take->numFrames(); ++t)
+      if (pauses[t] > 0.0 && (t == 0 || pauses[t - 1] == 0.0))
+        for (int u = t; u < std::min(take->numFrames(), t + static_cast<int>(0.5 * kFps)); ++u) atPause[static_cast<std::size_t>(u)] = true;
+    for (int t = 0; t < take->numFrames(); ++t) atPause[static_cast<std::size_t>(t)] = atPause[static_cast<std::size_t>(t)] || pauses[t] > 0.0;
+    int blinks = 0, atPauses = 0, pauseFramesCount = 0;
+    for (int t = 0; t < take->numFrames(); ++t) {
+      pauseFramesCount += atPause[static_cast<std::size_t>(t)];
+      if (t > 0 && lid[t] > 512.0 && lid[t - 1] <= 512.0) {
+        ++blinks;
+        atPauses += atPause[static_cast<std::size_t>(t)];
+      }
+    }
+    const double minutes = take->numFrames() / kFps / 60.0;
+    const double pauseShare = pauseFramesCount / static_cast<double>(take->numFrames());
+    std::printf("  %-22s %5.1f s  %5.1f a minute;  at pauses %5.1f a minute (%4.1f s of such time), in speech %5.1f\n",
+                take->name.c_str(), minutes * 60.0, blinks / minutes,
+                pauseShare > 0.0 ? atPauses / (minutes * pauseShare) : 0.0, minutes * pauseShare * 60.0,
+                (blinks - atPauses) / (minutes * (1.0 - pauseShare)));
+    allMinutes += minutes;
+    allBlinks += blinks;
+    pauseMinutes += minutes * pauseShare;
+    pauseBlinks += atPauses;
+  }
+  std::printf("  %-22s %5.1f s  %5.1f a minute;  at pauses %5.1f a minute, in speech %5.1f\n", "all", allMinutes * 60.0,
+              allBlinks / allMinutes, pauseMinutes > 0.0 ? pauseBlinks / pauseMinutes : 0.0,
+              (allBlinks - pauseBlinks) / (allMinutes - pauseMinutes));
+}
+
 void runEval(const HeadArguments& arguments) {
   const HeadCorpus corpus = loadHeadCorpus(arguments.trainingFraction);
   std::unique_ptr<HeadModel> compare;
@@ -314,6 +359,9 @@ void runEval(const HeadArguments& arguments) {
       if (clip.speaker == speaker) heldOut.push_back(&clip);
     evaluateSpeaker(corpus, speaker, heldOut, arguments, compare.get(), all);
   }
+  std::vector<const HeadRecording*> takes{&corpus.beat2Train, &corpus.beat2Test};
+  for (const auto& clip : corpus.styleTalk) takes.push_back(&clip);
+  reportBlinks(takes);
   if (!arguments.model.empty()) {
     const HeadModel model = animation::loadHeadModel(arguments.model);
     std::vector<JudgedClip> clips{{&corpus.beat2Test, corpus.beat2Test.rotations.colwise() - corpus.beat2Test.rotations.rowwise().mean(),

@@ -233,7 +233,7 @@ TEST_F(FeaturesCliTest, TrainHeadThenEvaluateItBesideItsBaselines) {
   for (const std::string expected : {"scott left out", "Obama left out", "KristiNoem left out", "andrew left out",
                                      "trajectory (the default)", "Viterbi state means (paper)", "online (live, lag 4)",
                                      "the mean pose", "another clip's real motion", "random walk, matched statistics",
-                                     "FD", "on BEAT2's held-out part"}) {
+                                     "FD", "on BEAT2's held-out part", "Blinks"}) {
     EXPECT_NE(result.out.find(expected), std::string::npos) << expected;
   }
   // A model file that is not a head model: one line naming it.

@@ -89,6 +89,9 @@ TEST_F(LiveCliTest, BadInputFailsInOneLineAndLeavesNoDump) {
   std::ofstream(settings) << R"({"window_frames": 0})";
   expectOneLineFailure(runCli({"live", "--input", speech().string(), "--settings", settings.string()}, logs()),
                        "settings.json", "window_frames");
+  std::ofstream(settings) << R"({"head_variation": 9})";
+  expectOneLineFailure(runCli({"live", "--input", speech().string(), "--settings", settings.string()}, logs()),
+                       "settings.json", "head_variation");
 }
 
 // The window under a virtual X server (xvfb-run): the face and the panel are drawn while a recording plays
@@ -101,7 +104,8 @@ TEST_F(LiveCliTest, TheWindowDrawsTheFaceAndThePanelAndKeepsItsSettings) {
   const std::string prefix =
       "ASAN_OPTIONS=detect_leaks=0 timeout 120 xvfb-run -a -s '-screen 0 1280x800x24' " + std::string(TALKINGHEAD_CLI);
   const std::string first = prefix + " live --input " + speech().string() + " --settings " + settings.string() +
-                            " --screenshot " + shot.string() + " --frames 300 --window 3 --head paper > " +
+                            " --screenshot " + shot.string() + " --frames 300 --window 3 --head paper" +
+                            " --head-amplitude 1.5 --head-smoothing 2 --no-idle --seed 4 > " +
                             (logs() / "window.txt").string() + " 2>&1";
   ASSERT_EQ(std::system(first.c_str()), 0) << th::test::readText(logs() / "window.txt");
   const std::string log = th::test::readText(logs() / "window.txt");
@@ -131,7 +135,10 @@ TEST_F(LiveCliTest, TheWindowDrawsTheFaceAndThePanelAndKeepsItsSettings) {
   EXPECT_GT(skin, 60);
   EXPECT_GT(plotted, 200);
   ASSERT_TRUE(fs::exists(settings));
-  EXPECT_NE(th::test::readText(settings).find("\"window_frames\": 3"), std::string::npos) << th::test::readText(settings);
+  const std::string saved = th::test::readText(settings);
+  for (const std::string expected : {"\"window_frames\": 3", "\"head_amplitude\": 1.5", "\"head_smoothing\": 2.0",
+                                     "\"idle\": false", "\"seed\": 4"})
+    EXPECT_NE(saved.find(expected), std::string::npos) << expected << " in " << saved;
   // The next time, without the options: the saved settings. (And without the loop's cap: frames as fast as
   // they can be drawn.)
   const std::string second = prefix + " live --input " + speech().string() + " --settings " + settings.string() +
