@@ -50,6 +50,12 @@ void addModelOptions(CLI::App* command, HeadArguments& arguments) {
       ->check(CLI::Range(0.0, 10.0))
       ->capture_default_str();
   command->add_option("--seed", arguments.options.seed, "Seed of the k-means++ start")->capture_default_str();
+  command->add_option("--iterations", arguments.options.maxIterations, "Most Baum-Welch iterations of the motion HMM")
+      ->check(CLI::Range(5, 1000))
+      ->capture_default_str();
+  command->add_flag("--residual-from-training", [&arguments](std::int64_t) { arguments.options.residualFromHeldOutSpeakers = false; },
+                    "Size the residual motion on the model's own training speech (one training instead of one more "
+                    "per speaker; the residual comes out smaller on new voices)");
   command->add_flag("--no-speaker-normalisation", [&arguments](std::int64_t) { arguments.options.normaliseSpeakers = false; },
                     "Keep each speaker's motion in degrees instead of in units of its own spread");
 }
@@ -338,9 +344,12 @@ void reportBlinks(const std::vector<const HeadRecording*>& takes) {
 }
 
 void runEval(const HeadArguments& arguments) {
-  const HeadCorpus corpus = loadHeadCorpus(arguments.trainingFraction);
+  // The model files first: a bad one fails at once, before the training.
   std::unique_ptr<HeadModel> compare;
   if (!arguments.compare.empty()) compare = std::make_unique<HeadModel>(animation::loadHeadModel(arguments.compare));
+  std::unique_ptr<HeadModel> judged;
+  if (!arguments.model.empty()) judged = std::make_unique<HeadModel>(animation::loadHeadModel(arguments.model));
+  const HeadCorpus corpus = loadHeadCorpus(arguments.trainingFraction);
   std::printf("Head motion, leave one speaker out: for each speaker, the recipe is trained on the others and judged on "
               "its speech (BEAT2's scott: the held-out last %.0f %% of the take).\n",
               100.0 * (1.0 - arguments.trainingFraction));
@@ -362,8 +371,8 @@ void runEval(const HeadArguments& arguments) {
   std::vector<const HeadRecording*> takes{&corpus.beat2Train, &corpus.beat2Test};
   for (const auto& clip : corpus.styleTalk) takes.push_back(&clip);
   reportBlinks(takes);
-  if (!arguments.model.empty()) {
-    const HeadModel model = animation::loadHeadModel(arguments.model);
+  if (judged) {
+    const HeadModel& model = *judged;
     std::vector<JudgedClip> clips{{&corpus.beat2Test, corpus.beat2Test.rotations.colwise() - corpus.beat2Test.rotations.rowwise().mean(),
                                    animation::pauseFrames(corpus.beat2Test.levelDb)}};
     const SpeakerTruth truth = truthOf(clips);
