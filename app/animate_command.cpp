@@ -11,7 +11,7 @@
 #include "commands.h"
 #include "core/atomic_file.h"
 #include "core/error.h"
-#include "video/animation_file.h"
+#include "formats/animation_format.h"
 
 namespace th::app {
 namespace {
@@ -39,7 +39,7 @@ const std::map<std::string, MouthMethod> kMouthMethods{{"inversion", MouthMethod
 
 void runAnimate(const AnimateArguments& arguments) {
   // What can be checked without work is checked first, so a bad output path fails at once.
-  video::animationFormatOf(arguments.output);
+  formats::animationFormatFor(arguments.output);
   checkOutputTarget(arguments.output);
   animation::AnimateOptions options;
   options.head.variant = kHeadVariants.count(arguments.headVariant) ? kHeadVariants.at(arguments.headVariant) : HeadVariant::kTrajectory;
@@ -55,14 +55,14 @@ void runAnimate(const AnimateArguments& arguments) {
   const animation::MouthModel* mouth = models.mouth.get();
 
   const audio::AudioClip clip = audio::readRecording(arguments.input);
-  video::Animation result;
+  face::FapTrack result;
   try {
     result = animation::animate(clip.samples, head, mouth, options);
   } catch (const Error& error) {
     throw fileError(arguments.input, error.what());
   }
   result.name = std::filesystem::path(arguments.input).stem().string();
-  video::writeAnimation(arguments.output, result);
+  formats::writeAnimation(arguments.output, result);
 
   std::cout << "wrote " << arguments.output << ": " << result.numFrames() << " frames at " << result.framesPerSecond
             << " fps (" << result.numFrames() / result.framesPerSecond << " s), FAPs";

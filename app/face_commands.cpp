@@ -31,10 +31,9 @@
 #include "animation_models.h"
 #include "face_stage.h"
 #include "text_overlay.h"
-#include "video/animation_file.h"
-#include "video/animation_sampling.h"
-#include "video/arkit.h"
-#include "video/mp4_writer.h"
+#include "formats/animation_format.h"
+#include "formats/arkit_format.h"
+#include "formats/mp4_writer.h"
 #include "tracking/talking_corpus.h"
 
 namespace th::app {
@@ -52,29 +51,29 @@ struct RenderArguments {
 
 // A file made elsewhere (or with --no-idle) may lack blinks and gaze: they are added unless it has its own
 // eyelids. With no sound to hear, the head stays as the file has it.
-void addIdleIfMissing(video::Animation& animation, const MotionControls& motion) {
-  if (animation.columnOf(19) >= 0 || animation.columnOf(20) >= 0) return;
+void addIdleIfMissing(face::FapTrack& animation, const MotionControls& motion) {
+  if (animation.rowOf(19) >= 0 || animation.rowOf(20) >= 0) return;
   animation::addIdleMotion(animation, Eigen::RowVectorXd(), idleOptionsOf(motion), {});
 }
 
 void runRender(const RenderArguments& arguments) {
   InterruptGuard guard;
   const auto [width, height] = parseSize(arguments.size);
-  video::Animation animation = video::readAnimation(arguments.animation);
+  face::FapTrack animation = formats::readAnimation(arguments.animation);
   if (arguments.motion.idle) addIdleIfMissing(animation, arguments.motion);
   const std::filesystem::path folder = arguments.output;
   std::error_code error;
   std::filesystem::create_directories(folder, error);
   if (!std::filesystem::is_directory(folder, error)) throw fileError(folder, "is not a folder and cannot be made one");
   const double fps = arguments.fps > 0.0 ? arguments.fps : animation.framesPerSecond;
-  const auto frames = static_cast<int>(std::ceil(video::durationOf(animation) * fps - 1e-9));
+  const auto frames = static_cast<int>(std::ceil(animation.durationSeconds() * fps - 1e-9));
   FaceStage stage({.width = width, .height = height});
   ProgressBar progress(frames, "render", std::cerr, progressAt(fps));
   char name[32];
   for (int frame = 0; frame < frames; ++frame) {
     InterruptGuard::check();
     std::snprintf(name, sizeof name, "frame_%06d.png", frame);
-    render::writePng(folder / name, stage.draw(video::fapValuesAt(animation, frame / fps)));
+    render::writePng(folder / name, stage.draw(animation.at(frame / fps)));
     progress.update(frame + 1);
   }
   progress.finish();
@@ -128,13 +127,13 @@ struct StripArguments {
 void runStrip(const StripArguments& arguments) {
   if (lowercaseExtension(arguments.output) != ".png") throw fileError(arguments.output, "a film strip is written as .png");
   checkOutputTarget(arguments.output);
-  const video::Animation animation = video::readAnimation(arguments.animation);
+  const face::FapTrack animation = formats::readAnimation(arguments.animation);
   std::vector<tracking::LabelInterval> phones;
   if (!arguments.phones.empty()) phones = tracking::readTextGridPhones(arguments.phones);
   const double step = arguments.every / animation.framesPerSecond;
   const int count = std::max(1, static_cast<int>(std::floor(arguments.seconds / step + 1e-9)));
-  if (arguments.fromSeconds + (count - 1) * step > video::durationOf(animation) + 1e-9)
-    throw fileError(arguments.animation, "ends before the strip does (" + std::to_string(video::durationOf(animation)) + " s)");
+  if (arguments.fromSeconds + (count - 1) * step > animation.durationSeconds() + 1e-9)
+    throw fileError(arguments.animation, "ends before the strip does (" + std::to_string(animation.durationSeconds()) + " s)");
   FaceStage stage({.width = arguments.tile, .height = arguments.tile});
   if (!arguments.wholeHead) stage.frameMouth();
   const int rows = (count + arguments.columns - 1) / arguments.columns;
@@ -143,7 +142,7 @@ void runStrip(const StripArguments& arguments) {
   std::fill(sheet.pixels.begin(), sheet.pixels.end(), static_cast<unsigned char>(255));
   for (int i = 0; i < count; ++i) {
     const double seconds = arguments.fromSeconds + i * step;
-    face::FapValues faps = video::fapValuesAt(animation, seconds);
+    face::FapFrame faps = animation.at(seconds);
     if (!arguments.wholeHead) faps[48] = faps[49] = faps[50] = 0.0;  // the head held still under a close camera
     const render::Image& tile = stage.draw(faps);
     const int left = i % arguments.columns * arguments.tile;
@@ -185,7 +184,7 @@ void runExport(const ExportArguments& arguments) {
   if (lowercaseExtension(arguments.output) != ".mp4") throw fileError(arguments.output, "an export is an .mp4 file");
   checkOutputTarget(arguments.output);
   for (const std::string& path : arguments.saveAnimation) {
-    video::animationFormatOf(path);
+    formats::animationFormatFor(path);
     checkOutputTarget(path);
   }
   if (!arguments.arkit.empty()) checkOutputTarget(arguments.arkit);
@@ -196,9 +195,9 @@ void runExport(const ExportArguments& arguments) {
   });
   const audio::AudioClip clip = audio::readRecording(arguments.input);
   if (clip.samples.empty()) throw fileError(arguments.input, "has no samples");
-  video::Animation animation;
+  face::FapTrack animation;
   if (!arguments.animation.empty()) {
-    animation = video::readAnimation(arguments.animation);
+    animation = formats::readAnimation(arguments.animation);
     if (arguments.motion.idle) addIdleIfMissing(animation, arguments.motion);
   } else {
     const animation::HeadModel head = animation::loadHeadModel(arguments.headModel);
@@ -216,7 +215,7 @@ void runExport(const ExportArguments& arguments) {
   const face::FaceModel face = building.get();
   InterruptGuard::check();
   {
-    const auto frames = video::videoFramesFor(clip.samples.size(), clip.sampleRateHz, arguments.fps);
+    const auto frames = formats::videoFramesFor(clip.samples.size(), clip.sampleRateHz, arguments.fps);
     ProgressBar progress(static_cast<double>(frames), "export", std::cerr, progressAt(arguments.fps));
     render::exportVideo(face, animation, clip.samples, clip.sampleRateHz, arguments.output,
                         {.width = width, .height = height, .framesPerSecond = arguments.fps, .crf = arguments.crf,
@@ -224,8 +223,8 @@ void runExport(const ExportArguments& arguments) {
                         {.progress = [&](int done, int) { progress.update(done); }, .check = InterruptGuard::check});
     progress.finish();
   }
-  for (const std::string& path : arguments.saveAnimation) video::writeAnimation(path, animation);
-  if (!arguments.arkit.empty()) video::writeArkitCsv(arguments.arkit, animation, video::arkitScaleFor(face));
+  for (const std::string& path : arguments.saveAnimation) formats::writeAnimation(path, animation);
+  if (!arguments.arkit.empty()) formats::writeAnimation(arguments.arkit, animation, formats::ArkitFormat(formats::arkitScaleFor(face)));
   std::cout << "wrote " << arguments.output << " (" << width << "x" << height << ", " << arguments.fps << " fps, "
             << static_cast<double>(clip.samples.size()) / clip.sampleRateHz << " s)\n";
 }

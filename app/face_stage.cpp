@@ -39,7 +39,7 @@ void FaceStage::frameMouth() {
   camera.distance *= 0.3f;
 }
 
-const render::Image& FaceStage::draw(const face::FapValues& faps) {
+const render::Image& FaceStage::draw(const face::FapFrame& faps) {
   renderer.setPositions(face.deform(faps));
   renderer.setPupilScale(face.pupilScale(faps));
   renderer.render(camera);

@@ -33,7 +33,7 @@ struct FaceStage {
   render::Image image;
 
   explicit FaceStage(render::RenderOptions options);
-  const render::Image& draw(const face::FapValues& faps);
+  const render::Image& draw(const face::FapFrame& faps);
   void frameMouth();  // the camera close on the lips (film strips): the face from the nose to the chin
 };
 

@@ -307,11 +307,11 @@ void reportBlinks(const std::vector<const HeadRecording*>& takes) {
               "at pauses (in one or within 0.5 s after it begins) and in speech\n");
   double allMinutes = 0.0, allBlinks = 0.0, pauseMinutes = 0.0, pauseBlinks = 0.0;
   for (const HeadRecording* take : takes) {
-    video::Animation animation;
+    face::FapTrack animation;
     animation.framesPerSecond = kFps;
-    animation.values.resize(take->numFrames(), 0);
+    animation.values.resize(0, take->numFrames());
     animation::addIdleMotion(animation, take->levelDb, {}, {});
-    const Eigen::VectorXd lid = animation.values.col(animation.columnOf(19));
+    const Eigen::RowVectorXd lid = animation.values.row(animation.rowOf(19));
     const Eigen::RowVectorXd pauses = animation::pauseFrames(take->levelDb);
     // Frames at a pause: in one, or within 0.5 s after one begins.
     std::vector<bool> atPause(static_cast<std::size_t>(take->numFrames()), false);

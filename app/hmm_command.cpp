@@ -8,6 +8,7 @@
 
 #include "commands.h"
 #include "core/error.h"
+#include "core/json_reading.h"
 #include "core/numeric_csv.h"
 #include "hmm/entropic_training.h"
 #include "hmm/forward_backward.h"
@@ -145,7 +146,7 @@ void runInfo(const std::string& path) {
   for (const auto& block : model.blocks) blocks.push_back({{"name", block.name}, {"begin", block.begin}, {"size", block.size}});
   info["blocks"] = blocks;
   if (!trainingText.empty()) {
-    const nlohmann::json training = nlohmann::json::parse(trainingText, nullptr, false);
+    const Json training = parseJson(trainingText, path);
     if (training.is_object() && training.contains("history") && training.contains("frames") &&
         !training["history"].empty()) {
       const auto& last = training["history"].back();

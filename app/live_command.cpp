@@ -26,9 +26,10 @@
 #include "interrupt.h"
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "core/statistics.h"
 #include "pipeline/live_decoder.h"
 #include "pipeline/live_session.h"
-#include "video/animation_file.h"
+#include "formats/animation_format.h"
 
 namespace th::app {
 namespace {
@@ -49,33 +50,6 @@ struct LiveArguments {
   double maxFps = 60.0;
   LiveSettings given;        // the options as typed (which ones were typed: CLI11's count)
   MotionControls motion;     // the head and idle options animate and export share
-};
-
-// Milliseconds in 10 µs bins up to 100 ms, for percentiles over hours of frames in constant memory.
-class MillisecondHistogram {
- public:
-  void add(double ms) {
-    const auto bin = static_cast<std::size_t>(std::clamp(ms, 0.0, 99.99) * 100.0);
-    ++counts_[bin];
-    ++total_;
-    largest_ = std::max(largest_, ms);
-  }
-  double percentile(double p) const {
-    if (total_ == 0) return 0.0;
-    const auto rank = static_cast<std::uint64_t>(p / 100.0 * static_cast<double>(total_ - 1));
-    std::uint64_t seen = 0;
-    for (std::size_t bin = 0; bin < counts_.size(); ++bin) {
-      seen += counts_[bin];
-      if (seen > rank) return (static_cast<double>(bin) + 0.5) / 100.0;
-    }
-    return largest_;
-  }
-  double largest() const { return largest_; }
-
- private:
-  std::vector<std::uint64_t> counts_ = std::vector<std::uint64_t>(10000, 0);
-  std::uint64_t total_ = 0;
-  double largest_ = 0.0;
 };
 
 // This process's resident memory, MB (Linux: /proc/self/status), or -1 where it cannot be read.
@@ -141,7 +115,7 @@ LiveSettings resolveSettings(const LiveArguments& arguments, const CLI::App& com
 void runHeadless(const LiveArguments& arguments, const LiveSettings& settings, bool fromDevice) {
   if (fromDevice && arguments.speed != 1.0) throw Error("live: --speed is for --input files; a device runs in real time");
   if (!arguments.dump.empty()) {
-    video::animationFormatOf(arguments.dump);
+    formats::animationFormatFor(arguments.dump);
     checkOutputTarget(arguments.dump);
   }
   const pipeline::LiveDecoderOptions options = decoderOptionsOf(settings);
@@ -256,16 +230,16 @@ void runHeadless(const LiveArguments& arguments, const LiveSettings& settings, b
               startMegabytes, afterAMinute, endMegabytes);
 
   if (!arguments.dump.empty()) {
-    video::Animation animation;
+    face::FapTrack animation;
     animation.name = std::filesystem::path(arguments.input).stem().string();
     animation.framesPerSecond = animation::kAnimationFramesPerSecond;
     animation.faps = fapNumbers;
-    animation.values.resize(static_cast<Eigen::Index>(shown.size()), static_cast<Eigen::Index>(animation.faps.size()));
+    animation.values.resize(static_cast<Eigen::Index>(animation.faps.size()), static_cast<Eigen::Index>(shown.size()));
     for (std::size_t f = 0; f < shown.size(); ++f)
       for (std::size_t c = 0; c < animation.faps.size(); ++c)
-        animation.values(static_cast<Eigen::Index>(f), static_cast<Eigen::Index>(c)) =
+        animation.values(static_cast<Eigen::Index>(c), static_cast<Eigen::Index>(f)) =
             shown[f].faps[static_cast<std::size_t>(animation.faps[c])];
-    video::writeAnimation(arguments.dump, animation);
+    formats::writeAnimation(arguments.dump, animation);
     std::printf("wrote %s: %zu frames\n", arguments.dump.c_str(), shown.size());
   }
 }

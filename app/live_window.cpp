@@ -27,6 +27,7 @@
 #include "audio/media_audio.h"
 #include "core/cpu_time.h"
 #include "core/error.h"
+#include "core/statistics.h"
 #include "face/face_model.h"
 #include "face/fap.h"
 #include "interrupt.h"
@@ -53,12 +54,7 @@ double secondsSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-double median(std::deque<double> values) {
-  if (values.empty()) return 0.0;
-  const auto middle = values.begin() + static_cast<long>(values.size() / 2);
-  std::nth_element(values.begin(), middle, values.end());
-  return *middle;
-}
+double median(const std::deque<double>& values) { return quantile(std::vector<double>(values.begin(), values.end()), 0.5); }
 
 // A decoder that keeps its models alive: after the panel loads other models, the worker may still be running
 // the old decoder until it takes the new one.
@@ -309,7 +305,7 @@ class LiveWindow {
       playbackLatencyMs_ =
           pipeline::LiveDecoder(models_->head.get(), models_->mouth.get(), decoderOptionsOf(settings_)).lookahead().totalMs + 60.0;
       outputSystem_ = std::make_unique<audio::PortAudioSystem>();
-      playbackRing_ = std::make_unique<pipeline::AudioRing>(2 * features::OnlineFeatureExtractor::kSampleRateHz);
+      playbackRing_ = std::make_unique<AudioRing>(2 * features::OnlineFeatureExtractor::kSampleRateHz);
       playback_ = std::make_unique<audio::Playback>(*outputSystem_, std::nullopt, features::OnlineFeatureExtractor::kSampleRateHz,
                                                     *playbackRing_);
       playbackOpened_ = std::chrono::steady_clock::now();
@@ -501,7 +497,7 @@ class LiveWindow {
     pipeline::PlayoutSample sample;
     // Until the first frame of a new stream (another input, another display mode), the last pose stays: no
     // jump to the neutral face between two streams.
-    face::FapValues faps = lastDecoded_;
+    face::FapFrame faps = lastDecoded_;
     double levelDb = -140.0;  // no sound: silence
     // A recording heard aloud is the clock: the face shows the instant heard when this frame is swapped in
     // (now, plus what drawing and the swap have lately taken). Otherwise the playout's own clock.
@@ -863,7 +859,7 @@ class LiveWindow {
 
   // Playing a recording aloud (declared before the source: destroyed after its feeder).
   std::unique_ptr<audio::PortAudioSystem> outputSystem_;
-  std::unique_ptr<pipeline::AudioRing> playbackRing_;
+  std::unique_ptr<AudioRing> playbackRing_;
   std::unique_ptr<audio::Playback> playback_;
   std::string playbackNote_;
   std::chrono::steady_clock::time_point playbackOpened_;
@@ -889,8 +885,8 @@ class LiveWindow {
     std::uint64_t overrunSamples = 0;
   } totals_;  // of sessions since replaced
 
-  face::FapValues shown_{1.0};
-  face::FapValues lastDecoded_{};  // the decoders' last pose (before idle motion and amplitude)
+  face::FapFrame shown_{1.0};
+  face::FapFrame lastDecoded_{};  // the decoders' last pose (before idle motion and amplitude)
   int framesWithout_ = 0;          // display frames since the playout last had a frame
   std::array<char, 512> headPath_{};
   std::array<char, 512> mouthPath_{};

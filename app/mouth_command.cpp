@@ -26,6 +26,7 @@
 #include "core/data_path.h"
 #include "core/error.h"
 #include "core/parallel_for.h"
+#include "core/statistics.h"
 #include "face/feature_points.h"
 #include "hmm/audio_retraining.h"
 #include "subprocess.h"
@@ -279,7 +280,7 @@ void runStage2(const animation::MouthModel& model, const animation::MouthRecordi
               animation::averageCorrelation(before, truth));
   for (const auto& set : sets) {
     std::vector<Eigen::MatrixXd> audio;
-    for (const auto& mfcc : set.mfcc) audio.push_back(animation::stackContext(mfcc, model.contextFrames));
+    for (const auto& mfcc : set.mfcc) audio.push_back(features::stackContext(mfcc, model.contextFrames));
     const hmm::AudioRetrainingResult retrained = hmm::retrainAudio(model.hmm, audio, {});
     animation::MouthModel adapted = model;
     adapted.hmm = retrained.model;
@@ -288,17 +289,6 @@ void runStage2(const animation::MouthModel& model, const animation::MouthRecordi
                 ("re-trained on " + set.name).c_str(), animation::averageMse(after, truth),
                 animation::averageCorrelation(after, truth), set.seconds, retrained.repairedComponents);
   }
-}
-
-double correlation(const Eigen::RowVectorXd& a, const Eigen::RowVectorXd& b) {
-  const Eigen::RowVectorXd x = a.array() - a.mean();
-  const Eigen::RowVectorXd y = b.array() - b.mean();
-  return x.dot(y) / std::sqrt(x.squaredNorm() * y.squaredNorm());
-}
-
-double percentile(Eigen::RowVectorXd values, double fraction) {
-  std::sort(values.begin(), values.end());
-  return values[static_cast<Eigen::Index>(fraction * static_cast<double>(values.size() - 1))];
 }
 
 // The jaw as the face will show it: FAP 3 from the predicted and from the true jaw opening, through the model's
@@ -311,9 +301,9 @@ void reportJawFaps(const animation::MouthModel& model, const animation::MouthRec
   std::printf("  jaw → FAP 3 on the held-out part (inversion, conditional-mean start): correlation with the truth "
               "%.3f (jaw angle %.3f); FAP 3 1st / 50th / 99th percentile %.0f / %.0f / %.0f, the truth's %.0f / %.0f "
               "/ %.0f (true jaw %.2f° to %.2f°)\n",
-              correlation(predicted, truth), correlation(predictedJaw, trueJaw), percentile(predicted, 0.01),
-              percentile(predicted, 0.5), percentile(predicted, 0.99), percentile(truth, 0.01), percentile(truth, 0.5),
-              percentile(truth, 0.99), trueJaw.minCoeff(), trueJaw.maxCoeff());
+              pearsonCorrelation(predicted, truth), pearsonCorrelation(predictedJaw, trueJaw), quantile(predicted, 0.01),
+              quantile(predicted, 0.5), quantile(predicted, 0.99), quantile(truth, 0.01), quantile(truth, 0.5),
+              quantile(truth, 0.99), trueJaw.minCoeff(), trueJaw.maxCoeff());
 }
 
 void runEvalMouth(const MouthArguments& arguments) {

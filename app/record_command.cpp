@@ -28,7 +28,7 @@
 #include "commands.h"
 #include "core/error.h"
 #include "interrupt.h"
-#include "pipeline/audio_ring.h"
+#include "core/audio_ring.h"
 
 namespace th::app {
 namespace {
@@ -112,7 +112,7 @@ void runRecord(const RecordArguments& arguments) {
     }
   } cleanup{partialVideo};
 
-  pipeline::AudioRing ring(16000 * 10);
+  AudioRing ring(16000 * 10);
   audio::Capture microphone(*system, device, 16000.0, ring);
   const double rate = microphone.rateHz();
   InterruptGuard guard;

@@ -26,8 +26,7 @@
 #include "render/face_renderer.h"
 #include "render/gl_context.h"
 #include "render/image.h"
-#include "video/animation_file.h"
-#include "video/animation_sampling.h"
+#include "formats/animation_format.h"
 #include "window_capture.h"
 
 namespace th::app {
@@ -48,8 +47,8 @@ std::pair<float, float> sliderRange(const face::FapDefinition& fap) {
 }
 
 void runShow(const ShowArguments& arguments) {
-  std::optional<video::Animation> animation;
-  if (!arguments.animation.empty()) animation = video::readAnimation(arguments.animation);
+  std::optional<face::FapTrack> animation;
+  if (!arguments.animation.empty()) animation = formats::readAnimation(arguments.animation);
   const face::FaceModel face = face::FaceModel::build(face::loadIctFace(face::ictFaceDirectory()));
   render::WindowContext window({.width = arguments.width, .height = arguments.height, .title = "talkinghead",
                                 .visible = true, .vsync = true});
@@ -72,8 +71,8 @@ void runShow(const ShowArguments& arguments) {
     if (face.supports(number) && std::find(groups.begin(), groups.end(), face::fapDefinition(number).group) == groups.end())
       groups.push_back(face::fapDefinition(number).group);
 
-  face::FapValues faps{};
-  face::FapValues shown{};
+  face::FapFrame faps{};
+  face::FapFrame shown{};
   shown[1] = 1.0;  // differs from faps: the first frame deforms
   bool playing = animation.has_value();
   double playStart = glfwGetTime();
@@ -121,8 +120,8 @@ void runShow(const ShowArguments& arguments) {
       if (ImGui::SmallButton(pose.name.c_str())) faps = pose.faps, playing = false;
     }
     if (playing && animation) {
-      const double seconds = std::fmod(glfwGetTime() - playStart, video::durationOf(*animation));
-      faps = video::fapValuesAt(*animation, seconds);
+      const double seconds = std::fmod(glfwGetTime() - playStart, animation->durationSeconds());
+      faps = animation->at(seconds);
     }
     // The jaw and the inner lip open at start.
     ImGui::PushItemWidth(-190.0f);

@@ -23,8 +23,8 @@
 #include "tracking/landmarks.h"
 #include "tracking/video_reader.h"
 #include "tracking/video_training.h"
-#include "video/animation_sampling.h"
-#include "video/mp4_writer.h"
+#include "face/fap_track.h"
+#include "formats/mp4_writer.h"
 
 namespace th::app {
 namespace {
@@ -58,7 +58,7 @@ struct ClipFrames {
 
 // Film strip: the speaker's mouth (a square round the lips, placed by the landmarks of the strip's first frame)
 // above our face's, framed as close.
-void writeStrip(const SideBySideArguments& arguments, tracking::VideoReader& clip, const video::Animation& animation) {
+void writeStrip(const SideBySideArguments& arguments, tracking::VideoReader& clip, const face::FapTrack& animation) {
   const int height = (arguments.height > 0 ? arguments.height : 160) / 2 * 2;
   const int width = height;
   const double fps = clip.framesPerSecond();
@@ -93,7 +93,7 @@ void writeStrip(const SideBySideArguments& arguments, tracking::VideoReader& cli
     cv::cvtColor(scaled, rgb, cv::COLOR_BGR2RGB);
     const int left = i % columns * width, top = i / columns * rowHeight;
     for (int y = 0; y < height; ++y) std::copy_n(rgb.ptr<std::uint8_t>(y), width * 3, sheet.pixel(left, top + y));
-    const render::Image& face = stage.draw(video::fapValuesAt(animation, f / fps));
+    const render::Image& face = stage.draw(animation.at(f / fps));
     for (int y = 0; y < height; ++y) std::copy_n(face.pixel(0, y), width * 3, sheet.pixel(left, top + height + y));
     char label[32];
     std::snprintf(label, sizeof label, "%.2f", f / fps);
@@ -115,7 +115,7 @@ void runSideBySide(const SideBySideArguments& arguments) {
                                                      arguments.headModel, "inversion", arguments.mouthModel);
   tracking::VideoReader clip(arguments.clip);
   const audio::AudioClip sound = tracking::readClipSound(arguments.clip);
-  video::Animation animation;
+  face::FapTrack animation;
   try {
     animation::AnimateOptions options;
     applyMotionControls(arguments.motion, options);
@@ -133,17 +133,17 @@ void runSideBySide(const SideBySideArguments& arguments) {
   const int half = std::max(2, static_cast<int>(static_cast<double>(clip.width()) * height / clip.height()) / 2 * 2);
   const double fps = clip.framesPerSecond();
   FaceStage stage({.width = half, .height = height});
-  video::Mp4Options mp4;
+  formats::Mp4Options mp4;
   mp4.width = 2 * half;
   mp4.height = height;
   mp4.framesPerSecond = fps;
   mp4.audioSampleRateHz = sound.sampleRateHz;
-  video::Mp4Writer writer(output, mp4);
+  formats::Mp4Writer writer(output, mp4);
   writer.addAudio(sound.samples);
   render::Image canvas(2 * half, height);
   cv::Mat frame, scaled, rgb;
   double seconds = 0.0;
-  const auto frames = video::videoFramesFor(sound.samples.size(), sound.sampleRateHz, fps);
+  const auto frames = formats::videoFramesFor(sound.samples.size(), sound.sampleRateHz, fps);
   ProgressBar bar(static_cast<double>(frames), "sidebyside", std::cerr, progressAt(fps));
   for (std::int64_t f = 0; f < frames; ++f) {
     InterruptGuard::check();
@@ -153,7 +153,7 @@ void runSideBySide(const SideBySideArguments& arguments) {
       cv::cvtColor(scaled, rgb, cv::COLOR_BGR2RGB);
     }
     for (int y = 0; y < height; ++y) std::copy_n(rgb.ptr<std::uint8_t>(y), half * 3, canvas.pixel(0, y));
-    const render::Image& face = stage.draw(video::fapValuesAt(animation, static_cast<double>(f) / fps));
+    const render::Image& face = stage.draw(animation.at(static_cast<double>(f) / fps));
     for (int y = 0; y < height; ++y) std::copy_n(face.pixel(0, y), half * 3, canvas.pixel(half, y));
     const int scale = height >= 480 ? 2 : 1;
     drawLabel(canvas, 6, 6, "video", scale);

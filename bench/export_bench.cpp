@@ -34,7 +34,7 @@
 #include "face/face_model.h"
 #include "face/feature_points.h"
 #include "render/video_export.h"
-#include "video/mp4_writer.h"
+#include "formats/mp4_writer.h"
 
 namespace {
 
@@ -95,8 +95,8 @@ void exportClip(benchmark::State& state, const Case& c, double seconds) {
     const double t = static_cast<double>(n) / kAudioRateHz;
     audio[n] = static_cast<float>(0.3 * std::sin(2.0 * std::numbers::pi * 180.0 * t) * (0.6 + 0.4 * std::sin(7.0 * t)));
   }
-  const auto frameCount = th::video::videoFramesFor(audio.size(), kAudioRateHz, kFps);
-  th::video::Mp4Options options;
+  const auto frameCount = th::formats::videoFramesFor(audio.size(), kAudioRateHz, kFps);
+  th::formats::Mp4Options options;
   options.width = width;
   options.height = height;
   options.framesPerSecond = kFps;
@@ -109,7 +109,7 @@ void exportClip(benchmark::State& state, const Case& c, double seconds) {
   for (auto _ : state) {
     const double cpuBefore = th::processCpuSeconds();
     const auto path = folder.path() / "bench.mp4";
-    th::video::Mp4Writer writer(path, options);
+    th::formats::Mp4Writer writer(path, options);
     const std::size_t perFrame = audio.size() / static_cast<std::size_t>(frameCount) + 1;
     for (std::int64_t f = 0; f < frameCount; ++f) {
       writer.addVideoFrame(frames[static_cast<std::size_t>(f % kDistinctFrames)].data(), width * 3);
@@ -147,7 +147,7 @@ void exportFace(benchmark::State& state, int width, int height, double seconds) 
     std::future<th::face::FaceModel> building = std::async(std::launch::async, [] {
       return th::face::FaceModel::build(th::face::loadIctFace(th::face::ictFaceDirectory()));
     });
-    const th::video::Animation animation = th::animation::animate(clip.samples, &head, &mouth, {});
+    const th::face::FapTrack animation = th::animation::animate(clip.samples, &head, &mouth, {});
     const th::face::FaceModel face = building.get();
     frames = th::render::exportVideo(face, animation, clip.samples, clip.sampleRateHz, folder.path() / "face.mp4",
                                      {.width = width, .height = height});

@@ -37,6 +37,7 @@
 #include "animation/mouth_model.h"
 #include "audio/media_audio.h"
 #include "core/data_path.h"
+#include "core/statistics.h"
 #include "face/face_model.h"
 #include "pipeline/live_decoder.h"
 #include "pipeline/live_presets.h"
@@ -73,12 +74,7 @@ std::vector<double> hopLevels(const std::vector<float>& x, std::size_t hop) {
 }
 
 double percentileOf(std::vector<double> values, double p) {
-  if (values.empty()) return std::nan("");
-  std::sort(values.begin(), values.end());
-  const double rank = p / 100.0 * static_cast<double>(values.size() - 1);
-  const auto low = static_cast<std::size_t>(std::floor(rank));
-  const std::size_t high = std::min(low + 1, values.size() - 1);
-  return values[low] + (rank - static_cast<double>(low)) * (values[high] - values[low]);
+  return values.empty() ? std::nan("") : th::quantile(std::move(values), p / 100.0);
 }
 
 OnsetRecording buildOnsetRecording(std::size_t wanted) {

@@ -1,4 +1,4 @@
-// libFuzzer target: arbitrary bytes through th::video::readAnimation, as each of its three formats.
+// libFuzzer target: arbitrary bytes through th::formats::readAnimation, as each of its three formats.
 //
 //   CC=clang CXX=clang++ cmake -S . -B build-fuzz -G Ninja -DTALKINGHEAD_FUZZ=ON -DTALKINGHEAD_WERROR=OFF
 //   ninja -C build-fuzz animation_file_fuzzer && build-fuzz/fuzz/animation_file_fuzzer CORPUS -max_len=16384
@@ -17,7 +17,7 @@
 
 #include "core/error.h"
 #include "core/temporary_file.h"
-#include "video/animation_file.h"
+#include "formats/animation_format.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   if (size == 0) return 0;
@@ -29,16 +29,16 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     std::ofstream out(input, std::ios::binary | std::ios::trunc);
     out.write(reinterpret_cast<const char*>(data + 1), static_cast<std::streamsize>(size - 1));
   }
-  th::video::Animation animation;
+  th::face::FapTrack animation;
   try {
-    animation = th::video::readAnimation(input);
+    animation = th::formats::readAnimation(input);
   } catch (const th::Error&) {
     return 0;  // a clean rejection
   }
   try {
     const auto output = folder.path() / ("output" + extension);
-    th::video::writeAnimation(output, animation);
-    const th::video::Animation again = th::video::readAnimation(output);
+    th::formats::writeAnimation(output, animation);
+    const th::face::FapTrack again = th::formats::readAnimation(output);
     const bool sameShape = again.faps == animation.faps && again.values.rows() == animation.values.rows() &&
                            again.values.cols() == animation.values.cols();
     if (!sameShape || again.values != animation.values) __builtin_trap();

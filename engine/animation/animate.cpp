@@ -10,7 +10,7 @@
 
 namespace th::animation {
 
-video::Animation animate(std::span<const float> samples16k, const HeadModel* head, const MouthModel* mouth,
+face::FapTrack animate(std::span<const float> samples16k, const HeadModel* head, const MouthModel* mouth,
                          const AnimateOptions& options) {
   if (head == nullptr && mouth == nullptr) throw Error("animate: neither a head nor a mouth model");
   if (mouth != nullptr && !drivesFaps(*mouth))
@@ -44,13 +44,13 @@ video::Animation animate(std::span<const float> samples16k, const HeadModel* hea
   }
   if (frames <= 0) throw Error("animate: the recording is shorter than one animation frame");
 
-  video::Animation animation;
+  face::FapTrack animation;
   animation.framesPerSecond = kAnimationFramesPerSecond;
-  animation.values.resize(frames, static_cast<Eigen::Index>(curves.size()));
+  animation.values.resize(static_cast<Eigen::Index>(curves.size()), frames);
   Eigen::Index column = 0;
   for (const auto& [number, curve] : curves) {
     animation.faps.push_back(number);
-    animation.values.col(column++) = curve.head(frames).transpose();
+    animation.values.row(column++) = curve.head(frames);
   }
   if (options.idle) {
     Eigen::RowVectorXd level = Eigen::RowVectorXd::Constant(frames, -140.0);  // past the sound's end: silence

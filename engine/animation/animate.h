@@ -3,8 +3,8 @@
 //
 //   th::animation::HeadModel head = th::animation::loadHeadModel("models/head.json");
 //   th::animation::MouthModel mouth = th::animation::loadMouthModel("models/mouth.json");
-//   th::video::Animation anim = th::animation::animate(clip.samples, &head, &mouth, {});
-//   th::video::writeAnimation("speech.fap", anim);
+//   th::face::FapTrack anim = th::animation::animate(clip.samples, &head, &mouth, {});
+//   th::formats::writeAnimation("speech.fap", anim);
 //
 // Frame i is at i / 30 s for both parts (the feature extractor centres frame i there). A null model leaves its
 // FAPs out. Head rotations are relative to the model's mean pose (the face's rest pose looks ahead). With idle
@@ -17,7 +17,7 @@
 #include "animation/head_model.h"
 #include "animation/idle_motion.h"
 #include "animation/mouth_model.h"
-#include "video/animation_file.h"
+#include "formats/animation_format.h"
 
 namespace th::animation {
 
@@ -33,7 +33,7 @@ static_assert(kAnimationFramesPerSecond == kMouthFramesPerSecond, "the mouth's f
 
 // samples16k: mono at 16 kHz. Throws th::Error if both models are null, the mouth model drives no FAPs (no
 // FAP map and no visual FAPs), or the recording is shorter than one frame.
-video::Animation animate(std::span<const float> samples16k, const HeadModel* head, const MouthModel* mouth,
+face::FapTrack animate(std::span<const float> samples16k, const HeadModel* head, const MouthModel* mouth,
                          const AnimateOptions& options = {});
 
 }  // namespace th::animation

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "core/error.h"
+#include "core/json_reading.h"
 #include "face/fap.h"
 #include "face/jaw.h"
 
@@ -23,12 +24,12 @@ Eigen::Vector3d directionOf(const face::FapDefinition& fap) {
   return {fap.direction[0], fap.direction[1], fap.direction[2]};
 }
 
-Eigen::Vector3d vectorFrom(const nlohmann::json& json, const std::filesystem::path& file, const char* field) {
+Eigen::Vector3d vectorFrom(const Json& json, const std::filesystem::path& file, const char* field) {
   if (!json.contains(field) || !json[field].is_array() || json[field].size() != 3)
     throw fileError(file, std::string("fap_map.") + field + " must be a list of 3 numbers");
   Eigen::Vector3d v;
   for (int k = 0; k < 3; ++k) {
-    const nlohmann::json& x = json[field][static_cast<std::size_t>(k)];
+    const Json& x = json[field][static_cast<std::size_t>(k)];
     if (!x.is_number() || !std::isfinite(x.get<double>()))
       throw fileError(file, std::string("fap_map.") + field + " must be a list of 3 finite numbers");
     v[k] = x.get<double>();
@@ -101,7 +102,7 @@ nlohmann::json mouthFapMapJson(const MouthFapMap& map) {
           {"lip_faps_per_radian", lip}};
 }
 
-MouthFapMap mouthFapMapFromJson(const nlohmann::json& json, const std::filesystem::path& file) {
+MouthFapMap mouthFapMapFromJson(const Json& json, const std::filesystem::path& file) {
   if (!json.is_object()) throw fileError(file, "fap_map must be an object");
   MouthFapMap map;
   map.hingeAxis = vectorFrom(json, file, "hinge_axis");

@@ -30,6 +30,7 @@
 #include <nlohmann/json_fwd.hpp>
 #include <vector>
 
+#include "core/json_reading.h"
 #include "face/feature_points.h"
 
 namespace th::animation {
@@ -59,6 +60,6 @@ Eigen::MatrixXd headFaps(const Eigen::MatrixXd& rotationsDegrees);
 // The map as a JSON object, and back (checked: unit axis, finite numbers, valid lip FAPs; th::Error names the
 // file and the field).
 nlohmann::json mouthFapMapJson(const MouthFapMap& map);
-MouthFapMap mouthFapMapFromJson(const nlohmann::json& json, const std::filesystem::path& file);
+MouthFapMap mouthFapMapFromJson(const Json& json, const std::filesystem::path& file);
 
 }  // namespace th::animation

@@ -117,9 +117,4 @@ HeadRecording framesOf(const HeadRecording& take, int begin, int count) {
   return part;
 }
 
-std::pair<HeadRecording, HeadRecording> splitByTime(const HeadRecording& take, double trainingFraction) {
-  const int boundary = trainingFrames(take.numFrames(), trainingFraction, "head data");
-  return {framesOf(take, 0, boundary), framesOf(take, boundary, take.numFrames() - boundary)};
-}
-
 }  // namespace th::animation

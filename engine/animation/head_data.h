@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "animation/prosody.h"
+#include "animation/time_split.h"
 
 namespace th::animation {
 
@@ -48,14 +49,12 @@ HeadRecording loadBeat2Head(const ProsodyOptions& prosody = {});
 // before "_clip" (Obama_clip2 → Obama).
 std::vector<HeadRecording> loadStyleTalkHeads(const ProsodyOptions& prosody = {});
 
-// Frames [0, fraction·T) and [fraction·T, T). The prosody of the second part was computed on the whole take,
-// so its running normalisations start warm, as they would be a minute into a live session.
-std::pair<HeadRecording, HeadRecording> splitByTime(const HeadRecording& take, double trainingFraction);
-
 // Each row smoothed with a Gaussian of sigmaFrames (edges: the edge frame repeated). d x T in, d x T out.
 Eigen::MatrixXd smoothFrames(const Eigen::MatrixXd& frames, double sigmaFrames);
 
-// Frames [begin, begin + count) of a recording.
+// Frames [begin, begin + count) of a recording (time_split.h's splitByTime cuts a take in two with it; the
+// prosody of the second part was computed on the whole take, so its running normalisations start warm, as
+// they would be a minute into a live session).
 HeadRecording framesOf(const HeadRecording& take, int begin, int count);
 
 }  // namespace th::animation

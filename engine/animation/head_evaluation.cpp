@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "core/error.h"
+#include "core/statistics.h"
 
 namespace th::animation {
 namespace {
@@ -17,51 +18,13 @@ void requireSameShape(const Eigen::MatrixXd& predicted, const Eigen::MatrixXd& t
   }
 }
 
-// Plain loops: GCC's -Wnull-dereference misreads Eigen's reductions over dynamic-size temporaries.
-double mean(const Eigen::MatrixXd& m, Eigen::Index row) {
-  double sum = 0.0;
-  for (Eigen::Index t = 0; t < m.cols(); ++t) sum += m(row, t);
-  return sum / static_cast<double>(m.cols());
-}
-
-double pearson(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b, Eigen::Index row) {
-  const double meanA = mean(a, row);
-  const double meanB = mean(b, row);
-  double xy = 0.0;
-  double xx = 0.0;
-  double yy = 0.0;
-  for (Eigen::Index t = 0; t < a.cols(); ++t) {
-    const double x = a(row, t) - meanA;
-    const double y = b(row, t) - meanB;
-    xy += x * y;
-    xx += x * x;
-    yy += y * y;
-  }
-  const double denominator = std::sqrt(xx * yy);
-  return denominator > 0.0 ? xy / denominator : 0.0;
-}
-
 Eigen::Vector3d rowStd(const Eigen::MatrixXd& m) {
   Eigen::Vector3d result;
-  for (Eigen::Index axis = 0; axis < 3; ++axis) {
-    const double average = mean(m, axis);
-    double sum = 0.0;
-    for (Eigen::Index t = 0; t < m.cols(); ++t) sum += (m(axis, t) - average) * (m(axis, t) - average);
-    result[axis] = std::sqrt(sum / static_cast<double>(m.cols()));
-  }
+  for (Eigen::Index axis = 0; axis < 3; ++axis) result[axis] = standardDeviation(m.row(axis));
   return result;
 }
 
 Eigen::MatrixXd steps(const Eigen::MatrixXd& m) { return m.rightCols(m.cols() - 1) - m.leftCols(m.cols() - 1); }
-
-double percentile(std::vector<double> values, double quantile) {
-  if (values.empty()) return 0.0;
-  std::sort(values.begin(), values.end());
-  const double position = std::clamp(quantile, 0.0, 1.0) * static_cast<double>(values.size() - 1);
-  const auto below = static_cast<size_t>(std::floor(position));
-  const size_t above = std::min(below + 1, values.size() - 1);
-  return values[below] + (position - static_cast<double>(below)) * (values[above] - values[below]);
-}
 
 // The symmetric square root of a symmetric positive semi-definite matrix (negative round-off clipped).
 Eigen::MatrixXd symmetricSqrt(const Eigen::MatrixXd& m) {
@@ -115,7 +78,7 @@ HeadMotionStatistics motionStatistics(const Eigen::MatrixXd& rotations, const Ei
       ++speechCount;
     }
   }
-  statistics.speedP95 = percentile(speeds, 0.95);
+  statistics.speedP95 = quantile(speeds, 0.95);
   if (pauseCount > 0 && speechCount > 0 && speechSum > 0.0)
     statistics.pauseSpeechRatio = (pauseSum / pauseCount) / (speechSum / speechCount);
   statistics.poseStd = rowStd(rotations);
@@ -124,7 +87,7 @@ HeadMotionStatistics motionStatistics(const Eigen::MatrixXd& rotations, const Ei
 
 Eigen::RowVectorXd pauseFrames(const Eigen::RowVectorXd& levelDb, double marginDb) {
   std::vector<double> levels(levelDb.data(), levelDb.data() + levelDb.size());
-  const double loud = percentile(levels, 0.95);
+  const double loud = quantile(levels, 0.95);
   Eigen::RowVectorXd pauses(levelDb.size());
   for (Eigen::Index t = 0; t < levelDb.size(); ++t) pauses[t] = levelDb[t] < loud - marginDb ? 1.0 : 0.0;
   return pauses;
@@ -210,7 +173,7 @@ HeadMetrics evaluateHead(const Eigen::MatrixXd& predicted, const Eigen::MatrixXd
   HeadMetrics metrics;
   metrics.error = headError(predicted, truth);
   for (int axis = 0; axis < 3; ++axis) {
-    metrics.correlation[axis] = pearson(predicted, truth, axis);
+    metrics.correlation[axis] = pearsonCorrelation(predicted.row(axis), truth.row(axis));
   }
   metrics.poseStd = rowStd(predicted);
   metrics.truthPoseStd = rowStd(truth);

@@ -8,6 +8,7 @@
 
 #include "animation/mlpg.h"
 #include "core/error.h"
+#include "core/json_reading.h"
 #include "core/frame_store.h"
 #include "hmm/forward_filter.h"
 #include "hmm/entropic_training.h"
@@ -423,7 +424,8 @@ HeadModel loadHeadModel(const std::filesystem::path& path) {
   std::string trainingText;
   HeadModel model;
   model.hmm = hmm::loadModel(path, &trainingText);
-  const nlohmann::json training = nlohmann::json::parse(trainingText, nullptr, false);
+  const Json training = parseJson(trainingText, path.string(), {.maxDepth = 64, .depthNote = "", .subject = "the training metadata"});
+  const JsonFields fields(path.string());
   if (!training.is_object() || !training.contains("kind") || training["kind"] != "head") {
     throw fileError(path, "is an HMM file but not a head model (training.kind is not \"head\")");
   }
@@ -443,7 +445,7 @@ HeadModel loadHeadModel(const std::filesystem::path& path) {
                           "and prosody (9, 4), or the older motion, motion_delta and prosody (6, 4)");
   }
   const auto readVector = [&](const char* key, Eigen::Vector3d& out) {
-    const auto& value = training[key];
+    const Json& value = fields.member(training, key, "training");
     if (!value.is_array() || value.size() != 3 || !value[0].is_number() || !value[1].is_number() ||
         !value[2].is_number()) {
       throw fileError(path, std::string("training.") + key + " must be 3 numbers");
@@ -451,7 +453,6 @@ HeadModel loadHeadModel(const std::filesystem::path& path) {
     out = {value[0].get<double>(), value[1].get<double>(), value[2].get<double>()};
     if (!out.allFinite()) throw fileError(path, std::string("training.") + key + " is not finite");
   };
-  if (!training.contains("mean_pose_deg")) throw fileError(path, "training.mean_pose_deg is missing");
   readVector("mean_pose_deg", model.meanPose);
   if (training.contains("amplitude_deg")) {
     readVector("amplitude_deg", model.amplitude);

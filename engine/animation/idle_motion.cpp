@@ -51,7 +51,7 @@ void IdleMotion::scheduleFixation(double after) {
   nextFixation_ = after + uniform(options_.fixationMinSeconds, options_.fixationMaxSeconds);
 }
 
-void IdleMotion::apply(double seconds, double levelDb, const IdleSwitches& switches, face::FapValues& faps) {
+void IdleMotion::apply(double seconds, double levelDb, const IdleSwitches& switches, face::FapFrame& faps) {
   if (!started_) {
     started_ = true;
     now_ = seconds;
@@ -128,19 +128,19 @@ void IdleMotion::apply(double seconds, double levelDb, const IdleSwitches& switc
   }
 }
 
-void addIdleMotion(video::Animation& animation, const Eigen::RowVectorXd& levelDb, const IdleMotionOptions& options,
+void addIdleMotion(face::FapTrack& animation, const Eigen::RowVectorXd& levelDb, const IdleMotionOptions& options,
                    const IdleSwitches& switches) {
   if (levelDb.size() != 0 && levelDb.size() < animation.numFrames())
     throw Error("idle motion: fewer levels than animation frames");
   constexpr int kIdleFaps[] = {19, 20, 23, 24, 25, 26};
   std::vector<int> numbers = animation.faps;
   for (const int fap : kIdleFaps)
-    if (animation.columnOf(fap) < 0) numbers.push_back(fap);
+    if (animation.rowOf(fap) < 0) numbers.push_back(fap);
   std::sort(numbers.begin(), numbers.end());
-  Eigen::MatrixXd values = Eigen::MatrixXd::Zero(animation.numFrames(), static_cast<Eigen::Index>(numbers.size()));
-  for (std::size_t c = 0; c < numbers.size(); ++c) {
-    const int from = animation.columnOf(numbers[c]);
-    if (from >= 0) values.col(static_cast<Eigen::Index>(c)) = animation.values.col(from);
+  Eigen::MatrixXd values = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(numbers.size()), animation.numFrames());
+  for (std::size_t r = 0; r < numbers.size(); ++r) {
+    const int from = animation.rowOf(numbers[r]);
+    if (from >= 0) values.row(static_cast<Eigen::Index>(r)) = animation.values.row(from);
   }
   IdleMotion idle(options);
   // With no sound, a level that always counts as speech keeps the head where the animation has it.
@@ -148,10 +148,10 @@ void addIdleMotion(video::Animation& animation, const Eigen::RowVectorXd& levelD
   IdleSwitches used = switches;
   if (!hearing) used.restHead = false;
   for (int t = 0; t < animation.numFrames(); ++t) {
-    face::FapValues faps{};
-    for (std::size_t c = 0; c < numbers.size(); ++c) faps[static_cast<std::size_t>(numbers[c])] = values(t, static_cast<Eigen::Index>(c));
+    face::FapFrame faps{};
+    for (std::size_t r = 0; r < numbers.size(); ++r) faps[static_cast<std::size_t>(numbers[r])] = values(static_cast<Eigen::Index>(r), t);
     idle.apply(t / animation.framesPerSecond, hearing ? levelDb[t] : 0.0, used, faps);
-    for (std::size_t c = 0; c < numbers.size(); ++c) values(t, static_cast<Eigen::Index>(c)) = faps[static_cast<std::size_t>(numbers[c])];
+    for (std::size_t r = 0; r < numbers.size(); ++r) values(static_cast<Eigen::Index>(r), t) = faps[static_cast<std::size_t>(numbers[r])];
   }
   animation.faps = std::move(numbers);
   animation.values = std::move(values);

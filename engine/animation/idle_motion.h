@@ -26,7 +26,7 @@
 #include <random>
 
 #include "face/face_model.h"
-#include "video/animation_file.h"
+#include "face/fap_track.h"
 
 namespace th::animation {
 
@@ -63,7 +63,7 @@ class IdleMotion {
 
   // Moves to `seconds` (non-decreasing) with the sound's level there (dB re full scale; very low for none):
   // sets the eyelid FAPs (19, 20) and the eyeball FAPs (23–26), and scales the head FAPs (48–50) toward rest.
-  void apply(double seconds, double levelDb, const IdleSwitches& switches, face::FapValues& faps);
+  void apply(double seconds, double levelDb, const IdleSwitches& switches, face::FapFrame& faps);
 
   bool speaking() const { return speaking_; }
   double headGain() const { return headGain_; }  // 1 while speaking, easing to 0 at rest
@@ -108,7 +108,7 @@ class IdleMotion {
 // export, render, sidebyside): the eyelid and eyeball FAPs (19, 20, 23–26) are added (or overlaid), and the head
 // FAPs (48–50), where present, eased to rest in silence. levelDb: the sound's level per frame; empty when there
 // is no sound to hear (the face counts as speaking: blinks and gaze, the head untouched).
-void addIdleMotion(video::Animation& animation, const Eigen::RowVectorXd& levelDb, const IdleMotionOptions& options,
+void addIdleMotion(face::FapTrack& animation, const Eigen::RowVectorXd& levelDb, const IdleMotionOptions& options,
                    const IdleSwitches& switches);
 
 }  // namespace th::animation

@@ -80,30 +80,13 @@ MouthRecording loadBeat2Mouth() {
                             sharedDataPath("beat2/2_scott_0_1_1_flame_expr_30fps.csv"));
 }
 
-std::pair<MouthRecording, MouthRecording> splitByTime(const MouthRecording& take, double trainingFraction) {
-  const int boundary = trainingFrames(take.numFrames(), trainingFraction, "mouth data");
-  MouthRecording train = take;
-  MouthRecording test = take;
-  train.visual = take.visual.leftCols(boundary);
-  train.speech = take.speech.middleFrames(0, boundary);
-  test.visual = take.visual.rightCols(take.numFrames() - boundary);
-  test.speech = take.speech.middleFrames(boundary, take.numFrames() - boundary);
-  test.startSeconds = take.startSeconds + boundary / take.framesPerSecond;
-  return {train, test};
-}
-
-Eigen::MatrixXd stackContext(const Eigen::MatrixXd& mfcc, int contextFrames) {
-  if (contextFrames < 0) throw Error("mouth data: the context must be >= 0 frames");
-  const Eigen::Index frames = mfcc.cols();
-  const Eigen::Index rows = mfcc.rows();
-  Eigen::MatrixXd stacked(rows * (2 * contextFrames + 1), frames);
-  for (Eigen::Index t = 0; t < frames; ++t) {
-    for (int offset = -contextFrames; offset <= contextFrames; ++offset) {
-      const Eigen::Index source = std::clamp<Eigen::Index>(t + offset, 0, frames - 1);
-      stacked.block(rows * (offset + contextFrames), t, rows, 1) = mfcc.col(source);
-    }
-  }
-  return stacked;
+MouthRecording framesOf(const MouthRecording& take, int begin, int count) {
+  if (begin < 0 || count < 0 || begin + count > take.numFrames()) throw Error("mouth data: frames out of range");
+  MouthRecording part = take;
+  part.visual = take.visual.middleCols(begin, count);
+  part.speech = take.speech.middleFrames(begin, count);
+  part.startSeconds = take.startSeconds + begin / take.framesPerSecond;
+  return part;
 }
 
 }  // namespace th::animation

@@ -1,9 +1,9 @@
 // The mouth model's data: per frame at 30 fps, the visual parameters (BEAT2's jaw opening and 100 FLAME
-// expression coefficients, or tracked FAPs) and the speech frames of the synchronous recording; context stacking.
+// expression coefficients, or tracked FAPs) and the speech frames of the synchronous recording.
 //
 //   th::animation::MouthRecording take = th::animation::loadBeat2Mouth();
 //   auto [train, test] = th::animation::splitByTime(take, 0.75);
-//   Eigen::MatrixXd audio = th::animation::stackContext(train.speech.mfcc, 3);   // 11·7 x T
+//   Eigen::MatrixXd audio = th::features::stackContext(train.speech.mfcc, 3);   // 11·7 x T
 //
 // Frame i of both streams is at i / 30 s, as for the head (head_data.h); the longer stream is cut to the
 // shorter. The jaw opening is the x component of the SMPL-X jaw axis-angle (degrees; positive opens).
@@ -14,6 +14,8 @@
 #include <filesystem>
 #include <span>
 #include <utility>
+
+#include "animation/time_split.h"
 
 namespace th::animation {
 
@@ -46,10 +48,7 @@ MouthRecording loadBeat2Mouth();
 SpeechFrames speechFramesOf(std::span<const float> samples16k);
 SpeechFrames speechFramesOf(const std::filesystem::path& recording);
 
-std::pair<MouthRecording, MouthRecording> splitByTime(const MouthRecording& take, double trainingFraction);
-
-// Frames t−tc .. t+tc stacked (c1..c11 of the earliest first), edges replicating the first and last frame —
-// the same layout as the streaming extractor's context columns.
-Eigen::MatrixXd stackContext(const Eigen::MatrixXd& mfcc, int contextFrames);
+// Frames [begin, begin + count) of a recording (time_split.h's splitByTime cuts a take in two with it).
+MouthRecording framesOf(const MouthRecording& take, int begin, int count);
 
 }  // namespace th::animation

@@ -9,6 +9,7 @@
 
 #include "animation/mlpg.h"
 #include "core/error.h"
+#include "core/json_reading.h"
 #include "face/fap.h"
 #include "hmm/audio_retraining.h"
 #include "hmm/model_file.h"
@@ -58,7 +59,7 @@ MouthModel trainOnParts(const std::vector<MouthRecording>& parts, const std::vec
   const int visualSize = options.visualComponents * (options.visualDeltas ? 2 : 1);
   std::vector<Eigen::MatrixXd> sequences;
   for (const auto& part : parts) {
-    const Eigen::MatrixXd audio = stackContext(mouthAudioFrames(model, part.speech), options.contextFrames);
+    const Eigen::MatrixXd audio = features::stackContext(mouthAudioFrames(model, part.speech), options.contextFrames);
     const Eigen::MatrixXd components = model.basis.transform(part.visual);
     Eigen::MatrixXd joint(audio.rows() + visualSize, part.numFrames());
     joint.topRows(audio.rows()) = audio;
@@ -92,7 +93,7 @@ MouthModel trainOnParts(const std::vector<MouthRecording>& parts, const std::vec
     std::vector<Eigen::MatrixXd> audio;
     for (const Eigen::MatrixXd& sequence : sequences) audio.push_back(sequence.topRows(audioSize));
     for (const SpeechFrames& speech : speechOnly)
-      if (speech.numFrames() > 0) audio.push_back(stackContext(mouthAudioFrames(model, speech), options.contextFrames));
+      if (speech.numFrames() > 0) audio.push_back(features::stackContext(mouthAudioFrames(model, speech), options.contextFrames));
     model.hmm = hmm::retrainAudio(model.hmm, audio, {.iterations = options.speechOnlyIterations}).model;
   }
   model.hmm.check();
@@ -155,7 +156,7 @@ nlohmann::json vectorJson(const Eigen::VectorXd& v) {
   return values;
 }
 
-Eigen::VectorXd vectorFrom(const nlohmann::json& json, const std::filesystem::path& path, const std::string& field,
+Eigen::VectorXd vectorFrom(const Json& json, const std::filesystem::path& path, const std::string& field,
                            const std::string& prefix = "training.visual_basis.") {
   if (!json.is_array() || json.empty()) throw fileError(path, prefix + field + " must be a list of numbers");
   Eigen::VectorXd v(static_cast<Eigen::Index>(json.size()));
@@ -166,7 +167,7 @@ Eigen::VectorXd vectorFrom(const nlohmann::json& json, const std::filesystem::pa
   return v;
 }
 
-Eigen::MatrixXd matrixFrom(const nlohmann::json& json, const std::filesystem::path& path, const std::string& field) {
+Eigen::MatrixXd matrixFrom(const Json& json, const std::filesystem::path& path, const std::string& field) {
   if (!json.is_array() || json.empty() || !json[0].is_array()) {
     throw fileError(path, "training.visual_basis." + field + " must be a list of rows");
   }
@@ -224,7 +225,7 @@ MouthModel loadMouthModel(const std::filesystem::path& path) {
   std::string trainingText;
   MouthModel model;
   model.hmm = hmm::loadModel(path, &trainingText);
-  const nlohmann::json training = nlohmann::json::parse(trainingText, nullptr, false);
+  const Json training = parseJson(trainingText, path.string(), {.maxDepth = 64, .depthNote = "", .subject = "the training metadata"});
   if (!training.is_object() || !training.contains("kind") || training["kind"] != "mouth") {
     throw fileError(path, "is an HMM file but not a mouth model (training.kind is not \"mouth\")");
   }
@@ -236,15 +237,15 @@ MouthModel loadMouthModel(const std::filesystem::path& path) {
   if (!training.contains("visual_basis") || !training["visual_basis"].is_object()) {
     throw fileError(path, "training.visual_basis is missing");
   }
-  const nlohmann::json& basis = training["visual_basis"];
+  const Json& basis = training["visual_basis"];
   if (!basis.contains("explained_variance") || !basis["explained_variance"].is_number()) {
     throw fileError(path, "training.visual_basis.explained_variance must be a number");
   }
   try {
-    model.basis = VisualBasis::fromParts(vectorFrom(basis.value("mean", nlohmann::json()), path, "mean"),
-                                         vectorFrom(basis.value("scale", nlohmann::json()), path, "scale"),
-                                         matrixFrom(basis.value("unmixing", nlohmann::json()), path, "unmixing"),
-                                         matrixFrom(basis.value("mixing", nlohmann::json()), path, "mixing"),
+    model.basis = VisualBasis::fromParts(vectorFrom(basis.value("mean", Json()), path, "mean"),
+                                         vectorFrom(basis.value("scale", Json()), path, "scale"),
+                                         matrixFrom(basis.value("unmixing", Json()), path, "unmixing"),
+                                         matrixFrom(basis.value("mixing", Json()), path, "mixing"),
                                          basis["explained_variance"].get<double>());
   } catch (const Error& error) {
     const std::string what = error.what();
@@ -253,12 +254,12 @@ MouthModel loadMouthModel(const std::filesystem::path& path) {
   }
   if (training.contains("fap_map")) model.fapMap = mouthFapMapFromJson(training["fap_map"], path);
   if (training.contains("visual_faps")) {
-    const nlohmann::json& faps = training["visual_faps"];
+    const Json& faps = training["visual_faps"];
     const auto rows = static_cast<std::size_t>(model.basis.inputDimension());
     if (!faps.is_array() || faps.size() != rows)
       throw fileError(path, "training.visual_faps must list one FAP number per visual parameter (" +
                                 std::to_string(rows) + ")");
-    for (const nlohmann::json& number : faps) {
+    for (const Json& number : faps) {
       if (!number.is_number_integer() || number.get<int>() < 1 || number.get<int>() > face::kNumFaps ||
           (!model.visualFaps.empty() && number.get<int>() <= model.visualFaps.back()))
         throw fileError(path, "training.visual_faps must hold FAP numbers 1..68 in ascending order");
@@ -266,7 +267,7 @@ MouthModel loadMouthModel(const std::filesystem::path& path) {
     }
   }
   if (training.contains("speech_normalisation")) {
-    const nlohmann::json& n = training["speech_normalisation"];
+    const Json& n = training["speech_normalisation"];
     const auto number = [&](const char* field) {
       if (!n.is_object() || !n.contains(field) || !n[field].is_number())
         throw fileError(path, std::string("training.speech_normalisation.") + field + " must be a number");
@@ -282,7 +283,7 @@ MouthModel loadMouthModel(const std::filesystem::path& path) {
     } catch (const Error& error) {
       throw fileError(path, std::string("training.speech_normalisation: ") + error.what());
     }
-    normalisation.priorMean = vectorFrom(n.value("prior_mean", nlohmann::json()), path, "prior_mean", "training.speech_normalisation.");
+    normalisation.priorMean = vectorFrom(n.value("prior_mean", Json()), path, "prior_mean", "training.speech_normalisation.");
     if (!normalisation.priorMean.allFinite()) throw fileError(path, "training.speech_normalisation.prior_mean must be finite");
     model.normalisation = std::move(normalisation);
   }
@@ -356,7 +357,7 @@ Eigen::MatrixXd generateComponents(const Eigen::MatrixXd& means, const std::vect
 
 Eigen::MatrixXd synthesiseMouth(const MouthModel& model, const SpeechFrames& speech, const MouthSynthesisOptions& options,
                                 int* iterations) {
-  const Eigen::MatrixXd audio = stackContext(mouthAudioFrames(model, speech), model.contextFrames);
+  const Eigen::MatrixXd audio = features::stackContext(mouthAudioFrames(model, speech), model.contextFrames);
   const hmm::HmmInverter inverter(model.hmm, {.maxIterations = options.maxIterations,
                                               .start = options.start,
                                               .seed = options.seed,
@@ -395,7 +396,7 @@ MouthSynthesiser::MouthSynthesiser(const MouthModel& model, const MouthSynthesis
   const Eigen::Index width = 2 * model.contextFrames + 1;
   if (inverter_.audioDimension() % width != 0)
     throw Error("mouth synthesis: the model's audio block is not " + std::to_string(width) + " frames of features");
-  recent_.resize(inverter_.audioDimension() / width, width);
+  stacker_.emplace(inverter_.audioDimension() / width, model.contextFrames);
   if (model.normalisation) {
     normaliser_.emplace(model.normalisation->options, kMouthFramesPerSecond, model.normalisation->priorMean);
     normalised_.resize(normaliser_->outputDimension());
@@ -404,25 +405,24 @@ MouthSynthesiser::MouthSynthesiser(const MouthModel& model, const MouthSynthesis
 
 void MouthSynthesiser::acceptFrame(double levelDb, const Eigen::Ref<const Eigen::VectorXd>& mfcc) {
   if (finished_) throw Error("mouth synthesis: speech frames after finish()");
-  const Eigen::Index expected = normaliser_ ? normaliser_->numMfcc() : recent_.rows();
+  const Eigen::Index expected = normaliser_ ? normaliser_->numMfcc() : stacker_->outputDimension() / (2 * model_.contextFrames + 1);
   if (mfcc.size() != expected)
     throw Error("mouth synthesis: " + std::to_string(mfcc.size()) + " MFCCs a frame, the model has " +
                 std::to_string(expected));
   if (normaliser_) {
     normaliser_->accept(levelDb, mfcc, normalised_);
-    recent_.col(received_ % recent_.cols()) = normalised_;
+    stacker_->acceptFrame(normalised_);
   } else {
-    recent_.col(received_ % recent_.cols()) = mfcc;
+    stacker_->acceptFrame(mfcc);
   }
-  ++received_;
-  // Frame t's context reaches t + tc.
-  while (stacked_ + model_.contextFrames < received_) stackFrame(stacked_++);
+  while (stacker_->next(stacked_)) invertFrame();
 }
 
 void MouthSynthesiser::finish() {
   if (finished_) return;
   finished_ = true;
-  while (stacked_ < received_) stackFrame(stacked_++);
+  stacker_->inputFinished();
+  while (stacker_->next(stacked_)) invertFrame();
   stream_.finish();
 }
 
@@ -443,18 +443,10 @@ int MouthSynthesiser::lookaheadFrames() const {
   return model_.contextFrames + std::max(stream_.windowFrames(), 1) - 1;
 }
 
-void MouthSynthesiser::stackFrame(Eigen::Index t) {
-  // As stackContext: frames before the first and after the last (known only at finish()) repeat them.
-  const Eigen::Index rows = recent_.rows();
-  const int tc = model_.contextFrames;
-  Eigen::VectorXd stacked(rows * (2 * tc + 1));
-  for (int offset = -tc; offset <= tc; ++offset) {
-    const Eigen::Index source = std::clamp<Eigen::Index>(t + offset, 0, received_ - 1);
-    stacked.segment(rows * (offset + tc), rows) = recent_.col(source % recent_.cols());
-  }
-  filter_.accept(inverter_.audioModel().emissionLogLikelihoods(stacked).col(0));
+void MouthSynthesiser::invertFrame() {
+  filter_.accept(inverter_.audioModel().emissionLogLikelihoods(stacked_).col(0));
   posteriors_.push_back(filter_.posterior());
-  stream_.accept(stacked);
+  stream_.accept(stacked_);
 }
 
 Eigen::RowVectorXd jawOpeningOf(const MouthModel& model, const Eigen::MatrixXd& components) {

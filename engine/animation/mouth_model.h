@@ -29,6 +29,7 @@
 #include "animation/fap_mapping.h"
 #include "animation/mouth_data.h"
 #include "animation/visual_basis.h"
+#include "features/context.h"
 #include "features/speech_normaliser.h"
 #include "hmm/hmm_model.h"
 #include "hmm/forward_filter.h"
@@ -142,7 +143,7 @@ class MouthSynthesiser {
   int numStates() const;
 
  private:
-  void stackFrame(Eigen::Index t);  // frame t of the context-stacked audio into the inverter
+  void invertFrame();  // the context-stacked frame in stacked_ into the inverter
 
   const MouthModel& model_;
   MouthSynthesisOptions options_;
@@ -153,9 +154,8 @@ class MouthSynthesiser {
   hmm::ForwardFilter filter_;                    // over inverter_.audioModel()
   std::deque<Eigen::VectorXd> posteriors_;       // of frames stacked, not yet given by next()
   Eigen::VectorXd lastPosterior_;
-  Eigen::MatrixXd recent_;  // the last 2 tc + 1 audio frames (D values each), circular by frame number
-  Eigen::Index received_ = 0;
-  Eigen::Index stacked_ = 0;
+  std::optional<features::ContextStacker> stacker_;
+  Eigen::VectorXd stacked_;
   bool finished_ = false;
 };
 

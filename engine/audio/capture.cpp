@@ -225,7 +225,7 @@ double captureRateFor(const PortAudioSystem& system, std::optional<int> device, 
   return Pa_IsFormatSupported(&input, nullptr, wantedHz) == paFormatIsSupported ? wantedHz : chosen.defaultRateHz;
 }
 
-Capture::Capture(const PortAudioSystem& system, std::optional<int> device, double rateHz, pipeline::AudioRing& ring)
+Capture::Capture(const PortAudioSystem& system, std::optional<int> device, double rateHz, AudioRing& ring)
     : ring_(ring) {
   device_ = inputDevice(system, device);
   const std::string named = "sound input " + std::to_string(device_.index) + " (" + device_.name + ")";
@@ -273,7 +273,7 @@ int Capture::callback(const void* input, void*, unsigned long frames, const PaSt
   return paContinue;
 }
 
-Playback::Playback(const PortAudioSystem&, std::optional<int> device, double rateHz, pipeline::AudioRing& ring)
+Playback::Playback(const PortAudioSystem&, std::optional<int> device, double rateHz, AudioRing& ring)
     : ring_(ring) {
   PaDeviceIndex index = paNoDevice;
   if (device) {

@@ -3,7 +3,7 @@
 //
 //   th::audio::PortAudioSystem system;                        // Pa_Initialize ... Pa_Terminate
 //   for (const auto& d : system.inputDevices()) std::cout << d.index << ' ' << d.name << '\n';
-//   th::pipeline::AudioRing ring(64000);
+//   th::AudioRing ring(64000);
 //   th::audio::Capture mic(system, std::nullopt, 16000.0, ring);   // the default input, mono 16 kHz
 //   ... the worker reads ring ...; mic.active() turns false if the device goes away
 //
@@ -26,7 +26,7 @@
 #include <string>
 #include <vector>
 
-#include "pipeline/audio_ring.h"
+#include "core/audio_ring.h"
 
 struct PaStreamCallbackTimeInfo;
 
@@ -95,7 +95,7 @@ class Capture {
  public:
   // `device`: an index from devices(), or the default input. Throws th::Error if there is none, or it will
   // not open.
-  Capture(const PortAudioSystem& system, std::optional<int> device, double rateHz, pipeline::AudioRing& ring);
+  Capture(const PortAudioSystem& system, std::optional<int> device, double rateHz, AudioRing& ring);
   ~Capture();
   Capture(const Capture&) = delete;
   Capture& operator=(const Capture&) = delete;
@@ -119,7 +119,7 @@ class Capture {
   AudioDevice device_;
   double rateHz_ = 0.0;
   int channels_ = 1;
-  pipeline::AudioRing& ring_;
+  AudioRing& ring_;
   std::vector<float> mono_;  // sized when the stream opens; the callback never grows it
   void* stream_ = nullptr;   // PaStream
   std::atomic<std::uint64_t> callbacks_{0};
@@ -140,7 +140,7 @@ class Capture {
 // not play at `rateHz`.
 class Playback {
  public:
-  Playback(const PortAudioSystem& system, std::optional<int> device, double rateHz, pipeline::AudioRing& ring);
+  Playback(const PortAudioSystem& system, std::optional<int> device, double rateHz, AudioRing& ring);
   // Ring sample `ringSample` (counting every sample the ring has taken) is to be heard at `dueNs` (steady
   // clock), and those after it at the sample rate. Used when samples next come after none; may be called again
   // (a recording's next pass).
@@ -173,7 +173,7 @@ class Playback {
 
   AudioDevice device_;
   int channels_ = 1;
-  pipeline::AudioRing& ring_;
+  AudioRing& ring_;
   std::vector<float> mono_;
   double rateHz_ = 0.0;
   SequencedPair schedule_;  // ring sample, when it is due (steady ns)

@@ -622,13 +622,13 @@ double FaceModel::jawAngleFor(double openJaw) const {
   return 0.5 * (low + high);
 }
 
-std::array<double, 2> FaceModel::pupilScale(const FapValues& faps) const {
+std::array<double, 2> FaceModel::pupilScale(const FapFrame& faps) const {
   return {std::max(0.1, 1.0 + faps[29] * units_.irisd / pupilRadius_), std::max(0.1, 1.0 + faps[30] * units_.irisd / pupilRadius_)};
 }
 
-Eigen::Matrix3Xd FaceModel::deform(const FapValues& faps) const { return deformSelected(faps, nullptr); }
+Eigen::Matrix3Xd FaceModel::deform(const FapFrame& faps) const { return deformSelected(faps, nullptr); }
 
-Eigen::Matrix3Xd FaceModel::deform(const FapValues& faps, const VertexSelection& selection) const {
+Eigen::Matrix3Xd FaceModel::deform(const FapFrame& faps, const VertexSelection& selection) const {
   if (selection.columnOf.size() != static_cast<std::size_t>(mesh_.numVertices()) || selection.fields.size() != linear_.size())
     throw Error("FaceModel::deform: the selection was made for another mesh");
   return deformSelected(faps, &selection);
@@ -652,7 +652,7 @@ VertexSelection FaceModel::select(const std::vector<int>& vertices) const {
   return selection;
 }
 
-Eigen::Matrix3Xd FaceModel::deformSelected(const FapValues& faps, const VertexSelection* selection) const {
+Eigen::Matrix3Xd FaceModel::deformSelected(const FapFrame& faps, const VertexSelection* selection) const {
   // The column of a mesh vertex in `v` (-1: not deformed here), and the mesh vertex of a column.
   const auto columnOf = [&](int vertex) { return selection ? selection->columnOf[static_cast<std::size_t>(vertex)] : vertex; };
   const auto vertexOf = [&](Eigen::Index column) {

@@ -1,7 +1,7 @@
 // The animated face: the reference head's mesh deformed by MPEG-4 FAP values and turned by the head FAPs.
 //
 //   th::face::FaceModel face = th::face::FaceModel::build(th::face::loadIctFace(th::face::ictFaceDirectory()));
-//   th::face::FapValues faps{};                 // index = FAP number (1..68), values in FAPU counts
+//   th::face::FapFrame faps{};                 // index = FAP number (1..68), values in FAPU counts
 //   faps[3] = 400;                              // open the jaw: the chin drops 400 MNS
 //   faps[49] = 20 * std::numbers::pi / 180 / 1e-5;   // turn the head 20° to its left
 //   Eigen::Matrix3Xd positions = face.deform(faps);  // 3 x V, the mesh's vertex order
@@ -54,13 +54,13 @@
 #include <vector>
 
 #include "face/bezier_volume.h"
+#include "face/fap.h"
 #include "face/feature_points.h"
 #include "face/jaw.h"
 #include "face/mesh.h"
 
 namespace th::face {
 
-using FapValues = std::array<double, kNumFaps + 1>;  // [0] unused; [n] is FAP n
 
 struct FaceModelOptions {
   BezierLatticeOptions lattice{.volumes = {12, 15, 4}, .degree = 3, .bend = 0.04};
@@ -87,9 +87,9 @@ class FaceModel {
  public:
   static FaceModel build(const FaceAssets& assets, const FaceModelOptions& options = {});
 
-  Eigen::Matrix3Xd deform(const FapValues& faps) const;
+  Eigen::Matrix3Xd deform(const FapFrame& faps) const;
   // The same deformation of the selected vertices only (3 x selection.vertices.size()).
-  Eigen::Matrix3Xd deform(const FapValues& faps, const VertexSelection& selection) const;
+  Eigen::Matrix3Xd deform(const FapFrame& faps, const VertexSelection& selection) const;
   VertexSelection select(const std::vector<int>& vertices) const;  // throws th::Error for a vertex not in the mesh
   // The 68 iBUG landmarks' vertices (FaceAssets::landmarks; empty if the assets had none).
   const std::vector<int>& landmarkVertices() const { return landmarks_; }
@@ -105,7 +105,7 @@ class FaceModel {
   const FapUnits& units() const { return units_; }
   const JawHinge& jaw() const { return jaw_; }
   // The pupils' size relative to rest for FAPs 29 (left) and 30 (right): 1 + value / 1024 · IRISD / pupil.
-  std::array<double, 2> pupilScale(const FapValues& faps) const;
+  std::array<double, 2> pupilScale(const FapFrame& faps) const;
   // The jaw angle (radians) that a FAP 3 value asks for.
   double jawAngleFor(double openJaw) const;
   const Eigen::Vector3d& neckPivot() const { return neckPivot_; }
@@ -135,7 +135,7 @@ class FaceModel {
   };
 
   // deform() for the vertices of `selection`, or every vertex when it is null.
-  Eigen::Matrix3Xd deformSelected(const FapValues& faps, const VertexSelection* selection) const;
+  Eigen::Matrix3Xd deformSelected(const FapFrame& faps, const VertexSelection* selection) const;
 
   Mesh mesh_;
   FeaturePointMap points_;

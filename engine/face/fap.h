@@ -1,8 +1,10 @@
 // The MPEG-4 facial animation parameters (ISO/IEC 14496-2, Annex C): the 68 FAPs, their units (FAPU) and the
-// direction a positive value moves the feature point each one names.
+// direction a positive value moves the feature point each one names; and FapFrame, one frame of FAP values, the
+// type every stage hands the face (fap_track.h holds a track of them over time).
 //
 //   const th::face::FapDefinition& jaw = th::face::fapDefinition(3);   // open_jaw, MNS, moves 2.1 down
 //   double metres = value * fapu.of(jaw.unit);                         // a FAP value is a count of its FAPU
+//   th::face::FapFrame faps{};  faps[3] = 400;                         // index = FAP number
 //
 // Frame of the face: +x is the face's own left (the viewer's right), +y up, +z forward (out of the face).
 // FAPUs are the neutral face's distances divided by 1024 (MNS mouth-nose separation, MW mouth width, ENS
@@ -23,6 +25,9 @@ std::string_view fapuName(Fapu unit);  // "MNS", "MW", ..., "AU"; "" for kNone
 
 constexpr int kNumFaps = 68;       // numbered 1..68
 constexpr double kAngleUnit = 1e-5;  // AU in radians
+
+// One frame of FAP values: [n] is FAP n (1..68) in counts of its unit; [0] is unused.
+using FapFrame = std::array<double, kNumFaps + 1>;
 
 struct FapDefinition {
   int number;                 // 1..68

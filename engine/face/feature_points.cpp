@@ -1,14 +1,11 @@
 #include "face/feature_points.h"
 
-#include <nlohmann/json.hpp>
-
 #include <algorithm>
-#include <fstream>
 #include <limits>
-#include <sstream>
 
 #include "core/data_path.h"
 #include "core/error.h"
+#include "core/json_reading.h"
 
 namespace th::face {
 namespace {
@@ -46,23 +43,14 @@ const std::vector<LandmarkPoint>& ibugFeaturePoints() {
   return table;
 }
 
-std::string readText(const std::filesystem::path& path) {
-  std::ifstream file(path);
-  if (!file) throw fileError(path, "cannot be opened");
-  std::stringstream text;
-  text << file.rdbuf();
-  return text.str();
-}
-
 std::vector<int> landmarkVertices(const std::filesystem::path& path, int numVertices) {
-  const nlohmann::json json = nlohmann::json::parse(readText(path), nullptr, false);
-  if (json.is_discarded()) throw fileError(path, "not JSON");
+  const Json json = readJsonFile(path, "landmark map");
   if (!json.is_object() || !json.contains("idx_to_landmark_verts") || !json["idx_to_landmark_verts"].is_array() ||
       json["idx_to_landmark_verts"].size() != 68) {
     throw fileError(path, "idx_to_landmark_verts must be a list of 68 vertex indices");
   }
   std::vector<int> vertices;
-  for (const nlohmann::json& v : json["idx_to_landmark_verts"]) {
+  for (const Json& v : json["idx_to_landmark_verts"]) {
     if (!v.is_number_integer() || v.get<long long>() < 0 || v.get<long long>() >= numVertices)
       throw fileError(path, "idx_to_landmark_verts holds an index that is not a vertex of the mesh");
     vertices.push_back(v.get<int>());

@@ -16,7 +16,7 @@ namespace th::face {
 struct Pose {
   std::string name;  // file-name friendly: "neutral", "jaw_open", ...
   std::string title; // for people: "jaw open (FAP 3 = 600)"
-  FapValues faps{};
+  FapFrame faps{};
 };
 
 // neutral, jaw open, smile, blink, head yaw 20° (the golden images), then brows up, pucker, look left, and a

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "core/error.h"
+#include "features/context.h"
 
 namespace th::features {
 
@@ -217,7 +218,7 @@ void OnlineFeatureExtractor::getFrame(int frame, std::span<float> row) const {
   for (size_t k = 0; k < numMfcc; ++k) row[FeatureLayout::kMfccBegin + k] = mfccRows_[i * numMfcc + k];
   size_t column = static_cast<size_t>(layout_.contextBegin());
   for (int offset = -layout_.contextFrames; offset <= layout_.contextFrames; ++offset) {
-    const size_t source = at(frame + offset) * numMfcc;
+    const auto source = static_cast<size_t>(contextSource(frame, offset, count)) * numMfcc;
     for (size_t k = 0; k < numMfcc; ++k) row[column + k] = mfccRows_[source + k];
     column += numMfcc;
   }

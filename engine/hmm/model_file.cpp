@@ -17,14 +17,11 @@
 
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "core/json_reading.h"
 #include "core/text_files.h"
 
 namespace th::hmm {
 namespace {
-
-// Ordered: keys keep the order they were written in, so a file reads top to bottom as documented and the
-// "training" object comes back as the trainer wrote it.
-using Json = nlohmann::ordered_json;
 
 constexpr std::string_view kFormatName = "talkinghead-hmm";
 // Size guards, checked on the JSON arrays before anything is allocated for them. Far beyond any model this
@@ -50,122 +47,11 @@ std::string formatNumber(double value) {
   return buffer.data();
 }
 
-std::string kindOf(const Json& value) {
-  switch (value.type()) {
-    case Json::value_t::null: return "null";
-    case Json::value_t::object: return "an object";
-    case Json::value_t::array: return "an array";
-    case Json::value_t::string: return "a string";
-    case Json::value_t::boolean: return "a boolean";
-    case Json::value_t::number_integer:
-    case Json::value_t::number_unsigned: return "an integer";
-    case Json::value_t::number_float: return "a number";
-    default: return "not a JSON value";
-  }
-}
-
-// A short rendering of a value for messages: strings quoted, numbers as numbers, anything else by its kind.
-std::string describe(const Json& value) {
-  if (value.is_string()) return "\"" + printable(value.get_ref<const std::string&>()) + "\"";
-  if (value.is_number()) return formatNumber(value.get<double>());
-  return kindOf(value);
-}
-
-std::string indexed(const std::string& field, std::size_t index) {
-  return field + "[" + std::to_string(index) + "]";
-}
-
-std::string dotted(const std::string& field, std::string_view key) {
-  return field.empty() ? std::string(key) : field + "." + std::string(key);
-}
-
-// Parses JSON text, refusing nesting deeper than kMaxNestingDepth. Errors read "name: <prefix>what".
-Json parseJson(std::string_view text, const std::string& name, const std::string& prefix) {
-  if (text.find_first_not_of(" \t\r\n") == std::string_view::npos) throw fileError(name, prefix + "is empty");
-  const Json::parser_callback_t limitDepth = [&](int depth, Json::parse_event_t event, Json&) {
-    if ((event == Json::parse_event_t::object_start || event == Json::parse_event_t::array_start) &&
-        depth >= kMaxNestingDepth) {
-      throw fileError(name, prefix + "nests arrays and objects more than " + std::to_string(kMaxNestingDepth) +
-                                " deep (a model needs 7)");
-    }
-    return true;
-  };
-  try {
-    return Json::parse(text.begin(), text.end(), limitDepth);
-  } catch (const Json::out_of_range& e) {
-    // nlohmann refuses a number beyond the range of double (1e999) with "number overflow parsing '1e999'"
-    // and no position; find the token in the text to say where it is.
-    const std::string what = e.what();
-    const auto open = what.find('\'');
-    const auto close = what.rfind('\'');
-    if (open == std::string::npos || close <= open) throw fileError(name, prefix + jsonReason(what));
-    const std::string token = what.substr(open + 1, close - open - 1);
-    std::string where;
-    if (const auto at = text.find(token); at != std::string_view::npos) {
-      const auto lineStart = text.rfind('\n', at);
-      const auto line = 1 + std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(at), '\n');
-      const auto column = lineStart == std::string_view::npos ? at + 1 : at - lineStart;
-      where = " at line " + std::to_string(line) + ", column " + std::to_string(column);
-    }
-    throw fileError(name, prefix + "the number " + printable(token) + where + " is out of the range of a double");
-  } catch (const Json::exception& e) {
-    throw fileError(name, prefix + "not valid JSON (" + jsonReason(e.what()) + ")");
-  }
-}
-
 // Reads the validated parts of a model document. Every check names the field at fault ("states[3].weights");
 // field paths are built only when something fails, since a model holds up to millions of numbers.
-class ModelReader {
+class ModelReader : public JsonFields {
  public:
-  explicit ModelReader(const std::string& name) : name_(name) {}
-
-  [[noreturn]] void fail(const std::string& field, const std::string& what) const {
-    throw fileError(name_, field + " " + what);
-  }
-
-  const Json& member(const Json& object, std::string_view key, const std::string& objectField) const {
-    const auto it = object.find(std::string(key));
-    if (it == object.end()) fail(dotted(objectField, key), "is missing");
-    return *it;
-  }
-
-  // Unknown fields are refused: a misspelt "variance" must not leave a component half read.
-  void onlyKnownFields(const Json& object, std::initializer_list<std::string_view> known,
-                       const std::string& objectField, const std::string& description) const {
-    for (auto it = object.begin(); it != object.end(); ++it) {
-      if (std::find(known.begin(), known.end(), it.key()) != known.end()) continue;
-      std::string list;
-      for (std::string_view key : known) list += (list.empty() ? "" : ", ") + std::string(key);
-      fail(dotted(objectField, printable(it.key())), "is not a field of " + description + " (it has " + list + ")");
-    }
-  }
-
-  const Json& object(const Json& value, const std::string& field) const {
-    if (!value.is_object()) fail(field, "is " + kindOf(value) + ", not an object");
-    return value;
-  }
-
-  const Json& array(const Json& value, const std::string& field) const {
-    if (!value.is_array()) fail(field, "is " + kindOf(value) + ", not an array");
-    return value;
-  }
-
-  const std::string& string(const Json& value, const std::string& field) const {
-    if (!value.is_string()) fail(field, "is " + kindOf(value) + ", not a string");
-    return value.get_ref<const std::string&>();
-  }
-
-  std::int64_t integer(const Json& value, const std::string& field) const {
-    if (value.is_number_unsigned()) {
-      const auto unsignedValue = value.get<std::uint64_t>();
-      if (unsignedValue > static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max())) {
-        fail(field, "is " + std::to_string(unsignedValue) + ", out of range");
-      }
-      return static_cast<std::int64_t>(unsignedValue);
-    }
-    if (!value.is_number_integer()) fail(field, "is " + describe(value) + ", not an integer");
-    return value.get<std::int64_t>();
-  }
+  explicit ModelReader(const std::string& name) : JsonFields(name), name_(name) {}
 
   // An array of exactly `expected` finite numbers (`why` says where the length comes from).
   Eigen::VectorXd numbers(const Json& value, const std::string& field, std::size_t expected,
@@ -513,8 +399,8 @@ std::string formatModel(const HmmModel& model, std::string_view trainingJson, co
   }
   Json training;
   if (!trainingJson.empty()) {
-    training = parseJson(trainingJson, nameForErrors, "the training metadata: ");
-    if (!training.is_object()) throw fileError(nameForErrors, "the training metadata is " + kindOf(training) + ", not a JSON object");
+    training = parseJson(trainingJson, nameForErrors, {.maxDepth = kMaxNestingDepth, .depthNote = "a model needs 7", .subject = "the training metadata"});
+    if (!training.is_object()) throw fileError(nameForErrors, "the training metadata is " + JsonFields::kindOf(training) + ", not a JSON object");
   }
   std::string text;
   try {
@@ -536,7 +422,7 @@ void saveModel(const std::filesystem::path& path, const HmmModel& model, std::st
 }
 
 HmmModel parseModel(std::string_view text, const std::string& nameForErrors, std::string* trainingJson) {
-  const Json document = parseJson(text, nameForErrors, "");
+  const Json document = parseJson(text, nameForErrors, {.maxDepth = kMaxNestingDepth, .depthNote = "a model needs 7", .subject = ""});
   try {
     return ModelReader(nameForErrors).read(document, trainingJson);
   } catch (const Json::exception& e) {

@@ -16,7 +16,7 @@ namespace th::pipeline {
 struct AnimationFrame {
   int index = 0;              // frame number from the start of the stream
   double timeSeconds = 0.0;   // index / frames per second: the speech this frame shows
-  face::FapValues faps{};     // head (48–50), jaw (3) and lip FAPs; the rest 0
+  face::FapFrame faps{};     // head (48–50), jaw (3) and lip FAPs; the rest 0
   // The frame whose prosody the head and F0 show: index, or index - the decoder's head delay when the head is
   // shown late (negative: no head yet, the rest pose).
   int prosodyIndex = 0;

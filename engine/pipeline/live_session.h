@@ -27,7 +27,7 @@
 #include <vector>
 
 #include "pipeline/animation_frame.h"
-#include "pipeline/audio_ring.h"
+#include "core/audio_ring.h"
 
 namespace th::pipeline {
 

@@ -9,8 +9,8 @@
 #include "render/camera.h"
 #include "render/face_renderer.h"
 #include "render/gl_context.h"
-#include "video/animation_sampling.h"
-#include "video/mp4_writer.h"
+#include "face/fap_track.h"
+#include "formats/mp4_writer.h"
 
 namespace th::render {
 namespace {
@@ -39,7 +39,7 @@ int encoderThreadsFor(const VideoExportOptions& options) {
 
 }  // namespace
 
-int exportVideo(const face::FaceModel& face, const video::Animation& animation, std::span<const float> samples,
+int exportVideo(const face::FaceModel& face, const face::FapTrack& animation, std::span<const float> samples,
                 int sampleRateHz, const std::filesystem::path& output, const VideoExportOptions& options,
                 const VideoExportHooks& hooks) {
   OffscreenContext context;
@@ -50,7 +50,7 @@ int exportVideo(const face::FaceModel& face, const video::Animation& animation, 
   renderer.setEyeOpenings(face.eyeLidVertices(0), face.eyeLidVertices(1));
   const OrbitCamera camera =
       frameHead(face.mesh().positions, static_cast<double>(options.width) / static_cast<double>(options.height));
-  video::Mp4Writer writer(output, {.width = options.width,
+  formats::Mp4Writer writer(output, {.width = options.width,
                                    .height = options.height,
                                    .framesPerSecond = options.framesPerSecond,
                                    .audioSampleRateHz = sampleRateHz,
@@ -58,7 +58,7 @@ int exportVideo(const face::FaceModel& face, const video::Animation& animation, 
                                    .preset = options.preset,
                                    .x264Params = options.x264Params,
                                    .threads = encoderThreadsFor(options)});
-  const auto frames = static_cast<int>(video::videoFramesFor(samples.size(), sampleRateHz, options.framesPerSecond));
+  const auto frames = static_cast<int>(formats::videoFramesFor(samples.size(), sampleRateHz, options.framesPerSecond));
   // The sound is encoded by the worker as the video reaches it (frame by frame), not all before the first
   // frame: then it costs no time of its own on two busy cores.
   const auto samplesUntil = [&](int videoFrames) {
@@ -93,7 +93,7 @@ int exportVideo(const face::FaceModel& face, const video::Animation& animation, 
       if (hooks.check) hooks.check();
       RawFrame* raw = queue.takeFree();
       if (raw == nullptr) break;  // the worker failed: its error is rethrown below
-      const face::FapValues faps = video::fapValuesAt(animation, frame / options.framesPerSecond);
+      const face::FapFrame faps = animation.at(frame / options.framesPerSecond);
       renderer.setPositions(face.deform(faps));
       renderer.setPupilScale(face.pupilScale(faps));
       renderer.render(camera);

@@ -9,8 +9,8 @@
 // encoderThreads). On llvmpipe every stage runs on the CPU: in one thread the cores would idle in turn.
 // At most three frames are in flight (th::SlotQueue), so memory does not grow with the length.
 //
-// The video has as many frames as cover the sound (video::videoFramesFor): the two end within one frame of
-// each other. All or nothing: the file appears only when complete (video::Mp4Writer); an exception from
+// The video has as many frames as cover the sound (formats::videoFramesFor): the two end within one frame of
+// each other. All or nothing: the file appears only when complete (formats::Mp4Writer); an exception from
 // either thread, or from `hooks.check` (an interrupt), stops both threads and leaves no file.
 // Thread contract: call from one thread; the hooks run on the worker thread (progress) and the calling
 // thread (check).
@@ -22,7 +22,7 @@
 #include <string>
 
 #include "face/face_model.h"
-#include "video/animation_file.h"
+#include "face/fap_track.h"
 
 namespace th::render {
 
@@ -30,7 +30,7 @@ struct VideoExportOptions {
   int width = 1280;
   int height = 720;
   double framesPerSecond = 30.0;
-  int crf = 20;                      // x264 quality (see video::Mp4Options)
+  int crf = 20;                      // x264 quality (see formats::Mp4Options)
   std::string preset = "veryfast";   // x264 speed/size trade-off
   // Over the preset: sub-pixel motion refinement 1 instead of veryfast's 2 takes about a tenth off the
   // export's CPU for files about 3 % larger at the same quality setting (measured with 10 s of speech at
@@ -50,7 +50,7 @@ struct VideoExportHooks {
 
 // Renders `animation` on `face` with `samples` (mono, sampleRateHz) as its sound into `output` (.mp4).
 // Returns the number of video frames. Throws th::Error (naming `output` for file problems).
-int exportVideo(const face::FaceModel& face, const video::Animation& animation, std::span<const float> samples,
+int exportVideo(const face::FaceModel& face, const face::FapTrack& animation, std::span<const float> samples,
                 int sampleRateHz, const std::filesystem::path& output, const VideoExportOptions& options,
                 const VideoExportHooks& hooks = {});
 

@@ -1,6 +1,6 @@
 // A frame in the form an H.264 encoder takes: 8-bit Y'CbCr 4:2:0, limited ("TV") range, BT.709 or BT.601,
 // converted straight from GL's read-back (RGBA, bottom row first) in one pass. The export hands these planes
-// to video::Mp4Writer (Yuv420Planes), skipping libswscale's separate pass over the frame; a test holds the
+// to formats::Mp4Writer (Yuv420Planes), skipping libswscale's separate pass over the frame; a test holds the
 // result to libswscale's own conversion.
 //
 //   th::render::Yuv420Image yuv;
@@ -13,7 +13,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "video/mp4_writer.h"
+#include "formats/mp4_writer.h"
 
 namespace th::render {
 
@@ -25,7 +25,7 @@ struct Yuv420Image {
   std::vector<std::uint8_t> cr;
 
   int chromaWidth() const { return (width + 1) / 2; }
-  video::Yuv420Planes planes() const { return {y.data(), width, cb.data(), cr.data(), chromaWidth()}; }
+  formats::Yuv420Planes planes() const { return {y.data(), width, cb.data(), cr.data(), chromaWidth()}; }
 };
 
 // Y' of each pixel; Cb and Cr of each 2 x 2 block's mean colour (the MPEG-2/H.264 "centre" siting, as

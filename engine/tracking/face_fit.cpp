@@ -67,7 +67,7 @@ Landmarks FaceFitter::project(const FaceFit& fit) const {
   // The face's own motion first (jaw, lips; the head's turn left out), the speaker's rest shape added, then
   // the turn about the neck pivot, each landmark by its share of it (as FaceModel::deform turns them: the
   // chin and the jaw line sit where the turn starts to fade into the neck).
-  face::FapValues still = fit.faps;
+  face::FapFrame still = fit.faps;
   still[48] = still[49] = still[50] = 0.0;
   Eigen::Matrix3Xd model = face_.deform(still, selection_);
   model.topRows<2>() += calibration_;
@@ -214,7 +214,7 @@ FaceFit FaceFitter::calibrate(const Landmarks& points) {
                                      fit.faps[50] * face::kAngleUnit);
   fit.faps[48] = fit.faps[49] = fit.faps[50] = 0.0;
   const Landmarks projected = project(fit);
-  const Eigen::Matrix3Xd model = face_.deform(face::FapValues{}, selection_);
+  const Eigen::Matrix3Xd model = face_.deform(face::FapFrame{}, selection_);
   const double distance = options_.focalLengthPixels > 0.0 ? options_.focalLengthPixels / fit.scale : 0.0;
   for (int i = 0; i < kNumLandmarks; ++i) {
     // Pixels to model units at this point's depth (as project() enlarges it), turned back into the model.

@@ -66,7 +66,7 @@ struct FitOptions {
 };
 
 struct FaceFit {
-  face::FapValues faps{};          // the fitted FAPs (3, lips, and 48-50 the head's pitch, yaw, roll in AU)
+  face::FapFrame faps{};          // the fitted FAPs (3, lips, and 48-50 the head's pitch, yaw, roll in AU)
   double scale = 1.0;              // pixels per model unit
   Eigen::Vector2d offset{0.0, 0.0};  // pixels
   double residualPixels = 0.0;     // root mean square distance of the fitted landmarks to the tracked ones

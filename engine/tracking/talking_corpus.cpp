@@ -1,7 +1,5 @@
 #include "tracking/talking_corpus.h"
 
-#include <nlohmann/json.hpp>
-
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -11,6 +9,7 @@
 
 #include "core/data_path.h"
 #include "core/error.h"
+#include "core/json_reading.h"
 #include "core/text_files.h"
 
 namespace th::tracking {
@@ -121,7 +120,7 @@ std::vector<LabelInterval> readGridAlignment(const std::filesystem::path& align)
 
 std::vector<LabelInterval> readFramePhones(const std::filesystem::path& phonesJson, const std::filesystem::path& indexJson,
                                            double framesPerSecond) {
-  const nlohmann::json index = nlohmann::json::parse(readTextFile(indexJson, "phone index"), nullptr, false);
+  const Json index = readJsonFile(indexJson, "phone index");
   if (!index.is_object() || index.empty()) throw fileError(indexJson, "is not a JSON object of phone names to numbers");
   std::vector<std::string> names;
   for (const auto& [name, value] : index.items()) {
@@ -131,7 +130,7 @@ std::vector<LabelInterval> readFramePhones(const std::filesystem::path& phonesJs
     if (names.size() <= at) names.resize(at + 1);
     names[at] = upper(name);
   }
-  const nlohmann::json frames = nlohmann::json::parse(readTextFile(phonesJson, "phones"), nullptr, false);
+  const Json frames = readJsonFile(phonesJson, "phones");
   if (!frames.is_array() || frames.empty()) throw fileError(phonesJson, "is not a JSON list of phone indices");
   std::vector<LabelInterval> phones;
   for (std::size_t i = 0; i < frames.size(); ++i) {

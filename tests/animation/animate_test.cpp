@@ -1,6 +1,9 @@
 // animate(): a recording to FAP curves with the head and mouth models.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
+
 #include <vector>
 
 #include "animation/animate.h"
@@ -40,7 +43,7 @@ std::vector<float> speech(double seconds) {
 
 TEST(Animate, HeadAndMouthFapsInFapOrderAt30FramesPerSecond) {
   const std::vector<float> samples = speech(10.0);
-  const th::video::Animation anim = animate(samples, &models().head, &models().mouth);
+  const th::face::FapTrack anim = animate(samples, &models().head, &models().mouth);
   EXPECT_DOUBLE_EQ(anim.framesPerSecond, 30.0);
   EXPECT_NEAR(anim.numFrames(), 300, 1);
   std::vector<int> expected = mouthFapNumbers(*models().mouth.fapMap);
@@ -48,8 +51,8 @@ TEST(Animate, HeadAndMouthFapsInFapOrderAt30FramesPerSecond) {
   std::sort(expected.begin(), expected.end());
   EXPECT_EQ(anim.faps, expected);
   EXPECT_TRUE(anim.values.allFinite());
-  EXPECT_GT(anim.values.col(anim.columnOf(3)).maxCoeff(), 0.0);
-  EXPECT_GE(anim.values.col(anim.columnOf(3)).minCoeff(), 0.0);  // open_jaw is unidirectional
+  EXPECT_GT(anim.values.row(anim.rowOf(3)).maxCoeff(), 0.0);
+  EXPECT_GE(anim.values.row(anim.rowOf(3)).minCoeff(), 0.0);  // open_jaw is unidirectional
 }
 
 TEST(Animate, EachModelAloneGivesItsOwnFaps) {
@@ -57,23 +60,25 @@ TEST(Animate, EachModelAloneGivesItsOwnFaps) {
   const AnimateOptions noIdle{.idle = false};
   EXPECT_EQ(animate(samples, &models().head, nullptr, noIdle).faps, (std::vector<int>{48, 49, 50}));
   EXPECT_EQ(animate(samples, nullptr, &models().mouth, noIdle).faps.front(), 3);
-  EXPECT_EQ(animate(samples, nullptr, &models().mouth, noIdle).columnOf(48), -1);
-  EXPECT_GE(animate(samples, nullptr, &models().mouth).columnOf(19), 0) << "blinks come with the mouth alone too";
+  EXPECT_EQ(animate(samples, nullptr, &models().mouth, noIdle).rowOf(48), -1);
+  EXPECT_GE(animate(samples, nullptr, &models().mouth).rowOf(19), 0) << "blinks come with the mouth alone too";
 }
 
 // Blinks, gaze shifts and the head at rest in silence are in the file, the same for a seed, other for another.
 TEST(Animate, IdleBehaviourIsInTheFileAndFollowsTheSeed) {
   std::vector<float> samples = speech(20.0);
   samples.resize(samples.size() + 16000 * 4, 0.0f);  // 4 s of silence at the end
-  const th::video::Animation a = animate(samples, &models().head, &models().mouth);
-  const th::video::Animation b = animate(samples, &models().head, &models().mouth);
+  const th::face::FapTrack a = animate(samples, &models().head, &models().mouth);
+  const th::face::FapTrack b = animate(samples, &models().head, &models().mouth);
   AnimateOptions otherSeed;
   otherSeed.idleOptions.seed = 7;
-  const th::video::Animation c = animate(samples, &models().head, &models().mouth, otherSeed);
+  const th::face::FapTrack c = animate(samples, &models().head, &models().mouth, otherSeed);
   EXPECT_EQ(a.values, b.values);
-  const Eigen::VectorXd lidA = a.values.col(a.columnOf(19));
-  const Eigen::VectorXd lidC = c.values.col(c.columnOf(19));
-  EXPECT_GT((lidA - lidC).cwiseAbs().maxCoeff(), 100.0) << "another seed blinks at other times";
+  const Eigen::RowVectorXd lidA = a.values.row(a.rowOf(19));
+  const Eigen::RowVectorXd lidC = c.values.row(c.rowOf(19));
+  double largestDifference = 0.0;
+  for (Eigen::Index t = 0; t < lidA.size(); ++t) largestDifference = std::max(largestDifference, std::abs(lidA[t] - lidC[t]));
+  EXPECT_GT(largestDifference, 100.0) << "another seed blinks at other times";
   int blinks = 0;
   for (Eigen::Index t = 1; t < lidA.size(); ++t) blinks += lidA[t] > 512.0 && lidA[t - 1] <= 512.0;
   const double minutes = a.numFrames() / 30.0 / 60.0;
@@ -81,11 +86,11 @@ TEST(Animate, IdleBehaviourIsInTheFileAndFollowsTheSeed) {
   EXPECT_LE(blinks / minutes, 30.0);
   // The last second is silence: the head has come to rest there, and no FAP in it is far from it.
   const int last = a.numFrames() - 1;
-  for (const int fap : {48, 49, 50}) EXPECT_LT(std::abs(a.values(last, a.columnOf(fap))), 1e-3 * 1e5) << fap;
+  for (const int fap : {48, 49, 50}) EXPECT_LT(std::abs(a.values(a.rowOf(fap), last)), 1e-3 * 1e5) << fap;
   const AnimateOptions noIdle{.idle = false};
-  const th::video::Animation still = animate(samples, &models().head, &models().mouth, noIdle);
-  EXPECT_EQ(still.columnOf(19), -1);
-  EXPECT_GT(std::abs(still.values(last, still.columnOf(49))), std::abs(a.values(last, a.columnOf(49))));
+  const th::face::FapTrack still = animate(samples, &models().head, &models().mouth, noIdle);
+  EXPECT_EQ(still.rowOf(19), -1);
+  EXPECT_GT(std::abs(still.values(still.rowOf(49), last)), std::abs(a.values(a.rowOf(49), last)));
 }
 
 TEST(Animate, RefusesWhatItCannotAnimate) {

@@ -35,7 +35,7 @@ TEST(IdleMotion, BlinksAtAHumanRateAndShiftsTheGazeALittle) {
   double lastYaw = 0.0;
   for (int f = 0; f < static_cast<int>(600 * kDisplayHz); ++f) {
     const double t = f / kDisplayHz;
-    th::face::FapValues faps{};
+    th::face::FapFrame faps{};
     idle.apply(t, -90.0, {}, faps);
     EXPECT_EQ(faps[19], faps[20]);
     const bool closed = faps[19] > 900.0;
@@ -73,7 +73,7 @@ TEST(IdleMotion, BlinksAtAHumanRateAndShiftsTheGazeALittle) {
 TEST(IdleMotion, TheHeadComesToRestWhenNobodySpeaks) {
   IdleMotion idle;
   const auto headAt = [&](double t, double level) {
-    th::face::FapValues faps{};
+    th::face::FapFrame faps{};
     faps[48] = 1000.0;
     faps[49] = -500.0;
     idle.apply(t, level, {.blinks = false, .gaze = false}, faps);
@@ -110,7 +110,7 @@ TEST(IdleMotion, BlinksComeAtPhraseEndsMoreThanMidSpeech) {
   for (int f = 0; f < static_cast<int>(seconds * 30.0); ++f) {
     const double t = f / 30.0;
     const bool voice = std::fmod(t, 3.0) < 2.0;
-    th::face::FapValues faps{};
+    th::face::FapFrame faps{};
     idle.apply(t, voice ? -20.0 : -70.0, {}, faps);
     if (idle.blinkStart() > lastStart) {
       lastStart = idle.blinkStart();
@@ -129,21 +129,21 @@ TEST(IdleMotion, BlinksComeAtPhraseEndsMoreThanMidSpeech) {
 // Over a file: the idle FAPs are added in FAP order, the head eases to rest where the sound is quiet, and with no
 // sound the head is left as it is.
 TEST(IdleMotion, AddsItsFapsToAnAnimation) {
-  th::video::Animation animation;
+  th::face::FapTrack animation;
   animation.faps = {3, 48, 49, 50};
-  animation.values = Eigen::MatrixXd::Constant(300, 4, 1000.0);
+  animation.values = Eigen::MatrixXd::Constant(4, 300, 1000.0);
   Eigen::RowVectorXd level(300);  // 5 s of speech (syllables, louder and quieter), then 5 s of quiet
   for (int t = 0; t < 300; ++t) level[t] = t >= 150 ? -90.0 : (t % 9 < 6 ? -20.0 : -35.0);
   level[0] = -60.0;  // the room before the first word
-  th::video::Animation heard = animation;
+  th::face::FapTrack heard = animation;
   th::animation::addIdleMotion(heard, level, {}, {});
   EXPECT_EQ(heard.faps, (std::vector<int>{3, 19, 20, 23, 24, 25, 26, 48, 49, 50}));
-  EXPECT_EQ(heard.values.col(0), animation.values.col(0)) << "the jaw untouched";
-  EXPECT_NEAR(heard.values(140, heard.columnOf(49)), 1000.0, 1.0);
-  EXPECT_LT(heard.values(299, heard.columnOf(49)), 50.0) << "at rest 4 s into the quiet";
-  th::video::Animation unheard = animation;
+  EXPECT_EQ(heard.values.row(0), animation.values.row(0)) << "the jaw untouched";
+  EXPECT_NEAR(heard.values(heard.rowOf(49), 140), 1000.0, 1.0);
+  EXPECT_LT(heard.values(heard.rowOf(49), 299), 50.0) << "at rest 4 s into the quiet";
+  th::face::FapTrack unheard = animation;
   th::animation::addIdleMotion(unheard, Eigen::RowVectorXd(), {}, {});
-  EXPECT_EQ(unheard.values.col(unheard.columnOf(49)), animation.values.col(1));
+  EXPECT_EQ(unheard.values.row(unheard.rowOf(49)), animation.values.row(1));
   EXPECT_THROW(th::animation::addIdleMotion(unheard, Eigen::RowVectorXd::Zero(10), {}, {}), th::Error);
 }
 

@@ -1,4 +1,4 @@
-// The mouth path: MFCC context stacking, the paper's ε and ρ at their reference points, and an AV-HMM that
+// The mouth path: the paper's ε and ρ at their reference points, and an AV-HMM that
 // learns a known audio-visual link and recovers the visual part from audio by inversion and MMSE.
 #include <gtest/gtest.h>
 
@@ -17,19 +17,6 @@
 
 namespace th::animation {
 namespace {
-
-TEST(MouthData, ContextStackingReplicatesTheEdges) {
-  Eigen::MatrixXd mfcc(2, 4);
-  mfcc << 1, 2, 3, 4, 10, 20, 30, 40;
-  const Eigen::MatrixXd stacked = stackContext(mfcc, 1);
-  ASSERT_EQ(stacked.rows(), 6);
-  ASSERT_EQ(stacked.cols(), 4);
-  // Frame 0: [frame 0 (edge), frame 0, frame 1]; frame 3: [frame 2, frame 3, frame 3 (edge)].
-  EXPECT_EQ(stacked.col(0), (Eigen::VectorXd(6) << 1, 10, 1, 10, 2, 20).finished());
-  EXPECT_EQ(stacked.col(3), (Eigen::VectorXd(6) << 3, 30, 4, 40, 4, 40).finished());
-  EXPECT_EQ(stackContext(mfcc, 0), mfcc);
-  EXPECT_THROW(stackContext(mfcc, -1), Error);
-}
 
 TEST(MouthEvaluation, ThePapersMeasuresAtTheirReferencePoints) {
   std::mt19937 random(2);

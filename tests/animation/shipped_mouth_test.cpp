@@ -31,8 +31,8 @@ double percentile(std::vector<double> values, double fraction) {
   return values[static_cast<std::size_t>(fraction * static_cast<double>(values.size() - 1))];
 }
 
-std::vector<double> jawOf(const th::video::Animation& animation) {
-  const Eigen::VectorXd jaw = animation.values.col(animation.columnOf(3));
+std::vector<double> jawOf(const th::face::FapTrack& animation) {
+  const Eigen::RowVectorXd jaw = animation.values.row(animation.rowOf(3));
   return {jaw.data(), jaw.data() + jaw.size()};
 }
 
@@ -62,18 +62,18 @@ TEST(ShippedMouth, TheSameSpeechTwentyDecibelsDownGivesTheSameCurves) {
     AnimateOptions options;
     options.mouth.windowFrames = std::string(name) == "mouth_live.json" ? 1 : 0;
     options.idle = false;  // the mouth alone
-    const th::video::Animation a = animate(loud, nullptr, &model, options);
-    const th::video::Animation b = animate(quiet, nullptr, &model, options);
-    ASSERT_EQ(a.values.rows(), b.values.rows());
+    const th::face::FapTrack a = animate(loud, nullptr, &model, options);
+    const th::face::FapTrack b = animate(quiet, nullptr, &model, options);
+    ASSERT_EQ(a.values.cols(), b.values.cols());
     const std::vector<double> jaw = jawOf(a);
     const double range = percentile(jaw, 0.95) - percentile(jaw, 0.05);
     // Every FAP's change, frame by frame. Where the quieter copy meets the filterbank's floor (near-silence, a
     // few frames) the MFCCs differ a little; everywhere else nothing moves.
     std::vector<double> changes;
     double worst = 0.0;
-    for (Eigen::Index c = 0; c < a.values.cols(); ++c)
-      for (Eigen::Index t = 0; t < a.values.rows(); ++t) {
-        changes.push_back(std::abs(a.values(t, c) - b.values(t, c)));
+    for (Eigen::Index c = 0; c < a.values.rows(); ++c)
+      for (Eigen::Index t = 0; t < a.values.cols(); ++t) {
+        changes.push_back(std::abs(a.values(c, t) - b.values(c, t)));
         worst = std::max(worst, changes.back());
       }
     const double typical = percentile(changes, 0.99);

@@ -15,7 +15,7 @@
 #include "cli_runner.h"
 #include "core/data_path.h"
 #include "core/numeric_csv.h"
-#include "video/animation_file.h"
+#include "formats/animation_format.h"
 
 namespace {
 
@@ -51,10 +51,10 @@ TEST_F(AnimateCliTest, TheJawOpensWhenTheSpeakerIsLoudAndTheThreeFormatsAgree) {
   ASSERT_EQ(result.exitCode, 0) << result.err;
   EXPECT_NE(result.out.find("FAPs 3 4"), std::string::npos) << result.out;
 
-  const th::video::Animation anim = th::video::readAnimation(csv);
+  const th::face::FapTrack anim = th::formats::readAnimation(csv);
   EXPECT_DOUBLE_EQ(anim.framesPerSecond, 30.0);
   EXPECT_NEAR(anim.numFrames(), 62.0 * 30, 30);  // a 62 s recording
-  for (int fap : {3, 4, 5, 48, 49, 50, 51, 52}) EXPECT_GE(anim.columnOf(fap), 0) << fap;
+  for (int fap : {3, 4, 5, 48, 49, 50, 51, 52}) EXPECT_GE(anim.rowOf(fap), 0) << fap;
   EXPECT_EQ(anim.faps.front(), 3);
 
   // The mouth follows the voice: frames in the loudest quarter open the jaw more than the quietest quarter.
@@ -67,15 +67,15 @@ TEST_F(AnimateCliTest, TheJawOpensWhenTheSpeakerIsLoudAndTheThreeFormatsAgree) {
   const double loud = sorted[3 * sorted.size() / 4];
   double jawLoud = 0.0, jawQuiet = 0.0;
   int numLoud = 0, numQuiet = 0;
-  const int jaw = anim.columnOf(3);
+  const int jaw = anim.rowOf(3);
   for (int t = 0; t < anim.numFrames(); ++t) {
-    if (level[static_cast<std::size_t>(t)] >= loud) jawLoud += anim.values(t, jaw), ++numLoud;
-    if (level[static_cast<std::size_t>(t)] <= quiet) jawQuiet += anim.values(t, jaw), ++numQuiet;
+    if (level[static_cast<std::size_t>(t)] >= loud) jawLoud += anim.values(jaw, t), ++numLoud;
+    if (level[static_cast<std::size_t>(t)] <= quiet) jawQuiet += anim.values(jaw, t), ++numQuiet;
   }
   EXPECT_GT(jawLoud / numLoud, jawQuiet / numQuiet);
   // The head moves, by a plausible few degrees (1° = 1745 AU).
   for (int fap : {48, 49, 50}) {
-    const auto column = anim.values.col(anim.columnOf(fap));
+    const auto column = anim.values.row(anim.rowOf(fap));
     const double std = std::sqrt((column.array() - column.mean()).square().mean());
     EXPECT_GT(std, 0.2 * 1745) << fap;
     EXPECT_LT(std, 15 * 1745) << fap;
@@ -85,7 +85,7 @@ TEST_F(AnimateCliTest, TheJawOpensWhenTheSpeakerIsLoudAndTheThreeFormatsAgree) {
     const fs::path other = out() / name;
     result = runCli({"animate", speech().string(), "-o", other.string()}, logs());
     ASSERT_EQ(result.exitCode, 0) << result.err;
-    const th::video::Animation back = th::video::readAnimation(other);
+    const th::face::FapTrack back = th::formats::readAnimation(other);
     ASSERT_EQ(back.faps, anim.faps) << name;
     ASSERT_EQ(back.numFrames(), anim.numFrames()) << name;
     // CSV prints 6 significant digits; the FAP stream rounds to whole units.
@@ -99,13 +99,13 @@ TEST_F(AnimateCliTest, TheJawOpensWhenTheSpeakerIsLoudAndTheThreeFormatsAgree) {
 TEST_F(AnimateCliTest, OnHeldOutSpeechTheJawFollowsTheTruth) {
   const fs::path csv = out() / "beat2.csv";
   ASSERT_EQ(runCli({"animate", th::sharedDataPath("beat2/2_scott_0_1_1.wav").string(), "-o", csv.string()}, logs()).exitCode, 0);
-  const th::video::Animation anim = th::video::readAnimation(csv);
+  const th::face::FapTrack anim = th::formats::readAnimation(csv);
   const th::NumericTable pose = th::readNumericCsv(th::sharedDataPath("beat2/2_scott_0_1_1_headpose_30fps.csv"));
   std::vector<double> truth;
   for (const std::vector<double>& row : pose.rows) truth.push_back(row[static_cast<std::size_t>(pose.column("jaw_aa_x_deg"))]);
   const int frames = std::min<int>(anim.numFrames(), static_cast<int>(truth.size()));
   const int begin = frames * 3 / 4;
-  Eigen::VectorXd predicted = anim.values.col(anim.columnOf(3)).segment(begin, frames - begin);
+  Eigen::RowVectorXd predicted = anim.values.row(anim.rowOf(3)).segment(begin, frames - begin).transpose();
   Eigen::VectorXd actual = Eigen::Map<const Eigen::VectorXd>(truth.data() + begin, frames - begin);
   predicted.array() -= predicted.mean();
   actual.array() -= actual.mean();
@@ -122,37 +122,40 @@ TEST_F(AnimateCliTest, VariantsAndPartsAreSelectable) {
   ASSERT_EQ(runCli({"animate", input, "-o", online.string(), "--head", "paper", "--mouth", "mmse", "--online"}, logs()).exitCode, 0);
   ASSERT_EQ(runCli({"animate", input, "-o", unbounded.string(), "--head", "paper", "--mouth", "mmse", "--online", "--lag", "300"},
                    logs()).exitCode, 0);
-  const th::video::Animation a = th::video::readAnimation(batch);
-  const th::video::Animation b = th::video::readAnimation(online);
-  const th::video::Animation c = th::video::readAnimation(unbounded);
+  const th::face::FapTrack a = th::formats::readAnimation(batch);
+  const th::face::FapTrack b = th::formats::readAnimation(online);
+  const th::face::FapTrack c = th::formats::readAnimation(unbounded);
   ASSERT_EQ(a.numFrames(), b.numFrames());
   ASSERT_EQ(a.numFrames(), c.numFrames());
   // A short decoding lag forces early decisions that batch Viterbi revises; with a lag longer than any
   // disagreement the online decoder finds the batch path exactly. The online MMSE mouth works window by window
   // (forward-backward within each): it differs from the whole-recording estimate but follows it closely.
-  const int yaw = a.columnOf(49);
-  EXPECT_GT((a.values.col(yaw) - b.values.col(yaw)).cwiseAbs().maxCoeff(), 1.0);
-  EXPECT_LT((a.values.col(yaw) - c.values.col(yaw)).cwiseAbs().maxCoeff(), 1e-3);
-  const Eigen::VectorXd jawBatch = a.values.col(a.columnOf(3));
-  const Eigen::VectorXd jawOnline = b.values.col(b.columnOf(3));
-  EXPECT_GT((jawBatch - jawOnline).cwiseAbs().maxCoeff(), 1e-3);
-  const auto centred = [](const Eigen::VectorXd& v) { return Eigen::VectorXd(v.array() - v.mean()); };
+  const int yaw = a.rowOf(49);
+  EXPECT_GT((a.values.row(yaw) - b.values.row(yaw)).cwiseAbs().maxCoeff(), 1.0);
+  EXPECT_LT((a.values.row(yaw) - c.values.row(yaw)).cwiseAbs().maxCoeff(), 1e-3);
+  const Eigen::RowVectorXd jawBatch = a.values.row(a.rowOf(3));
+  const Eigen::RowVectorXd jawOnline = b.values.row(b.rowOf(3));
+  double largestDifference = 0.0;
+  for (Eigen::Index t = 0; t < jawBatch.size(); ++t)
+    largestDifference = std::max(largestDifference, std::abs(jawBatch[t] - jawOnline[t]));
+  EXPECT_GT(largestDifference, 1e-3);
+  const auto centred = [](const Eigen::RowVectorXd& v) { return Eigen::RowVectorXd(v.array() - v.mean()); };
   const double correlation = centred(jawBatch).dot(centred(jawOnline)) / (centred(jawBatch).norm() * centred(jawOnline).norm());
   std::printf("[ INFO     ] online (30-frame windows) against batch MMSE jaw: correlation %.4f\n", correlation);
   EXPECT_GT(correlation, 0.9);
 
   const fs::path headOnly = out() / "head.csv";
   ASSERT_EQ(runCli({"animate", speech().string(), "-o", headOnly.string(), "--mouth", "none"}, logs()).exitCode, 0);
-  EXPECT_EQ(th::video::readAnimation(headOnly).faps, (std::vector<int>{19, 20, 23, 24, 25, 26, 48, 49, 50}));
+  EXPECT_EQ(th::formats::readAnimation(headOnly).faps, (std::vector<int>{19, 20, 23, 24, 25, 26, 48, 49, 50}));
   const fs::path noIdle = out() / "head_no_idle.csv";
   ASSERT_EQ(runCli({"animate", speech().string(), "-o", noIdle.string(), "--mouth", "none", "--no-idle"}, logs()).exitCode, 0);
-  EXPECT_EQ(th::video::readAnimation(noIdle).faps, (std::vector<int>{48, 49, 50}));
+  EXPECT_EQ(th::formats::readAnimation(noIdle).faps, (std::vector<int>{48, 49, 50}));
   // The head's controls: amplitude scales it, a larger smoothing slows it.
   const fs::path twice = out() / "head_twice.csv";
   ASSERT_EQ(runCli({"animate", speech().string(), "-o", twice.string(), "--mouth", "none", "--no-idle",
                     "--head-amplitude", "2"}, logs()).exitCode, 0);
-  const th::video::Animation one = th::video::readAnimation(noIdle);
-  const th::video::Animation two = th::video::readAnimation(twice);
+  const th::face::FapTrack one = th::formats::readAnimation(noIdle);
+  const th::face::FapTrack two = th::formats::readAnimation(twice);
   EXPECT_NEAR((two.values - 2.0 * one.values).cwiseAbs().maxCoeff(), 0.0, 1e-3 * one.values.cwiseAbs().maxCoeff() + 1.0);
   const fs::path smooth = out() / "head_smooth.csv";
   ASSERT_EQ(runCli({"animate", speech().string(), "-o", smooth.string(), "--mouth", "none", "--no-idle",
@@ -160,15 +163,15 @@ TEST_F(AnimateCliTest, VariantsAndPartsAreSelectable) {
   const fs::path plain = out() / "head_plain.csv";
   ASSERT_EQ(runCli({"animate", speech().string(), "-o", plain.string(), "--mouth", "none", "--no-idle",
                     "--head-variation", "0"}, logs()).exitCode, 0);
-  const auto roughness = [](const th::video::Animation& animation) {
+  const auto roughness = [](const th::face::FapTrack& animation) {
     const Eigen::MatrixXd& v = animation.values;
-    return (v.bottomRows(v.rows() - 1) - v.topRows(v.rows() - 1)).norm();
+    return (v.rightCols(v.cols() - 1) - v.leftCols(v.cols() - 1)).norm();
   };
-  EXPECT_LT(roughness(th::video::readAnimation(smooth)), roughness(th::video::readAnimation(plain)));
-  EXPECT_LT(roughness(th::video::readAnimation(plain)), roughness(one)) << "the variation adds motion";
+  EXPECT_LT(roughness(th::formats::readAnimation(smooth)), roughness(th::formats::readAnimation(plain)));
+  EXPECT_LT(roughness(th::formats::readAnimation(plain)), roughness(one)) << "the variation adds motion";
   const fs::path mouthOnly = out() / "mouth.csv";
   ASSERT_EQ(runCli({"animate", speech().string(), "-o", mouthOnly.string(), "--head", "none"}, logs()).exitCode, 0);
-  EXPECT_EQ(th::video::readAnimation(mouthOnly).columnOf(48), -1);
+  EXPECT_EQ(th::formats::readAnimation(mouthOnly).rowOf(48), -1);
   expectOneLineFailure(runCli({"animate", speech().string(), "-o", (out() / "x.csv").string(), "--head", "none",
                                "--mouth", "none"}, logs()),
                        "animate", "nothing to animate");

@@ -17,7 +17,7 @@ extern "C" {
 #include "cli_runner.h"
 #include "core/data_path.h"
 #include "render/image.h"
-#include "video/animation_file.h"
+#include "formats/animation_format.h"
 
 namespace {
 
@@ -60,12 +60,12 @@ Probe probe(const fs::path& path) {
 }
 
 TEST_F(FaceCliTest, RenderWritesOnePngPerFrame) {
-  th::video::Animation anim;
+  th::face::FapTrack anim;
   anim.framesPerSecond = 25;
   anim.faps = {3, 49};
-  anim.values = Eigen::MatrixXd::Zero(10, 2);
-  for (int t = 0; t < 10; ++t) anim.values(t, 0) = 60.0 * t, anim.values(t, 1) = 1000.0 * t;
-  th::video::writeAnimation(out() / "a.csv", anim);
+  anim.values = Eigen::MatrixXd::Zero(2, 10);
+  for (int t = 0; t < 10; ++t) anim.values(0, t) = 60.0 * t, anim.values(1, t) = 1000.0 * t;
+  th::formats::writeAnimation(out() / "a.csv", anim);
   const CliResult result = runCli({"render", (out() / "a.csv").string(), "-o", (out() / "frames").string(), "--size", "96x64"}, logs());
   ASSERT_EQ(result.exitCode, 0) << result.err;
   int count = 0;
@@ -108,7 +108,7 @@ TEST_F(FaceCliTest, ExportWritesAnMp4WhoseVideoLastsAsLongAsItsSound) {
   EXPECT_EQ(p.height, 120);
   EXPECT_GT(p.audioSeconds, 1.0);
   EXPECT_NEAR(p.videoSeconds, p.audioSeconds, 1.0 / 25 + 1e-3);
-  EXPECT_EQ(th::video::readAnimation(out() / "speech.fap").faps, th::video::readAnimation(out() / "speech.json").faps);
+  EXPECT_EQ(th::formats::readAnimation(out() / "speech.fap").faps, th::formats::readAnimation(out() / "speech.json").faps);
   std::ifstream arkit(out() / "arkit.csv");
   std::string header;
   std::getline(arkit, header);
@@ -124,9 +124,9 @@ TEST_F(FaceCliTest, ExportsBlinkAtAHumanRate) {
   const fs::path saved = out() / "minute.csv";
   ASSERT_EQ(runCli({"export", speech, "-o", (out() / "minute.mp4").string(), "--size", "64x48", "--fps", "5",
                     "--save-anim", saved.string()}, logs()).exitCode, 0);
-  const th::video::Animation animation = th::video::readAnimation(saved);
-  ASSERT_GE(animation.columnOf(19), 0);
-  const Eigen::VectorXd lid = animation.values.col(animation.columnOf(19));
+  const th::face::FapTrack animation = th::formats::readAnimation(saved);
+  ASSERT_GE(animation.rowOf(19), 0);
+  const Eigen::RowVectorXd lid = animation.values.row(animation.rowOf(19));
   int blinks = 0;
   for (Eigen::Index t = 1; t < lid.size(); ++t) blinks += lid[t] > 512.0 && lid[t - 1] <= 512.0;
   const double perMinute = blinks / (animation.numFrames() / animation.framesPerSecond / 60.0);
@@ -137,15 +137,15 @@ TEST_F(FaceCliTest, ExportsBlinkAtAHumanRate) {
 
   const fs::path lidless = out() / "lidless.csv";
   ASSERT_EQ(runCli({"animate", speech, "-o", lidless.string(), "--no-idle"}, logs()).exitCode, 0);
-  EXPECT_EQ(th::video::readAnimation(lidless).columnOf(19), -1);
+  EXPECT_EQ(th::formats::readAnimation(lidless).rowOf(19), -1);
   const fs::path replayed = out() / "replayed.csv";
   ASSERT_EQ(runCli({"export", speech, "-o", (out() / "replayed.mp4").string(), "--size", "64x48", "--fps", "5", "--anim",
                     lidless.string(), "--save-anim", replayed.string()}, logs()).exitCode, 0);
-  EXPECT_GE(th::video::readAnimation(replayed).columnOf(19), 0) << "blinks added to a file without lids";
+  EXPECT_GE(th::formats::readAnimation(replayed).rowOf(19), 0) << "blinks added to a file without lids";
   const fs::path still = out() / "still.csv";
   ASSERT_EQ(runCli({"export", speech, "-o", (out() / "still.mp4").string(), "--size", "64x48", "--fps", "5", "--anim",
                     lidless.string(), "--save-anim", still.string(), "--no-idle"}, logs()).exitCode, 0);
-  EXPECT_EQ(th::video::readAnimation(still).columnOf(19), -1);
+  EXPECT_EQ(th::formats::readAnimation(still).rowOf(19), -1);
 }
 
 TEST_F(FaceCliTest, ExportRefusesBadInputAndBadSizesInOneLine) {

@@ -12,7 +12,7 @@
 #include "cli_runner.h"
 #include "core/data_path.h"
 #include "render/image.h"
-#include "video/animation_file.h"
+#include "formats/animation_format.h"
 
 namespace {
 
@@ -41,15 +41,15 @@ TEST_F(LiveCliTest, HeadlessGivesTheOnlineAnimationThroughTheThreads) {
                    logs())
                 .exitCode,
             0);
-  const th::video::Animation a = th::video::readAnimation(live);
-  const th::video::Animation b = th::video::readAnimation(out() / "fast.csv");
+  const th::face::FapTrack a = th::formats::readAnimation(live);
+  const th::face::FapTrack b = th::formats::readAnimation(out() / "fast.csv");
   ASSERT_EQ(a.faps, b.faps);
   ASSERT_EQ(a.numFrames(), 240);
   ASSERT_EQ(b.numFrames(), 240);
   // Real-time pace or as fast as possible: the same frames (the decoder does not depend on timing).
   EXPECT_EQ((a.values - b.values).cwiseAbs().maxCoeff(), 0.0);
-  EXPECT_GE(a.columnOf(3), 0);
-  EXPECT_GT(a.values.col(a.columnOf(3)).maxCoeff(), 0.0);  // the jaw moves
+  EXPECT_GE(a.rowOf(3), 0);
+  EXPECT_GT(a.values.row(a.rowOf(3)).maxCoeff(), 0.0);  // the jaw moves
 }
 
 // CPU overload: three busy loops on the two cores while 6 s of speech plays at real-time pace. No sample is

@@ -20,7 +20,7 @@
 #include "cli_runner.h"
 #include "support/files.h"
 #include "core/data_path.h"
-#include "video/animation_file.h"
+#include "formats/animation_format.h"
 
 namespace {
 
@@ -166,11 +166,11 @@ TEST_F(LiveDeviceTest, CapturesANullSinksMonitorAndTheJawFollowsTheLoudness) {
   ASSERT_EQ(result.exitCode, 0) << result.err;
   std::printf("%s", result.out.c_str());
 
-  const th::video::Animation heard = th::video::readAnimation(dump);
+  const th::face::FapTrack heard = th::formats::readAnimation(dump);
   ASSERT_GT(heard.numFrames(), 300);  // most of the 13 s
-  const auto jawOf = [](const th::video::Animation& a) {
+  const auto jawOf = [](const th::face::FapTrack& a) {
     std::vector<double> jaw;
-    for (Eigen::Index f = 0; f < a.numFrames(); ++f) jaw.push_back(a.values(f, a.columnOf(3)));
+    for (Eigen::Index f = 0; f < a.numFrames(); ++f) jaw.push_back(a.values(a.rowOf(3), f));
     return jaw;
   };
   const std::vector<double> jaw = jawOf(heard);
@@ -182,7 +182,7 @@ TEST_F(LiveDeviceTest, CapturesANullSinksMonitorAndTheJawFollowsTheLoudness) {
                              logs())
                 .exitCode,
             0);
-  const std::vector<double> reference = jawOf(th::video::readAnimation(fromFile));
+  const std::vector<double> reference = jawOf(th::formats::readAnimation(fromFile));
   const std::vector<double> reversed(reference.rbegin(), reference.rend());
   double best = -1.0, bestReversed = -1.0;
   std::size_t offset = 0;

@@ -15,7 +15,7 @@
 #include "tracking/video_reader.h"
 #include "tracking/video_training.h"
 #include "tracking_test_support.h"
-#include "video/animation_file.h"
+#include "formats/animation_format.h"
 
 namespace {
 
@@ -66,15 +66,15 @@ TEST_F(VideoTrainingCliTest, TrainsAModelThatTheOtherCommandsPlay) {
   const fs::path csv = out() / "a.csv";
   ASSERT_EQ(runCli({"animate", speech, "-o", csv.string(), "--mouth-model", model.string(), "--head", "none", "--no-idle"},
                    logs()).exitCode, 0);
-  const th::video::Animation animation = th::video::readAnimation(csv);
+  const th::face::FapTrack animation = th::formats::readAnimation(csv);
   EXPECT_EQ(animation.faps.size(), 21u);
-  EXPECT_GT(animation.values.col(0).maxCoeff(), animation.values.col(0).minCoeff());  // FAP 3 moves
+  EXPECT_GT(animation.values.row(0).maxCoeff(), animation.values.row(0).minCoeff());  // FAP 3 moves
   const fs::path dump = out() / "live.csv";
   result = runCli({"live", "--headless", "--input", speech, "--duration", "3", "--speed", "0", "--mouth-model",
                    model.string(), "--dump", dump.string()},
                   logs());
   ASSERT_EQ(result.exitCode, 0) << result.err;
-  EXPECT_EQ(th::video::readAnimation(dump).values.rows(), 90);
+  EXPECT_EQ(th::formats::readAnimation(dump).numFrames(), 90);
 
   // sidebyside: the clip's picture beside the face, its sound, as long as the clip.
   const fs::path video = out() / "side.mp4";

@@ -18,7 +18,7 @@
 namespace {
 
 using th::face::FaceModel;
-using th::face::FapValues;
+using th::face::FapFrame;
 
 const FaceModel& face() {
   static const FaceModel model = FaceModel::build(th::face::loadIctFace(th::face::ictFaceDirectory()));
@@ -30,7 +30,7 @@ Eigen::Vector3d pointIn(const Eigen::Matrix3Xd& positions, const char* id) { ret
 double degrees(double d) { return d * std::numbers::pi / 180.0 / th::face::kAngleUnit; }
 
 TEST(FaceModel, AllZeroFapsLeaveTheNeutralFace) {
-  const Eigen::Matrix3Xd positions = face().deform(FapValues{});
+  const Eigen::Matrix3Xd positions = face().deform(FapFrame{});
   EXPECT_EQ((positions - face().mesh().positions).cwiseAbs().maxCoeff(), 0.0);
 }
 
@@ -43,7 +43,7 @@ TEST(FaceModel, ASelectionOfVerticesMovesAsTheWholeMeshDoes) {
   for (const char* tip : {"6.1", "6.3"})
     for (int v : face().points().vertices(tip)) vertices.push_back(v);
   const th::face::VertexSelection selection = face().select(vertices);
-  FapValues faps{};
+  FapFrame faps{};
   faps[3] = 300;   // jaw
   faps[5] = -80;   // lower lip
   faps[12] = 60;   // a lip corner
@@ -75,7 +75,7 @@ TEST_P(LinearFap, MovesItsFeaturePointByValueTimesFapuAndLeavesTheFarFaceAlone) 
   const int number = GetParam();
   const th::face::FapDefinition& fap = th::face::fapDefinition(number);
   const double unit = face().units().of(fap.unit);
-  FapValues faps{};
+  FapFrame faps{};
   faps[static_cast<std::size_t>(number)] = 150.0;
   const Eigen::Matrix3Xd& rest = face().mesh().positions;
   const Eigen::Matrix3Xd moved = face().deform(faps);
@@ -108,8 +108,8 @@ INSTANTIATE_TEST_SUITE_P(Faps, LinearFap,
 // The brows' points, inner to outer, left then right; and their raisers, 31–36.
 constexpr const char* kBrowPoints[] = {"4.1", "4.3", "4.5", "4.2", "4.4", "4.6"};
 
-FapValues raisedBrows(double value) {
-  FapValues faps{};
+FapFrame raisedBrows(double value) {
+  FapFrame faps{};
   for (int fap = 31; fap <= 36; ++fap) faps[static_cast<std::size_t>(fap)] = value;
   return faps;
 }
@@ -170,7 +170,7 @@ TEST(FaceModel, ARaisedBrowSlidesTheForeheadOverItsSurfaceInsteadOfBulgingOut) {
 }
 
 TEST(FaceModel, OpenJawDropsTheChinAndCarriesLowerLipTeethAndTongueTogether) {
-  FapValues faps{};
+  FapFrame faps{};
   faps[3] = 500.0;
   const Eigen::Matrix3Xd& rest = face().mesh().positions;
   const Eigen::Matrix3Xd moved = face().deform(faps);
@@ -198,7 +198,7 @@ TEST(FaceModel, OpenJawDropsTheChinAndCarriesLowerLipTeethAndTongueTogether) {
 
 TEST(FaceModel, ThrustAndShiftMoveTheChinStraight) {
   for (const auto& [fap, axis] : {std::pair{14, 2}, std::pair{15, 0}}) {
-    FapValues faps{};
+    FapFrame faps{};
     faps[static_cast<std::size_t>(fap)] = 100.0;
     const th::face::FapDefinition& definition = th::face::fapDefinition(fap);
     const Eigen::Vector3d shift = pointIn(face().deform(faps), "2.1") - pointIn(face().mesh().positions, "2.1");
@@ -212,14 +212,14 @@ TEST(FaceModel, EyelidsCloseOverTheEye) {
   const double irisd = face().units().irisd;
   for (const auto& [upperFap, lowerFap, upper, lower] :
        {std::tuple{19, 21, "3.1", "3.3"}, std::tuple{20, 22, "3.2", "3.4"}}) {
-    FapValues faps{};
+    FapFrame faps{};
     faps[static_cast<std::size_t>(upperFap)] = 300.0;
     faps[static_cast<std::size_t>(lowerFap)] = 200.0;
     Eigen::Matrix3Xd moved = face().deform(faps);
     EXPECT_NEAR(pointIn(rest, upper).y() - pointIn(moved, upper).y(), 300.0 * irisd, 0.02 * 300.0 * irisd);
     EXPECT_NEAR(pointIn(moved, lower).y() - pointIn(rest, lower).y(), 200.0 * irisd, 0.02 * 200.0 * irisd);
     // A full blink (1024 = one IRISD, the lids' distance) brings the upper lid's middle onto the lower lid.
-    faps = FapValues{};
+    faps = FapFrame{};
     faps[static_cast<std::size_t>(upperFap)] = 1024.0;
     moved = face().deform(faps);
     EXPECT_NEAR(pointIn(moved, upper).y(), pointIn(rest, lower).y(), 0.05 * 1024 * irisd);
@@ -229,7 +229,7 @@ TEST(FaceModel, EyelidsCloseOverTheEye) {
 }
 
 TEST(FaceModel, EyeballsTurnAboutTheirCentres) {
-  FapValues faps{};
+  FapFrame faps{};
   faps[23] = degrees(15.0);  // left eye, to the face's left
   faps[26] = degrees(10.0);  // right eye, down
   const Eigen::Matrix3Xd& rest = face().mesh().positions;
@@ -245,7 +245,7 @@ TEST(FaceModel, EyeballsTurnAboutTheirCentres) {
 }
 
 TEST(FaceModel, TheHeadTurnsAboutTheNeckAndTheNeckBaseStays) {
-  FapValues faps{};
+  FapFrame faps{};
   faps[49] = degrees(20.0);  // yaw to the face's left
   const Eigen::Matrix3Xd& rest = face().mesh().positions;
   const Eigen::Matrix3Xd moved = face().deform(faps);
@@ -271,7 +271,7 @@ TEST(FaceModel, EarFapsMoveTheWholeAuricleAndNothingOfTheFaceOrTheOtherEar) {
   for (const auto& [fap, top, back, axis] : {std::tuple{65, "10.1", "10.3", 1}, std::tuple{66, "10.2", "10.4", 1},
                                              std::tuple{67, "10.1", "10.3", 0}, std::tuple{68, "10.2", "10.4", 0}}) {
     const th::face::FapDefinition& definition = th::face::fapDefinition(fap);
-    FapValues faps{};
+    FapFrame faps{};
     faps[static_cast<std::size_t>(fap)] = 200.0;
     const Eigen::Matrix3Xd moved = face().deform(faps);
     const double expected = 200.0 * ens * definition.direction[static_cast<std::size_t>(axis)];
@@ -321,7 +321,7 @@ TEST(FaceModel, TongueFapsMoveTheTongueAndNotTheTeethGumsOrLips) {
   const Eigen::Vector3d tip = pointIn(rest, "6.1");
   const double halfWidth = 0.5 * (pointIn(rest, "6.3").x() - pointIn(rest, "6.4").x());
   for (int fap : {43, 44, 45, 46, 47}) {
-    FapValues faps{};
+    FapFrame faps{};
     faps[static_cast<std::size_t>(fap)] = fap == 47 ? degrees(20.0) : 150.0;
     const Eigen::Matrix3Xd moved = face().deform(faps);
     const std::string name(th::face::fapDefinition(fap).name);
@@ -360,7 +360,7 @@ TEST(FaceModel, TongueFeaturePointsSitOnTheTongue) {
 
 TEST(FaceModel, TongueRollCurlsBothSidesUpByTheAngle) {
   const Eigen::Matrix3Xd& rest = face().mesh().positions;
-  FapValues faps{};
+  FapFrame faps{};
   faps[47] = degrees(20.0);
   const Eigen::Matrix3Xd moved = face().deform(faps);
   // The sides turn about the mid-line (along z, at the tongue's top): each border's elevation about it grows by
@@ -383,10 +383,10 @@ TEST(FaceModel, TheTongueStillRidesOnTheJawWhenItMoves) {
   // The tongue's fields act before the jaw turns, like the lips': with the jaw open, thrusting the tip moves it
   // by value × MW along the jaw's turned forward direction, and the tip goes down with the jaw.
   const Eigen::Matrix3Xd& rest = face().mesh().positions;
-  FapValues open{};
+  FapFrame open{};
   open[3] = 400.0;
   const Eigen::Matrix3Xd opened = face().deform(open);
-  FapValues thrust = open;
+  FapFrame thrust = open;
   thrust[45] = 150.0;
   const Eigen::Matrix3Xd both = face().deform(thrust);
   const double chinDrop = pointIn(rest, "2.1").y() - pointIn(opened, "2.1").y();

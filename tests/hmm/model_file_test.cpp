@@ -482,7 +482,7 @@ TEST(ModelFile, SaveRefusesAModelTheLoaderWouldRefuseAndWritesNothing) {
   expectOneLineError([&] { saveModel(path, latin1); }, path.string(), "cannot be written: a column or block name is not UTF-8 text");
 
   const HmmModel good = test::stickyModel1d(2, 0.8);
-  expectOneLineError([&] { saveModel(path, good, "iterations: 3"); }, path.string(), "the training metadata: not valid JSON");
+  expectOneLineError([&] { saveModel(path, good, "iterations: 3"); }, path.string(), "the training metadata is not valid JSON");
   expectOneLineError([&] { saveModel(path, good, "[1, 2]"); }, path.string(), "the training metadata is an array, not a JSON object");
 
   EXPECT_TRUE(listFolder(folder.path()).empty());

@@ -64,7 +64,7 @@ TEST(LiveDecoder, GivesTheBatchAnimationFrameByFrameWhateverTheChunks) {
     options.waitForHead = true;
     if (mmse) options.mouth.method = th::animation::MouthMethod::kMmse;
     options.mouth.windowFrames = mmse ? 1 : 2;
-    const th::video::Animation batch =
+    const th::face::FapTrack batch =
         th::animation::animate(samples, &models().head, &models().mouth, {.head = options.head, .mouth = options.mouth, .idle = false, .idleOptions = {}});
     LiveDecoder decoder(&models().head, &models().mouth, options);
     const th::pipeline::DecoderLookahead lookahead = decoder.lookahead();
@@ -80,7 +80,7 @@ TEST(LiveDecoder, GivesTheBatchAnimationFrameByFrameWhateverTheChunks) {
       EXPECT_EQ(frames[f].index, static_cast<int>(f));
       EXPECT_DOUBLE_EQ(frames[f].timeSeconds, static_cast<double>(f) / 30.0);
       for (std::size_t c = 0; c < batch.faps.size(); ++c) {
-        const double expected = batch.values(static_cast<Eigen::Index>(f), static_cast<Eigen::Index>(c));
+        const double expected = batch.values(static_cast<Eigen::Index>(c), static_cast<Eigen::Index>(f));
         largest = std::max(largest, std::abs(frames[f].faps[static_cast<std::size_t>(batch.faps[c])] - expected));
       }
     }
@@ -98,7 +98,7 @@ TEST(LiveDecoder, ShowsTheMouthAtOnceAndTheHeadLate) {
   const std::vector<float> samples = speech(12.0);
   const LiveDecoderOptions options;
   ASSERT_FALSE(options.waitForHead);
-  const th::video::Animation batch =
+  const th::face::FapTrack batch =
       th::animation::animate(samples, &models().head, &models().mouth, {.head = options.head, .mouth = options.mouth, .idle = false, .idleOptions = {}});
   LiveDecoder decoder(&models().head, &models().mouth, options);
   const th::pipeline::DecoderLookahead lookahead = decoder.lookahead();
@@ -125,11 +125,11 @@ TEST(LiveDecoder, ShowsTheMouthAtOnceAndTheHeadLate) {
     for (int fap : batch.faps) {
       const double value = frames[f].faps[static_cast<std::size_t>(fap)];
       if (fap >= 48 && fap <= 50) {
-        const double expected = i >= delay ? batch.values(i - delay, column(fap)) : 0.0;
+        const double expected = i >= delay ? batch.values(column(fap), i - delay) : 0.0;
         headError = std::max(headError, std::abs(value - expected));
         headMoved = std::max(headMoved, std::abs(value));
       } else {
-        mouthError = std::max(mouthError, std::abs(value - batch.values(i, column(fap))));
+        mouthError = std::max(mouthError, std::abs(value - batch.values(column(fap), i)));
       }
     }
   }

@@ -56,7 +56,7 @@ class Golden : public ::testing::TestWithParam<th::face::Pose> {
     th::render::OffscreenContext context;
     th::render::FaceRenderer renderer{context, face.mesh(), {.width = kSize, .height = kSize}};
     th::render::OrbitCamera camera = th::render::frameHead(face.mesh().positions, 1.0);
-    th::render::Image draw(const th::face::FapValues& faps) {
+    th::render::Image draw(const th::face::FapFrame& faps) {
       renderer.setPositions(face.deform(faps));
       return renderer.renderImage(camera);
     }

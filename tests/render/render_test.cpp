@@ -457,7 +457,7 @@ TEST(FaceRenderer, SimplifiedEyeballsLookTheSame) {
   const OrbitCamera camera = th::render::frameHead(face.mesh().positions, 1280.0 / 720.0);
   // Looking ahead, aside and up, the head turned; the pupils wide.
   for (const double gaze : {0.0, 40000.0, -40000.0}) {
-    th::face::FapValues faps{};
+    th::face::FapFrame faps{};
     faps[23] = faps[24] = gaze;
     faps[25] = faps[26] = gaze / 2;
     faps[49] = gaze / 2;
@@ -510,7 +510,7 @@ TEST(FaceRenderer, TheMouthsInsideAndTheEyeballsAreDroppedOnlyWhereTheyCannotSho
   int cases = 0;
   for (const Pose& pose : {Pose{0, 0, 0, 0, 0}, Pose{40, 0, 0, 0, 0}, Pose{250, 0, 0, 0, 0}, Pose{700, 0, 0, 0, 0},
                            Pose{120, 250, 0, 40000, 0}, Pose{300, 0, 20000, -40000, 500}, Pose{0, 0, 0, 0, 1024}}) {
-    th::face::FapValues faps{};
+    th::face::FapFrame faps{};
     faps[3] = pose.jaw;
     faps[53] = faps[54] = faps[12] = faps[13] = pose.smile;
     faps[49] = pose.yaw;
@@ -541,7 +541,7 @@ TEST(FaceRenderer, TheMouthsInsideAndTheEyeballsAreDroppedOnlyWhereTheyCannotSho
   // It does drop something (else the comparison above would pass with nothing dropped): with the lips
   // together, most of the teeth and gums, and the eyeballs behind the lids.
   FaceRenderer backFacesOnly(context, face.mesh(), {.width = 480, .height = 360, .samples = 1});
-  th::face::FapValues closed{};
+  th::face::FapFrame closed{};
   cpu.setPositions(face.deform(closed));
   backFacesOnly.setPositions(face.deform(closed));
   cpu.render(camera);
@@ -791,7 +791,7 @@ TEST(Fxaa, BlendsHardEdgesOnlyAndFlipsRows) {
 
 // ---- Y'CbCr ----
 
-// The frame converted by libswscale as video::Mp4Writer converts RGB frames (same matrix, same range).
+// The frame converted by libswscale as formats::Mp4Writer converts RGB frames (same matrix, same range).
 th::render::Yuv420Image swscaleYuv(const std::vector<std::uint8_t>& rgba, int w, int h, bool bt709) {
   SwsContext* context = sws_getContext(w, h, AV_PIX_FMT_RGBA, w, h, AV_PIX_FMT_YUV420P, SWS_BILINEAR, nullptr,
                                        nullptr, nullptr);

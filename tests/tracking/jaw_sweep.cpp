@@ -31,7 +31,7 @@ int main(int argc, char** argv) {
   std::vector<double> jaws;
   th::render::Image widest;
   for (double jaw = 0.0; jaw <= 400.0; jaw += 50.0) {
-    th::face::FapValues faps{};
+    th::face::FapFrame faps{};
     faps[3] = jaw;
     renderer.setPositions(face.deform(faps));
     th::render::Image image = renderer.renderImage(camera);

@@ -9,17 +9,17 @@
 #include "animation/mouth_evaluation.h"
 #include "core/error.h"
 #include "tracking/video_reader.h"
-#include "video/mp4_writer.h"
+#include "formats/mp4_writer.h"
 
 namespace th::test {
 
 void writeFacelessVideo(const std::filesystem::path& path) {
   constexpr int kWidth = 320, kHeight = 240, kFrames = 50;
-  video::Mp4Options options;
+  formats::Mp4Options options;
   options.width = kWidth;
   options.height = kHeight;
   options.framesPerSecond = 25.0;
-  video::Mp4Writer writer(path, options);
+  formats::Mp4Writer writer(path, options);
   std::vector<float> tone(32000);
   for (std::size_t n = 0; n < tone.size(); ++n)
     tone[n] = 0.3f * static_cast<float>(std::sin(2.0 * std::numbers::pi * 220.0 * static_cast<double>(n) / 16000.0));

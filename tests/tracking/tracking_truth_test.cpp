@@ -23,7 +23,7 @@
 #include "render/gl_context.h"
 #include "tracking/track.h"
 #include "tracking/video_training.h"
-#include "video/animation_sampling.h"
+#include "face/fap_track.h"
 
 namespace {
 
@@ -46,7 +46,7 @@ struct FapError {
 
 // Renders every pose (after a rest frame, the tracker's neutral), tracks and fits the frames, and returns the
 // RMS error of each fitted FAP that the poses move.
-std::vector<FapError> renderTrackAndFit(const std::vector<th::face::FapValues>& poses, double framesPerSecond) {
+std::vector<FapError> renderTrackAndFit(const std::vector<th::face::FapFrame>& poses, double framesPerSecond) {
   const th::face::FaceModel& face = faceModel();
   constexpr int kWidth = 640, kHeight = 480;
   th::render::OffscreenContext context;
@@ -58,7 +58,7 @@ std::vector<FapError> renderTrackAndFit(const std::vector<th::face::FapValues>& 
   track.framesPerSecond = framesPerSecond;
   track.width = kWidth;
   track.height = kHeight;
-  std::vector<th::face::FapValues> shown{th::face::FapValues{}};
+  std::vector<th::face::FapFrame> shown{th::face::FapFrame{}};
   shown.insert(shown.end(), poses.begin(), poses.end());
   for (std::size_t f = 0; f < shown.size(); ++f) {
     renderer.setPositions(face.deform(shown[f]));
@@ -148,25 +148,25 @@ TEST(TrackingTruth, TheShippedModelsCurvesRotationsComeBackWithinTwoDegrees) {
   const th::animation::MouthModel mouth = th::animation::loadMouthModel(modelFile("mouth.json"));
   th::audio::AudioClip speech = th::audio::readAudioFile(th::sharedDataPath("beat2/audio_only/2_scott_0_2_2.wav"));
   speech.samples.resize(std::min<std::size_t>(speech.samples.size(), 16000 * 5));  // 5 s: 150 frames
-  const th::video::Animation truth = th::animation::animate(speech.samples, &head, &mouth, {.idle = false});  // no blinks: the fit has no lids
-  std::vector<th::face::FapValues> poses;
-  for (int f = 0; f < truth.numFrames(); ++f) poses.push_back(th::video::fapValuesAt(truth, f / truth.framesPerSecond));
+  const th::face::FapTrack truth = th::animation::animate(speech.samples, &head, &mouth, {.idle = false});  // no blinks: the fit has no lids
+  std::vector<th::face::FapFrame> poses;
+  for (int f = 0; f < truth.numFrames(); ++f) poses.push_back(truth.at(f / truth.framesPerSecond));
   expectRotationsWithin(2.0, renderTrackAndFit(poses, truth.framesPerSecond));
 }
 
 // A GRID clip's jaw and lips, as the tracker fitted them, at its 25 fps, with the head model's rotations on
 // its sound (no blinks: the fit has no lids).
-std::vector<th::face::FapValues> realSpeakersPoses(const th::tracking::FitOptions& options, double& framesPerSecond) {
+std::vector<th::face::FapFrame> realSpeakersPoses(const th::tracking::FitOptions& options, double& framesPerSecond) {
   const std::filesystem::path clip = th::sharedDataPath("grid/s1/bbaz7a.mpg");
   th::tracking::Track real = th::tracking::trackVideo(clip);
   th::tracking::fitTrack(real, faceModel(), options);
   framesPerSecond = real.framesPerSecond;
   const th::audio::AudioClip sound = th::tracking::readClipSound(clip);
   const th::animation::HeadModel head = th::animation::loadHeadModel(modelFile("head.json"));
-  const th::video::Animation rotations = th::animation::animate(sound.samples, &head, nullptr, {.idle = false});
-  std::vector<th::face::FapValues> poses;
+  const th::face::FapTrack rotations = th::animation::animate(sound.samples, &head, nullptr, {.idle = false});
+  std::vector<th::face::FapFrame> poses;
   for (const th::tracking::TrackedFrame& frame : real.frames) {
-    th::face::FapValues faps = th::video::fapValuesAt(rotations, frame.seconds);
+    th::face::FapFrame faps = rotations.at(frame.seconds);
     for (int fap : real.fittedFaps) faps[static_cast<std::size_t>(fap)] = frame.fit.faps[static_cast<std::size_t>(fap)];
     poses.push_back(faps);
   }
@@ -175,7 +175,7 @@ std::vector<th::face::FapValues> realSpeakersPoses(const th::tracking::FitOption
 
 TEST(TrackingTruth, ARealSpeakersLipsWithModelledHeadRotationsComeBackWithinTwoDegrees) {
   double fps = 0.0;
-  const std::vector<th::face::FapValues> poses = realSpeakersPoses({}, fps);
+  const std::vector<th::face::FapFrame> poses = realSpeakersPoses({}, fps);
   expectRotationsWithin(2.0, renderTrackAndFit(poses, fps));
 }
 
@@ -189,7 +189,7 @@ TEST(TrackingTruth, FromPerfectLandmarksEveryFapComesBackWithinThreeAndAHalfPerc
   th::tracking::FitOptions options;
   options.jawPrior = options.fapPrior = 0.001;
   double fps = 0.0;
-  const std::vector<th::face::FapValues> poses = realSpeakersPoses(options, fps);
+  const std::vector<th::face::FapFrame> poses = realSpeakersPoses(options, fps);
   options.focalLengthPixels = 0.5 * 480 / std::tan(0.5 * th::render::OrbitCamera{}.fovYDegrees * std::numbers::pi / 180.0);
   const th::tracking::FaceFitter projector(faceModel(), options);
   th::tracking::FaceFit place;
@@ -198,7 +198,7 @@ TEST(TrackingTruth, FromPerfectLandmarksEveryFapComesBackWithinThreeAndAHalfPerc
   place.offset = {320.0, 240.0};
   th::tracking::Track track;
   track.framesPerSecond = fps;
-  std::vector<th::face::FapValues> shown{th::face::FapValues{}};
+  std::vector<th::face::FapFrame> shown{th::face::FapFrame{}};
   shown.insert(shown.end(), poses.begin(), poses.end());
   for (std::size_t f = 0; f < shown.size(); ++f) {
     th::tracking::FaceFit pose = place;

@@ -1,4 +1,4 @@
-#include "video/mp4_writer.h"
+#include "formats/mp4_writer.h"
 
 extern "C" {
 #include <libavcodec/avcodec.h>
@@ -36,7 +36,7 @@ extern "C" {
 #error "mp4_writer.cpp needs FFmpeg 5.1 or later (AVChannelLayout, swr_alloc_set_opts2)"
 #endif
 
-namespace th::video {
+namespace th::formats {
 namespace {
 
 namespace fs = std::filesystem;
@@ -637,4 +637,4 @@ double Mp4Writer::audioSeconds() const {
 
 const fs::path& Mp4Writer::target() const { return state_->target; }
 
-}  // namespace th::video
+}  // namespace th::formats

@@ -3,7 +3,7 @@
 // may call: it never allocates, locks, blocks or throws. What does not fit is dropped and counted as an
 // overrun (the worker fell behind by more than the ring holds).
 //
-//   th::pipeline::AudioRing ring(32000);                 // two seconds at 16 kHz
+//   th::AudioRing ring(32000);                 // two seconds at 16 kHz
 //   ring.write(input, frames);                           // the callback
 //   std::size_t n = ring.read(buffer.data(), buffer.size());   // the worker
 //
@@ -17,7 +17,7 @@
 #include <cstddef>
 #include <cstdint>
 
-namespace th::pipeline {
+namespace th {
 
 class AudioRing {
  public:
@@ -50,4 +50,4 @@ class AudioRing {
   std::atomic<std::uint64_t> overruns_{0};
 };
 
-}  // namespace th::pipeline
+}  // namespace th

@@ -1,9 +1,10 @@
-// ARKit-named blendshape weights from MPEG-4 FAPs, for engines that animate faces with Apple's 52 shapes.
+// ARKit-named blendshape weights from MPEG-4 FAPs, for engines that animate faces with Apple's 52 shapes; as an
+// animation format (animation_format.h), a CSV of time_s and the 52 weights per frame.
 //
-//   th::video::Animation anim = th::video::readAnimation("speech.fap");
-//   th::video::ArkitScale scale = th::video::arkitScaleFor(faceModel);   // or ArkitScale{} for the defaults
-//   Eigen::MatrixXd weights = th::video::arkitWeights(anim, scale);       // frames x 52, each in [0, 1]
-//   th::video::writeArkitCsv("speech_arkit.csv", anim, scale);            // time_s, then the 52 names
+//   th::face::FapTrack track = th::formats::readAnimation("speech.fap");
+//   th::formats::ArkitScale scale = th::formats::arkitScaleFor(faceModel);   // or ArkitScale{} for the defaults
+//   Eigen::MatrixXd weights = th::formats::arkitWeights(track, scale);       // 52 x frames, each in [0, 1]
+//   th::formats::writeAnimation("speech_arkit.csv", track, th::formats::ArkitFormat(scale));
 //
 // Each weight is a FAP (or the mean of a FAP pair: inner and outer lip contour) divided by the FAP value at
 // which the shape is fully on, clamped to [0, 1]; a FAP that can go both ways feeds the shape of each
@@ -22,13 +23,14 @@
 #include <filesystem>
 #include <string_view>
 
-#include "video/animation_file.h"
+#include "face/fap_track.h"
+#include "formats/animation_format.h"
 
 namespace th::face {
 class FaceModel;
 }
 
-namespace th::video {
+namespace th::formats {
 
 inline constexpr std::array<std::string_view, 52> kArkitNames{
     "eyeBlinkLeft",     "eyeLookDownLeft",   "eyeLookInLeft",     "eyeLookOutLeft",     "eyeLookUpLeft",
@@ -59,10 +61,21 @@ struct ArkitScale {
 // The defaults with jawOpen measured on `face`: the FAP 3 value of its jawOpen shape's angle.
 ArkitScale arkitScaleFor(const face::FaceModel& face);
 
-// numFrames x 52 weights in kArkitNames order; FAPs the animation lacks count as 0.
-Eigen::MatrixXd arkitWeights(const Animation& animation, const ArkitScale& scale = {});
+// 52 x numFrames weights, a row per shape in kArkitNames order; FAPs the track lacks count as 0.
+Eigen::MatrixXd arkitWeights(const face::FapTrack& track, const ArkitScale& scale = {});
 
-// CSV: time_s, then the 52 names; written atomically. Errors name the file.
-void writeArkitCsv(const std::filesystem::path& path, const Animation& animation, const ArkitScale& scale = {});
+// The format: a header time_s and the 52 names, then a row per frame (times to 6 decimals, weights to 4).
+// The registry's "arkit" (animationFormat) uses the default scale; export measures it on the face it renders.
+class ArkitFormat final : public AnimationFormat {
+ public:
+  explicit ArkitFormat(const ArkitScale& scale = {}) : scale_(scale) {}
+  std::string_view name() const override { return "arkit"; }
+  std::string_view extension() const override { return ".csv"; }
+  std::string_view description() const override { return "ARKit's 52 blendshape weights per frame, each in [0, 1]"; }
+  void write(std::ostream& out, const face::FapTrack& track) const override;
 
-}  // namespace th::video
+ private:
+  ArkitScale scale_;
+};
+
+}  // namespace th::formats

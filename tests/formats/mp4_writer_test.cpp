@@ -4,7 +4,7 @@
 // below, limited range); unequal lengths, tiny files and bottom-up frames work; nothing is left behind by an
 // unfinished writer, a killed process or a failed start, an old target survives until success, and bad use
 // gives one-line errors naming the target.
-#include "video/mp4_writer.h"
+#include "formats/mp4_writer.h"
 
 #include <gtest/gtest.h>
 #include <signal.h>
@@ -34,7 +34,7 @@ extern "C" {
 #include "core/temporary_file.h"
 #include "support/files.h"
 
-namespace th::video {
+namespace th::formats {
 namespace {
 
 using th::test::listFolder;
@@ -784,4 +784,4 @@ TEST(Mp4Writer, ThisFfmpegHasTheEncoders) {
 }
 
 }  // namespace
-}  // namespace th::video
+}  // namespace th::formats

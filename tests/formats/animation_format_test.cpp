@@ -1,7 +1,7 @@
 // Animation files: CSV and JSON round trips are exact and .fap round trips are exact to integer rounding; a
 // .fap whose masks change reads back with the FAPs that are not sent holding their values; every bad file is
 // refused with one line naming the file, the line (CSV, .fap) and the problem; a failed write leaves nothing.
-#include "video/animation_file.h"
+#include "formats/animation_format.h"
 
 #include <gtest/gtest.h>
 
@@ -22,7 +22,7 @@
 #include "core/temporary_file.h"
 #include "support/files.h"
 
-namespace th::video {
+namespace th::formats {
 namespace {
 
 using th::test::listFolder;
@@ -32,6 +32,7 @@ using th::test::listFolder;
 using th::test::readText;
 
 namespace fs = std::filesystem;
+using Animation = face::FapTrack;
 
 void writeText(const fs::path& path, const std::string& text) {
   std::ofstream out(path, std::ios::binary);
@@ -52,7 +53,7 @@ Animation randomAnimation(double fps, int numFrames, std::vector<int> faps, unsi
   std::mt19937 random(seed);
   std::uniform_real_distribution<double> value(-600.0, 600.0);
   Animation animation{.framesPerSecond = fps, .name = "round trip", .faps = std::move(faps), .values = {}};
-  animation.values.resize(numFrames, static_cast<Eigen::Index>(animation.faps.size()));
+  animation.values.resize(static_cast<Eigen::Index>(animation.faps.size()), numFrames);
   for (Eigen::Index i = 0; i < animation.values.size(); ++i) animation.values.data()[i] = value(random);
   return animation;
 }
@@ -126,23 +127,23 @@ TEST(AnimationFile, ExtensionIsCaseInsensitive) {
   const Animation written = randomAnimation(25, 3, {3}, 1);
   writeAnimation(folder.path() / "upper.FAP", written);
   EXPECT_EQ(readAnimation(folder.path() / "upper.FAP").numFrames(), 3);
-  EXPECT_EQ(animationFormatOf("a.Json"), AnimationFormat::kJson);
-  EXPECT_EQ(animationFormatOf("dir.fap/a.CSV"), AnimationFormat::kCsv);
+  EXPECT_EQ(animationFormatFor("a.Json").name(), "json");
+  EXPECT_EQ(animationFormatFor("dir.fap/a.CSV").name(), "csv");
 }
 
-TEST(AnimationFile, ColumnOf) {
+TEST(AnimationFile, RowOf) {
   const Animation animation{.faps = {3, 48, 50}, .values = {}};
-  EXPECT_EQ(animation.columnOf(3), 0);
-  EXPECT_EQ(animation.columnOf(50), 2);
-  EXPECT_EQ(animation.columnOf(4), -1);
-  EXPECT_EQ(animation.columnOf(0), -1);
+  EXPECT_EQ(animation.rowOf(3), 0);
+  EXPECT_EQ(animation.rowOf(50), 2);
+  EXPECT_EQ(animation.rowOf(4), -1);
+  EXPECT_EQ(animation.rowOf(0), -1);
 }
 
 // ---- what is written ----
 
 Animation smallAnimation() {
   Animation animation{.framesPerSecond = 25, .name = "hello world", .faps = {3, 48}, .values = {}};
-  animation.values = (Eigen::MatrixXd(2, 2) << 10.4, -2.5, 11.6, 0.0).finished();
+  animation.values = (Eigen::MatrixXd(2, 2) << 10.4, 11.6, -2.5, 0.0).finished();  // a column per frame
   return animation;
 }
 
@@ -195,8 +196,8 @@ TEST(AnimationFile, FapMasksMayChangeAndUnsentFapsHoldTheirValues) {
   EXPECT_EQ(animation.name, "holds");
   EXPECT_EQ(animation.framesPerSecond, 25.0);
   EXPECT_EQ(animation.faps, (std::vector<int>{3, 48}));
-  Eigen::MatrixXd expected(5, 2);
-  expected << 100, 0, 110, -2000, 110, -1000, 110, -1000, -5, -1000;
+  Eigen::MatrixXd expected(2, 5);
+  expected << 100, 110, 110, 110, -5, 0, -2000, -1000, -1000, -1000;
   EXPECT_TRUE(animation.values == expected) << animation.values;
 }
 
@@ -231,14 +232,14 @@ TEST(AnimationFile, ReadsXfaceStyleStream) {
   for (int fap = 31; fap <= 38; ++fap) faps.push_back(fap);
   for (int fap = 48; fap <= 60; ++fap) faps.push_back(fap);
   EXPECT_EQ(animation.faps, faps);
-  const int jaw = animation.columnOf(3);
-  const int headYaw = animation.columnOf(49);
-  const int lastLip = animation.columnOf(60);
-  EXPECT_EQ(animation.values(0, jaw), -57);
-  EXPECT_EQ(animation.values(2, jaw), -179);
-  EXPECT_EQ(animation.values(1, headYaw), -236);
-  EXPECT_EQ(animation.values(0, lastLip), -161);
-  EXPECT_EQ(animation.values(2, lastLip), -36);
+  const int jaw = animation.rowOf(3);
+  const int headYaw = animation.rowOf(49);
+  const int lastLip = animation.rowOf(60);
+  EXPECT_EQ(animation.values(jaw, 0), -57);
+  EXPECT_EQ(animation.values(jaw, 2), -179);
+  EXPECT_EQ(animation.values(headYaw, 1), -236);
+  EXPECT_EQ(animation.values(lastLip, 0), -161);
+  EXPECT_EQ(animation.values(lastLip, 2), -36);
 }
 
 TEST(AnimationFile, CsvColumnsInAnyOrderAndTimesWithinTolerance) {
@@ -249,8 +250,8 @@ TEST(AnimationFile, CsvColumnsInAnyOrderAndTimesWithinTolerance) {
   const Animation animation = readAnimation(path);
   EXPECT_EQ(animation.framesPerSecond, 25.0);
   EXPECT_EQ(animation.faps, (std::vector<int>{3, 48}));
-  Eigen::MatrixXd expected(3, 2);
-  expected << 2, 1, 4, 3, 6, 5;
+  Eigen::MatrixXd expected(2, 3);
+  expected << 2, 4, 6, 1, 3, 5;
   EXPECT_TRUE(animation.values == expected) << animation.values;
 }
 
@@ -413,7 +414,7 @@ std::vector<BadFile> badFiles() {
       {"JsonStringValue", ".json", json + R"("faps": [{"number": 3}], "frames": [["1"]]})",
        "frames[0][0] is \"1\", not a number"},
       {"JsonOverflow", ".json", json + R"("faps": [{"number": 3}], "frames": [[1e999]]})",
-       "holds a number that is not finite"},
+       "is out of the range of a double"},
       {"JsonNan", ".json", json + R"("faps": [{"number": 3}], "frames": [[NaN]]})", "is not valid JSON"},
       {"JsonTimesWrongLength", ".json", json + R"("faps": [], "time_s": [0], "frames": [[], []]})",
        "time_s has 1 time, but there are 2 frames"},
@@ -521,15 +522,15 @@ std::vector<BadAnimation> badAnimations() {
        }),
        "FAP 3 follows FAP 3"},
       {"ColumnsMismatch", ".csv", with([](Animation& a) { a.faps = {3}; }),
-       "the values have 2 columns, but the animation lists 1 FAP"},
-      {"NoFrames", ".json", with([](Animation& a) { a.values.resize(0, 2); }), "the animation has no frames"},
-      {"CsvOneFrame", ".csv", with([](Animation& a) { a.values.conservativeResize(1, 2); }),
+       "the values have 2 rows, but the track lists 1 FAP"},
+      {"NoFrames", ".json", with([](Animation& a) { a.values.resize(2, 0); }), "the animation has no frames"},
+      {"CsvOneFrame", ".csv", with([](Animation& a) { a.values.conservativeResize(2, 1); }),
        "one frame: a CSV file gives its frame rate only through time_s"},
-      {"NanValue", ".csv", with([&](Animation& a) { a.values(2, 1) = nan; }),
+      {"NanValue", ".csv", with([&](Animation& a) { a.values(1, 2) = nan; }),
        "frame 2, fap48 is nan: values must be finite"},
       {"InfiniteValue", ".fap", with([&](Animation& a) { a.values(0, 0) = -inf; }),
        "frame 0, fap3 is -inf: values must be finite"},
-      {"FapValueBeyondInt32", ".fap", with([](Animation& a) { a.values(3, 0) = 3e9; }),
+      {"FapValueBeyondInt32", ".fap", with([](Animation& a) { a.values(0, 3) = 3e9; }),
        "frame 3, fap3 is 3e+09: a .fap holds 32-bit integer values"},
       {"LastTimeOverflows", ".json", with([](Animation& a) { a.framesPerSecond = 1e-308; }),
        "the last frame's time is beyond the range of a double"},
@@ -566,4 +567,4 @@ TEST(AnimationFile, OneFrameIsFineOutsideCsv) {
 }
 
 }  // namespace
-}  // namespace th::video
+}  // namespace th::formats

@@ -1,9 +1,9 @@
 // Writing rendered frames and their sound track as an MP4 file that plays everywhere: H.264 video (libx264,
 // yuv420p, High profile) and AAC audio (FFmpeg's native encoder), through FFmpeg's libraries.
 //
-//   th::video::Mp4Writer writer("talk.mp4", {.width = 1280, .height = 720, .framesPerSecond = 30.0});
+//   th::formats::Mp4Writer writer("talk.mp4", {.width = 1280, .height = 720, .framesPerSecond = 30.0});
 //   writer.addAudio(clip.samples);                                  // 16 kHz mono float, any amount at a time
-//   const int frames = th::video::videoFramesFor(clip.samples.size(), 16000, 30.0);   // ceil(seconds * fps)
+//   const int frames = th::formats::videoFramesFor(clip.samples.size(), 16000, 30.0);   // ceil(seconds * fps)
 //   for (int f = 0; f < frames; ++f) writer.addVideoFrame(render(f).data(), 1280 * 3);   // RGB24, top row first
 //   writer.finish();                                                // only now does talk.mp4 appear
 //
@@ -40,7 +40,7 @@
 #include <span>
 #include <string>
 
-namespace th::video {
+namespace th::formats {
 
 struct Mp4Options {
   int width = 1280;                   // even and positive (yuv420p halves both for colour)
@@ -110,4 +110,4 @@ class Mp4Writer {
   std::unique_ptr<State> state_;
 };
 
-}  // namespace th::video
+}  // namespace th::formats

@@ -9,15 +9,15 @@
 #include "core/error.h"
 #include "core/temporary_file.h"
 #include "face/face_model.h"
-#include "video/arkit.h"
+#include "formats/arkit_format.h"
 
 namespace {
 
-using th::video::Animation;
+using Animation = th::face::FapTrack;
 
 double weight(const Eigen::MatrixXd& weights, int frame, std::string_view name) {
-  for (std::size_t i = 0; i < th::video::kArkitNames.size(); ++i)
-    if (th::video::kArkitNames[i] == name) return weights(frame, static_cast<Eigen::Index>(i));
+  for (std::size_t i = 0; i < th::formats::kArkitNames.size(); ++i)
+    if (th::formats::kArkitNames[i] == name) return weights(static_cast<Eigen::Index>(i), frame);
   ADD_FAILURE() << name;
   return -1;
 }
@@ -25,19 +25,19 @@ double weight(const Eigen::MatrixXd& weights, int frame, std::string_view name) 
 Animation oneFrame(std::vector<int> faps, std::vector<double> values) {
   Animation anim;
   anim.faps = std::move(faps);
-  anim.values = Eigen::Map<Eigen::RowVectorXd>(values.data(), static_cast<Eigen::Index>(values.size()));
+  anim.values = Eigen::Map<Eigen::VectorXd>(values.data(), static_cast<Eigen::Index>(values.size()));  // one frame
   return anim;
 }
 
 TEST(Arkit, FiftyTwoDistinctNames) {
-  const std::set<std::string_view> names(th::video::kArkitNames.begin(), th::video::kArkitNames.end());
+  const std::set<std::string_view> names(th::formats::kArkitNames.begin(), th::formats::kArkitNames.end());
   EXPECT_EQ(names.size(), 52u);
 }
 
 TEST(Arkit, EachSideAndDirectionFeedsItsOwnShape) {
   // Left lid half closed, left eye to the face's left, right eye to the face's left too, jaw to the right.
   const Animation anim = oneFrame({15, 19, 23, 24}, {100, 512, 17453, 17453});
-  const Eigen::MatrixXd w = th::video::arkitWeights(anim);
+  const Eigen::MatrixXd w = th::formats::arkitWeights(anim);
   EXPECT_DOUBLE_EQ(weight(w, 0, "eyeBlinkLeft"), 0.5);
   EXPECT_DOUBLE_EQ(weight(w, 0, "eyeBlinkRight"), 0.0);
   EXPECT_NEAR(weight(w, 0, "eyeLookOutLeft"), 1.0 / 3.0, 1e-3);  // 10° of 30°
@@ -51,7 +51,7 @@ TEST(Arkit, EachSideAndDirectionFeedsItsOwnShape) {
 
 TEST(Arkit, SymmetricLipsNeitherShiftTheMouthNorTellLeftFromRight) {
   const Animation anim = oneFrame({6, 7, 12, 13, 53, 54, 59, 60}, {150, 150, 300, 300, 150, 150, 300, 300});
-  const Eigen::MatrixXd w = th::video::arkitWeights(anim);
+  const Eigen::MatrixXd w = th::formats::arkitWeights(anim);
   EXPECT_DOUBLE_EQ(weight(w, 0, "mouthLeft"), 0.0);
   EXPECT_DOUBLE_EQ(weight(w, 0, "mouthRight"), 0.0);
   EXPECT_DOUBLE_EQ(weight(w, 0, "mouthSmileLeft"), 1.0);
@@ -63,18 +63,18 @@ TEST(Arkit, SymmetricLipsNeitherShiftTheMouthNorTellLeftFromRight) {
 
 TEST(Arkit, JawOpenIsFullAtTheReferenceFacesJawOpenShape) {
   const th::face::FaceModel face = th::face::FaceModel::build(th::face::loadIctFace(th::face::ictFaceDirectory()));
-  const th::video::ArkitScale scale = th::video::arkitScaleFor(face);
+  const th::formats::ArkitScale scale = th::formats::arkitScaleFor(face);
   EXPECT_NEAR(face.jawAngleFor(scale.jawOpen), face.jaw().shapeAngle, 1e-6);
   const Animation anim = oneFrame({3}, {0.5 * scale.jawOpen});
-  EXPECT_NEAR(weight(th::video::arkitWeights(anim, scale), 0, "jawOpen"), 0.5, 1e-9);
+  EXPECT_NEAR(weight(th::formats::arkitWeights(anim, scale), 0, "jawOpen"), 0.5, 1e-9);
 }
 
 TEST(Arkit, CsvHasTimeAndTheFiftyTwoNames) {
   const th::TemporaryFolder folder;
   Animation anim = oneFrame({19}, {1024});
-  anim.values.conservativeResize(2, 1);
-  anim.values(1, 0) = 0.0;
-  th::video::writeArkitCsv(folder.path() / "a.csv", anim);
+  anim.values.conservativeResize(1, 2);
+  anim.values(0, 1) = 0.0;
+  th::formats::writeAnimation(folder.path() / "a.csv", anim, th::formats::arkitFormat());
   std::ifstream in(folder.path() / "a.csv");
   std::string header, first, second;
   std::getline(in, header);
@@ -84,7 +84,7 @@ TEST(Arkit, CsvHasTimeAndTheFiftyTwoNames) {
   EXPECT_EQ(std::count(header.begin(), header.end(), ','), 52);
   EXPECT_EQ(first.rfind("0.000000,1.0000,", 0), 0u) << first;
   EXPECT_EQ(second.rfind("0.033333,0.0000,", 0), 0u) << second;
-  EXPECT_THROW(th::video::writeArkitCsv(folder.path() / "missing" / "a.csv", anim), th::Error);
+  EXPECT_THROW(th::formats::writeAnimation(folder.path() / "missing" / "a.csv", anim, th::formats::arkitFormat()), th::Error);
 }
 
 }  // namespace

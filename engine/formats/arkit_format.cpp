@@ -1,13 +1,13 @@
-#include "video/arkit.h"
+#include "formats/arkit_format.h"
 
 #include <algorithm>
 #include <cstdio>
+#include <ostream>
 
-#include "core/atomic_file.h"
 #include "core/error.h"
 #include "face/face_model.h"
 
-namespace th::video {
+namespace th::formats {
 namespace {
 
 int indexOf(std::string_view name) {
@@ -31,16 +31,16 @@ ArkitScale arkitScaleFor(const face::FaceModel& face) {
   return scale;
 }
 
-Eigen::MatrixXd arkitWeights(const Animation& animation, const ArkitScale& scale) {
-  Eigen::MatrixXd weights = Eigen::MatrixXd::Zero(animation.numFrames(), static_cast<Eigen::Index>(kArkitNames.size()));
-  for (int t = 0; t < animation.numFrames(); ++t) {
+Eigen::MatrixXd arkitWeights(const face::FapTrack& track, const ArkitScale& scale) {
+  Eigen::MatrixXd weights = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(kArkitNames.size()), track.numFrames());
+  for (int t = 0; t < track.numFrames(); ++t) {
     const auto fap = [&](int number) {
-      const int column = animation.columnOf(number);
-      return column >= 0 ? animation.values(t, column) : 0.0;
+      const int row = track.rowOf(number);
+      return row >= 0 ? track.values(row, t) : 0.0;
     };
     const auto pair = [&](int inner, int outer) { return 0.5 * (fap(inner) + fap(outer)); };
     const auto set = [&](std::string_view name, double value, double full) {
-      weights(t, indexOf(name)) = std::clamp(value / full, 0.0, 1.0);
+      weights(indexOf(name), t) = std::clamp(value / full, 0.0, 1.0);
     };
     set("jawOpen", fap(3), scale.jawOpen);
     set("jawForward", fap(14), scale.jaw);
@@ -83,24 +83,26 @@ Eigen::MatrixXd arkitWeights(const Animation& animation, const ArkitScale& scale
   return weights;
 }
 
-void writeArkitCsv(const std::filesystem::path& path, const Animation& animation, const ArkitScale& scale) {
-  if (!(animation.framesPerSecond > 0.0)) throw fileError(path, "the animation has no frame rate");
-  const Eigen::MatrixXd weights = arkitWeights(animation, scale);
-  AtomicFile out(path);
-  out.stream() << "time_s";
-  for (std::string_view name : kArkitNames) out.stream() << ',' << name;
-  out.stream() << '\n';
+void ArkitFormat::write(std::ostream& out, const face::FapTrack& track) const {
+  const Eigen::MatrixXd weights = arkitWeights(track, scale_);
+  out << "time_s";
+  for (std::string_view name : kArkitNames) out << ',' << name;
+  out << '\n';
   char buffer[32];
-  for (Eigen::Index t = 0; t < weights.rows(); ++t) {
-    std::snprintf(buffer, sizeof buffer, "%.6f", static_cast<double>(t) / animation.framesPerSecond);
-    out.stream() << buffer;
-    for (Eigen::Index k = 0; k < weights.cols(); ++k) {
-      std::snprintf(buffer, sizeof buffer, ",%.4f", weights(t, k));
-      out.stream() << buffer;
+  for (Eigen::Index t = 0; t < weights.cols(); ++t) {
+    std::snprintf(buffer, sizeof buffer, "%.6f", static_cast<double>(t) / track.framesPerSecond);
+    out << buffer;
+    for (Eigen::Index k = 0; k < weights.rows(); ++k) {
+      std::snprintf(buffer, sizeof buffer, ",%.4f", weights(k, t));
+      out << buffer;
     }
-    out.stream() << '\n';
+    out << '\n';
   }
-  out.commit();
 }
 
-}  // namespace th::video
+const AnimationFormat& arkitFormat() {
+  static const ArkitFormat format;
+  return format;
+}
+
+}  // namespace th::formats
