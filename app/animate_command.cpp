@@ -5,7 +5,7 @@
 #include <memory>
 #include <string>
 
-#include "animation/animate.h"
+#include "pipeline/offline.h"
 #include "audio/media_audio.h"
 #include "animation_models.h"
 #include "commands.h"
@@ -41,7 +41,7 @@ void runAnimate(const AnimateArguments& arguments) {
   // What can be checked without work is checked first, so a bad output path fails at once.
   formats::animationFormatFor(arguments.output);
   checkOutputTarget(arguments.output);
-  animation::AnimateOptions options;
+  pipeline::AnimateOptions options;
   options.head.variant = kHeadVariants.count(arguments.headVariant) ? kHeadVariants.at(arguments.headVariant) : HeadVariant::kTrajectory;
   options.head.maxLagFrames = arguments.online ? arguments.lagFrames : -1;
   options.mouth.method = kMouthMethods.count(arguments.mouthMethod) ? kMouthMethods.at(arguments.mouthMethod) : MouthMethod::kInversion;
@@ -51,17 +51,7 @@ void runAnimate(const AnimateArguments& arguments) {
 
   const AnimationModels models = loadAnimationModels("animate", arguments.headVariant, arguments.headModel,
                                                      arguments.mouthMethod, arguments.mouthModel);
-  const animation::HeadModel* head = models.head.get();
-  const animation::MouthModel* mouth = models.mouth.get();
-
-  const audio::AudioClip clip = audio::readRecording(arguments.input);
-  face::FapTrack result;
-  try {
-    result = animation::animate(clip.samples, head, mouth, options);
-  } catch (const Error& error) {
-    throw fileError(arguments.input, error.what());
-  }
-  result.name = std::filesystem::path(arguments.input).stem().string();
+  const face::FapTrack result = pipeline::animateRecording(arguments.input, models, options);
   formats::writeAnimation(arguments.output, result);
 
   std::cout << "wrote " << arguments.output << ": " << result.numFrames() << " frames at " << result.framesPerSecond

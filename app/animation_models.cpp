@@ -7,15 +7,9 @@ namespace th::app {
 AnimationModels loadAnimationModels(const std::string& command, const std::string& headVariant,
                                     const std::string& headModel, const std::string& mouthMethod,
                                     const std::string& mouthModel) {
-  AnimationModels models;
-  if (headVariant != "none") models.head = std::make_unique<animation::HeadModel>(animation::loadHeadModel(headModel));
-  if (mouthMethod != "none") {
-    models.mouth = std::make_unique<animation::MouthModel>(animation::loadMouthModel(mouthModel));
-    if (!animation::drivesFaps(*models.mouth))
-      throw fileError(mouthModel, "drives no FAPs (a sweep model?); make one with `talkinghead train mouth`");
-  }
-  if (!models.head && !models.mouth) throw Error(command + ": --head none and --mouth none leave nothing to animate");
-  return models;
+  if (headVariant == "none" && mouthMethod == "none")
+    throw Error(command + ": --head none and --mouth none leave nothing to animate");
+  return pipeline::loadAnimationModels(headVariant == "none" ? "" : headModel, mouthMethod == "none" ? "" : mouthModel);
 }
 
 void addModelFileOptions(CLI::App& command, std::string& headModel, std::string& mouthModel) {
@@ -23,8 +17,8 @@ void addModelFileOptions(CLI::App& command, std::string& headModel, std::string&
   command.add_option("--mouth-model", mouthModel, "Mouth model file")->capture_default_str();
 }
 
-std::string defaultHeadModel() { return std::string(TALKINGHEAD_SOURCE_DIR) + "/models/head.json"; }
-std::string defaultMouthModel() { return std::string(TALKINGHEAD_SOURCE_DIR) + "/models/mouth.json"; }
+std::string defaultHeadModel() { return pipeline::shippedModel("head.json").string(); }
+std::string defaultMouthModel() { return pipeline::shippedModel("mouth.json").string(); }
 
 void addIdleControls(CLI::App& command, MotionControls& controls) {
   command.add_flag("--no-idle", [&controls](std::int64_t) { controls.idle = false; },
@@ -58,7 +52,7 @@ animation::IdleMotionOptions idleOptionsOf(const MotionControls& controls) {
   return idle;
 }
 
-void applyMotionControls(const MotionControls& controls, animation::AnimateOptions& options) {
+void applyMotionControls(const MotionControls& controls, pipeline::AnimateOptions& options) {
   options.head.amplitude = controls.headAmplitude;
   options.head.smoothing = controls.headSmoothing;
   options.head.variation = controls.headVariation;

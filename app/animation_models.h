@@ -7,16 +7,14 @@
 #include <memory>
 #include <string>
 
-#include "animation/animate.h"
 #include "animation/head_model.h"
 #include "animation/mouth_model.h"
+#include "pipeline/animation_models.h"
+#include "pipeline/offline.h"
 
 namespace th::app {
 
-struct AnimationModels {
-  std::unique_ptr<animation::HeadModel> head;    // null with --head none
-  std::unique_ptr<animation::MouthModel> mouth;  // null with --mouth none
-};
+using pipeline::AnimationModels;
 
 // Throws th::Error naming the file for a mouth model without a FAP map, and `command`'s error if both are none.
 AnimationModels loadAnimationModels(const std::string& command, const std::string& headVariant,
@@ -44,7 +42,7 @@ void addMotionControls(CLI::App& command, MotionControls& controls);
 // --no-idle, --blinks-per-minute, --seed (for commands that play a finished animation).
 void addIdleControls(CLI::App& command, MotionControls& controls);
 // Into animate()'s options.
-void applyMotionControls(const MotionControls& controls, animation::AnimateOptions& options);
+void applyMotionControls(const MotionControls& controls, pipeline::AnimateOptions& options);
 animation::IdleMotionOptions idleOptionsOf(const MotionControls& controls);
 
 }  // namespace th::app

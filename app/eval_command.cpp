@@ -8,7 +8,7 @@
 #include "commands.h"
 #include "core/data_path.h"
 #include "core/error.h"
-#include "features/pitch_corpus.h"
+#include "eval/pitch_corpus.h"
 #include "peer_trackers.h"
 #include "subprocess.h"
 
@@ -27,7 +27,7 @@ struct EvalPitchArguments {
 // Our defaults were tuned on utterances 001-005 of each speaker; 006-010 are held out.
 bool isHeldOut(const std::string& name) { return name.size() >= 5 && name.substr(2) > "005"; }
 
-void printRow(const std::string& name, const features::PitchScore& score, const std::string& note) {
+void printRow(const std::string& name, const eval::PitchScore& score, const std::string& note) {
   std::printf("  %-16s %6.2f %6.2f %6.2f %6.2f %6.2f %8.1f %8.1f   %s\n", name.c_str(), 100.0 * score.ffe(),
               100.0 * score.gpe(), 100.0 * score.vde(), 100.0 * score.missedVoicing(), 100.0 * score.falseVoicing(),
               score.fineMeanAbsCents(), score.fineStdCents(), note.c_str());
@@ -36,7 +36,7 @@ void printRow(const std::string& name, const features::PitchScore& score, const 
 void runEvalPitch(const EvalPitchArguments& arguments) {
   const std::filesystem::path folder =
       arguments.folder.empty() ? sharedDataPath("speech/fda-ue") : std::filesystem::path(arguments.folder);
-  auto corpus = features::loadPitchCorpus(folder, 0.015);
+  auto corpus = eval::loadPitchCorpus(folder, 0.015);
   if (arguments.subset != "all") {
     std::erase_if(corpus, [&](const auto& recording) { return isHeldOut(recording.name) != (arguments.subset == "held-out"); });
   }
@@ -58,14 +58,14 @@ void runEvalPitch(const EvalPitchArguments& arguments) {
     options.pitch = arguments.pitch;
     options.pitch.minF0Hz = arguments.minF0Hz;
     options.pitch.maxF0Hz = arguments.maxF0Hz;
-    features::PitchScore ours;
-    features::PitchScore oursMale;
-    features::PitchScore oursFemale;
-    features::PitchScore oursTuning;
-    features::PitchScore oursHeldOut;
+    eval::PitchScore ours;
+    eval::PitchScore oursMale;
+    eval::PitchScore oursFemale;
+    eval::PitchScore oursTuning;
+    eval::PitchScore oursHeldOut;
     for (const auto& recording : corpus) {
       const auto clip = audio::readAudioFile(recording.wav);
-      const auto score = features::scoreTrack(recording, features::ourF0Track(clip.samples, options), 1.0 / hop.fps);
+      const auto score = eval::scoreTrack(recording, eval::ourF0Track(clip.samples, options), 1.0 / hop.fps);
       ours.merge(score);
       (recording.name.rfind("rl", 0) == 0 ? oursMale : oursFemale).merge(score);
       (isHeldOut(recording.name) ? oursHeldOut : oursTuning).merge(score);
@@ -84,9 +84,9 @@ void runEvalPitch(const EvalPitchArguments& arguments) {
         throw Error(peerName(peer) + ": '" + peerProgram(peer) + "' is not installed (run scripts/setup.sh)");
       }
       PeerSettings settings{1.0 / hop.fps, arguments.minF0Hz, arguments.maxF0Hz};
-      features::PitchScore score;
+      eval::PitchScore score;
       for (const auto& recording : corpus) {
-        score.merge(features::scoreTrack(recording, runPeerTracker(peer, recording.wav, settings), 1.0 / hop.fps));
+        score.merge(eval::scoreTrack(recording, runPeerTracker(peer, recording.wav, settings), 1.0 / hop.fps));
       }
       printRow(peerName(peer), score, "offline (whole file)");
     }

@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "animation/animate.h"
+#include "pipeline/offline.h"
 #include "audio/media_audio.h"
 #include "commands.h"
 #include "interrupt.h"
@@ -27,14 +27,14 @@
 #include "render/face_renderer.h"
 #include "render/gl_context.h"
 #include "render/image.h"
-#include "render/video_export.h"
+#include "pipeline/video_export.h"
 #include "animation_models.h"
 #include "face_stage.h"
 #include "text_overlay.h"
 #include "formats/animation_format.h"
 #include "formats/arkit_format.h"
 #include "formats/mp4_writer.h"
-#include "tracking/talking_corpus.h"
+#include "eval/talking_corpus.h"
 
 namespace th::app {
 namespace {
@@ -67,13 +67,13 @@ void runRender(const RenderArguments& arguments) {
   if (!std::filesystem::is_directory(folder, error)) throw fileError(folder, "is not a folder and cannot be made one");
   const double fps = arguments.fps > 0.0 ? arguments.fps : animation.framesPerSecond;
   const auto frames = static_cast<int>(std::ceil(animation.durationSeconds() * fps - 1e-9));
-  FaceStage stage({.width = width, .height = height});
+  OffscreenFace stage({.width = width, .height = height});
   ProgressBar progress(frames, "render", std::cerr, progressAt(fps));
   char name[32];
   for (int frame = 0; frame < frames; ++frame) {
     InterruptGuard::check();
     std::snprintf(name, sizeof name, "frame_%06d.png", frame);
-    render::writePng(folder / name, stage.draw(animation.at(frame / fps)));
+    render::writePng(folder / name, stage.animated.draw(animation.at(frame / fps)));
     progress.update(frame + 1);
   }
   progress.finish();
@@ -93,10 +93,10 @@ void runPoses(const PosesArguments& arguments) {
   checkOutputTarget(arguments.output);
   const std::vector<face::Pose> poses = face::keyPoses();
   const int rows = (static_cast<int>(poses.size()) + arguments.columns - 1) / arguments.columns;
-  FaceStage stage({.width = arguments.tile, .height = arguments.tile});
+  OffscreenFace stage({.width = arguments.tile, .height = arguments.tile});
   render::Image sheet(arguments.tile * arguments.columns, arguments.tile * rows);
   for (std::size_t i = 0; i < poses.size(); ++i) {
-    const render::Image& tile = stage.draw(poses[i].faps);
+    const render::Image& tile = stage.animated.draw(poses[i].faps);
     const int left = static_cast<int>(i) % arguments.columns * arguments.tile;
     const int top = static_cast<int>(i) / arguments.columns * arguments.tile;
     for (int y = 0; y < tile.height; ++y)
@@ -128,14 +128,14 @@ void runStrip(const StripArguments& arguments) {
   if (lowercaseExtension(arguments.output) != ".png") throw fileError(arguments.output, "a film strip is written as .png");
   checkOutputTarget(arguments.output);
   const face::FapTrack animation = formats::readAnimation(arguments.animation);
-  std::vector<tracking::LabelInterval> phones;
-  if (!arguments.phones.empty()) phones = tracking::readTextGridPhones(arguments.phones);
+  std::vector<eval::LabelInterval> phones;
+  if (!arguments.phones.empty()) phones = eval::readTextGridPhones(arguments.phones);
   const double step = arguments.every / animation.framesPerSecond;
   const int count = std::max(1, static_cast<int>(std::floor(arguments.seconds / step + 1e-9)));
   if (arguments.fromSeconds + (count - 1) * step > animation.durationSeconds() + 1e-9)
     throw fileError(arguments.animation, "ends before the strip does (" + std::to_string(animation.durationSeconds()) + " s)");
-  FaceStage stage({.width = arguments.tile, .height = arguments.tile});
-  if (!arguments.wholeHead) stage.frameMouth();
+  OffscreenFace stage({.width = arguments.tile, .height = arguments.tile});
+  if (!arguments.wholeHead) stage.animated.frameMouth();
   const int rows = (count + arguments.columns - 1) / arguments.columns;
   const int labelHeight = 22;
   render::Image sheet(arguments.tile * std::min(count, arguments.columns), (arguments.tile + labelHeight) * rows);
@@ -144,14 +144,14 @@ void runStrip(const StripArguments& arguments) {
     const double seconds = arguments.fromSeconds + i * step;
     face::FapFrame faps = animation.at(seconds);
     if (!arguments.wholeHead) faps[48] = faps[49] = faps[50] = 0.0;  // the head held still under a close camera
-    const render::Image& tile = stage.draw(faps);
+    const render::Image& tile = stage.animated.draw(faps);
     const int left = i % arguments.columns * arguments.tile;
     const int top = i / arguments.columns * (arguments.tile + labelHeight);
     for (int y = 0; y < tile.height; ++y) std::copy_n(tile.pixel(0, y), tile.width * 3, sheet.pixel(left, top + y));
     char label[64];
     std::snprintf(label, sizeof label, "%.2f", seconds);
     std::string text = label;
-    for (const tracking::LabelInterval& phone : phones)
+    for (const eval::LabelInterval& phone : phones)
       if (phone.startSeconds <= seconds && seconds < phone.endSeconds && phone.label != "SIL") text += " " + phone.label;
     drawLabel(sheet, left + 4, top + arguments.tile + 3, text, 2);
   }
@@ -191,33 +191,28 @@ void runExport(const ExportArguments& arguments) {
 
   // The face model (about 0.2 s) is built on another thread while the recording is read and animated.
   std::future<face::FaceModel> building = std::async(std::launch::async, [] {
-    return face::FaceModel::build(face::loadIctFace(face::ictFaceDirectory()));
+    return face::FaceModel::buildDefault();
   });
-  const audio::AudioClip clip = audio::readRecording(arguments.input);
-  if (clip.samples.empty()) throw fileError(arguments.input, "has no samples");
+  audio::AudioClip clip;
   face::FapTrack animation;
   if (!arguments.animation.empty()) {
+    clip = audio::readRecording(arguments.input);
     animation = formats::readAnimation(arguments.animation);
     if (arguments.motion.idle) addIdleIfMissing(animation, arguments.motion);
   } else {
-    const animation::HeadModel head = animation::loadHeadModel(arguments.headModel);
-    const animation::MouthModel mouth = animation::loadMouthModel(arguments.mouthModel);
-    animation::AnimateOptions options;
+    pipeline::AnimateOptions options;
     applyMotionControls(arguments.motion, options);
-    try {
-      animation = animation::animate(clip.samples, &head, &mouth, options);
-    } catch (const Error& error) {
-      throw fileError(arguments.input, error.what());
-    }
-    animation.name = std::filesystem::path(arguments.input).stem().string();
+    animation = pipeline::animateRecording(
+        arguments.input, pipeline::loadAnimationModels(arguments.headModel, arguments.mouthModel), options, &clip);
   }
+  if (clip.samples.empty()) throw fileError(arguments.input, "has no samples");
 
   const face::FaceModel face = building.get();
   InterruptGuard::check();
   {
     const auto frames = formats::videoFramesFor(clip.samples.size(), clip.sampleRateHz, arguments.fps);
     ProgressBar progress(static_cast<double>(frames), "export", std::cerr, progressAt(arguments.fps));
-    render::exportVideo(face, animation, clip.samples, clip.sampleRateHz, arguments.output,
+    pipeline::exportVideo(face, animation, clip.samples, clip.sampleRateHz, arguments.output,
                         {.width = width, .height = height, .framesPerSecond = arguments.fps, .crf = arguments.crf,
                          .preset = arguments.preset},
                         {.progress = [&](int done, int) { progress.update(done); }, .check = InterruptGuard::check});

@@ -23,28 +23,4 @@ ProgressOptions progressAt(double framesPerSecond) {
   return options;
 }
 
-FaceStage::FaceStage(render::RenderOptions options)
-    : face(face::FaceModel::build(face::loadIctFace(face::ictFaceDirectory()))),
-      renderer(context, face.mesh(), options),
-      camera(render::frameHead(face.mesh().positions, static_cast<double>(options.width) / options.height)) {
-  renderer.setMouthOpening(face.innerLipVertices());
-  renderer.setEyeOpenings(face.eyeLidVertices(0), face.eyeLidVertices(1));
-}
-
-void FaceStage::frameMouth() {
-  Eigen::Vector3d lips = Eigen::Vector3d::Zero();
-  const std::vector<int> inner = face.innerLipVertices();
-  for (int v : inner) lips += face.mesh().positions.col(v);
-  camera.target = (lips / static_cast<double>(inner.size())).cast<float>();
-  camera.distance *= 0.3f;
-}
-
-const render::Image& FaceStage::draw(const face::FapFrame& faps) {
-  renderer.setPositions(face.deform(faps));
-  renderer.setPupilScale(face.pupilScale(faps));
-  renderer.render(camera);
-  renderer.readPixels(image);
-  return image;
-}
-
 }  // namespace th::app

@@ -1,10 +1,10 @@
-// What the off-screen commands share (render, poses, export, sidebyside): the face with a renderer and a
-// camera framing it, a --size parser, and progress counted in video frames.
+// What the off-screen commands share (render, poses, strip, export, sidebyside): the default face drawn into an
+// off-screen context, a --size parser, and progress counted in video frames.
 //
-//   th::app::FaceStage stage({.width = 640, .height = 480});
-//   const th::render::Image& image = stage.draw(faps);    // RGB, top row first; valid until the next draw
+//   th::app::OffscreenFace face({.width = 640, .height = 480});
+//   const th::render::Image& image = face.animated.draw(faps);   // RGB, top row first; valid until the next draw
 //
-// Thread contract: a stage belongs to the thread that made it (its OSMesa context).
+// Thread contract: an OffscreenFace belongs to the thread that made it (its OSMesa context).
 #pragma once
 
 #include <string>
@@ -12,10 +12,8 @@
 
 #include "core/progress.h"
 #include "face/face_model.h"
-#include "render/camera.h"
-#include "render/face_renderer.h"
+#include "render/animated_face.h"
 #include "render/gl_context.h"
-#include "render/image.h"
 
 namespace th::app {
 
@@ -24,17 +22,13 @@ std::pair<int, int> parseSize(const std::string& text);
 
 ProgressOptions progressAt(double framesPerSecond);  // the bar shows the real-time factor
 
-// The face, an off-screen renderer and a camera framing it.
-struct FaceStage {
-  face::FaceModel face;
+// The default face, an off-screen context and the face drawn in it.
+struct OffscreenFace {
+  face::FaceModel model = face::FaceModel::buildDefault();
   render::OffscreenContext context;
-  render::FaceRenderer renderer;
-  render::OrbitCamera camera;
-  render::Image image;
+  render::AnimatedFace animated;
 
-  explicit FaceStage(render::RenderOptions options);
-  const render::Image& draw(const face::FapFrame& faps);
-  void frameMouth();  // the camera close on the lips (film strips): the face from the nose to the chin
+  explicit OffscreenFace(const render::RenderOptions& options) : animated(model, context, options) {}
 };
 
 }  // namespace th::app

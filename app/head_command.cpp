@@ -11,8 +11,9 @@
 #include <string>
 #include <vector>
 
+#include "eval/head_corpus.h"
 #include "animation/head_data.h"
-#include "animation/head_evaluation.h"
+#include "eval/head_evaluation.h"
 #include "animation/head_model.h"
 #include "animation/idle_motion.h"
 #include "commands.h"
@@ -70,8 +71,8 @@ struct HeadCorpus {
 
 HeadCorpus loadHeadCorpus(double trainingFraction) {
   HeadCorpus corpus;
-  std::tie(corpus.beat2Train, corpus.beat2Test) = animation::splitByTime(animation::loadBeat2Head(), trainingFraction);
-  corpus.styleTalk = animation::loadStyleTalkHeads();
+  std::tie(corpus.beat2Train, corpus.beat2Test) = animation::splitByTime(eval::loadBeat2Head(), trainingFraction);
+  corpus.styleTalk = eval::loadStyleTalkHeads();
   return corpus;
 }
 
@@ -144,7 +145,7 @@ SpeakerTruth truthOf(const std::vector<JudgedClip>& clips) {
   for (const auto& c : clips) truth.frames += c.clip->numFrames();
   for (const auto& c : clips) {
     const double w = c.clip->numFrames() / truth.frames;
-    const animation::HeadMotionStatistics s = animation::motionStatistics(c.truth, c.pauses, kFps);
+    const eval::HeadMotionStatistics s = eval::motionStatistics(c.truth, c.pauses, kFps);
     truth.speedP95 += w * s.speedP95;
     truth.pauseRatio += w * s.pauseSpeechRatio;
     truth.poseStd += w * s.poseStd;
@@ -164,9 +165,9 @@ Row judge(const std::string& name, const std::vector<JudgedClip>& clips, const S
     const JudgedClip& c = clips[i];
     const double w = c.clip->numFrames() / truth.frames;
     const Eigen::MatrixXd predicted = estimate(i);
-    const animation::HeadMetrics m =
-        animation::evaluateHead(predicted, c.truth, animation::stepQuantile(c.truth, 0.99));
-    const animation::HeadMotionStatistics s = animation::motionStatistics(predicted, c.pauses, kFps);
+    const eval::HeadMetrics m =
+        eval::evaluateHead(predicted, c.truth, eval::stepQuantile(c.truth, 0.99));
+    const eval::HeadMotionStatistics s = eval::motionStatistics(predicted, c.pauses, kFps);
     row.error += w * m.error;
     row.correlation += w * m.correlation;
     row.stdRatio += w * s.poseStd.cwiseQuotient(truth.poseStd);
@@ -176,7 +177,7 @@ Row judge(const std::string& name, const std::vector<JudgedClip>& clips, const S
     predictions.push_back(predicted);
     truths.push_back(c.truth);
   }
-  row.frechet = animation::frechetDistance(predictions, truths, kFps);
+  row.frechet = eval::frechetDistance(predictions, truths, kFps);
   return row;
 }
 
@@ -226,7 +227,7 @@ void evaluateSpeaker(const HeadCorpus& corpus, const std::string& speaker, const
   int frames = 0;
   for (const HeadRecording* clip : heldOut) {
     clips.push_back({clip, clip->rotations.colwise() - clip->rotations.rowwise().mean(),
-                     animation::pauseFrames(clip->levelDb)});
+                     eval::pauseFrames(clip->levelDb)});
     frames += clip->numFrames();
   }
   const SpeakerTruth truth = truthOf(clips);
@@ -269,7 +270,7 @@ void evaluateSpeaker(const HeadCorpus& corpus, const std::string& speaker, const
   // A random walk with the training speakers' statistics (their mean pose std and step std), mean of 10 seeds.
   Eigen::Vector3d poseStd = Eigen::Vector3d::Zero(), stepStd = Eigen::Vector3d::Zero();
   for (const auto& part : parts) {
-    const animation::HeadMetrics self = animation::evaluateHead(part.rotations, part.rotations, 1e9);
+    const eval::HeadMetrics self = eval::evaluateHead(part.rotations, part.rotations, 1e9);
     poseStd += self.truthPoseStd / static_cast<double>(parts.size());
     stepStd += self.truthVelocityStd / static_cast<double>(parts.size());
   }
@@ -278,7 +279,7 @@ void evaluateSpeaker(const HeadCorpus& corpus, const std::string& speaker, const
   walks.pauses = truth.pauses;
   for (unsigned seed = 1; seed <= kWalks; ++seed) {
     const Row walk = judge("", clips, truth, [&](std::size_t i) {
-      return animation::matchedRandomWalk(poseStd, stepStd, clips[i].clip->numFrames(), seed * 100 + static_cast<unsigned>(i));
+      return eval::matchedRandomWalk(poseStd, stepStd, clips[i].clip->numFrames(), seed * 100 + static_cast<unsigned>(i));
     });
     walks.error += walk.error / kWalks;
     walks.correlation += walk.correlation / kWalks;
@@ -312,7 +313,7 @@ void reportBlinks(const std::vector<const HeadRecording*>& takes) {
     animation.values.resize(0, take->numFrames());
     animation::addIdleMotion(animation, take->levelDb, {}, {});
     const Eigen::RowVectorXd lid = animation.values.row(animation.rowOf(19));
-    const Eigen::RowVectorXd pauses = animation::pauseFrames(take->levelDb);
+    const Eigen::RowVectorXd pauses = eval::pauseFrames(take->levelDb);
     // Frames at a pause: in one, or within 0.5 s after one begins.
     std::vector<bool> atPause(static_cast<std::size_t>(take->numFrames()), false);
     for (int t = 0; t < take->numFrames(); ++t)
@@ -374,7 +375,7 @@ void runEval(const HeadArguments& arguments) {
   if (judged) {
     const HeadModel& model = *judged;
     std::vector<JudgedClip> clips{{&corpus.beat2Test, corpus.beat2Test.rotations.colwise() - corpus.beat2Test.rotations.rowwise().mean(),
-                                   animation::pauseFrames(corpus.beat2Test.levelDb)}};
+                                   eval::pauseFrames(corpus.beat2Test.levelDb)}};
     const SpeakerTruth truth = truthOf(clips);
     std::printf("\n%s on BEAT2's held-out part (trained on", arguments.model.c_str());
     for (const auto& s : model.speakers) std::printf(" %s", s.c_str());

@@ -15,7 +15,7 @@
 #include <thread>
 #include <vector>
 
-#include "animation/animate.h"
+#include "pipeline/offline.h"
 #include "animation/fap_mapping.h"
 #include "audio/media_audio.h"
 #include "audio/capture.h"

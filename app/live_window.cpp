@@ -20,7 +20,7 @@
 #include <thread>
 #include <vector>
 
-#include "animation/animate.h"
+#include "pipeline/offline.h"
 #include "animation/idle_motion.h"
 #include "animation_models.h"
 #include "audio/capture.h"
@@ -119,7 +119,7 @@ class LiveWindow {
   LiveWindow(const LiveWindowArguments& arguments, LiveSettings settings)
       : arguments_(arguments),
         settings_(std::move(settings)),
-        face_(face::FaceModel::build(face::loadIctFace(face::ictFaceDirectory()))),
+        face_(face::FaceModel::buildDefault()),
         window_({.width = 1280, .height = 720, .title = "talkinghead live", .visible = true, .vsync = true, .depth = true}),
         renderer_(window_, face_.mesh(),
                   {.width = 1280 - panelWidthFor(1280), .height = 720, .samples = samplesFor(window_, arguments.msaa)}),

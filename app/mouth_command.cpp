@@ -16,8 +16,10 @@
 
 #include <unistd.h>
 
+#include "eval/mouth_corpus.h"
 #include "animation/mouth_data.h"
-#include "animation/mouth_evaluation.h"
+#include "eval/mouth_evaluation.h"
+#include "eval/mouth_sweep.h"
 #include "animation/mouth_model.h"
 #include "animation/time_split.h"
 #include "commands.h"
@@ -76,8 +78,8 @@ animation::SpeechFrames anotherSegment(const animation::SpeechFrames& speech) {
 }
 
 void printRow(const std::string& name, const Eigen::MatrixXd& estimate, const Eigen::MatrixXd& truth, int iterations) {
-  std::printf("  %-52s %6.3f  %6.3f", name.c_str(), animation::averageMse(estimate, truth),
-              animation::averageCorrelation(estimate, truth));
+  std::printf("  %-52s %6.3f  %6.3f", name.c_str(), eval::averageMse(estimate, truth),
+              eval::averageCorrelation(estimate, truth));
   if (iterations > 0) std::printf("   %3d iterations", iterations);
   std::printf("\n");
 }
@@ -101,19 +103,6 @@ void evaluatePart(const std::string& title, const animation::MouthModel& model, 
   printRow("baseline: inversion of another segment's audio",
            animation::synthesiseMouth(model, anotherSegment(part.speech), {}), truth, 0);
 }
-
-struct SweepPoint {
-  hmm::CovarianceType covariance;
-  int contextFrames;
-  int mixtures;
-  int states;
-  double validationEpsilon = 0.0;
-  double validationRho = 0.0;
-  double heldOutEpsilon = 0.0;
-  double heldOutRho = 0.0;
-  double seconds = 0.0;
-  bool failed = false;
-};
 
 const char* covarianceName(hmm::CovarianceType type) { return type == hmm::CovarianceType::kFull ? "full" : "diag"; }
 
@@ -156,80 +145,40 @@ void runSweep(const MouthArguments& arguments, const animation::MouthRecording& 
   // Choices are made on the last fifth of the training part, fitted on the rest; the held-out part is only
   // reported.
   const auto [fit, validation] = animation::splitByTime(train, 0.8);
-  std::vector<SweepPoint> points;
+  eval::MouthSweepGrid grid{.covariances = {},
+                             .contexts = integerList(arguments.contexts, "--contexts"),
+                             .mixtures = integerList(arguments.mixtures, "--mixtures"),
+                             .states = integerList(arguments.states, "--states"),
+                             .iterations = arguments.iterations};
   std::stringstream covariances(arguments.covariances);
   std::string covariance;
   while (std::getline(covariances, covariance, ',')) {
     if (covariance != "full" && covariance != "diag") throw Error("--covariances: \"" + covariance + "\" is not full or diag");
-    for (int tc : integerList(arguments.contexts, "--contexts")) {
-      for (int m : integerList(arguments.mixtures, "--mixtures")) {
-        for (int n : integerList(arguments.states, "--states")) {
-          points.push_back({covariance == "full" ? hmm::CovarianceType::kFull : hmm::CovarianceType::kDiagonal, tc, m, n});
-        }
-      }
-    }
+    grid.covariances.push_back(covariance == "full" ? hmm::CovarianceType::kFull : hmm::CovarianceType::kDiagonal);
   }
-  std::printf("sweep: %zu models, fitted on %d frames, chosen on %d, reported on the held-out %d\n", points.size(),
+  const std::size_t total = grid.covariances.size() * grid.contexts.size() * grid.mixtures.size() * grid.states.size();
+  std::printf("sweep: %zu models, fitted on %d frames, chosen on %d, reported on the held-out %d\n", total,
               fit.numFrames(), validation.numFrames(), test.numFrames());
-  std::mutex mutex;
-  size_t done = 0;
-  parallelFor(points.size(), 0, [&](std::size_t index) {
-    SweepPoint& point = points[index];
-    const auto start = std::chrono::steady_clock::now();
-    try {
-      const animation::MouthModel model = animation::trainMouthModel(
-          {fit}, {.states = point.states, .mixtures = point.mixtures, .covariance = point.covariance,
-                  .contextFrames = point.contextFrames, .maxIterations = arguments.iterations});
-      const Eigen::MatrixXd validationTruth = model.basis.transform(validation.visual);
-      const Eigen::MatrixXd validationEstimate = animation::synthesiseMouth(model, validation.speech);
-      point.validationEpsilon = animation::averageMse(validationEstimate, validationTruth);
-      point.validationRho = animation::averageCorrelation(validationEstimate, validationTruth);
-      const Eigen::MatrixXd heldOutTruth = model.basis.transform(test.visual);
-      const Eigen::MatrixXd heldOutEstimate = animation::synthesiseMouth(model, test.speech);
-      point.heldOutEpsilon = animation::averageMse(heldOutEstimate, heldOutTruth);
-      point.heldOutRho = animation::averageCorrelation(heldOutEstimate, heldOutTruth);
-    } catch (const Error&) {
-      point.failed = true;  // e.g. more components than the data support; reported as a gap
-    }
-    point.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    const std::lock_guard lock(mutex);
-    ++done;
-    if (isatty(fileno(stderr)) != 0) std::fprintf(stderr, "\r  %zu / %zu models", done, points.size());
-  });
-  if (isatty(fileno(stderr)) != 0) std::fprintf(stderr, "\n");
+  const bool terminal = isatty(fileno(stderr)) != 0;
+  const std::vector<eval::MouthSweepPoint> points =
+      eval::sweepMouthModels(grid, fit, validation, test, [terminal](std::size_t done, std::size_t all) {
+        if (terminal) std::fprintf(stderr, "\r  %zu / %zu models", done, all);
+      });
+  if (terminal) std::fprintf(stderr, "\n");
 
   std::filesystem::create_directories(arguments.output);
   const std::filesystem::path csv = std::filesystem::path(arguments.output) / "mouth_sweep.csv";
-  {
-    AtomicFile file(csv);
-    std::ostream& out = file.stream();
-    out << "covariance_diag,tc,mixtures,states,validation_epsilon,validation_rho,seconds,heldout_epsilon,heldout_rho\n";
-    for (const auto& p : points) {
-      if (p.failed) continue;
-      out << (p.covariance == hmm::CovarianceType::kDiagonal) << ',' << p.contextFrames << ',' << p.mixtures << ','
-          << p.states << ',' << p.validationEpsilon << ',' << p.validationRho << ',' << p.seconds << ','
-          << p.heldOutEpsilon << ',' << p.heldOutRho << '\n';
-    }
-    file.commit();
-  }
+  eval::writeMouthSweepCsv(csv, points);
   for (hmm::CovarianceType type : {hmm::CovarianceType::kFull, hmm::CovarianceType::kDiagonal}) {
-    const SweepPoint* best = nullptr;
     int failed = 0;
-    for (const auto& p : points) {
-      if (p.covariance != type) continue;
-      if (p.failed) {
-        ++failed;
-        continue;
-      }
-      if (best == nullptr || p.validationRho > best->validationRho) best = &p;
-    }
+    const eval::MouthSweepPoint* best = eval::bestOnValidation(points, type, &failed);
     if (best == nullptr) continue;
     std::printf("%s covariance: chosen on validation N = %d, M = %d, tc = %d (validation ε %.3f, ρ %.3f) -> held-out "
                 "ε %.3f, ρ %.3f%s\n",
                 covarianceName(type), best->states, best->mixtures, best->contextFrames, best->validationEpsilon,
                 best->validationRho, best->heldOutEpsilon, best->heldOutRho,
                 failed ? (", " + std::to_string(failed) + " models could not be trained").c_str() : "");
-    plotSweep(arguments.output, csv, type, best->contextFrames, integerList(arguments.mixtures, "--mixtures"));
+    plotSweep(arguments.output, csv, type, best->contextFrames, grid.mixtures);
   }
   std::printf("wrote %s and the plots beside it\n", csv.string().c_str());
 }
@@ -276,8 +225,8 @@ void runStage2(const animation::MouthModel& model, const animation::MouthRecordi
                const std::vector<SpeechSet>& sets) {
   const Eigen::MatrixXd truth = model.basis.transform(test.visual);
   const Eigen::MatrixXd before = animation::synthesiseMouth(model, test.speech);
-  std::printf("  %-60s ε %.3f  ρ %.3f\n", "held-out part, as trained", animation::averageMse(before, truth),
-              animation::averageCorrelation(before, truth));
+  std::printf("  %-60s ε %.3f  ρ %.3f\n", "held-out part, as trained", eval::averageMse(before, truth),
+              eval::averageCorrelation(before, truth));
   for (const auto& set : sets) {
     std::vector<Eigen::MatrixXd> audio;
     for (const auto& mfcc : set.mfcc) audio.push_back(features::stackContext(mfcc, model.contextFrames));
@@ -286,8 +235,8 @@ void runStage2(const animation::MouthModel& model, const animation::MouthRecordi
     adapted.hmm = retrained.model;
     const Eigen::MatrixXd after = animation::synthesiseMouth(adapted, test.speech);
     std::printf("  %-60s ε %.3f  ρ %.3f   (%.0f s of speech; %d joint covariances repaired)\n",
-                ("re-trained on " + set.name).c_str(), animation::averageMse(after, truth),
-                animation::averageCorrelation(after, truth), set.seconds, retrained.repairedComponents);
+                ("re-trained on " + set.name).c_str(), eval::averageMse(after, truth),
+                eval::averageCorrelation(after, truth), set.seconds, retrained.repairedComponents);
   }
 }
 
@@ -307,7 +256,7 @@ void reportJawFaps(const animation::MouthModel& model, const animation::MouthRec
 }
 
 void runEvalMouth(const MouthArguments& arguments) {
-  const auto [train, test] = animation::splitByTime(animation::loadBeat2Mouth(), arguments.trainingFraction);
+  const auto [train, test] = animation::splitByTime(eval::loadBeat2Mouth(), arguments.trainingFraction);
   if (arguments.sweep) {
     runSweep(arguments, train, test);
     return;
@@ -352,7 +301,7 @@ void runEvalMouth(const MouthArguments& arguments) {
 
 void runTrainMouth(const MouthArguments& arguments) {
   checkOutputTarget(arguments.modelOutput);
-  const auto [train, test] = animation::splitByTime(animation::loadBeat2Mouth(), arguments.trainingFraction);
+  const auto [train, test] = animation::splitByTime(eval::loadBeat2Mouth(), arguments.trainingFraction);
   const auto start = std::chrono::steady_clock::now();
   animation::MouthModel model = animation::trainMouthModel({train}, arguments.options);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -18,7 +18,8 @@
 #include <map>
 #include <sstream>
 
-#include "animation/animate.h"
+#include "eval/mouth_corpus.h"
+#include "pipeline/offline.h"
 #include "animation/fap_mapping.h"
 #include "animation/mouth_model.h"
 #include "audio/media_audio.h"
@@ -29,14 +30,14 @@
 #include "face/face_model.h"
 #include "face/feature_points.h"
 #include "subprocess.h"
-#include "tracking/mouth_scores.h"
-#include "tracking/talking_corpus.h"
+#include "eval/mouth_scores.h"
+#include "eval/talking_corpus.h"
 
 namespace th::app {
 namespace {
 
-using tracking::PhoneClass;
-using tracking::TalkingClip;
+using eval::PhoneClass;
+using eval::TalkingClip;
 using Clips = std::vector<const TalkingClip*>;
 
 std::filesystem::path cacheFolder() {
@@ -47,13 +48,13 @@ std::filesystem::path cacheFolder() {
   return std::filesystem::temp_directory_path() / "talkinghead-cache";
 }
 
-tracking::TalkingCorpus loadCorpus(const std::vector<tracking::TalkingFolder>& folders, const std::string& tracks,
+eval::TalkingCorpus loadCorpus(const std::vector<eval::TalkingFolder>& folders, const std::string& tracks,
                                    const face::FaceModel& face) {
   tracking::VideoCorpusOptions options;
   options.trackFolder = tracks.empty() ? defaultMouthTrackFolder() : std::filesystem::path(tracks);
   options.synchronise = true;
   ProgressBar bar(1.0, "track", std::cerr);
-  tracking::TalkingCorpus corpus = tracking::loadTalkingCorpus(folders, face, options, [&](int done, int total) {
+  eval::TalkingCorpus corpus = eval::loadTalkingCorpus(folders, face, options, [&](int done, int total) {
     bar.update(static_cast<double>(done) / total);
   });
   bar.finish();
@@ -66,7 +67,7 @@ tracking::TalkingCorpus loadCorpus(const std::vector<tracking::TalkingFolder>& f
 }
 
 // GRID's held-out clips: every fifth of each of its folders, by name.
-void splitGrid(const tracking::TalkingCorpus& corpus, Clips& train, Clips& heldOut,
+void splitGrid(const eval::TalkingCorpus& corpus, Clips& train, Clips& heldOut,
                std::map<std::string, Clips>& otherSpeakers) {
   std::map<std::filesystem::path, int> index;
   for (const TalkingClip& clip : corpus.clips) {
@@ -160,7 +161,7 @@ void printHeader(const std::string& title, const Clips& clips) {
               "spr J", "spr L", "jaw ε", "FAPs ε");
 }
 
-void printScores(const std::string& name, const tracking::MouthScores& s) {
+void printScores(const std::string& name, const eval::MouthScores& s) {
   std::printf("  %-50s %6.3f %6.3f %6.3f  %6.2f %6.2f  %6.3f %6.3f\n", name.c_str(), s.jaw.rho, s.opening.rho,
               s.width.rho, s.jaw.spread, s.opening.spread, s.jaw.epsilon, s.fapsEpsilon);
 }
@@ -192,7 +193,7 @@ Baselines baselinesFor(const Clips& training, const std::vector<int>& faps) {
     frames += clip->clip.recording.numFrames();
   }
   mean /= frames;
-  auto level = std::make_shared<tracking::LevelBaseline>(recordings, 2);
+  auto level = std::make_shared<eval::LevelBaseline>(recordings, 2);
   return {{"baseline: the sound's level alone (linear, +-2 frames)",
            [level](const animation::SpeechFrames& speech) { return level->predict(speech); }, faps},
           {"baseline: the training mean",
@@ -255,12 +256,12 @@ void printClassRow(const std::string& name, const ClassShapes& shapes) {
 }
 
 void reportPhoneClasses(const std::string& title, const Clips& clips, const std::vector<const Estimator*>& estimators,
-                        const tracking::MouthShapes& shapes) {
+                        const eval::MouthShapes& shapes) {
   ClassShapes truth;
   std::vector<ClassShapes> estimated(estimators.size());
   for (const TalkingClip* clip : clips) {
     if (clip->labels.empty()) continue;
-    const std::vector<PhoneClass> classes = tracking::labelClassesAt(clip->labels, clip->labelsAreWords,
+    const std::vector<PhoneClass> classes = eval::labelClassesAt(clip->labels, clip->labelsAreWords,
                                                                      animation::kMouthFramesPerSecond, clip->clip.recording.numFrames());
     truth.add(classes, clip->clip.lipShape);
     for (std::size_t e = 0; e < estimators.size(); ++e)
@@ -292,20 +293,20 @@ std::string chinDropOf(const Clips& clips, const std::vector<int>& faps) {
 }
 
 void judge(const std::string& title, const Clips& clips, const std::vector<const Estimator*>& estimators,
-           const Estimator* shuffled, const std::vector<int>& faps, const tracking::MouthShapes& shapes) {
+           const Estimator* shuffled, const std::vector<int>& faps, const eval::MouthShapes& shapes) {
   printHeader(title, clips);
   std::printf("  the truth's chin drop (5th / 50th / 95th percentile): %s\n", chinDropOf(clips, faps).c_str());
   for (const Estimator* estimator : estimators)
-    printScores(estimator->name, tracking::scoreMouth(estimatesFor(*estimator, clips), estimator->faps, shapes, clips, faps));
+    printScores(estimator->name, eval::scoreMouth(estimatesFor(*estimator, clips), estimator->faps, shapes, clips, faps));
   if (shuffled != nullptr && clips.size() > 1)
     printScores("baseline: " + shuffled->name + " on another clip's sound",
-                tracking::scoreMouth(estimatesFor(*shuffled, clips, 1), shuffled->faps, shapes, clips, faps));
+                eval::scoreMouth(estimatesFor(*shuffled, clips, 1), shuffled->faps, shapes, clips, faps));
 }
 
 // BEAT2's held-out quarter against its motion capture's jaw, through the jaw's geometry (fap_mapping.h): FAP 3
 // of the true jaw opening against the estimates' FAP 3.
 void judgeBeat2(const std::vector<const Estimator*>& estimators, const animation::MouthFapMap& map) {
-  const animation::MouthRecording take = animation::loadBeat2Mouth();
+  const animation::MouthRecording take = eval::loadBeat2Mouth();
   const auto boundary = static_cast<Eigen::Index>(std::lround(0.75 * take.numFrames()));
   const Eigen::Index count = take.numFrames() - boundary;
   const Eigen::RowVectorXd truth = animation::mouthFaps(map, take.visual.row(0).tail(count)).row(0);
@@ -315,7 +316,7 @@ void judgeBeat2(const std::vector<const Estimator*>& estimators, const animation
   for (const Estimator* estimator : estimators) {
     const Eigen::MatrixXd faps = estimator->estimate(take.speech);
     const auto jaw = std::find(estimator->faps.begin(), estimator->faps.end(), 3) - estimator->faps.begin();
-    const tracking::CurveScore score = tracking::scoreCurve(faps.row(jaw).tail(count), truth);
+    const eval::CurveScore score = eval::scoreCurve(faps.row(jaw).tail(count), truth);
     std::printf("  %-50s %6.3f %6.2f %6.3f\n", estimator->name.c_str(), score.rho, score.spread, score.epsilon);
   }
 }
@@ -324,7 +325,7 @@ void judgeBeat2(const std::vector<const Estimator*>& estimators, const animation
 // opening an estimate gives against the opening each phone class has on tracked speakers (StyleTalk's
 // phone-labelled clips), and the gap between open vowels and /p b m/ in units of the estimate's spread.
 void judgeLanguages(const std::filesystem::path& folder, const std::vector<const Estimator*>& estimators,
-                    const ClassShapes& typical, const tracking::MouthShapes& shapes) {
+                    const ClassShapes& typical, const eval::MouthShapes& shapes) {
   std::ifstream index(folder / "index.csv");
   if (!index) throw fileError(folder / "index.csv", "cannot be read (make the folder with tools/multilingual_speech.py)");
   std::string line;
@@ -366,7 +367,7 @@ void judgeLanguages(const std::filesystem::path& folder, const std::vector<const
         if (!phones) throw fileError(phonesFile, "cannot be read");
         std::string row;
         std::getline(phones, row);
-        std::vector<tracking::LabelInterval> labels;
+        std::vector<eval::LabelInterval> labels;
         std::vector<PhoneClass> labelClasses;
         while (std::getline(phones, row)) {
           std::stringstream fields(row);
@@ -396,7 +397,7 @@ void judgeLanguages(const std::filesystem::path& folder, const std::vector<const
       }
       const Eigen::Map<const Eigen::RowVectorXd> o(opening.data(), static_cast<Eigen::Index>(opening.size()));
       const Eigen::Map<const Eigen::RowVectorXd> g(target.data(), static_cast<Eigen::Index>(target.size()));
-      const tracking::CurveScore score = tracking::scoreCurve(o, g);
+      const eval::CurveScore score = eval::scoreCurve(o, g);
       const double spread = std::sqrt((o.array() - o.mean()).square().mean());
       const double gap = (open / std::max(openCount, 1) - closed / std::max(closedCount, 1)) / std::max(spread, 1e-12);
       rhos.push_back(score.rho);
@@ -458,14 +459,14 @@ void reportChinDrop(const std::vector<const Estimator*>& estimators) {
 std::filesystem::path defaultMouthTrackFolder() { return cacheFolder() / "tracks"; }
 
 void runEvalMouthCorpora(const MouthCorpusArguments& arguments) {
-  const face::FaceModel face = face::FaceModel::build(face::loadIctFace(face::ictFaceDirectory()));
+  const face::FaceModel face = face::FaceModel::buildDefault();
   std::vector<std::pair<std::string, animation::MouthModel>> others;
   for (const std::string& file : arguments.compare) others.emplace_back(file, animation::loadMouthModel(file));
   const std::filesystem::path languages = multilingualFolder(arguments.multilingual);
-  std::vector<tracking::TalkingFolder> folders = tracking::sharedTalkingFolders();
+  std::vector<eval::TalkingFolder> folders = eval::sharedTalkingFolders();
   folders.push_back({sharedDataPath("grid/samples"), ""});
-  const tracking::TalkingCorpus corpus = loadCorpus(folders, arguments.tracks, face);
-  const tracking::MouthShapes shapes(face);
+  const eval::TalkingCorpus corpus = loadCorpus(folders, arguments.tracks, face);
+  const eval::MouthShapes shapes(face);
 
   std::printf("Mouth from audio, the recipe: %s\n", describeRecipe(arguments).c_str());
   if (!arguments.compare.empty())
@@ -542,7 +543,7 @@ void runEvalMouthCorpora(const MouthCorpusArguments& arguments) {
     judge("StyleTalk speaker left out: " + speaker, clips, foldJudged.all, &foldJudged.recipe, corpus.faps, shapes);
     reportPhoneClasses("StyleTalk speaker left out: " + speaker + " (phones)", clips, foldJudged.all, shapes);
     for (const TalkingClip* clip : clips)
-      styleTalkTruth.add(tracking::labelClassesAt(clip->labels, clip->labelsAreWords, animation::kMouthFramesPerSecond,
+      styleTalkTruth.add(eval::labelClassesAt(clip->labels, clip->labelsAreWords, animation::kMouthFramesPerSecond,
                                                   clip->clip.recording.numFrames()),
                          clip->clip.lipShape);
   }
@@ -558,14 +559,14 @@ void runTrainMouthCorpora(const MouthCorpusArguments& arguments, const std::stri
   const std::filesystem::path path = output;
   if (path.extension() != ".json") throw fileError(path, "a model is written as JSON: give a .json name");
   checkOutputTarget(path);
-  std::vector<tracking::TalkingFolder> folders;
+  std::vector<eval::TalkingFolder> folders;
   for (const std::string& corpus : arguments.corpora) {
     const std::size_t equals = corpus.find('=');
     folders.push_back({corpus.substr(0, equals), equals == std::string::npos ? std::string() : corpus.substr(equals + 1)});
   }
-  if (folders.empty()) folders = tracking::sharedTalkingFolders();
-  const face::FaceModel face = face::FaceModel::build(face::loadIctFace(face::ictFaceDirectory()));
-  const tracking::TalkingCorpus corpus = loadCorpus(folders, arguments.tracks, face);
+  if (folders.empty()) folders = eval::sharedTalkingFolders();
+  const face::FaceModel face = face::FaceModel::buildDefault();
+  const eval::TalkingCorpus corpus = loadCorpus(folders, arguments.tracks, face);
   Clips gridTrain, gridTest;
   std::map<std::string, Clips> otherSpeakers;
   splitGrid(corpus, gridTrain, gridTest, otherSpeakers);

@@ -34,8 +34,8 @@ for i to frames
 endfor
 )";
 
-features::F0Track parseTimeValueLines(const std::string& text, const std::string& who) {
-  features::F0Track track;
+eval::F0Track parseTimeValueLines(const std::string& text, const std::string& who) {
+  th::eval::F0Track track;
   std::istringstream lines(text);
   std::string line;
   while (std::getline(lines, line)) {
@@ -50,7 +50,7 @@ features::F0Track parseTimeValueLines(const std::string& text, const std::string
   return track;
 }
 
-features::F0Track runPraat(const std::filesystem::path& wav, const PeerSettings& settings) {
+eval::F0Track runPraat(const std::filesystem::path& wav, const PeerSettings& settings) {
   TemporaryFile script(".praat");
   std::ofstream(script.path()) << kPraatScript;
   const std::string out = runProgram({"praat", "--run", script.path().string(), std::filesystem::absolute(wav).string(),
@@ -59,7 +59,7 @@ features::F0Track runPraat(const std::filesystem::path& wav, const PeerSettings&
   return parseTimeValueLines(out, "praat");
 }
 
-features::F0Track runSptk(const std::filesystem::path& wav, const PeerSettings& settings, int algorithm) {
+eval::F0Track runSptk(const std::filesystem::path& wav, const PeerSettings& settings, int algorithm) {
   audio::AudioReadOptions keepRate;
   keepRate.outputRateHz = 0;
   const audio::AudioClip clip = audio::readAudioFile(wav, keepRate);
@@ -78,7 +78,7 @@ features::F0Track runSptk(const std::filesystem::path& wav, const PeerSettings& 
                                       "-L", std::to_string(settings.minF0Hz), "-H", std::to_string(settings.maxF0Hz),
                                       "-o", "1"},
                                      raw.path().string());
-  features::F0Track track;
+  th::eval::F0Track track;
   const size_t count = out.size() / sizeof(float);
   for (size_t i = 0; i < count; ++i) {
     float value = 0.0f;
@@ -91,7 +91,7 @@ features::F0Track runSptk(const std::filesystem::path& wav, const PeerSettings& 
   return track;
 }
 
-features::F0Track runAubio(const std::filesystem::path& wav, const PeerSettings& settings) {
+eval::F0Track runAubio(const std::filesystem::path& wav, const PeerSettings& settings) {
   audio::AudioReadOptions keepRate;
   keepRate.outputRateHz = 0;
   const int rate = audio::readAudioFile(wav, keepRate).sampleRateHz;
@@ -102,7 +102,7 @@ features::F0Track runAubio(const std::filesystem::path& wav, const PeerSettings&
   while (buffer < 0.05 * rate) buffer *= 2;
   const std::string out = runProgram({"aubiopitch", "-i", wav.string(), "-p", "yinfft", "-H", std::to_string(hopSamples),
                                       "-B", std::to_string(buffer), "-u", "Hz"});
-  features::F0Track track = parseTimeValueLines(out, "aubiopitch");
+  th::eval::F0Track track = parseTimeValueLines(out, "aubiopitch");
   // aubio reports no voicing decision other than 0 Hz; values outside the search range count as unvoiced.
   for (double& f : track.f0Hz) {
     if (f < settings.minF0Hz || f > settings.maxF0Hz) f = 0.0;
@@ -136,7 +136,7 @@ std::string peerProgram(PeerTracker peer) {
   return "?";
 }
 
-features::F0Track runPeerTracker(PeerTracker peer, const std::filesystem::path& wav, const PeerSettings& settings) {
+eval::F0Track runPeerTracker(PeerTracker peer, const std::filesystem::path& wav, const PeerSettings& settings) {
   switch (peer) {
     case PeerTracker::kPraat: return runPraat(wav, settings);
     case PeerTracker::kRapt: return runSptk(wav, settings, 0);

@@ -49,7 +49,7 @@ std::pair<float, float> sliderRange(const face::FapDefinition& fap) {
 void runShow(const ShowArguments& arguments) {
   std::optional<face::FapTrack> animation;
   if (!arguments.animation.empty()) animation = formats::readAnimation(arguments.animation);
-  const face::FaceModel face = face::FaceModel::build(face::loadIctFace(face::ictFaceDirectory()));
+  const face::FaceModel face = face::FaceModel::buildDefault();
   render::WindowContext window({.width = arguments.width, .height = arguments.height, .title = "talkinghead",
                                 .visible = true, .vsync = true});
   render::FaceRenderer renderer(window, face.mesh(), {.width = arguments.width, .height = arguments.height});

@@ -10,7 +10,7 @@
 #include <opencv2/imgproc.hpp>
 #include <string>
 
-#include "animation/animate.h"
+#include "pipeline/offline.h"
 #include "animation_models.h"
 #include "commands.h"
 #include "core/atomic_file.h"
@@ -64,8 +64,8 @@ void writeStrip(const SideBySideArguments& arguments, tracking::VideoReader& cli
   const double fps = clip.framesPerSecond();
   const int first = static_cast<int>(std::lround(arguments.fromSeconds * fps));
   const int count = std::max(1, static_cast<int>(std::floor(arguments.seconds * fps / arguments.every + 1e-9)));
-  FaceStage stage({.width = width, .height = height});
-  stage.frameMouth();
+  OffscreenFace stage({.width = width, .height = height});
+  stage.animated.frameMouth();
   cv::Rect box;
   const int labelHeight = 20;
   const int columns = std::min(count, 10);
@@ -93,7 +93,7 @@ void writeStrip(const SideBySideArguments& arguments, tracking::VideoReader& cli
     cv::cvtColor(scaled, rgb, cv::COLOR_BGR2RGB);
     const int left = i % columns * width, top = i / columns * rowHeight;
     for (int y = 0; y < height; ++y) std::copy_n(rgb.ptr<std::uint8_t>(y), width * 3, sheet.pixel(left, top + y));
-    const render::Image& face = stage.draw(animation.at(f / fps));
+    const render::Image& face = stage.animated.draw(animation.at(f / fps));
     for (int y = 0; y < height; ++y) std::copy_n(face.pixel(0, y), width * 3, sheet.pixel(left, top + height + y));
     char label[32];
     std::snprintf(label, sizeof label, "%.2f", f / fps);
@@ -117,9 +117,9 @@ void runSideBySide(const SideBySideArguments& arguments) {
   const audio::AudioClip sound = tracking::readClipSound(arguments.clip);
   face::FapTrack animation;
   try {
-    animation::AnimateOptions options;
+    pipeline::AnimateOptions options;
     applyMotionControls(arguments.motion, options);
-    animation = animation::animate(sound.samples, models.head.get(), models.mouth.get(), options);
+    animation = pipeline::animate(sound.samples, models.head.get(), models.mouth.get(), options);
   } catch (const Error& error) {
     throw fileError(arguments.clip, error.what());
   }
@@ -132,7 +132,7 @@ void runSideBySide(const SideBySideArguments& arguments) {
   const int height = (arguments.height > 0 ? arguments.height : clip.height()) / 2 * 2;
   const int half = std::max(2, static_cast<int>(static_cast<double>(clip.width()) * height / clip.height()) / 2 * 2);
   const double fps = clip.framesPerSecond();
-  FaceStage stage({.width = half, .height = height});
+  OffscreenFace stage({.width = half, .height = height});
   formats::Mp4Options mp4;
   mp4.width = 2 * half;
   mp4.height = height;
@@ -153,7 +153,7 @@ void runSideBySide(const SideBySideArguments& arguments) {
       cv::cvtColor(scaled, rgb, cv::COLOR_BGR2RGB);
     }
     for (int y = 0; y < height; ++y) std::copy_n(rgb.ptr<std::uint8_t>(y), half * 3, canvas.pixel(0, y));
-    const render::Image& face = stage.draw(animation.at(static_cast<double>(f) / fps));
+    const render::Image& face = stage.animated.draw(animation.at(static_cast<double>(f) / fps));
     for (int y = 0; y < height; ++y) std::copy_n(face.pixel(0, y), half * 3, canvas.pixel(half, y));
     const int scale = height >= 480 ? 2 : 1;
     drawLabel(canvas, 6, 6, "video", scale);

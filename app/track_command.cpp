@@ -51,7 +51,7 @@ void runTrack(const TrackArguments& arguments) {
   tracking::Track track = tracking::trackVideo(arguments.video, trackOptions, [&](double done) { bar.update(done); });
   bar.finish();
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
-  const face::FaceModel face = face::FaceModel::build(face::loadIctFace(face::ictFaceDirectory()));
+  const face::FaceModel face = face::FaceModel::buildDefault();
   const auto fitStarted = std::chrono::steady_clock::now();
   tracking::fitTrack(track, face);
   const double fitSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - fitStarted).count();

@@ -10,7 +10,7 @@
 #include <string>
 #include <system_error>
 
-#include "animation/mouth_evaluation.h"
+#include "eval/mouth_evaluation.h"
 #include "animation/mouth_model.h"
 #include "commands.h"
 #include "core/atomic_file.h"
@@ -44,7 +44,7 @@ struct TrainVideoArguments {
                                        .varianceValidationEvery = 5};
 };
 
-void printScores(const char* label, const tracking::FapScores& scores) {
+void printScores(const char* label, const eval::FapScores& scores) {
   std::printf("  %-58s %6.3f / %6.3f   %6.3f / %6.3f (%d FAPs)\n", label, scores.jawEpsilon, scores.jawRho, scores.epsilon,
               scores.rho, scores.faps);
 }
@@ -59,7 +59,7 @@ void runTrainVideo(const TrainVideoArguments& arguments) {
   // The comparison model is read first: a wrong path fails before the tracking.
   const animation::MouthModel compared = animation::loadMouthModel(arguments.compare);
 
-  const face::FaceModel face = face::FaceModel::build(face::loadIctFace(face::ictFaceDirectory()));
+  const face::FaceModel face = face::FaceModel::buildDefault();
   tracking::VideoCorpus corpus;
   std::error_code error;
   const bool tracksExisted = std::filesystem::exists(tracks, error);
@@ -118,9 +118,9 @@ void runTrainVideo(const TrainVideoArguments& arguments) {
               arguments.holdOutEvery, test.size(), testFrames);
   const std::vector<int> modelFaps = animation::mouthFapNumbers(model);
   printScores("this model, inversion (conditional-mean start)",
-              tracking::scoreFaps(tracking::predictFaps(model, test), modelFaps, test, corpus.faps));
+              eval::scoreFaps(eval::predictFaps(model, test), modelFaps, test, corpus.faps));
   printScores("this model, MMSE estimate",
-              tracking::scoreFaps(tracking::predictFaps(model, test, {.method = animation::MouthMethod::kMmse}),
+              eval::scoreFaps(eval::predictFaps(model, test, {.method = animation::MouthMethod::kMmse}),
                                   modelFaps, test, corpus.faps));
   {
     // The paper's own measure: on the model's K visual components rather than on FAPs.
@@ -139,20 +139,20 @@ void runTrainVideo(const TrainVideoArguments& arguments) {
       column += truths[i].cols();
     }
     std::printf("  %-58s %6.3f / %6.3f   on its %d visual components (the paper's measure)\n", "this model, inversion",
-                animation::averageMse(estimate, truth), animation::averageCorrelation(estimate, truth),
+                eval::averageMse(estimate, truth), eval::averageCorrelation(estimate, truth),
                 model.basis.components());
   }
   printScores(("--compare " + std::filesystem::path(arguments.compare).filename().string() + ", inversion").c_str(),
-              tracking::scoreFaps(tracking::predictFaps(compared, test), animation::mouthFapNumbers(compared), test, corpus.faps));
+              eval::scoreFaps(eval::predictFaps(compared, test), animation::mouthFapNumbers(compared), test, corpus.faps));
   // The training clips' mean FAPs in every frame.
   Eigen::VectorXd mean = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(corpus.faps.size()));
   for (const auto& recording : train) mean += recording.visual.rowwise().sum() / trainFrames;
   std::vector<Eigen::MatrixXd> means;
   for (const auto& recording : test) means.push_back(mean.replicate(1, recording.numFrames()));
-  printScores("baseline: the training mean", tracking::scoreFaps(means, corpus.faps, test, corpus.faps));
+  printScores("baseline: the training mean", eval::scoreFaps(means, corpus.faps, test, corpus.faps));
   if (test.size() > 1)
     printScores("baseline: this model on the next held-out clip's audio",
-                tracking::scoreFaps(tracking::predictFaps(model, test, {}, 1), modelFaps, test, corpus.faps));
+                eval::scoreFaps(eval::predictFaps(model, test, {}, 1), modelFaps, test, corpus.faps));
 }
 
 }  // namespace

@@ -12,6 +12,8 @@
 #include <iostream>
 #include <memory>
 
+#include "eval/mouth_corpus.h"
+#include "eval/head_corpus.h"
 #include "animation/head_data.h"
 #include "animation/head_model.h"
 #include "animation/mouth_data.h"
@@ -30,7 +32,7 @@ struct Data {
 
 const Data& data() {
   static const Data loaded = [] {
-    auto [train, test] = th::animation::splitByTime(th::animation::loadBeat2Head(), 0.75);
+    auto [train, test] = th::animation::splitByTime(th::eval::loadBeat2Head(), 0.75);
     Data result{train, test, th::animation::trainHeadModel({train}, {})};
     return result;
   }();
@@ -72,7 +74,7 @@ struct MouthData {
 
 const MouthData& mouthData() {
   static const MouthData loaded = [] {
-    auto [train, test] = th::animation::splitByTime(th::animation::loadBeat2Mouth(), kMouthTrainingFraction);
+    auto [train, test] = th::animation::splitByTime(th::eval::loadBeat2Mouth(), kMouthTrainingFraction);
     MouthData result{train, test, th::animation::trainMouthModel({train}, defaultMouthOptions())};
     return result;
   }();

@@ -25,7 +25,7 @@
 #include <string>
 #include <vector>
 
-#include "animation/animate.h"
+#include "pipeline/offline.h"
 #include "audio/media_audio.h"
 #include "bench_arguments.h"
 #include "core/cpu_time.h"
@@ -33,7 +33,7 @@
 #include "core/temporary_file.h"
 #include "face/face_model.h"
 #include "face/feature_points.h"
-#include "render/video_export.h"
+#include "pipeline/video_export.h"
 #include "formats/mp4_writer.h"
 
 namespace {
@@ -145,11 +145,11 @@ void exportFace(benchmark::State& state, int width, int height, double seconds) 
     const double cpuBefore = th::processCpuSeconds();
     // As `talkinghead export` does: the face model built on another thread while the recording is animated.
     std::future<th::face::FaceModel> building = std::async(std::launch::async, [] {
-      return th::face::FaceModel::build(th::face::loadIctFace(th::face::ictFaceDirectory()));
+      return th::face::FaceModel::buildDefault();
     });
-    const th::face::FapTrack animation = th::animation::animate(clip.samples, &head, &mouth, {});
+    const th::face::FapTrack animation = th::pipeline::animate(clip.samples, &head, &mouth, {});
     const th::face::FaceModel face = building.get();
-    frames = th::render::exportVideo(face, animation, clip.samples, clip.sampleRateHz, folder.path() / "face.mp4",
+    frames = th::pipeline::exportVideo(face, animation, clip.samples, clip.sampleRateHz, folder.path() / "face.mp4",
                                      {.width = width, .height = height});
     cpuSeconds += th::processCpuSeconds() - cpuBefore;
   }

@@ -121,7 +121,7 @@ void benchPeer(benchmark::State& state, th::app::PeerTracker peer, const std::fi
   const double childCpuBefore = childCpuSeconds();
   for (auto _ : state) {
     try {
-      th::features::F0Track track = th::app::runPeerTracker(peer, wav, kPeerSettings);
+      th::eval::F0Track track = th::app::runPeerTracker(peer, wav, kPeerSettings);
       benchmark::DoNotOptimize(track.f0Hz.data());
     } catch (const std::exception& e) {
       state.SkipWithError(e.what());  // e.g. the program is not installed: report it, run the others

@@ -266,7 +266,7 @@ int main(int argc, char** argv) {
     std::printf("onset latency: %zu onsets in %.1f s of GRID speech, played at real-time pace in %zu-sample blocks\n",
                 recording.onsets.size(), static_cast<double>(recording.samples.size()) / kRate, kBlock);
 
-    const th::face::FaceModel face = th::face::FaceModel::build(th::face::loadIctFace(th::face::ictFaceDirectory()));
+    const th::face::FaceModel face = th::face::FaceModel::buildDefault();
     th::render::OffscreenContext context;
     th::render::FaceRenderer renderer(context, face.mesh(), {.width = 1280, .height = 720, .samples = 1, .fxaa = true});
     renderer.setMouthOpening(face.innerLipVertices());

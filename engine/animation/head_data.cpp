@@ -1,30 +1,13 @@
 #include "animation/head_data.h"
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <vector>
 
-#include "animation/mouth_data.h"
 #include "animation/time_split.h"
-#include "audio/audio_file.h"
-#include "core/data_path.h"
 #include "core/error.h"
-#include "core/numeric_csv.h"
 
 namespace th::animation {
-namespace {
-
-// The pose columns of either set: BEAT2 names the head's rotation relative to the torso "neckhead_…".
-std::array<int, 3> poseColumns(const NumericTable& pose) {
-  if (pose.findColumn("neckhead_pitch_deg") >= 0)
-    return {pose.column("neckhead_pitch_deg"), pose.column("neckhead_yaw_deg"), pose.column("neckhead_roll_deg")};
-  if (pose.findColumn("pitch_deg") >= 0)
-    return {pose.column("pitch_deg"), pose.column("yaw_deg"), pose.column("roll_deg")};
-  throw fileError(pose.source, "has neither neckhead_pitch_deg nor pitch_deg columns (a head-pose CSV needs one set)");
-}
-
-}  // namespace
 
 Eigen::MatrixXd smoothFrames(const Eigen::MatrixXd& frames, double sigmaFrames) {
   const int radius = static_cast<int>(std::ceil(3.0 * sigmaFrames));
@@ -43,67 +26,6 @@ Eigen::MatrixXd smoothFrames(const Eigen::MatrixXd& frames, double sigmaFrames) 
     out.col(t) /= weight;
   }
   return out;
-}
-
-HeadRecording loadHeadRecording(const std::filesystem::path& wav, const std::filesystem::path& headPoseCsv,
-                                const ProsodyOptions& prosody) {
-  const NumericTable pose = readNumericCsv(headPoseCsv);
-  const std::array<int, 3> columns = poseColumns(pose);
-  if (pose.rows.size() < 2) throw fileError(headPoseCsv, "has fewer than 2 frames of head pose");
-
-  const audio::AudioClip clip = audio::readAudioFile(wav);
-  const features::FeatureMatrix features = features::computeFeatures(clip.samples, prosodyFeatureOptions(30.0));
-  const Eigen::MatrixXd allProsody = prosodyOf(features, prosody);
-  const SpeechFrames speech = speechFramesOf(clip.samples);
-
-  HeadRecording take;
-  take.name = headPoseCsv.stem().string();
-  const int frames = std::min({static_cast<int>(pose.rows.size()), static_cast<int>(allProsody.cols()),
-                               static_cast<int>(speech.numFrames())});
-  if (frames < 2) throw fileError(wav, "is shorter than two animation frames");
-  take.rotations.resize(3, frames);
-  for (int t = 0; t < frames; ++t) {
-    const auto& row = pose.rows[static_cast<size_t>(t)];
-    for (int axis = 0; axis < 3; ++axis) take.rotations(axis, t) = row[static_cast<size_t>(columns[static_cast<size_t>(axis)])];
-  }
-  take.prosody = allProsody.leftCols(frames);
-  take.voiced = voicingOf(features).head(frames);
-  take.levelDb = speech.levelDb.head(frames);
-  return take;
-}
-
-HeadRecording loadBeat2Head(const ProsodyOptions& prosody) {
-  HeadRecording take = loadHeadRecording(sharedDataPath("beat2/2_scott_0_1_1.wav"),
-                                         sharedDataPath("beat2/2_scott_0_1_1_headpose_30fps.csv"), prosody);
-  take.speaker = "scott";
-  take.name = "2_scott_0_1_1";
-  return take;
-}
-
-std::vector<HeadRecording> loadStyleTalkHeads(const ProsodyOptions& prosody) {
-  const std::filesystem::path folder = sharedDataPath("talking/styletalk");
-  const std::string suffix = "_headpose_30fps.csv";
-  std::vector<std::filesystem::path> poses;
-  std::error_code error;
-  for (const auto& entry : std::filesystem::directory_iterator(folder, error)) {
-    const std::string file = entry.path().filename().string();
-    if (file.size() > suffix.size() && file.ends_with(suffix)) poses.push_back(entry.path());
-  }
-  if (error) throw fileError(folder, "cannot be listed: " + error.message());
-  if (poses.empty()) throw fileError(folder, "holds no *" + suffix + " files");
-  std::sort(poses.begin(), poses.end());
-  std::vector<HeadRecording> clips;
-  for (const auto& path : poses) {
-    const std::string name = path.filename().string().substr(0, path.filename().string().size() - suffix.size());
-    HeadRecording clip = loadHeadRecording(folder / (name + ".wav"), path, prosody);
-    clip.name = name;
-    clip.speaker = name.substr(0, name.find("_clip"));
-    // A 3DMM fitted frame by frame jitters from one frame to the next; a Gaussian of one frame's σ takes that
-    // out (it cuts the 95th percentile of the angular speed by 25–35 % here, by 8 % on BEAT2's motion capture).
-    clip.rotations = smoothFrames(clip.rotations, 1.0);
-    clips.push_back(std::move(clip));
-  }
-  return clips;
 }
 
 HeadRecording framesOf(const HeadRecording& take, int begin, int count) {

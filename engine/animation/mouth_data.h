@@ -1,7 +1,7 @@
 // The mouth model's data: per frame at 30 fps, the visual parameters (BEAT2's jaw opening and 100 FLAME
 // expression coefficients, or tracked FAPs) and the speech frames of the synchronous recording.
 //
-//   th::animation::MouthRecording take = th::animation::loadBeat2Mouth();
+//   th::animation::MouthRecording take = th::eval::loadBeat2Mouth();     // the loaders: eval/mouth_corpus.h
 //   auto [train, test] = th::animation::splitByTime(take, 0.75);
 //   Eigen::MatrixXd audio = th::features::stackContext(train.speech.mfcc, 3);   // 11·7 x T
 //
@@ -16,6 +16,7 @@
 #include <utility>
 
 #include "animation/time_split.h"
+#include "features/online_features.h"
 
 namespace th::animation {
 
@@ -39,13 +40,11 @@ struct MouthRecording {
   int numFrames() const { return static_cast<int>(visual.cols()); }
 };
 
-MouthRecording loadMouthRecording(const std::filesystem::path& wav, const std::filesystem::path& headPoseCsv,
-                                  const std::filesystem::path& expressionCsv);
-MouthRecording loadBeat2Mouth();
-
 // Speech frames alone, for synthesis and speech-only training: from 16 kHz samples, or from any recording (audio
 // files through libsndfile, the audio track of videos such as GRID's .mpg through FFmpeg).
 SpeechFrames speechFramesOf(std::span<const float> samples16k);
+// The MFCCs and levels of feature rows already computed (features/online_features.h), c1..c11 from the rows.
+SpeechFrames speechFramesOf(const features::FeatureMatrix& rows);
 SpeechFrames speechFramesOf(const std::filesystem::path& recording);
 
 // Frames [begin, begin + count) of a recording (time_split.h's splitByTime cuts a take in two with it).

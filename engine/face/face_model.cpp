@@ -255,6 +255,8 @@ Eigen::Matrix3d headRotation(double pitch, double yaw, double roll) {
       .toRotationMatrix();
 }
 
+FaceModel FaceModel::buildDefault() { return build(loadIctFace(ictFaceDirectory())); }
+
 FaceModel FaceModel::build(const FaceAssets& assets, const FaceModelOptions& options) {
   FaceModel model;
   model.mesh_ = assets.neutral;

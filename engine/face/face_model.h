@@ -1,6 +1,6 @@
 // The animated face: the reference head's mesh deformed by MPEG-4 FAP values and turned by the head FAPs.
 //
-//   th::face::FaceModel face = th::face::FaceModel::build(th::face::loadIctFace(th::face::ictFaceDirectory()));
+//   th::face::FaceModel face = th::face::FaceModel::buildDefault();   // ICT FaceKit's head, from assets/
 //   th::face::FapFrame faps{};                 // index = FAP number (1..68), values in FAPU counts
 //   faps[3] = 400;                              // open the jaw: the chin drops 400 MNS
 //   faps[49] = 20 * std::numbers::pi / 180 / 1e-5;   // turn the head 20° to its left
@@ -86,6 +86,8 @@ struct VertexSelection {
 class FaceModel {
  public:
   static FaceModel build(const FaceAssets& assets, const FaceModelOptions& options = {});
+  // The default face: ICT FaceKit's neutral head from assets/ (feature_points.h's ictFaceDirectory).
+  static FaceModel buildDefault();
 
   Eigen::Matrix3Xd deform(const FapFrame& faps) const;
   // The same deformation of the selected vertices only (3 x selection.vertices.size()).

@@ -257,6 +257,7 @@ FeatureMatrix computeFeatures(std::span<const float> samples16k, const FeatureOp
   matrix.values.resize(static_cast<size_t>(extractor.numFramesReady()) * static_cast<size_t>(width));
   for (int frame = 0; frame < extractor.numFramesReady(); ++frame) {
     extractor.getFrame(frame, {matrix.values.data() + static_cast<size_t>(frame) * width, static_cast<size_t>(width)});
+    matrix.levelDb.push_back(extractor.getLevelDb(frame));
   }
   return matrix;
 }

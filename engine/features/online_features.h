@@ -139,7 +139,8 @@ class OnlineFeatureExtractor {
 struct FeatureMatrix {
   FeatureLayout layout;
   double framesPerSecond = 30.0;
-  std::vector<float> values;  // numFrames x layout.size(), row-major
+  std::vector<float> values;   // numFrames x layout.size(), row-major: a frame's row contiguous
+  std::vector<float> levelDb;  // per frame: the level before normalisation (getLevelDb)
   int numFrames() const { return layout.size() > 0 ? static_cast<int>(values.size()) / layout.size() : 0; }
   std::span<const float> row(int frame) const {
     return {values.data() + static_cast<size_t>(frame) * layout.size(), static_cast<size_t>(layout.size())};

@@ -9,7 +9,7 @@
 #include <cstdint>
 #include <span>
 
-#include "face/face_model.h"
+#include "face/fap.h"
 
 namespace th::pipeline {
 

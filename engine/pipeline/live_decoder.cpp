@@ -5,7 +5,7 @@
 #include <string>
 #include <utility>
 
-#include "animation/animate.h"
+#include "pipeline/offline.h"
 #include "animation/fap_mapping.h"
 #include "animation/prosody.h"
 #include "core/error.h"

@@ -11,7 +11,7 @@
 // model's streaming inversion → jaw opening → FAP 3 and the lip FAPs. The head waits ~400 ms for its decision
 // lag, the mouth ~110 ms, so by default the mouth sets the pace: frame i carries the mouth of instant i and the
 // head (and F0) of frame i - headDelayFrames, decided by then (lookahead() says how many). With
-// `waitForHead`, a frame waits for its own head instead, and the frames are those of animation::animate() with
+// `waitForHead`, a frame waits for its own head instead, and the frames are those of pipeline::animate() with
 // the same online options, frame for frame (tests/pipeline). A null model leaves its FAPs at 0.
 //
 // Thread contract: one thread per instance; the models are shared read-only and must outlive it.

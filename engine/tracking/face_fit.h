@@ -3,7 +3,7 @@
 // the jaw and lip FAPs, so that the model's landmark vertices (ICT FaceKit's iBUG annotation), deformed and
 // projected, land on the tracked points.
 //
-//   const th::face::FaceModel face = th::face::FaceModel::build(th::face::loadIctFace(th::face::ictFaceDirectory()));
+//   const th::face::FaceModel face = th::face::FaceModel::buildDefault();
 //   th::tracking::FaceFitter fitter(face);
 //   th::tracking::FaceFit fit = fitter.fit(points);             // the first frame: a rigid start
 //   fit = fitter.fit(nextPoints, &fit);                          // then each frame from the last

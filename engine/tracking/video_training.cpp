@@ -15,7 +15,6 @@
 #include "core/error.h"
 #include "core/parallel_for.h"
 #include "core/text_files.h"
-#include "animation/mouth_evaluation.h"
 
 namespace th::tracking {
 
@@ -283,67 +282,6 @@ animation::MouthModel trainVideoMouthModel(const std::vector<animation::MouthRec
   animation::MouthModel model = animation::trainMouthModel(recordings, options);
   model.visualFaps = faps;
   return model;
-}
-
-}  // namespace th::tracking
-
-namespace th::tracking {
-
-std::vector<std::pair<Eigen::Index, Eigen::Index>> commonFapRows(const std::vector<int>& estimateFaps,
-                                                                 const std::vector<int>& truthFaps, Eigen::Index& jawPair) {
-  std::vector<std::pair<Eigen::Index, Eigen::Index>> rows;
-  jawPair = -1;
-  for (std::size_t e = 0; e < estimateFaps.size(); ++e)
-    for (std::size_t t = 0; t < truthFaps.size(); ++t)
-      if (estimateFaps[e] == truthFaps[t]) {
-        if (estimateFaps[e] == 3) jawPair = static_cast<Eigen::Index>(rows.size());
-        rows.emplace_back(static_cast<Eigen::Index>(e), static_cast<Eigen::Index>(t));
-      }
-  return rows;
-}
-
-FapScores scoreFaps(const std::vector<Eigen::MatrixXd>& estimates, const std::vector<int>& estimateFaps,
-                    const std::vector<animation::MouthRecording>& truth, const std::vector<int>& truthFaps) {
-  if (estimates.size() != truth.size()) throw Error("scoreFaps: as many estimates as clips are needed");
-  Eigen::Index jawRow = -1;
-  const std::vector<std::pair<Eigen::Index, Eigen::Index>> rows = commonFapRows(estimateFaps, truthFaps, jawRow);
-  if (rows.empty()) throw Error("scoreFaps: the estimate and the truth have no FAP in common");
-  Eigen::Index frames = 0;
-  for (std::size_t i = 0; i < truth.size(); ++i) frames += std::min(estimates[i].cols(), truth[i].visual.cols());
-  Eigen::MatrixXd estimate(static_cast<Eigen::Index>(rows.size()), frames);
-  Eigen::MatrixXd actual(static_cast<Eigen::Index>(rows.size()), frames);
-  Eigen::Index column = 0;
-  for (std::size_t i = 0; i < truth.size(); ++i) {
-    const Eigen::Index n = std::min(estimates[i].cols(), truth[i].visual.cols());
-    for (std::size_t r = 0; r < rows.size(); ++r) {
-      estimate.row(static_cast<Eigen::Index>(r)).segment(column, n) = estimates[i].row(rows[r].first).head(n);
-      actual.row(static_cast<Eigen::Index>(r)).segment(column, n) = truth[i].visual.row(rows[r].second).head(n);
-    }
-    column += n;
-  }
-  FapScores scores;
-  scores.faps = static_cast<int>(rows.size());
-  scores.frames = static_cast<int>(frames);
-  scores.epsilon = animation::averageMse(estimate, actual);
-  scores.rho = animation::averageCorrelation(estimate, actual);
-  scores.jawEpsilon = scores.jawRho = std::numeric_limits<double>::quiet_NaN();
-  if (jawRow >= 0) {
-    scores.jawEpsilon = animation::averageMse(estimate.row(jawRow), actual.row(jawRow));
-    scores.jawRho = animation::averageCorrelation(estimate.row(jawRow), actual.row(jawRow));
-  }
-  return scores;
-}
-
-std::vector<Eigen::MatrixXd> predictFaps(const animation::MouthModel& model,
-                                         const std::vector<animation::MouthRecording>& clips,
-                                         const animation::MouthSynthesisOptions& options, int audioShift) {
-  std::vector<Eigen::MatrixXd> estimates;
-  const auto n = static_cast<int>(clips.size());
-  for (int i = 0; i < n; ++i) {
-    const animation::MouthRecording& source = clips[static_cast<std::size_t>(((i + audioShift) % n + n) % n)];
-    estimates.push_back(animation::mouthFapsOf(model, animation::synthesiseMouth(model, source.speech, options)));
-  }
-  return estimates;
 }
 
 }  // namespace th::tracking

@@ -120,33 +120,3 @@ animation::MouthModel trainVideoMouthModel(const std::vector<animation::MouthRec
                                            const std::vector<int>& faps, animation::MouthModelOptions options);
 
 }  // namespace th::tracking
-
-namespace th::tracking {
-
-// The paper's ε and ρ (animation/mouth_evaluation.h) of FAP estimates against tracked clips, over all their
-// frames together: on the jaw (FAP 3) alone and on every FAP both the estimate and the truth hold.
-struct FapScores {
-  double jawEpsilon = 0.0;  // NaN if either side lacks FAP 3
-  double jawRho = 0.0;
-  double epsilon = 0.0;  // over `faps` FAPs
-  double rho = 0.0;
-  int faps = 0;
-  int frames = 0;
-};
-
-// The FAPs an estimate and a truth both hold, as (estimate row, truth row) pairs in the estimate's order;
-// `jawPair` receives the index of FAP 3's pair (-1 if either lacks it).
-std::vector<std::pair<Eigen::Index, Eigen::Index>> commonFapRows(const std::vector<int>& estimateFaps,
-                                                                 const std::vector<int>& truthFaps, Eigen::Index& jawPair);
-
-// estimates[i] (rows: estimateFaps) against truth[i].visual (rows: truthFaps), each cut to the shorter.
-FapScores scoreFaps(const std::vector<Eigen::MatrixXd>& estimates, const std::vector<int>& estimateFaps,
-                    const std::vector<animation::MouthRecording>& truth, const std::vector<int>& truthFaps);
-
-// A mouth model's FAPs (rows: mouthFapNumbers(model)) for each clip's audio; with audioShift k, clip i gets
-// clip (i + k) mod n's audio instead (a baseline: the right kind of sound, the wrong words).
-std::vector<Eigen::MatrixXd> predictFaps(const animation::MouthModel& model,
-                                         const std::vector<animation::MouthRecording>& clips,
-                                         const animation::MouthSynthesisOptions& options = {}, int audioShift = 0);
-
-}  // namespace th::tracking

@@ -8,8 +8,9 @@
 #include <string>
 #include <vector>
 
+#include "eval/head_corpus.h"
 #include "animation/head_data.h"
-#include "animation/head_evaluation.h"
+#include "eval/head_evaluation.h"
 #include "animation/head_model.h"
 #include "core/error.h"
 #include "core/temporary_file.h"
@@ -51,22 +52,22 @@ TEST(HeadEvaluation, ThePapersErrorAndItsReferencePoints) {
   std::normal_distribution<double> normal(0.0, 5.0);
   const Eigen::MatrixXd truth = Eigen::MatrixXd::NullaryExpr(3, 4000, [&] { return normal(random); });
   const Eigen::MatrixXd unrelated = Eigen::MatrixXd::NullaryExpr(3, 4000, [&] { return normal(random); });
-  EXPECT_EQ(headError(truth, truth), 0.0);
-  EXPECT_DOUBLE_EQ(headError(Eigen::MatrixXd::Zero(3, 4000), truth), 1.0) << "the rest pose scores exactly 1";
-  EXPECT_NEAR(headError(unrelated, truth), 1.0, 0.03) << "an unrelated motion of the same size scores about 1";
-  EXPECT_NEAR(headError(-truth, truth), 2.0, 1e-12) << "the mirror image scores 2";
+  EXPECT_EQ(th::eval::headError(truth, truth), 0.0);
+  EXPECT_DOUBLE_EQ(th::eval::headError(Eigen::MatrixXd::Zero(3, 4000), truth), 1.0) << "the rest pose scores exactly 1";
+  EXPECT_NEAR(th::eval::headError(unrelated, truth), 1.0, 0.03) << "an unrelated motion of the same size scores about 1";
+  EXPECT_NEAR(th::eval::headError(-truth, truth), 2.0, 1e-12) << "the mirror image scores 2";
   // One frame by hand: x^ = (1, 0, 0), x = (0, 1, 0): |x^ - x|^2 = 2, |x^|^2 + |x|^2 = 2.
   Eigen::MatrixXd a = Eigen::MatrixXd::Zero(3, 2);
   Eigen::MatrixXd b = Eigen::MatrixXd::Zero(3, 2);
   a(0, 0) = 1.0;
   b(1, 0) = 1.0;
-  EXPECT_DOUBLE_EQ(headError(a, b), 0.5) << "(2/2 + 0 for the frame where both rest) / 2";
+  EXPECT_DOUBLE_EQ(th::eval::headError(a, b), 0.5) << "(2/2 + 0 for the frame where both rest) / 2";
 
-  const HeadMetrics self = evaluateHead(truth, truth, stepQuantile(truth, 0.99));
+  const th::eval::HeadMetrics self = th::eval::evaluateHead(truth, truth, th::eval::stepQuantile(truth, 0.99));
   EXPECT_NEAR(self.correlation.minCoeff(), 1.0, 1e-12);
   EXPECT_NEAR(self.jumpRate, 0.01, 0.002) << "1 % of the truth's own steps exceed its 99th percentile";
   EXPECT_EQ(self.poseStd, self.truthPoseStd);
-  EXPECT_THROW(headError(truth.leftCols(10), truth), Error);
+  EXPECT_THROW(th::eval::headError(truth.leftCols(10), truth), Error);
 }
 
 // A recording where the voice determines the head: a 3-state process, each state with its own pose and its own
@@ -100,10 +101,10 @@ TEST(HeadModel, LearnsAVoiceThatDrivesTheHeadAndBeatsItsBaselines) {
   EXPECT_LE(model.hmm.numStates(), 8);
   EXPECT_GE(model.hmm.numStates(), 3);
   const Eigen::MatrixXd truth = test.rotations.colwise() - model.meanPose;
-  const double paper = headError(synthesiseHead(model, test.prosody, test.voiced, {.variant = HeadVariant::kStateMeans}), truth);
-  const double trajectory = headError(synthesiseHead(model, test.prosody, test.voiced, {.variant = HeadVariant::kTrajectory}), truth);
-  const double posterior = headError(synthesiseHead(model, test.prosody, test.voiced, {.variant = HeadVariant::kPosteriorMeans}), truth);
-  const double walk = headError(randomWalkHead(model, test.numFrames(), 4), truth);
+  const double paper = th::eval::headError(synthesiseHead(model, test.prosody, test.voiced, {.variant = HeadVariant::kStateMeans}), truth);
+  const double trajectory = th::eval::headError(synthesiseHead(model, test.prosody, test.voiced, {.variant = HeadVariant::kTrajectory}), truth);
+  const double posterior = th::eval::headError(synthesiseHead(model, test.prosody, test.voiced, {.variant = HeadVariant::kPosteriorMeans}), truth);
+  const double walk = th::eval::headError(randomWalkHead(model, test.numFrames(), 4), truth);
   std::printf("[ INFO     ] synthetic held-out E: paper %.3f, trajectory %.3f, posterior means %.3f, random walk %.3f\n",
               paper, trajectory, posterior, walk);
   EXPECT_LT(paper, 0.2);
@@ -155,7 +156,7 @@ TEST(HeadModel, NormalisesEachSpeakersAmplitude) {
   const HeadRecording test = synthetic(1000, 13);
   const Eigen::MatrixXd out = synthesiseHead(model, test.prosody, test.voiced, {.variation = 0.0});
   const Eigen::MatrixXd truth = test.rotations.colwise() - test.rotations.rowwise().mean();
-  EXPECT_LT(headError(out / 2.0, truth), 0.25) << "the shapes at the calm speaker's size";
+  EXPECT_LT(th::eval::headError(out / 2.0, truth), 0.25) << "the shapes at the calm speaker's size";
   // Without normalisation the lively speaker's offset mean pose and size dominate.
   const HeadModel raw = trainHeadModel({calm, lively}, {.startStates = 8, .maxIterations = 40, .normaliseSpeakers = false});
   EXPECT_EQ(raw.amplitude, Eigen::Vector3d::Ones());
@@ -244,32 +245,32 @@ TEST(HeadModel, FileRoundTripAndRefusals) {
 // The viewer's measures: speed percentiles, pauses, the Fréchet distance and the matched random walk.
 TEST(HeadEvaluation, SpeedPausesFrechetAndTheMatchedWalk) {
   const int frames = 3000;
-  const Eigen::MatrixXd walk = matchedRandomWalk(Eigen::Vector3d(2.0, 4.0, 1.0), Eigen::Vector3d(0.5, 0.5, 0.25), frames, 5);
-  const HeadMetrics self = evaluateHead(walk, walk, 1e9);
+  const Eigen::MatrixXd walk = th::eval::matchedRandomWalk(Eigen::Vector3d(2.0, 4.0, 1.0), Eigen::Vector3d(0.5, 0.5, 0.25), frames, 5);
+  const th::eval::HeadMetrics self = th::eval::evaluateHead(walk, walk, 1e9);
   EXPECT_NEAR(self.poseStd[1], 4.0, 1.0);
   EXPECT_NEAR(self.velocityStd[0], 0.5, 0.05);
   EXPECT_NEAR(self.velocityStd[2], 0.25, 0.03);
-  EXPECT_LT(frechetDistance(walk, walk, 30.0), 1e-6);
-  const Eigen::MatrixXd other = matchedRandomWalk(Eigen::Vector3d(2.0, 4.0, 1.0), Eigen::Vector3d(0.5, 0.5, 0.25), frames, 6);
-  const double sameKind = frechetDistance(walk, other, 30.0);
-  EXPECT_LT(sameKind, frechetDistance(walk, 3.0 * other, 30.0));
-  EXPECT_LT(sameKind, frechetDistance(walk, Eigen::MatrixXd::Zero(3, frames), 30.0));
-  EXPECT_THROW(frechetDistance(walk.leftCols(10), walk, 30.0), Error);
+  EXPECT_LT(th::eval::frechetDistance(walk, walk, 30.0), 1e-6);
+  const Eigen::MatrixXd other = th::eval::matchedRandomWalk(Eigen::Vector3d(2.0, 4.0, 1.0), Eigen::Vector3d(0.5, 0.5, 0.25), frames, 6);
+  const double sameKind = th::eval::frechetDistance(walk, other, 30.0);
+  EXPECT_LT(sameKind, th::eval::frechetDistance(walk, 3.0 * other, 30.0));
+  EXPECT_LT(sameKind, th::eval::frechetDistance(walk, Eigen::MatrixXd::Zero(3, frames), 30.0));
+  EXPECT_THROW(th::eval::frechetDistance(walk.leftCols(10), walk, 30.0), Error);
   // Pauses: the second half is 40 dB down; a head that stops there has a pause/speech speed ratio of 0.
   Eigen::RowVectorXd level = Eigen::RowVectorXd::Constant(frames, -20.0);
   level.tail(frames / 2).setConstant(-60.0);
-  const Eigen::RowVectorXd pauses = pauseFrames(level);
+  const Eigen::RowVectorXd pauses = th::eval::pauseFrames(level);
   EXPECT_EQ(pauses.sum(), frames / 2);
   Eigen::MatrixXd stops = walk;
   for (int t = frames / 2; t < frames; ++t) stops.col(t) = walk.col(frames / 2 - 1);
-  const HeadMotionStatistics statistics = motionStatistics(stops, pauses, 30.0);
+  const th::eval::HeadMotionStatistics statistics = th::eval::motionStatistics(stops, pauses, 30.0);
   EXPECT_NEAR(statistics.pauseSpeechRatio, 0.0, 1e-12);
-  EXPECT_NEAR(motionStatistics(walk, pauses, 30.0).pauseSpeechRatio, 1.0, 0.1);
+  EXPECT_NEAR(th::eval::motionStatistics(walk, pauses, 30.0).pauseSpeechRatio, 1.0, 0.1);
   EXPECT_GT(statistics.speedP95, 0.0);
 }
 
 TEST(HeadData, StyleTalkClipsHaveTheirSpeakersVoicingAndLevel) {
-  const std::vector<HeadRecording> clips = loadStyleTalkHeads();
+  const std::vector<HeadRecording> clips = th::eval::loadStyleTalkHeads();
   ASSERT_EQ(clips.size(), 6u);
   std::set<std::string> speakers;
   for (const auto& clip : clips) {
@@ -285,7 +286,7 @@ TEST(HeadData, StyleTalkClipsHaveTheirSpeakersVoicingAndLevel) {
 }
 
 TEST(HeadData, Beat2TakeIsAlignedAndPlausible) {
-  const HeadRecording take = loadBeat2Head();
+  const HeadRecording take = th::eval::loadBeat2Head();
   EXPECT_EQ(take.numFrames(), 1906);
   EXPECT_EQ(take.speaker, "scott");
   EXPECT_TRUE(take.prosody.allFinite());

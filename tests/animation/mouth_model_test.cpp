@@ -7,8 +7,9 @@
 #include <random>
 #include <sstream>
 
+#include "eval/mouth_corpus.h"
 #include "animation/mouth_data.h"
-#include "animation/mouth_evaluation.h"
+#include "eval/mouth_evaluation.h"
 #include "animation/mouth_model.h"
 #include "core/error.h"
 #include "core/temporary_file.h"
@@ -22,16 +23,16 @@ TEST(MouthEvaluation, ThePapersMeasuresAtTheirReferencePoints) {
   std::mt19937 random(2);
   std::normal_distribution<double> normal(0.0, 1.0);
   const Eigen::MatrixXd truth = Eigen::MatrixXd::NullaryExpr(2, 5000, [&] { return 3.0 + 2.0 * normal(random); });
-  EXPECT_NEAR(averageMse(truth, truth), 0.0, 1e-15);
-  EXPECT_NEAR(averageCorrelation(truth, truth), 1.0, 1e-12);
+  EXPECT_NEAR(th::eval::averageMse(truth, truth), 0.0, 1e-15);
+  EXPECT_NEAR(th::eval::averageCorrelation(truth, truth), 1.0, 1e-12);
   const Eigen::MatrixXd mean = truth.rowwise().mean().replicate(1, truth.cols());
-  EXPECT_NEAR(averageMse(mean, truth), 1.0, 1e-12) << "the mean prediction scores exactly 1";
-  EXPECT_NEAR(averageCorrelation(mean, truth), 0.0, 1e-9);
-  EXPECT_NEAR(averageCorrelation(-truth, truth), -1.0, 1e-12);
+  EXPECT_NEAR(th::eval::averageMse(mean, truth), 1.0, 1e-12) << "the mean prediction scores exactly 1";
+  EXPECT_NEAR(th::eval::averageCorrelation(mean, truth), 0.0, 1e-9);
+  EXPECT_NEAR(th::eval::averageCorrelation(-truth, truth), -1.0, 1e-12);
   // Correlation ignores scale and offset; ε does not.
-  EXPECT_NEAR(averageCorrelation(5.0 * truth.array() + 1.0, truth), 1.0, 1e-12);
-  EXPECT_GT(averageMse(5.0 * truth.array() + 1.0, truth), 10.0);
-  EXPECT_THROW(averageMse(truth.leftCols(10), truth), Error);
+  EXPECT_NEAR(th::eval::averageCorrelation(5.0 * truth.array() + 1.0, truth), 1.0, 1e-12);
+  EXPECT_GT(th::eval::averageMse(5.0 * truth.array() + 1.0, truth), 10.0);
+  EXPECT_THROW(th::eval::averageMse(truth.leftCols(10), truth), Error);
 }
 
 // Recordings where the audio (3 "MFCC" dimensions) and the visual parameters (4, driven by 2 sources) share a
@@ -71,8 +72,8 @@ TEST(MouthModel, RecoversTheVisualPartFromAudioOnHeldOutData) {
     const Eigen::MatrixXd truth = model.basis.transform(test.visual);
     for (MouthMethod method : {MouthMethod::kInversion, MouthMethod::kMmse}) {
       const Eigen::MatrixXd estimate = synthesiseMouth(model, test.speech, {.method = method});
-      const double rho = averageCorrelation(estimate, truth);
-      const double epsilon = averageMse(estimate, truth);
+      const double rho = th::eval::averageCorrelation(estimate, truth);
+      const double epsilon = th::eval::averageMse(estimate, truth);
       std::printf("[ INFO     ] %s, %s: held-out epsilon %.3f, rho %.3f\n",
                   covariance == hmm::CovarianceType::kFull ? "full" : "diagonal",
                   method == MouthMethod::kMmse ? "MMSE" : "inversion", epsilon, rho);
@@ -82,7 +83,7 @@ TEST(MouthModel, RecoversTheVisualPartFromAudioOnHeldOutData) {
     // Audio from elsewhere: the estimate no longer follows the truth.
     th::animation::SpeechFrames shuffled{Eigen::MatrixXd(test.speech.mfcc.rows(), test.speech.mfcc.cols()), {}};
     shuffled.mfcc << test.speech.mfcc.rightCols(500), test.speech.mfcc.leftCols(500);
-    EXPECT_LT(std::abs(averageCorrelation(synthesiseMouth(model, shuffled), truth)), 0.2);
+    EXPECT_LT(std::abs(th::eval::averageCorrelation(synthesiseMouth(model, shuffled), truth)), 0.2);
     // Reconstruction gives back the visual parameters' units.
     const Eigen::MatrixXd visual = model.basis.reconstruct(synthesiseMouth(model, test.speech));
     EXPECT_EQ(visual.rows(), 4);
@@ -317,10 +318,10 @@ TEST(MouthModel, TheTrajectoryIsSmootherAndVarianceCompensationRestoresTheSpread
   const Eigen::MatrixXd trajectory = synthesiseMouth(model, test.speech, plain);
   const Eigen::MatrixXd frameByFrame = synthesiseMouth(model, test.speech, frames);
   std::printf("[ INFO     ] roughness: truth %.1f, trajectory %.1f, frames %.1f; rho %.3f / %.3f\n", roughness(truth),
-              roughness(trajectory), roughness(frameByFrame), averageCorrelation(trajectory, truth),
-              averageCorrelation(frameByFrame, truth));
+              roughness(trajectory), roughness(frameByFrame), th::eval::averageCorrelation(trajectory, truth),
+              th::eval::averageCorrelation(frameByFrame, truth));
   EXPECT_LT(roughness(trajectory), 0.9 * roughness(frameByFrame));
-  EXPECT_GT(averageCorrelation(trajectory, truth), averageCorrelation(frameByFrame, truth) - 0.02);
+  EXPECT_GT(th::eval::averageCorrelation(trajectory, truth), th::eval::averageCorrelation(frameByFrame, truth) - 0.02);
   // Compensated, each component's spread comes nearer the truth's (the estimates shrink towards the mean).
   const Eigen::MatrixXd compensated = synthesiseMouth(model, test.speech, {.method = MouthMethod::kMmse});
   // Standard deviations of each component (rows), over the frames.
@@ -337,7 +338,7 @@ TEST(MouthModel, TheTrajectoryIsSmootherAndVarianceCompensationRestoresTheSpread
 }
 
 TEST(MouthData, Beat2TakeIsAligned) {
-  const MouthRecording take = loadBeat2Mouth();
+  const MouthRecording take = th::eval::loadBeat2Mouth();
   EXPECT_EQ(take.numFrames(), 1906);
   EXPECT_EQ(take.visual.rows(), 101);
   EXPECT_EQ(take.speech.mfcc.rows(), 11);

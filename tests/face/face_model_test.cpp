@@ -21,7 +21,7 @@ using th::face::FaceModel;
 using th::face::FapFrame;
 
 const FaceModel& face() {
-  static const FaceModel model = FaceModel::build(th::face::loadIctFace(th::face::ictFaceDirectory()));
+  static const FaceModel model = FaceModel::buildDefault();
   return model;
 }
 

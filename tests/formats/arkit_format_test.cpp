@@ -62,7 +62,7 @@ TEST(Arkit, SymmetricLipsNeitherShiftTheMouthNorTellLeftFromRight) {
 }
 
 TEST(Arkit, JawOpenIsFullAtTheReferenceFacesJawOpenShape) {
-  const th::face::FaceModel face = th::face::FaceModel::build(th::face::loadIctFace(th::face::ictFaceDirectory()));
+  const th::face::FaceModel face = th::face::FaceModel::buildDefault();
   const th::formats::ArkitScale scale = th::formats::arkitScaleFor(face);
   EXPECT_NEAR(face.jawAngleFor(scale.jawOpen), face.jaw().shapeAngle, 1e-6);
   const Animation anim = oneFrame({3}, {0.5 * scale.jawOpen});

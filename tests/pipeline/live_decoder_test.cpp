@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "animation/animate.h"
+#include "pipeline/offline.h"
 #include "audio/media_audio.h"
 #include "core/data_path.h"
 #include "core/error.h"
@@ -65,7 +65,7 @@ TEST(LiveDecoder, GivesTheBatchAnimationFrameByFrameWhateverTheChunks) {
     if (mmse) options.mouth.method = th::animation::MouthMethod::kMmse;
     options.mouth.windowFrames = mmse ? 1 : 2;
     const th::face::FapTrack batch =
-        th::animation::animate(samples, &models().head, &models().mouth, {.head = options.head, .mouth = options.mouth, .idle = false, .idleOptions = {}});
+        th::pipeline::animate(samples, &models().head, &models().mouth, {.head = options.head, .mouth = options.mouth, .idle = false, .idleOptions = {}});
     LiveDecoder decoder(&models().head, &models().mouth, options);
     const th::pipeline::DecoderLookahead lookahead = decoder.lookahead();
     EXPECT_EQ(decoder.fapNumbers(), batch.faps);
@@ -99,7 +99,7 @@ TEST(LiveDecoder, ShowsTheMouthAtOnceAndTheHeadLate) {
   const LiveDecoderOptions options;
   ASSERT_FALSE(options.waitForHead);
   const th::face::FapTrack batch =
-      th::animation::animate(samples, &models().head, &models().mouth, {.head = options.head, .mouth = options.mouth, .idle = false, .idleOptions = {}});
+      th::pipeline::animate(samples, &models().head, &models().mouth, {.head = options.head, .mouth = options.mouth, .idle = false, .idleOptions = {}});
   LiveDecoder decoder(&models().head, &models().mouth, options);
   const th::pipeline::DecoderLookahead lookahead = decoder.lookahead();
   EXPECT_LT(lookahead.mouthFeaturesMs, 20.0) << "the mouth's MFCCs wait for neither the pitch tracker nor deltas";

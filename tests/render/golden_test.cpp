@@ -52,7 +52,7 @@ Difference compare(const th::render::Image& a, const th::render::Image& b) {
 class Golden : public ::testing::TestWithParam<th::face::Pose> {
  protected:
   struct Scene {
-    th::face::FaceModel face = th::face::FaceModel::build(th::face::loadIctFace(th::face::ictFaceDirectory()));
+    th::face::FaceModel face = th::face::FaceModel::buildDefault();
     th::render::OffscreenContext context;
     th::render::FaceRenderer renderer{context, face.mesh(), {.width = kSize, .height = kSize}};
     th::render::OrbitCamera camera = th::render::frameHead(face.mesh().positions, 1.0);

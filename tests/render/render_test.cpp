@@ -447,7 +447,7 @@ TEST(Simplify, FewerTrianglesOverTheSameVerticesOnTheSameSurfaceWithItsBorderKep
 }
 
 TEST(FaceRenderer, SimplifiedEyeballsLookTheSame) {
-  const th::face::FaceModel face = th::face::FaceModel::build(th::face::loadIctFace(th::face::ictFaceDirectory()));
+  const th::face::FaceModel face = th::face::FaceModel::buildDefault();
   th::render::OffscreenContext context;
   const th::render::RenderOptions options{.width = 1280, .height = 720, .samples = 1, .fxaa = true};
   th::render::RenderOptions full = options;
@@ -494,7 +494,7 @@ TEST(FaceRenderer, SimplifiedEyeballsLookTheSame) {
 }
 
 TEST(FaceRenderer, TheMouthsInsideAndTheEyeballsAreDroppedOnlyWhereTheyCannotShow) {
-  const th::face::FaceModel face = th::face::FaceModel::build(th::face::loadIctFace(th::face::ictFaceDirectory()));
+  const th::face::FaceModel face = th::face::FaceModel::buildDefault();
   th::render::OffscreenContext context;
   FaceRenderer cpu(context, face.mesh(), {.width = 480, .height = 360, .samples = 1});
   FaceRenderer gl(context, face.mesh(), {.width = 480, .height = 360, .samples = 1, .cullOnCpu = false});

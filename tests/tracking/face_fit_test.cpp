@@ -23,7 +23,7 @@ using th::tracking::FaceFitter;
 using th::tracking::Landmarks;
 
 const th::face::FaceModel& faceModel() {
-  static const th::face::FaceModel model = th::face::FaceModel::build(th::face::loadIctFace(th::face::ictFaceDirectory()));
+  static const th::face::FaceModel model = th::face::FaceModel::buildDefault();
   return model;
 }
 

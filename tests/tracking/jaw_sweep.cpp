@@ -17,7 +17,7 @@
 #include "tracking/track.h"
 
 int main(int argc, char** argv) {
-  const th::face::FaceModel face = th::face::FaceModel::build(th::face::loadIctFace(th::face::ictFaceDirectory()));
+  const th::face::FaceModel face = th::face::FaceModel::buildDefault();
   constexpr int kWidth = 640, kHeight = 480;
   th::render::OffscreenContext context;
   th::render::FaceRenderer renderer(context, face.mesh(), {.width = kWidth, .height = kHeight});

@@ -6,7 +6,7 @@
 #include <opencv2/videoio.hpp>
 #include <vector>
 
-#include "animation/mouth_evaluation.h"
+#include "eval/mouth_evaluation.h"
 #include "core/error.h"
 #include "tracking/video_reader.h"
 #include "formats/mp4_writer.h"
@@ -60,7 +60,7 @@ double correlation(const std::vector<double>& a, const std::vector<double>& b) {
   if (a.size() != b.size()) throw Error("correlation: the series differ in length");
   const Eigen::Map<const Eigen::RowVectorXd> x(a.data(), static_cast<Eigen::Index>(a.size()));
   const Eigen::Map<const Eigen::RowVectorXd> y(b.data(), static_cast<Eigen::Index>(b.size()));
-  return animation::averageCorrelation(x, y);
+  return eval::averageCorrelation(x, y);
 }
 
 }  // namespace th::test

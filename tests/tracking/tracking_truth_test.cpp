@@ -14,7 +14,7 @@
 #include <numbers>
 #include <opencv2/imgproc.hpp>
 
-#include "animation/animate.h"
+#include "pipeline/offline.h"
 #include "audio/audio_file.h"
 #include "core/data_path.h"
 #include "face/face_model.h"
@@ -30,7 +30,7 @@ namespace {
 double degrees(double angleUnits) { return angleUnits * th::face::kAngleUnit * 180.0 / std::numbers::pi; }
 
 const th::face::FaceModel& faceModel() {
-  static const th::face::FaceModel face = th::face::FaceModel::build(th::face::loadIctFace(th::face::ictFaceDirectory()));
+  static const th::face::FaceModel face = th::face::FaceModel::buildDefault();
   return face;
 }
 
@@ -148,7 +148,7 @@ TEST(TrackingTruth, TheShippedModelsCurvesRotationsComeBackWithinTwoDegrees) {
   const th::animation::MouthModel mouth = th::animation::loadMouthModel(modelFile("mouth.json"));
   th::audio::AudioClip speech = th::audio::readAudioFile(th::sharedDataPath("beat2/audio_only/2_scott_0_2_2.wav"));
   speech.samples.resize(std::min<std::size_t>(speech.samples.size(), 16000 * 5));  // 5 s: 150 frames
-  const th::face::FapTrack truth = th::animation::animate(speech.samples, &head, &mouth, {.idle = false});  // no blinks: the fit has no lids
+  const th::face::FapTrack truth = th::pipeline::animate(speech.samples, &head, &mouth, {.idle = false});  // no blinks: the fit has no lids
   std::vector<th::face::FapFrame> poses;
   for (int f = 0; f < truth.numFrames(); ++f) poses.push_back(truth.at(f / truth.framesPerSecond));
   expectRotationsWithin(2.0, renderTrackAndFit(poses, truth.framesPerSecond));
@@ -163,7 +163,7 @@ std::vector<th::face::FapFrame> realSpeakersPoses(const th::tracking::FitOptions
   framesPerSecond = real.framesPerSecond;
   const th::audio::AudioClip sound = th::tracking::readClipSound(clip);
   const th::animation::HeadModel head = th::animation::loadHeadModel(modelFile("head.json"));
-  const th::face::FapTrack rotations = th::animation::animate(sound.samples, &head, nullptr, {.idle = false});
+  const th::face::FapTrack rotations = th::pipeline::animate(sound.samples, &head, nullptr, {.idle = false});
   std::vector<th::face::FapFrame> poses;
   for (const th::tracking::TrackedFrame& frame : real.frames) {
     th::face::FapFrame faps = rotations.at(frame.seconds);

@@ -13,16 +13,17 @@
 #include "core/error.h"
 #include "core/temporary_file.h"
 #include "face/face_model.h"
+#include "eval/mouth_evaluation.h"
 #include "tracking/video_training.h"
 #include "tracking_test_support.h"
 
 namespace {
 
 namespace fs = std::filesystem;
-using th::tracking::FapScores;
+using th::eval::FapScores;
 
 const th::face::FaceModel& faceModel() {
-  static const th::face::FaceModel face = th::face::FaceModel::build(th::face::loadIctFace(th::face::ictFaceDirectory()));
+  static const th::face::FaceModel face = th::face::FaceModel::buildDefault();
   return face;
 }
 
@@ -107,21 +108,21 @@ TEST(ScoreFaps, IsPerfectForTheTruthAndNeutralForItsMean) {
     clip.visual(1, t) = 3.0 * std::cos(0.17 * t);
   }
   const std::vector<int> faps{3, 5};
-  const FapScores perfect = th::tracking::scoreFaps({clip.visual}, faps, {clip}, faps);
+  const FapScores perfect = th::eval::scoreFaps({clip.visual}, faps, {clip}, faps);
   EXPECT_NEAR(perfect.epsilon, 0.0, 1e-12);
   EXPECT_NEAR(perfect.rho, 1.0, 1e-12);
   EXPECT_NEAR(perfect.jawRho, 1.0, 1e-12);
   EXPECT_EQ(perfect.faps, 2);
   EXPECT_EQ(perfect.frames, 100);
   const Eigen::MatrixXd mean = clip.visual.rowwise().mean().replicate(1, 100);
-  const FapScores neutral = th::tracking::scoreFaps({mean}, faps, {clip}, faps);
+  const FapScores neutral = th::eval::scoreFaps({mean}, faps, {clip}, faps);
   EXPECT_NEAR(neutral.epsilon, 1.0, 1e-9);
   EXPECT_NEAR(neutral.rho, 0.0, 1e-12);
   // Only the FAPs both hold count; an estimate without the jaw has no jaw scores.
-  const FapScores lipsOnly = th::tracking::scoreFaps({clip.visual.bottomRows(1)}, {5}, {clip}, faps);
+  const FapScores lipsOnly = th::eval::scoreFaps({clip.visual.bottomRows(1)}, {5}, {clip}, faps);
   EXPECT_EQ(lipsOnly.faps, 1);
   EXPECT_TRUE(std::isnan(lipsOnly.jawRho));
-  EXPECT_THROW(th::tracking::scoreFaps({clip.visual}, {6, 7}, {clip}, faps), th::Error);
+  EXPECT_THROW(th::eval::scoreFaps({clip.visual}, {6, 7}, {clip}, faps), th::Error);
 }
 
 TEST(VideoCorpus, KeepsTheTracksReusesThemOnlyAsMadeAndLeavesOutAClipWithoutAFace) {
@@ -181,9 +182,9 @@ TEST(VideoMouthModel, PredictsHeldOutClipsJawFromTheirSoundAndDrivesFapsFromItsF
   EXPECT_FALSE(model.fapMap.has_value());
   EXPECT_EQ(th::animation::mouthFapNumbers(model), corpus.faps);
   const FapScores scores =
-      th::tracking::scoreFaps(th::tracking::predictFaps(model, test), corpus.faps, test, corpus.faps);
+      th::eval::scoreFaps(th::eval::predictFaps(model, test), corpus.faps, test, corpus.faps);
   const FapScores otherAudio =
-      th::tracking::scoreFaps(th::tracking::predictFaps(model, test, {}, 1), corpus.faps, test, corpus.faps);
+      th::eval::scoreFaps(th::eval::predictFaps(model, test, {}, 1), corpus.faps, test, corpus.faps);
   std::cout << "held-out jaw eps " << scores.jawEpsilon << " rho " << scores.jawRho << "; all FAPs eps " << scores.epsilon
             << " rho " << scores.rho << "; another clip's audio: jaw eps " << otherAudio.jawEpsilon << " rho "
             << otherAudio.jawRho << '\n';
@@ -192,7 +193,7 @@ TEST(VideoMouthModel, PredictsHeldOutClipsJawFromTheirSoundAndDrivesFapsFromItsF
   EXPECT_LT(scores.jawEpsilon, 0.8);  // the mean's is about 1
   EXPECT_GT(scores.jawRho, otherAudio.jawRho);
   // The jaw never closes past rest.
-  for (const Eigen::MatrixXd& faps : th::tracking::predictFaps(model, test)) EXPECT_GE(faps.row(0).minCoeff(), 0.0);
+  for (const Eigen::MatrixXd& faps : th::eval::predictFaps(model, test)) EXPECT_GE(faps.row(0).minCoeff(), 0.0);
 
   // Its file holds the FAPs it drives; read back, it predicts the same.
   th::TemporaryFolder folder;
@@ -201,8 +202,8 @@ TEST(VideoMouthModel, PredictsHeldOutClipsJawFromTheirSoundAndDrivesFapsFromItsF
   const th::animation::MouthModel back = th::animation::loadMouthModel(file);
   EXPECT_EQ(back.visualFaps, corpus.faps);
   EXPECT_TRUE(th::animation::drivesFaps(back));
-  const Eigen::MatrixXd before = th::tracking::predictFaps(model, {test[0]})[0];
-  const Eigen::MatrixXd after = th::tracking::predictFaps(back, {test[0]})[0];
+  const Eigen::MatrixXd before = th::eval::predictFaps(model, {test[0]})[0];
+  const Eigen::MatrixXd after = th::eval::predictFaps(back, {test[0]})[0];
   EXPECT_LT((before - after).cwiseAbs().maxCoeff(), 1e-6);
   EXPECT_THROW(th::animation::jawOpeningOf(back, Eigen::MatrixXd::Zero(2, 3)), th::Error);
 }

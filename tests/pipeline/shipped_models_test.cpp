@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "animation/animate.h"
+#include "pipeline/offline.h"
 #include "animation/mouth_model.h"
 #include "audio/audio_file.h"
 #include "core/data_path.h"
@@ -18,6 +18,8 @@
 namespace {
 
 using namespace th::animation;
+using th::pipeline::animate;
+using th::pipeline::AnimateOptions;
 
 std::string modelFile(const std::string& name) { return std::string(TALKINGHEAD_SOURCE_DIR) + "/models/" + name; }
 

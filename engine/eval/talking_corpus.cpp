@@ -1,4 +1,4 @@
-#include "tracking/talking_corpus.h"
+#include "eval/talking_corpus.h"
 
 #include <algorithm>
 #include <cctype>
@@ -12,7 +12,7 @@
 #include "core/json_reading.h"
 #include "core/text_files.h"
 
-namespace th::tracking {
+namespace th::eval {
 
 std::vector<TalkingFolder> sharedTalkingFolders() {
   return {{sharedDataPath("grid/s1"), "grid-s1"},
@@ -63,21 +63,21 @@ void readLabelsBeside(TalkingClip& clip) {
 }  // namespace
 
 TalkingCorpus loadTalkingCorpus(const std::vector<TalkingFolder>& folders, const face::FaceModel& face,
-                                const VideoCorpusOptions& options, const std::function<void(int, int)>& progress) {
+                                const tracking::VideoCorpusOptions& options, const std::function<void(int, int)>& progress) {
   std::vector<std::vector<std::filesystem::path>> videos;
   int total = 0;
   for (const TalkingFolder& folder : folders) {
-    videos.push_back(listVideos(folder.folder));
+    videos.push_back(tracking::listVideos(folder.folder));
     total += static_cast<int>(videos.back().size());
   }
   TalkingCorpus corpus;
   int doneBefore = 0;
   for (std::size_t f = 0; f < folders.size(); ++f) {
-    VideoCorpusOptions folderOptions = options;
+    tracking::VideoCorpusOptions folderOptions = options;
     if (!options.trackFolder.empty()) folderOptions.trackFolder = options.trackFolder / trackFolderName(folders[f].folder);
-    VideoCorpus loaded;
+    tracking::VideoCorpus loaded;
     try {
-      loaded = loadVideoCorpus(videos[f], face, folderOptions, [&](int done, int) {
+      loaded = tracking::loadVideoCorpus(videos[f], face, folderOptions, [&](int done, int) {
         if (progress) progress(doneBefore + done, total);
       });
     } catch (const Error& error) {
@@ -86,8 +86,8 @@ TalkingCorpus loadTalkingCorpus(const std::vector<TalkingFolder>& folders, const
     doneBefore += static_cast<int>(videos[f].size());
     corpus.faps = loaded.faps;
     corpus.trackingSeconds += loaded.trackingSeconds;
-    for (SkippedClip& skipped : loaded.skipped) corpus.skipped.push_back(std::move(skipped));
-    for (VideoClip& clip : loaded.clips) {
+    for (tracking::SkippedClip& skipped : loaded.skipped) corpus.skipped.push_back(std::move(skipped));
+    for (tracking::VideoClip& clip : loaded.clips) {
       TalkingClip talking;
       talking.speaker = folders[f].speaker.empty() ? speakerOfClip(clip.video) : folders[f].speaker;
       talking.clip = std::move(clip);
@@ -250,4 +250,4 @@ std::vector<PhoneClass> labelClassesAt(const std::vector<LabelInterval>& labels,
   return classes;
 }
 
-}  // namespace th::tracking
+}  // namespace th::eval

@@ -1,8 +1,8 @@
 // A talking face as a video file: an animation (FAP curves) played on the face model, rendered off-screen and
 // encoded with its sound track as MP4 (H.264 + AAC). What `talkinghead export` and bench/export_bench run.
 //
-//   th::face::FaceModel face = th::face::FaceModel::build(th::face::loadIctFace(th::face::ictFaceDirectory()));
-//   th::render::exportVideo(face, animation, clip.samples, clip.sampleRateHz, "talk.mp4", {.width = 1280});
+//   const th::face::FaceModel face = th::face::FaceModel::buildDefault();
+//   th::pipeline::exportVideo(face, track, clip.samples, clip.sampleRateHz, "talk.mp4", {.width = 1280});
 //
 // Two threads: the calling one owns an OSMesa context and renders frame f + 1 while a worker finishes frame f
 // (the backdrop under the head, FXAA, Y'CbCr) and encodes it (x264 in that thread on two cores, see
@@ -24,7 +24,7 @@
 #include "face/face_model.h"
 #include "face/fap_track.h"
 
-namespace th::render {
+namespace th::pipeline {
 
 struct VideoExportOptions {
   int width = 1280;
@@ -54,4 +54,4 @@ int exportVideo(const face::FaceModel& face, const face::FapTrack& animation, st
                 int sampleRateHz, const std::filesystem::path& output, const VideoExportOptions& options,
                 const VideoExportHooks& hooks = {});
 
-}  // namespace th::render
+}  // namespace th::pipeline

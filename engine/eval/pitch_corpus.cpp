@@ -1,11 +1,11 @@
-#include "features/pitch_corpus.h"
+#include "eval/pitch_corpus.h"
 
 #include <algorithm>
 
 #include "audio/audio_file.h"
 #include "core/error.h"
 
-namespace th::features {
+namespace th::eval {
 
 std::vector<PitchRecording> loadPitchCorpus(const std::filesystem::path& folder, double referenceShiftSeconds) {
   if (!std::filesystem::is_directory(folder)) throw fileError(folder, "no such folder");
@@ -22,14 +22,14 @@ std::vector<PitchRecording> loadPitchCorpus(const std::filesystem::path& folder,
   return corpus;
 }
 
-F0Track ourF0Track(const std::vector<float>& samples16k, const FeatureOptions& options) {
-  FeatureOptions pitchOnly = options;
+F0Track ourF0Track(const std::vector<float>& samples16k, const features::FeatureOptions& options) {
+  features::FeatureOptions pitchOnly = options;
   pitchOnly.contextFrames = 0;
-  const FeatureMatrix matrix = computeFeatures(samples16k, pitchOnly);
+  const features::FeatureMatrix matrix = features::computeFeatures(samples16k, pitchOnly);
   F0Track track;
   for (int frame = 0; frame < matrix.numFrames(); ++frame) {
     track.timesSeconds.push_back(frame / matrix.framesPerSecond);
-    track.f0Hz.push_back(matrix.row(frame)[FeatureLayout::kF0Hz]);
+    track.f0Hz.push_back(matrix.row(frame)[features::FeatureLayout::kF0Hz]);
   }
   return track;
 }
@@ -41,7 +41,7 @@ PitchScore scoreTrack(const PitchRecording& recording, const F0Track& track, dou
   return score;
 }
 
-PitchScore scoreOurTracker(const std::vector<PitchRecording>& corpus, const FeatureOptions& options) {
+PitchScore scoreOurTracker(const std::vector<PitchRecording>& corpus, const features::FeatureOptions& options) {
   PitchScore total;
   for (const auto& recording : corpus) {
     const auto clip = audio::readAudioFile(recording.wav);
@@ -50,4 +50,4 @@ PitchScore scoreOurTracker(const std::vector<PitchRecording>& corpus, const Feat
   return total;
 }
 
-}  // namespace th::features
+}  // namespace th::eval

@@ -1,4 +1,4 @@
-#include "render/video_export.h"
+#include "pipeline/video_export.h"
 
 #include <algorithm>
 #include <cmath>
@@ -6,13 +6,14 @@
 #include <thread>
 
 #include "core/slot_queue.h"
-#include "render/camera.h"
-#include "render/face_renderer.h"
-#include "render/gl_context.h"
-#include "face/fap_track.h"
 #include "formats/mp4_writer.h"
+#include "render/animated_face.h"
+#include "render/gl_context.h"
 
-namespace th::render {
+namespace th::pipeline {
+
+using render::RawFrame;
+using render::Yuv420Image;
 namespace {
 
 // Stops and joins the worker however the scope is left (an exception included).
@@ -42,14 +43,10 @@ int encoderThreadsFor(const VideoExportOptions& options) {
 int exportVideo(const face::FaceModel& face, const face::FapTrack& animation, std::span<const float> samples,
                 int sampleRateHz, const std::filesystem::path& output, const VideoExportOptions& options,
                 const VideoExportHooks& hooks) {
-  OffscreenContext context;
+  render::OffscreenContext context;
   // FXAA on one sample instead of 4x MSAA: a third of the CPU per frame on llvmpipe, nearly as smooth.
-  FaceRenderer renderer(context, face.mesh(),
-                        {.width = options.width, .height = options.height, .samples = 1, .fxaa = true});
-  renderer.setMouthOpening(face.innerLipVertices());
-  renderer.setEyeOpenings(face.eyeLidVertices(0), face.eyeLidVertices(1));
-  const OrbitCamera camera =
-      frameHead(face.mesh().positions, static_cast<double>(options.width) / static_cast<double>(options.height));
+  render::AnimatedFace animated(face, context, {.width = options.width, .height = options.height, .samples = 1, .fxaa = true});
+  render::FaceRenderer& renderer = animated.renderer();
   formats::Mp4Writer writer(output, {.width = options.width,
                                    .height = options.height,
                                    .framesPerSecond = options.framesPerSecond,
@@ -93,10 +90,8 @@ int exportVideo(const face::FaceModel& face, const face::FapTrack& animation, st
       if (hooks.check) hooks.check();
       RawFrame* raw = queue.takeFree();
       if (raw == nullptr) break;  // the worker failed: its error is rethrown below
-      const face::FapFrame faps = animation.at(frame / options.framesPerSecond);
-      renderer.setPositions(face.deform(faps));
-      renderer.setPupilScale(face.pupilScale(faps));
-      renderer.render(camera);
+      animated.pose(animation.at(frame / options.framesPerSecond));
+      animated.render();
       renderer.readRaw(*raw);
       queue.publish(raw);
     }
@@ -109,4 +104,4 @@ int exportVideo(const face::FaceModel& face, const face::FapTrack& animation, st
   return frames;
 }
 
-}  // namespace th::render
+}  // namespace th::pipeline

@@ -12,9 +12,9 @@
 #include <vector>
 
 #include "features/online_features.h"
-#include "features/pitch_evaluation.h"
+#include "eval/pitch_evaluation.h"
 
-namespace th::features {
+namespace th::eval {
 
 struct PitchRecording {
   std::string name;
@@ -26,11 +26,11 @@ struct PitchRecording {
 std::vector<PitchRecording> loadPitchCorpus(const std::filesystem::path& folder, double referenceShiftSeconds);
 
 // Our tracker as the feature extractor runs it (streaming object, fed whole), at options.framesPerSecond.
-F0Track ourF0Track(const std::vector<float>& samples16k, const FeatureOptions& options);
+F0Track ourF0Track(const std::vector<float>& samples16k, const features::FeatureOptions& options);
 
 // Score a track against a recording's reference.
 PitchScore scoreTrack(const PitchRecording& recording, const F0Track& track, double trackHopSeconds);
 
-PitchScore scoreOurTracker(const std::vector<PitchRecording>& corpus, const FeatureOptions& options);
+PitchScore scoreOurTracker(const std::vector<PitchRecording>& corpus, const features::FeatureOptions& options);
 
-}  // namespace th::features
+}  // namespace th::eval

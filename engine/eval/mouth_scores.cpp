@@ -1,29 +1,29 @@
-#include "tracking/mouth_scores.h"
+#include "eval/mouth_scores.h"
 
 #include <Eigen/Cholesky>
 #include <algorithm>
 #include <cmath>
 
-#include "animation/mouth_evaluation.h"
+#include "eval/mouth_evaluation.h"
 #include "core/error.h"
 #include "features/speech_normaliser.h"
 #include "tracking/track.h"
 
-namespace th::tracking {
+namespace th::eval {
 
 MouthShapes::MouthShapes(const face::FaceModel& face) : fitter_(face) {}
 
 Eigen::MatrixXd MouthShapes::of(const Eigen::MatrixXd& faps, const std::vector<int>& fapNumbers) const {
   if (faps.rows() != static_cast<Eigen::Index>(fapNumbers.size())) throw Error("mouth shapes: one row per FAP number");
   Eigen::MatrixXd shapes(2, faps.cols());
-  FaceFit fit;  // the head at rest, unscaled: the ratios below do not depend on the scale
+  tracking::FaceFit fit;  // the head at rest, unscaled: the ratios below do not depend on the scale
   for (Eigen::Index t = 0; t < faps.cols(); ++t) {
     fit.faps.fill(0.0);
     for (std::size_t k = 0; k < fapNumbers.size(); ++k)
       fit.faps[static_cast<std::size_t>(fapNumbers[k])] = faps(static_cast<Eigen::Index>(k), t);
-    const Landmarks points = fitter_.project(fit);
-    shapes(0, t) = mouthOpening(points);
-    shapes(1, t) = mouthWidth(points);
+    const tracking::Landmarks points = fitter_.project(fit);
+    shapes(0, t) = tracking::mouthOpening(points);
+    shapes(1, t) = tracking::mouthWidth(points);
   }
   return shapes;
 }
@@ -66,8 +66,8 @@ MouthScores scoreMouth(const std::vector<Eigen::MatrixXd>& estimates, const std:
   scores.jaw = scoreCurve(estimate.row(jawRow), truth.row(jawRow));
   scores.opening = scoreCurve(estimateShape.row(0), truthShape.row(0));
   scores.width = scoreCurve(estimateShape.row(1), truthShape.row(1));
-  scores.fapsEpsilon = animation::averageMse(estimate, truth);
-  scores.fapsRho = animation::averageCorrelation(estimate, truth);
+  scores.fapsEpsilon = averageMse(estimate, truth);
+  scores.fapsRho = averageCorrelation(estimate, truth);
   return scores;
 }
 
@@ -107,4 +107,4 @@ Eigen::MatrixXd LevelBaseline::predict(const animation::SpeechFrames& speech) co
   return weights_ * features(speech);
 }
 
-}  // namespace th::tracking
+}  // namespace th::eval

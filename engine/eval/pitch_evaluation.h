@@ -17,7 +17,7 @@
 #include <span>
 #include <vector>
 
-namespace th::features {
+namespace th::eval {
 
 struct F0Track {
   std::vector<double> timesSeconds;  // increasing
@@ -63,4 +63,4 @@ class PitchScore {
   double fineAbsSum_ = 0.0;
 };
 
-}  // namespace th::features
+}  // namespace th::eval

@@ -3,28 +3,28 @@
 #include <gtest/gtest.h>
 
 #include "core/data_path.h"
-#include "features/pitch_corpus.h"
+#include "eval/pitch_corpus.h"
 
 namespace th::features {
 namespace {
 
-PitchScore scoreAt(double framesPerSecond) {
-  const auto corpus = loadPitchCorpus(sharedDataPath("speech/fda-ue"), 0.015);
+th::eval::PitchScore scoreAt(double framesPerSecond) {
+  const auto corpus = th::eval::loadPitchCorpus(sharedDataPath("speech/fda-ue"), 0.015);
   EXPECT_EQ(corpus.size(), 20u);
   FeatureOptions options = batchFeatureOptions();
   options.framesPerSecond = framesPerSecond;
-  return scoreOurTracker(corpus, options);
+  return th::eval::scoreOurTracker(corpus, options);
 }
 
 TEST(PitchAccuracy, FdaUeAtThirtyFramesPerSecond) {
-  const PitchScore score = scoreAt(30.0);
+  const th::eval::PitchScore score = scoreAt(30.0);
   EXPECT_EQ(score.frames(), 3220);
   EXPECT_LT(score.ffe(), 0.075);  // Praat scores 7.5 %, SWIPE 8.6 %, RAPT 9.8 % here
   EXPECT_LT(score.gpe(), 0.015);
 }
 
 TEST(PitchAccuracy, FdaUeAtFiveMilliseconds) {
-  const PitchScore score = scoreAt(200.0);
+  const th::eval::PitchScore score = scoreAt(200.0);
   EXPECT_LT(score.ffe(), 0.055);  // Praat 5.9 %, RAPT 6.2 %, SWIPE 7.1 %
   EXPECT_LT(score.gpe(), 0.01);
   EXPECT_LT(score.fineMeanAbsCents(), 35.0);

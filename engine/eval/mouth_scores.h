@@ -19,9 +19,9 @@
 #include "animation/mouth_data.h"
 #include "face/face_model.h"
 #include "tracking/face_fit.h"
-#include "tracking/talking_corpus.h"
+#include "eval/talking_corpus.h"
 
-namespace th::tracking {
+namespace th::eval {
 
 class MouthShapes {
  public:
@@ -30,7 +30,7 @@ class MouthShapes {
   Eigen::MatrixXd of(const Eigen::MatrixXd& faps, const std::vector<int>& fapNumbers) const;
 
  private:
-  FaceFitter fitter_;
+  tracking::FaceFitter fitter_;
 };
 
 struct CurveScore {
@@ -68,4 +68,4 @@ class LevelBaseline {
   Eigen::MatrixXd weights_;  // FAPs x (2 tc + 2): the context's levels and a constant
 };
 
-}  // namespace th::tracking
+}  // namespace th::eval

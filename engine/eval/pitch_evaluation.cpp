@@ -1,4 +1,4 @@
-#include "features/pitch_evaluation.h"
+#include "eval/pitch_evaluation.h"
 
 #include <algorithm>
 #include <cmath>
@@ -8,7 +8,7 @@
 
 #include "core/error.h"
 
-namespace th::features {
+namespace th::eval {
 
 std::vector<double> sampleTrackAt(const F0Track& track, std::span<const double> timesSeconds,
                                   double maxDistanceSeconds) {
@@ -100,4 +100,4 @@ double PitchScore::fineStdCents() const {
   return std::sqrt(std::max(0.0, fineSquares_ / static_cast<double>(fineCount_) - mean * mean));
 }
 
-}  // namespace th::features
+}  // namespace th::eval

@@ -18,7 +18,7 @@
 #include <Eigen/Core>
 #include <vector>
 
-namespace th::animation {
+namespace th::eval {
 
 struct HeadMotionStatistics {
   double speedP95 = 0.0;          // deg/s
@@ -64,4 +64,4 @@ double stepQuantile(const Eigen::MatrixXd& rotations, double quantile);
 
 HeadMetrics evaluateHead(const Eigen::MatrixXd& predicted, const Eigen::MatrixXd& truth, double jumpThreshold);
 
-}  // namespace th::animation
+}  // namespace th::eval

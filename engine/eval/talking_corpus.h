@@ -20,7 +20,7 @@
 
 #include "tracking/video_training.h"
 
-namespace th::tracking {
+namespace th::eval {
 
 struct TalkingFolder {
   std::filesystem::path folder;
@@ -39,7 +39,7 @@ struct LabelInterval {
 };
 
 struct TalkingClip {
-  VideoClip clip;
+  tracking::VideoClip clip;
   std::string speaker;
   std::vector<LabelInterval> labels;  // phones, or words where labelsAreWords; empty where there are none
   bool labelsAreWords = false;
@@ -47,7 +47,7 @@ struct TalkingClip {
 
 struct TalkingCorpus {
   std::vector<TalkingClip> clips;  // folder by folder, each by name
-  std::vector<SkippedClip> skipped;
+  std::vector<tracking::SkippedClip> skipped;
   std::vector<int> faps;           // the visual rows of every recording
   double trackingSeconds = 0.0;
 };
@@ -55,7 +55,7 @@ struct TalkingCorpus {
 // Every folder's clips through loadVideoCorpus (tracks kept in options.trackFolder / the folder's own name, so
 // that folders keep theirs apart). progress(clipsDone, clipsTotal) over all folders.
 TalkingCorpus loadTalkingCorpus(const std::vector<TalkingFolder>& folders, const face::FaceModel& face,
-                                const VideoCorpusOptions& options = {},
+                                const tracking::VideoCorpusOptions& options = {},
                                 const std::function<void(int, int)>& progress = {});
 
 std::string speakerOfClip(const std::filesystem::path& video);  // the naming rule above, for an empty speaker
@@ -78,4 +78,4 @@ const char* phoneClassName(PhoneClass phoneClass);
 std::vector<PhoneClass> labelClassesAt(const std::vector<LabelInterval>& labels, bool labelsAreWords,
                                        double framesPerSecond, Eigen::Index frames);
 
-}  // namespace th::tracking
+}  // namespace th::eval

@@ -1,4 +1,4 @@
-#include "animation/head_evaluation.h"
+#include "eval/head_evaluation.h"
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
@@ -9,7 +9,7 @@
 #include "core/error.h"
 #include "core/statistics.h"
 
-namespace th::animation {
+namespace th::eval {
 namespace {
 
 void requireSameShape(const Eigen::MatrixXd& predicted, const Eigen::MatrixXd& truth) {
@@ -186,4 +186,4 @@ HeadMetrics evaluateHead(const Eigen::MatrixXd& predicted, const Eigen::MatrixXd
   return metrics;
 }
 
-}  // namespace th::animation
+}  // namespace th::eval

@@ -6,7 +6,9 @@
 
 #include <vector>
 
-#include "animation/animate.h"
+#include "eval/mouth_corpus.h"
+#include "eval/head_corpus.h"
+#include "pipeline/offline.h"
 #include "animation/head_data.h"
 #include "animation/mouth_data.h"
 #include "audio/audio_file.h"
@@ -17,6 +19,8 @@
 namespace {
 
 using namespace th::animation;
+using th::pipeline::animate;
+using th::pipeline::AnimateOptions;
 
 struct Models {
   HeadModel head;
@@ -27,8 +31,8 @@ struct Models {
 const Models& models() {
   static const Models trained = [] {
     Models m;
-    m.head = trainHeadModel({splitByTime(loadBeat2Head(), 0.75).first}, {.startStates = 8, .maxIterations = 30});
-    m.mouthWithoutFaps = trainMouthModel({splitByTime(loadBeat2Mouth(), 0.75).first}, {.states = 3, .mixtures = 1});
+    m.head = trainHeadModel({splitByTime(th::eval::loadBeat2Head(), 0.75).first}, {.startStates = 8, .maxIterations = 30});
+    m.mouthWithoutFaps = trainMouthModel({splitByTime(th::eval::loadBeat2Mouth(), 0.75).first}, {.states = 3, .mixtures = 1});
     m.mouth = m.mouthWithoutFaps;
     m.mouth.fapMap = defineMouthFapMap(th::face::loadIctFace(th::face::ictFaceDirectory()));
     return m;

@@ -13,17 +13,17 @@
 #include "core/error.h"
 #include "core/temporary_file.h"
 #include "face/face_model.h"
-#include "tracking/mouth_scores.h"
-#include "tracking/talking_corpus.h"
+#include "eval/mouth_scores.h"
+#include "eval/talking_corpus.h"
 
 namespace {
 
 namespace fs = std::filesystem;
-using th::tracking::LabelInterval;
-using th::tracking::PhoneClass;
+using th::eval::LabelInterval;
+using th::eval::PhoneClass;
 
 TEST(TalkingCorpus, ReadsGridWordsStyleTalkPhonesAndBeat2PhonesFromTheSharedData) {
-  const std::vector<LabelInterval> words = th::tracking::readGridAlignment(th::sharedDataPath("grid/s1/bbal7s.align"));
+  const std::vector<LabelInterval> words = th::eval::readGridAlignment(th::sharedDataPath("grid/s1/bbal7s.align"));
   ASSERT_EQ(words.size(), 8u);  // sil, six words, sil
   EXPECT_EQ(words[0].label, "sil");
   EXPECT_EQ(words[1].label, "bin");
@@ -34,14 +34,14 @@ TEST(TalkingCorpus, ReadsGridWordsStyleTalkPhonesAndBeat2PhonesFromTheSharedData
 
   const fs::path styletalk = th::sharedDataPath("talking/styletalk");
   const std::vector<LabelInterval> phones =
-      th::tracking::readFramePhones(styletalk / "Obama_clip1_phonemes.json", styletalk / "phindex.json");
+      th::eval::readFramePhones(styletalk / "Obama_clip1_phonemes.json", styletalk / "phindex.json");
   EXPECT_EQ(phones.front().label, "SIL");
   EXPECT_NEAR(phones.back().endSeconds, 599.5 / 30.0, 1e-9) << "600 frames, the last centred at 599 / 30 s";
   int bilabials = 0;
-  for (const LabelInterval& phone : phones) bilabials += th::tracking::phoneClassOf(phone.label) == PhoneClass::kBilabial;
+  for (const LabelInterval& phone : phones) bilabials += th::eval::phoneClassOf(phone.label) == PhoneClass::kBilabial;
   EXPECT_GE(bilabials, 8);
 
-  const std::vector<LabelInterval> beat2 = th::tracking::readTextGridPhones(th::sharedDataPath("beat2/2_scott_0_1_1.TextGrid"));
+  const std::vector<LabelInterval> beat2 = th::eval::readTextGridPhones(th::sharedDataPath("beat2/2_scott_0_1_1.TextGrid"));
   EXPECT_GT(beat2.size(), 300u);
   for (const LabelInterval& phone : beat2) {
     EXPECT_LE(phone.startSeconds, phone.endSeconds);
@@ -50,15 +50,15 @@ TEST(TalkingCorpus, ReadsGridWordsStyleTalkPhonesAndBeat2PhonesFromTheSharedData
 }
 
 TEST(TalkingCorpus, ClassesFramesByPhoneAndGridWordsByTheirBilabialStartAndOpenVowel) {
-  EXPECT_EQ(th::tracking::phoneClassOf("M"), PhoneClass::kBilabial);
-  EXPECT_EQ(th::tracking::phoneClassOf("AA"), PhoneClass::kOpenVowel);
-  EXPECT_EQ(th::tracking::phoneClassOf("UW"), PhoneClass::kRoundedVowel);
-  EXPECT_EQ(th::tracking::phoneClassOf("IY"), PhoneClass::kSpreadVowel);
-  EXPECT_EQ(th::tracking::phoneClassOf("SIL"), PhoneClass::kSilence);
-  EXPECT_EQ(th::tracking::phoneClassOf("K"), PhoneClass::kConsonant);
+  EXPECT_EQ(th::eval::phoneClassOf("M"), PhoneClass::kBilabial);
+  EXPECT_EQ(th::eval::phoneClassOf("AA"), PhoneClass::kOpenVowel);
+  EXPECT_EQ(th::eval::phoneClassOf("UW"), PhoneClass::kRoundedVowel);
+  EXPECT_EQ(th::eval::phoneClassOf("IY"), PhoneClass::kSpreadVowel);
+  EXPECT_EQ(th::eval::phoneClassOf("SIL"), PhoneClass::kSilence);
+  EXPECT_EQ(th::eval::phoneClassOf("K"), PhoneClass::kConsonant);
   // "sil" 0-0.5 s, "bin" 0.5-0.8 s, "at" 0.8-1.1 s, at 100 frames a second.
   const std::vector<LabelInterval> words{{0.0, 0.5, "sil"}, {0.5, 0.8, "bin"}, {0.8, 1.1, "at"}};
-  const std::vector<PhoneClass> classes = th::tracking::labelClassesAt(words, true, 100.0, 120);
+  const std::vector<PhoneClass> classes = th::eval::labelClassesAt(words, true, 100.0, 120);
   EXPECT_EQ(classes[10], PhoneClass::kSilence);
   EXPECT_EQ(classes[50], PhoneClass::kBilabial);
   EXPECT_EQ(classes[57], PhoneClass::kBilabial);
@@ -67,7 +67,7 @@ TEST(TalkingCorpus, ClassesFramesByPhoneAndGridWordsByTheirBilabialStartAndOpenV
   EXPECT_EQ(classes[95], PhoneClass::kOpenVowel);
   EXPECT_EQ(classes[115], PhoneClass::kSilence) << "after the last word";
   const std::vector<PhoneClass> phoneClasses =
-      th::tracking::labelClassesAt({{0.0, 0.1, "SIL"}, {0.1, 0.2, "B"}, {0.2, 0.4, "AA"}}, false, 100.0, 40);
+      th::eval::labelClassesAt({{0.0, 0.1, "SIL"}, {0.1, 0.2, "B"}, {0.2, 0.4, "AA"}}, false, 100.0, 40);
   EXPECT_EQ(phoneClasses[5], PhoneClass::kSilence);
   EXPECT_EQ(phoneClasses[15], PhoneClass::kBilabial);
   EXPECT_EQ(phoneClasses[35], PhoneClass::kOpenVowel);
@@ -84,9 +84,9 @@ TEST(TalkingCorpus, BrokenLabelFilesAreRefusedNamingThem) {
   const fs::path grid = folder.path() / "x.TextGrid";
   std::ofstream(grid) << "File type = \"ooTextFile\"\nitem [1]:\n name = \"words\"\n";
   for (const auto& [file, read] : std::vector<std::pair<fs::path, std::function<void()>>>{
-           {align, [&] { th::tracking::readGridAlignment(align); }},
-           {phones, [&] { th::tracking::readFramePhones(phones, index); }},
-           {grid, [&] { th::tracking::readTextGridPhones(grid); }}}) {
+           {align, [&] { th::eval::readGridAlignment(align); }},
+           {phones, [&] { th::eval::readFramePhones(phones, index); }},
+           {grid, [&] { th::eval::readTextGridPhones(grid); }}}) {
     try {
       read();
       FAIL() << file << " was accepted";
@@ -97,9 +97,9 @@ TEST(TalkingCorpus, BrokenLabelFilesAreRefusedNamingThem) {
 }
 
 TEST(TalkingCorpus, NamesSpeakersByTheClipNameUpToClip) {
-  EXPECT_EQ(th::tracking::speakerOfClip("a/Obama_clip2.mp4"), "Obama");
-  EXPECT_EQ(th::tracking::speakerOfClip("a/andrew_clip_1.mp4"), "andrew");
-  EXPECT_EQ(th::tracking::speakerOfClip("a/KristiNoem.mp4"), "KristiNoem");
+  EXPECT_EQ(th::eval::speakerOfClip("a/Obama_clip2.mp4"), "Obama");
+  EXPECT_EQ(th::eval::speakerOfClip("a/andrew_clip_1.mp4"), "andrew");
+  EXPECT_EQ(th::eval::speakerOfClip("a/KristiNoem.mp4"), "KristiNoem");
 }
 
 // A mouth that moves at random (smoothed) and a sound level that follows it `lagFrames` later, with noise.
@@ -148,20 +148,20 @@ TEST(SoundOffset, FindsASoundPutInLateOrEarlyToAFractionOfAFrame) {
 
 TEST(MouthScores, CorrelationSpreadAndErrorHaveTheirKnownValues) {
   const Eigen::RowVectorXd truth = (Eigen::RowVectorXd(4) << 1.0, -1.0, 2.0, -2.0).finished();
-  const th::tracking::CurveScore doubled = th::tracking::scoreCurve(2.0 * truth, truth);
+  const th::eval::CurveScore doubled = th::eval::scoreCurve(2.0 * truth, truth);
   EXPECT_NEAR(doubled.rho, 1.0, 1e-12);
   EXPECT_NEAR(doubled.spread, 2.0, 1e-12);
   EXPECT_NEAR(doubled.epsilon, 1.0, 1e-12);
-  const th::tracking::CurveScore flat = th::tracking::scoreCurve(Eigen::RowVectorXd::Zero(4), truth);
+  const th::eval::CurveScore flat = th::eval::scoreCurve(Eigen::RowVectorXd::Zero(4), truth);
   EXPECT_EQ(flat.rho, 0.0);
   EXPECT_EQ(flat.spread, 0.0);
   EXPECT_NEAR(flat.epsilon, 1.0, 1e-12) << "the mean scores 1";
-  EXPECT_NEAR(th::tracking::scoreCurve(-truth, truth).rho, -1.0, 1e-12);
+  EXPECT_NEAR(th::eval::scoreCurve(-truth, truth).rho, -1.0, 1e-12);
 }
 
 TEST(MouthShapes, TheJawOpensTheLipsAndTheCornersWidenTheMouth) {
-  const th::face::FaceModel face = th::face::FaceModel::build(th::face::loadIctFace(th::face::ictFaceDirectory()));
-  const th::tracking::MouthShapes shapes(face);
+  const th::face::FaceModel face = th::face::FaceModel::buildDefault();
+  const th::eval::MouthShapes shapes(face);
   // FAP 3 (open_jaw) and FAPs 6/7 (stretch_l/r_cornerlip), in three frames: at rest, the jaw open, the corners out.
   Eigen::MatrixXd faps = Eigen::MatrixXd::Zero(3, 3);
   faps(0, 1) = 400.0;
@@ -183,7 +183,7 @@ TEST(LevelBaseline, LearnsALinearMapFromTheLevel) {
   const Eigen::MatrixXd normalised = th::features::normaliseSpeech({}, 30.0, Eigen::VectorXd::Zero(11),
                                                                    recording.speech.levelDb, recording.speech.mfcc);
   recording.visual = (2.0 * normalised.bottomRows(1)).array() + 100.0;
-  const th::tracking::LevelBaseline baseline({&recording}, 2);
+  const th::eval::LevelBaseline baseline({&recording}, 2);
   const Eigen::MatrixXd predicted = baseline.predict(recording.speech);
   EXPECT_LT((predicted - recording.visual).cwiseAbs().maxCoeff(), 0.01);
 }

@@ -1,0 +1,25 @@
+#include "pipeline/animation_models.h"
+
+#include <string>
+
+#include "core/error.h"
+
+namespace th::pipeline {
+
+AnimationModels loadAnimationModels(const std::filesystem::path& headModel, const std::filesystem::path& mouthModel) {
+  if (headModel.empty() && mouthModel.empty()) throw Error("neither a head nor a mouth model: nothing to animate");
+  AnimationModels models;
+  if (!headModel.empty()) models.head = std::make_unique<animation::HeadModel>(animation::loadHeadModel(headModel));
+  if (!mouthModel.empty()) {
+    models.mouth = std::make_unique<animation::MouthModel>(animation::loadMouthModel(mouthModel));
+    if (!animation::drivesFaps(*models.mouth))
+      throw fileError(mouthModel, "drives no FAPs (a sweep model?); make one with `talkinghead train mouth`");
+  }
+  return models;
+}
+
+std::filesystem::path shippedModel(std::string_view file) {
+  return std::filesystem::path(TALKINGHEAD_SOURCE_DIR) / "models" / std::string(file);
+}
+
+}  // namespace th::pipeline

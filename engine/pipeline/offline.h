@@ -1,0 +1,50 @@
+// The offline path, whole recordings without a real-time constraint: what `animate`, `export`, `render`, `eval`
+// and `sidebyside` run. Read top to bottom, it is the flow:
+//
+//   recording ─► speech features, computed once (animation/speech_analysis.h)
+//             ─► head model: prosody ─► rotations ─► FAPs 48–50 ───┐
+//             ─► mouth model: MFCCs ─► visual components ─► jaw and lip FAPs
+//             ─► idle behaviour: blinks, gaze, the head at rest in silence
+//             ─► FapTrack ─► an animation file (formats/), or the face rendered and encoded (video_export.h)
+//
+//   const th::pipeline::AnimationModels models = th::pipeline::loadAnimationModels(headPath, mouthPath);
+//   th::face::FapTrack track = th::pipeline::animate(clip.samples, models, {});
+//   th::formats::writeAnimation("speech.fap", track);
+//
+// Frame i is at i / 30 s for both parts. Head rotations are relative to the model's mean pose (the face's rest
+// pose looks ahead). A model left out leaves its FAPs out.
+// Thread contract: pure functions; models are shared read-only.
+#pragma once
+
+#include <filesystem>
+#include <span>
+
+#include "animation/head_model.h"
+#include "animation/idle_motion.h"
+#include "animation/mouth_model.h"
+#include "animation/speech_analysis.h"
+#include "audio/audio_file.h"
+#include "face/fap_track.h"
+#include "pipeline/animation_models.h"
+
+namespace th::pipeline {
+
+struct AnimateOptions {
+  animation::HeadSynthesisOptions head = {};    // variant; maxLagFrames ≥ 0 for the online (fixed-lag) decoder
+  animation::MouthSynthesisOptions mouth = {};  // method; windowFrames > 0 for the streaming inversion
+  bool idle = true;                             // blinks, gaze shifts and the head at rest in silence
+  animation::IdleMotionOptions idleOptions = {};
+};
+
+// samples16k: mono at 16 kHz. Throws th::Error if both models are null, the mouth model drives no FAPs (no
+// FAP map and no visual FAPs), or the recording is shorter than one frame.
+face::FapTrack animate(std::span<const float> samples16k, const animation::HeadModel* head,
+                       const animation::MouthModel* mouth, const AnimateOptions& options = {});
+face::FapTrack animate(std::span<const float> samples16k, const AnimationModels& models, const AnimateOptions& options = {});
+
+// A recording file (any that audio/media_audio.h reads, a video's sound track included) animated: the track
+// named after the file, errors naming it. `clip`, if given, receives the sound.
+face::FapTrack animateRecording(const std::filesystem::path& recording, const AnimationModels& models,
+                                const AnimateOptions& options = {}, audio::AudioClip* clip = nullptr);
+
+}  // namespace th::pipeline
