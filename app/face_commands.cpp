@@ -28,7 +28,8 @@
 #include "render/gl_context.h"
 #include "render/image.h"
 #include "pipeline/video_export.h"
-#include "animation_models.h"
+#include "cli_options.h"
+#include "pipeline/options.h"
 #include "face_stage.h"
 #include "text_overlay.h"
 #include "formats/animation_format.h"
@@ -46,21 +47,21 @@ struct RenderArguments {
   std::string output;
   std::string size = "640x480";
   double fps = 0.0;  // 0: the animation's
-  MotionControls motion;
+  pipeline::IdleOptions idle;
 };
 
 // A file made elsewhere (or with --no-idle) may lack blinks and gaze: they are added unless it has its own
 // eyelids. With no sound to hear, the head stays as the file has it.
-void addIdleIfMissing(face::FapTrack& animation, const MotionControls& motion) {
-  if (animation.rowOf(19) >= 0 || animation.rowOf(20) >= 0) return;
-  animation::addIdleMotion(animation, Eigen::RowVectorXd(), idleOptionsOf(motion), {});
+void addIdleIfMissing(face::FapTrack& animation, const pipeline::IdleOptions& idle) {
+  if (!idle.idle || animation.rowOf(19) >= 0 || animation.rowOf(20) >= 0) return;
+  animation::addIdleMotion(animation, Eigen::RowVectorXd(), idle.motionOptions(), {});
 }
 
 void runRender(const RenderArguments& arguments) {
   InterruptGuard guard;
   const auto [width, height] = parseSize(arguments.size);
   face::FapTrack animation = formats::readAnimation(arguments.animation);
-  if (arguments.motion.idle) addIdleIfMissing(animation, arguments.motion);
+  addIdleIfMissing(animation, arguments.idle);
   const std::filesystem::path folder = arguments.output;
   std::error_code error;
   std::filesystem::create_directories(folder, error);
@@ -170,9 +171,9 @@ struct ExportArguments {
   std::string animation;              // --anim: play this instead of the models' animation
   std::vector<std::string> saveAnimation;  // --save-anim: .fap / .csv / .json beside the video
   std::string arkit;                  // --arkit: ARKit blendshape weights CSV
-  std::string headModel = defaultHeadModel();
-  std::string mouthModel = defaultMouthModel();
-  MotionControls motion;
+  pipeline::ModelOptions models;
+  pipeline::HeadMotionOptions head;
+  pipeline::IdleOptions idle;
   int crf = 20;
   std::string preset = "veryfast";
 };
@@ -198,12 +199,11 @@ void runExport(const ExportArguments& arguments) {
   if (!arguments.animation.empty()) {
     clip = audio::readRecording(arguments.input);
     animation = formats::readAnimation(arguments.animation);
-    if (arguments.motion.idle) addIdleIfMissing(animation, arguments.motion);
+    addIdleIfMissing(animation, arguments.idle);
   } else {
-    pipeline::AnimateOptions options;
-    applyMotionControls(arguments.motion, options);
-    animation = pipeline::animateRecording(
-        arguments.input, pipeline::loadAnimationModels(arguments.headModel, arguments.mouthModel), options, &clip);
+    animation = pipeline::animateRecording(arguments.input, pipeline::loadModels(arguments.models),
+                                           pipeline::animateOptionsOf(arguments.models, arguments.head, arguments.idle),
+                                           &clip);
   }
   if (clip.samples.empty()) throw fileError(arguments.input, "has no samples");
 
@@ -234,7 +234,7 @@ void addFaceCommands(CLI::App& app) {
   render->add_option("--size", renderArguments->size, "WIDTHxHEIGHT")->capture_default_str();
   render->add_option("--fps", renderArguments->fps, "Frames per second (default: the animation's)")
       ->check(CLI::Range(1.0, 240.0));
-  addIdleControls(*render, renderArguments->motion);
+  addOptions(*render, renderArguments->idle);
   render->callback([renderArguments] { runRender(*renderArguments); });
 
   auto posesArguments = std::make_shared<PosesArguments>();
@@ -267,8 +267,9 @@ void addFaceCommands(CLI::App& app) {
   exporter->add_option("--save-anim", exportArguments->saveAnimation,
                        "Also write the animation (.fap MPEG-4 FAP stream, .csv or .json); repeatable");
   exporter->add_option("--arkit", exportArguments->arkit, "Also write ARKit blendshape weights (CSV: time_s + 52 names)");
-  addModelFileOptions(*exporter, exportArguments->headModel, exportArguments->mouthModel);
-  addMotionControls(*exporter, exportArguments->motion);
+  addOptions(*exporter, exportArguments->models);
+  addOptions(*exporter, exportArguments->head);
+  addOptions(*exporter, exportArguments->idle);
   exporter->add_option("--crf", exportArguments->crf, "H.264 quality (lower is better and larger)")->check(CLI::Range(0, 51))->capture_default_str();
   exporter->add_option("--preset", exportArguments->preset, "x264 preset (ultrafast ... veryslow)")->capture_default_str();
   exporter->callback([exportArguments] { runExport(*exportArguments); });

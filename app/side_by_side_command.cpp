@@ -1,5 +1,5 @@
 // `talkinghead sidebyside CLIP -o OUT.mp4`: the original talking video on the left and our face on the right,
-// driven by the clip's sound alone (the mouth model, and the head model unless --still-head), with the clip's
+// driven by the clip's sound alone (the mouth model, and the head model unless --head none), with the clip's
 // sound: for a person to judge a model trained from video (`train --video`) against the speaker it learnt.
 #include <algorithm>
 #include <cmath>
@@ -11,7 +11,8 @@
 #include <string>
 
 #include "pipeline/offline.h"
-#include "animation_models.h"
+#include "cli_options.h"
+#include "pipeline/options.h"
 #include "commands.h"
 #include "core/atomic_file.h"
 #include "core/error.h"
@@ -32,10 +33,9 @@ namespace {
 struct SideBySideArguments {
   std::string clip;
   std::string output;
-  std::string headModel = defaultHeadModel();
-  std::string mouthModel = defaultMouthModel();
-  bool stillHead = false;
-  MotionControls motion;
+  pipeline::ModelOptions models;
+  pipeline::HeadMotionOptions head;
+  pipeline::IdleOptions idle;
   int height = 0;  // 0: the clip's (made even)
   // A .png output: a film strip of the stretch [fromSeconds, fromSeconds + seconds), every `every`-th video frame,
   // the clip's mouth above the face's.
@@ -111,15 +111,13 @@ void runSideBySide(const SideBySideArguments& arguments) {
   if (!strip && lowercaseExtension(output) != ".mp4")
     throw fileError(output, "a side-by-side video is an .mp4 file (or a .png film strip)");
   checkOutputTarget(output);
-  const AnimationModels models = loadAnimationModels("sidebyside", arguments.stillHead ? "none" : "trajectory",
-                                                     arguments.headModel, "inversion", arguments.mouthModel);
+  const pipeline::AnimationModels models = pipeline::loadModels(arguments.models);
   tracking::VideoReader clip(arguments.clip);
   const audio::AudioClip sound = tracking::readClipSound(arguments.clip);
   face::FapTrack animation;
   try {
-    pipeline::AnimateOptions options;
-    applyMotionControls(arguments.motion, options);
-    animation = pipeline::animate(sound.samples, models.head.get(), models.mouth.get(), options);
+    animation = pipeline::animate(sound.samples, models,
+                                  pipeline::animateOptionsOf(arguments.models, arguments.head, arguments.idle));
   } catch (const Error& error) {
     throw fileError(arguments.clip, error.what());
   }
@@ -157,7 +155,7 @@ void runSideBySide(const SideBySideArguments& arguments) {
     for (int y = 0; y < height; ++y) std::copy_n(face.pixel(0, y), half * 3, canvas.pixel(half, y));
     const int scale = height >= 480 ? 2 : 1;
     drawLabel(canvas, 6, 6, "video", scale);
-    drawLabel(canvas, half + 6, 6, "from its sound: " + std::filesystem::path(arguments.mouthModel).filename().string(), scale);
+    drawLabel(canvas, half + 6, 6, "from its sound: " + arguments.models.mouthModelPath().filename().string(), scale);
     writer.addVideoFrame(canvas.pixels.data(), canvas.width * 3);
     bar.update(static_cast<double>(f + 1));
   }
@@ -179,11 +177,9 @@ void addSideBySideCommand(CLI::App& app) {
   command->add_option("--from", arguments->fromSeconds, ".png: where the strip starts (seconds)")->check(CLI::Range(0.0, 1e6));
   command->add_option("--seconds", arguments->seconds, ".png: how long it lasts")->check(CLI::Range(0.01, 60.0));
   command->add_option("--every", arguments->every, ".png: video frames between tiles")->check(CLI::Range(1, 1000));
-  command->add_option("--mouth-model", arguments->mouthModel, "Mouth model file (e.g. one from train --video)")
-      ->capture_default_str();
-  command->add_option("--head-model", arguments->headModel, "Head model file")->capture_default_str();
-  command->add_flag("--still-head", arguments->stillHead, "The face's head still: the mouth alone");
-  addMotionControls(*command, arguments->motion);
+  addOptions(*command, arguments->models);  // --head none: the face's head still, the mouth alone
+  addOptions(*command, arguments->head);
+  addOptions(*command, arguments->idle);
   command->add_option("--height", arguments->height, "Output height in pixels (default: the clip's)")
       ->check(CLI::Range(64, 2160));
   command->callback([arguments] { runSideBySide(*arguments); });

@@ -41,6 +41,7 @@
 #include "face/face_model.h"
 #include "pipeline/live_decoder.h"
 #include "pipeline/live_presets.h"
+#include "pipeline/options.h"
 #include "pipeline/live_session.h"
 #include "pipeline/playout.h"
 #include "render/camera.h"
@@ -287,11 +288,15 @@ int main(int argc, char** argv) {
     }
     for (std::size_t p = 0; p < th::pipeline::kLivePresets.size(); ++p) {
       const th::pipeline::LivePreset& preset = th::pipeline::kLivePresets[p];
+      // The preset's values as the live command applies them (pipeline/options.h).
+      th::pipeline::LiveSettings applied;
+      th::pipeline::applyLivePreset(applied, preset.name);
       LiveDecoderOptions options;
-      options.mouth.windowFrames = preset.windowFrames;
+      options.mouth.windowFrames = applied.streaming.window;
+      const bool interpolate = applied.live.interpolate;
       settings.push_back({"preset " + std::string(preset.name) + ": " + std::string(preset.mouthModelFile) + ", window " +
-                              std::to_string(preset.windowFrames) + (preset.interpolate ? ", interpolated" : ", newest frame"),
-                          options, preset.interpolate, &mouths[p]});
+                              std::to_string(applied.streaming.window) + (interpolate ? ", interpolated" : ", newest frame"),
+                          options, interpolate, &mouths[p]});
     }
     double baselineMedian = 0.0;
     for (const Setting& setting : settings) {

@@ -1,7 +1,8 @@
 // The live pipeline's presets: which mouth model (a file in models/), inversion window and display mode trade
-// latency for accuracy. Measured by bench/latency_bench (onset → rendered mouth) and `talkinghead eval mouth
-// --recipe-context C --recipe-window W --recipe-inversion` (on held-out GRID clips and speakers left out); the
-// README lists the figures.
+// latency for accuracy. A preset is a few option values by name (pipeline/options.h), set as if typed.
+// Measured by bench/latency_bench (onset → rendered mouth) and `talkinghead eval mouth --recipe-context C
+// --recipe-window W --recipe-inversion` (on held-out GRID clips and speakers left out); docs/results.md lists the
+// figures.
 //
 // Thread contract: constants.
 #pragma once
@@ -11,18 +12,27 @@
 
 namespace th::pipeline {
 
-struct LivePreset {
-  std::string_view name;
-  std::string_view mouthModelFile;  // in models/: made by `talkinghead train mouth --context tc`
-  int windowFrames;                 // inversion window: windowFrames - 1 frames of look-ahead
-  bool interpolate;                 // display: smooth 60 Hz motion (+ a frame and the jitter margin)
-  std::string_view summary;
+struct PresetValue {
+  std::string_view option;  // an option's name (pipeline/options.h)
+  std::string_view value;   // as typed on the command line
 };
 
+struct LivePreset {
+  std::string_view name;
+  std::string_view summary;
+  std::string_view mouthModelFile;  // in models/: made by `talkinghead train mouth --context tc`
+  std::array<PresetValue, 2> values;
+};
+
+inline constexpr std::array<std::string_view, 3> kLivePresetNames{"default", "low-latency", "accurate"};
+
 inline constexpr std::array<LivePreset, 3> kLivePresets{{
-    {"default", "mouth_live.json", 1, false, "MFCC context +-1 frame, window 1, newest frame shown"},
-    {"low-latency", "mouth_instant.json", 1, false, "no MFCC context (the mouth waits only for its MFCC window)"},
-    {"accurate", "mouth.json", 2, true, "the offline model (context +-2), window 2, interpolated 60 Hz motion"},
+    {"default", "MFCC context +-1 frame, window 1, newest frame shown", "mouth_live.json",
+     {{{"window", "1"}, {"interpolate", "false"}}}},
+    {"low-latency", "no MFCC context (the mouth waits only for its MFCC window)", "mouth_instant.json",
+     {{{"window", "1"}, {"interpolate", "false"}}}},
+    {"accurate", "the offline model (context +-2), window 2, interpolated 60 Hz motion", "mouth.json",
+     {{{"window", "2"}, {"interpolate", "true"}}}},
 }};
 
 // The preset called `name`, or nullptr.

@@ -86,9 +86,9 @@ TEST_F(LiveCliTest, BadInputFailsInOneLineAndLeavesNoDump) {
   std::ofstream(settings) << "{ not json";
   expectOneLineFailure(runCli({"live", "--input", speech().string(), "--settings", settings.string()}, logs()),
                        "settings.json", "not valid JSON");
-  std::ofstream(settings) << R"({"window_frames": 0})";
+  std::ofstream(settings) << R"({"window": 0})";
   expectOneLineFailure(runCli({"live", "--input", speech().string(), "--settings", settings.string()}, logs()),
-                       "settings.json", "window_frames");
+                       "settings.json", "window");
   std::ofstream(settings) << R"({"head_variation": 9})";
   expectOneLineFailure(runCli({"live", "--input", speech().string(), "--settings", settings.string()}, logs()),
                        "settings.json", "head_variation");
@@ -136,7 +136,7 @@ TEST_F(LiveCliTest, TheWindowDrawsTheFaceAndThePanelAndKeepsItsSettings) {
   EXPECT_GT(plotted, 200);
   ASSERT_TRUE(fs::exists(settings));
   const std::string saved = th::test::readText(settings);
-  for (const std::string expected : {"\"window_frames\": 3", "\"head_amplitude\": 1.5", "\"head_smoothing\": 2.0",
+  for (const std::string expected : {"\"window\": 3", "\"head_amplitude\": 1.5", "\"head_smoothing\": 2.0",
                                      "\"idle\": false", "\"seed\": 4"})
     EXPECT_NE(saved.find(expected), std::string::npos) << expected << " in " << saved;
   // The next time, without the options: the saved settings. (And without the loop's cap: frames as fast as

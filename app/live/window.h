@@ -1,11 +1,11 @@
-// `talkinghead live` with a window: the face driven by the live pipeline, drawn with OpenGL in a GLFW window,
-// and a Dear ImGui panel (source, models and their settings, plots, latency, counters).
+// `talkinghead live` with a window: the live pipeline's frames (pipeline/live.h) played out (pipeline/playout.h)
+// on the face (render/animated_face.h) in a GLFW window, with the Dear ImGui panel (panel.h) beside it.
+//
+//   th::app::runLiveWindow({.input = "speech.wav", .settingsPath = path}, settings);
 //
 // Threads (DESIGN.md, "Live"): PortAudio's callback writes into the session's ring; the session's worker
-// decodes; this thread (the main one: GLFW wants it) takes the frames, plays them out (pipeline/playout.h),
-// renders and runs the panel. Changing a model or a decoder setting hands the worker a new decoder, warmed up
-// on the last seconds of speech (LiveSession::replaceDecoder), so the face does not stop. A sound input that
-// goes away is retried every two seconds, and the panel says so.
+// decodes; this thread (the main one: GLFW wants it) takes the frames, plays them out, renders and runs the
+// panel, in the Dear ImGui example's order: poll → take frames → draw the face → draw the panel → swap.
 //
 // Thread contract: call from the main thread.
 #pragma once
@@ -13,12 +13,12 @@
 #include <filesystem>
 #include <string>
 
-#include "live_settings.h"
+#include "pipeline/options.h"
 
 namespace th::app {
 
 struct LiveWindowArguments {
-  std::string input;                   // a recording, played in a loop, instead of a sound input
+  std::string input;                   // a recording, played in a loop and aloud, instead of a sound input
   std::filesystem::path settingsPath;  // saved here when the window closes (empty: not saved)
   std::string screenshot;              // save the window as PNG after `frames` frames and quit
   int frames = 90;
@@ -29,6 +29,6 @@ struct LiveWindowArguments {
   double maxFps = 60.0;
 };
 
-void runLiveWindow(const LiveWindowArguments& arguments, LiveSettings settings);
+void runLiveWindow(const LiveWindowArguments& arguments, pipeline::LiveSettings settings);
 
 }  // namespace th::app

@@ -1,0 +1,99 @@
+#include "cli_options.h"
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+namespace th::app {
+namespace {
+
+std::string helpOf(const OptionSpec& spec) {
+  std::string help(spec.help);
+  if (!spec.unit.empty()) help += " (" + std::string(spec.unit) + ")";
+  return help;
+}
+
+class CliBinder final : public OptionVisitor {
+ public:
+  explicit CliBinder(CLI::App& command) : command_(command) {}
+
+  void option(bool& value, const OptionSpec& spec) override {
+    if (value) {
+      command_.add_flag(flagOf(spec, true), [&value](std::int64_t) { value = false; },
+                        "Turn off " + helpOf(spec) + " (on by default)");
+    } else {
+      command_.add_flag(flagOf(spec, false), value, helpOf(spec));
+    }
+  }
+  void option(int& value, const OptionSpec& spec) override { number(value, spec); }
+  void option(unsigned& value, const OptionSpec& spec) override { number(value, spec); }
+  void option(double& value, const OptionSpec& spec) override { number(value, spec); }
+  void option(std::string& value, const OptionSpec& spec) override {
+    CLI::Option* option = command_.add_option(flagOf(spec, false), value, helpOf(spec));
+    if (!spec.choices.empty()) {
+      std::vector<std::string> names(spec.choices.begin(), spec.choices.end());
+      option->check(CLI::IsMember(names));
+    }
+    if (!value.empty()) option->capture_default_str();
+  }
+
+ private:
+  template <typename T>
+  void number(T& value, const OptionSpec& spec) {
+    CLI::Option* option = command_.add_option(flagOf(spec, false), value, helpOf(spec));
+    if (std::isfinite(spec.min) && std::isfinite(spec.max)) option->check(CLI::Range(static_cast<T>(spec.min), static_cast<T>(spec.max)));
+    option->capture_default_str();
+  }
+
+  CLI::App& command_;
+};
+
+// The typed options' current values (as bound), under their settings keys.
+class TypedCollector final : public OptionVisitor {
+ public:
+  explicit TypedCollector(const CLI::App& command) : command_(command) {}
+  Json typed = Json::object();
+
+  void option(bool& value, const OptionSpec& spec) override {
+    // Either flag form counts; the bound value is already what was typed.
+    if (has(flagOf(spec, true)) || has(flagOf(spec, false))) typed[settingsKey(spec.name)] = value;
+  }
+  void option(int& value, const OptionSpec& spec) override { take(value, spec); }
+  void option(unsigned& value, const OptionSpec& spec) override { take(value, spec); }
+  void option(double& value, const OptionSpec& spec) override { take(value, spec); }
+  void option(std::string& value, const OptionSpec& spec) override { take(value, spec); }
+
+ private:
+  template <typename T>
+  void take(const T& value, const OptionSpec& spec) {
+    if (has(flagOf(spec, false))) typed[settingsKey(spec.name)] = value;
+  }
+  bool has(const std::string& flag) const {
+    try {
+      return command_.count(flag) > 0;
+    } catch (const CLI::OptionNotFound&) {
+      return false;
+    }
+  }
+
+  const CLI::App& command_;
+};
+
+}  // namespace
+
+std::string flagOf(const OptionSpec& spec, bool boolOnByDefault) {
+  return (boolOnByDefault ? "--no-" : "--") + std::string(spec.name);
+}
+
+void addOptionsFrom(CLI::App& command, const std::function<void(OptionVisitor&)>& visit) {
+  CliBinder binder(command);
+  visit(binder);
+}
+
+Json typedOptionsFrom(const CLI::App& command, const std::function<void(OptionVisitor&)>& visit) {
+  TypedCollector collector(command);
+  visit(collector);
+  return collector.typed;
+}
+
+}  // namespace th::app

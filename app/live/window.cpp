@@ -1,0 +1,422 @@
+// glad before GLFW: glad's header stands in for the system GL header that GLFW would otherwise pull in.
+#include <glad/gl.h>
+#include <GLFW/glfw3.h>
+#include <imgui.h>
+#include <imgui_impl_glfw.h>
+#include <imgui_impl_opengl3.h>
+
+#include "live/window.h"
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cstdio>
+#include <iostream>
+#include <memory>
+#include <string>
+#include <thread>
+
+#include "animation/idle_motion.h"
+#include "audio/media_audio.h"
+#include "core/error.h"
+#include "interrupt.h"
+#include "live/frame_stats.h"
+#include "live/panel.h"
+#include "live/settings_file.h"
+#include "pipeline/live.h"
+#include "pipeline/playout.h"
+#include "render/animated_face.h"
+#include "render/gl_context.h"
+#include "render/image.h"
+#include "window_capture.h"
+
+namespace th::app {
+namespace {
+
+double secondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+double millisecondsBetween(std::chrono::steady_clock::time_point from, std::chrono::steady_clock::time_point to) {
+  return std::chrono::duration<double, std::milli>(to - from).count();
+}
+
+// 4x MSAA costs llvmpipe about three times the frame's CPU time: without a GPU, the 60 frames a second matter
+// more than smooth edges.
+int samplesFor(render::WindowContext& window, int asked) {
+  if (asked > 0) return asked;
+  return window.description().find("llvmpipe") != std::string::npos ? 1 : 4;
+}
+
+std::shared_ptr<const pipeline::AnimationModels> loadModelsOf(const pipeline::LiveSettings& settings) {
+  return std::make_shared<const pipeline::AnimationModels>(pipeline::loadModels(settings));
+}
+
+// The panel's column is drawn again only when what it shows changes, if the window's back buffer keeps its
+// pixels from one frame to the next. GL leaves them undefined after a swap; Mesa's software path (llvmpipe under
+// X) keeps them, a GPU's swap chain does not. So it is checked: a frame leaves a mark in a corner of the column
+// (one pixel, for one frame), and the next reads it back before drawing anything. Found: the column is kept; not
+// found: drawn every frame from then on. Checked again after a resize, and every 10 s while found (a mark one
+// pixel wide for one frame does not show).
+class KeptColumnCheck {
+ public:
+  enum class State { kToMark, kToRead, kKept, kNotKept };
+
+  void again() { state_ = State::kToMark; }
+  bool reading() const { return state_ == State::kToRead; }
+  bool kept() const { return state_ == State::kKept; }
+  bool marking() const { return state_ == State::kToMark; }
+
+  // At the loop's top: a kept column is checked again every 10 s.
+  void tick() {
+    if (state_ == State::kKept && std::chrono::steady_clock::now() - checkedAt_ > std::chrono::seconds(10))
+      state_ = State::kToMark;
+  }
+
+  void mark(std::pair<int, int> size) {
+    glEnable(GL_SCISSOR_TEST);
+    glScissor(0, size.second - 1, 1, 1);
+    glClearColor(kMark[0] / 255.0f, kMark[1] / 255.0f, kMark[2] / 255.0f, 1.0f);
+    glClear(GL_COLOR_BUFFER_BIT);
+    glDisable(GL_SCISSOR_TEST);
+    state_ = State::kToRead;
+  }
+
+  void read(std::pair<int, int> size) {
+    std::array<std::uint8_t, 4> pixel{};
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
+    glReadBuffer(GL_BACK);
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    glReadPixels(0, size.second - 1, 1, 1, GL_RGBA, GL_UNSIGNED_BYTE, pixel.data());
+    const bool found = std::equal(kMark.begin(), kMark.end(), pixel.begin());
+    checkedAt_ = std::chrono::steady_clock::now();
+    const bool first = !reported_;
+    reported_ = true;
+    state_ = found ? State::kKept : State::kNotKept;
+    if (first || !found)  // said once, and again if it stops keeping them
+      std::cout << "live: the window's back buffer " << (found ? "keeps" : "does not keep")
+                << " its pixels between frames: the panel is drawn " << (found ? "when it changes" : "every frame")
+                << std::endl;
+  }
+
+ private:
+  static constexpr std::array<std::uint8_t, 3> kMark{17, 201, 83};
+  State state_ = State::kToMark;
+  std::chrono::steady_clock::time_point checkedAt_;
+  bool reported_ = false;
+};
+
+class LiveWindow {
+ public:
+  LiveWindow(const LiveWindowArguments& arguments, pipeline::LiveSettings settings)
+      : arguments_(arguments),
+        settings_(std::move(settings)),
+        model_(face::FaceModel::buildDefault()),
+        window_({.width = 1280, .height = 720, .title = "talkinghead live", .visible = true, .vsync = true, .depth = true}),
+        face_(model_, window_,
+              {.width = 1280 - LivePanel::widthFor(1280), .height = 720, .samples = samplesFor(window_, arguments.msaa)}),
+        playout_(pipeline::PlayoutOptions{.interpolate = settings_.live.interpolate}),
+        idle_(settings_.idle.motionOptions()) {
+    models_ = loadModelsOf(settings_);  // a bad model file is an error before the window is of any use
+    panel_.showModelPaths(settings_.models.headModelPath().string(), settings_.mouthModelPath().string());
+    pipeline::LiveSource source;
+    if (!arguments_.input.empty()) {
+      source.recording = audio::readRecording(arguments_.input).samples;
+      if (source.recording.empty()) throw fileError(arguments_.input, "has no samples");
+      source.name = arguments_.input;
+    } else {
+      source.device = settings_.live.deviceIndex();
+    }
+    // A recording is played aloud and in a loop, and its sound is the face's clock: each frame shows the
+    // instant heard when it is swapped in. Without an output device the face still moves, on the playout's clock.
+    live_ = std::make_unique<pipeline::LivePipeline>(
+        models_, std::move(source),
+        pipeline::LivePipelineOptions{.decoder = settings_.decoderOptions(), .loop = true, .playAloud = true});
+    IMGUI_CHECKVERSION();
+    ImGui::CreateContext();
+    ImGui::GetIO().IniFilename = nullptr;  // no imgui.ini in the working folder
+    ImGui::StyleColorsDark();
+    // Input marks the panel for drawing (panelNeedsDrawing). Set first: ImGui's back-end calls them on.
+    glfwSetWindowUserPointer(window_.window(), this);
+    glfwSetMouseButtonCallback(window_.window(), [](GLFWwindow* w, int, int, int) { noteInput(w); });
+    glfwSetScrollCallback(window_.window(), [](GLFWwindow* w, double, double) { noteInput(w); });
+    glfwSetKeyCallback(window_.window(), [](GLFWwindow* w, int, int, int, int) { noteInput(w); });
+    glfwSetCharCallback(window_.window(), [](GLFWwindow* w, unsigned int) { noteInput(w); });
+    glfwSetCursorEnterCallback(window_.window(), [](GLFWwindow* w, int) { noteInput(w); });
+    ImGui_ImplGlfw_InitForOpenGL(window_.window(), true);
+    ImGui_ImplOpenGL3_Init("#version 330 core");
+    live_->supervise();
+    handleEvents();
+    const pipeline::LiveSettings& s = settings_;
+    std::cout << "live: preset " << s.live.preset << ", head " << s.models.head << " (lag " << s.streaming.lag
+              << "), mouth " << s.models.mouth << " (" << s.live.covariance << " covariance, window " << s.streaming.window
+              << ", " << s.live.iterations << " iterations), " << s.mouthModelPath().string() << "; "
+              << (live_->sourceError().empty() ? live_->sourceName() : live_->sourceError()) << std::endl;
+  }
+
+  ~LiveWindow() {
+    live_.reset();
+    ImGui_ImplOpenGL3_Shutdown();
+    ImGui_ImplGlfw_Shutdown();
+    ImGui::DestroyContext();
+  }
+
+  LiveWindow(const LiveWindow&) = delete;
+  LiveWindow& operator=(const LiveWindow&) = delete;
+
+  // The loop, in the Dear ImGui example's order.
+  void run() {
+    InterruptGuard interrupts;
+    const auto started = std::chrono::steady_clock::now();
+    std::pair<int, int> lastSize{0, 0};
+    while (!window_.shouldClose() && !InterruptGuard::requested()) {
+      if (arguments_.duration > 0.0 && secondsSince(started) >= arguments_.duration) break;
+      const auto loopStart = std::chrono::steady_clock::now();
+      glfwPollEvents();
+      const auto size = window_.framebufferSize();
+      if (size.first <= 0 || size.second <= 0) {  // minimised: keep the pipeline drained
+        takeFrames();
+        std::this_thread::sleep_for(std::chrono::milliseconds(16));
+        continue;
+      }
+      const bool resized = size != lastSize;
+      if (resized) {
+        panelWidth_ = LivePanel::widthFor(size.first);
+        face_.resize(size.first - panelWidth_, size.second);
+        lastSize = size;
+        keptColumn_.again();  // new buffers: check again
+      }
+      takeFrames();
+      const auto drawStart = std::chrono::steady_clock::now();
+      keptColumn_.tick();
+      const bool checking = keptColumn_.reading();
+      if (checking) keptColumn_.read(size);
+      const bool panelNow = resized || checking || !keptColumn_.kept() || panelNeedsDrawing();
+      if (panelNow) {
+        // The panel's background is this clear (llvmpipe clears with a memset, where ImGui's window background
+        // would be a blended quad the size of the column); the face's part is then drawn over.
+        const ImVec4 background = ImGui::GetStyle().Colors[ImGuiCol_WindowBg];
+        glClearColor(background.x, background.y, background.z, 1.0f);
+        glClear(GL_COLOR_BUFFER_BIT);
+      }
+      FrameTimes times;
+      drawFace(times);
+      const auto faceDone = std::chrono::steady_clock::now();
+      if (panelNow) {
+        drawPanel(size);
+        if (keptColumn_.marking()) keptColumn_.mark(size);
+      }
+      const auto panelDone = std::chrono::steady_clock::now();
+      if (!arguments_.screenshot.empty() && static_cast<int>(stats_.framesDrawn()) + 1 >= arguments_.frames) {
+        render::writePng(arguments_.screenshot, grabWindow(size));
+        std::cout << "wrote " << arguments_.screenshot << '\n';
+        break;
+      }
+      window_.swapBuffers();
+      const auto swapped = std::chrono::steady_clock::now();
+      noteSoundToLips();
+      times.glMs = millisecondsBetween(drawStart, faceDone) - times.faceSetupMs;
+      times.panelMs = panelNow ? millisecondsBetween(faceDone, panelDone) : -1.0;
+      times.swapMs = millisecondsBetween(panelDone, swapped);
+      times.busyMs = millisecondsBetween(loopStart, swapped);
+      times.periodMs = millisecondsBetween(lastSwap_, swapped);
+      lastSwap_ = swapped;
+      stats_.frameDrawn(times);
+      // No vsync (Xvfb, some drivers): hold the loop near its cap (60 Hz) rather than spin.
+      if (arguments_.maxFps > 0.0) {
+        const auto tick = std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+            std::chrono::duration<double>(1.0 / arguments_.maxFps));
+        nextTick_ = std::max(nextTick_ + tick, std::chrono::steady_clock::now() - std::chrono::milliseconds(50));
+        std::this_thread::sleep_until(nextTick_);
+      }
+    }
+    saveLiveSettings(arguments_.settingsPath, settings_);
+    stats_.printSummary(secondsSince(started), panelDraws_);
+    if (!live_->isRecording())
+      std::printf("sound inputs: %llu opened, %llu lost\n", static_cast<unsigned long long>(live_->sessionsStarted()),
+                  static_cast<unsigned long long>(live_->sourcesLost()));
+    if (const audio::Playback* playback = live_->playback(); playback != nullptr && playback->firstSoundNs() != 0)
+      stats_.printSoundToLips(static_cast<double>(playback->firstSoundNs()) * 1e-9,
+                              playback->firstDeviceDelaySeconds() * 1000.0, live_->playbackLatencyMs(),
+                              playback->underruns());
+  }
+
+ private:
+  // The pipeline watched, its frames into the playout, the panel's plots and the statistics.
+  void takeFrames() {
+    live_->supervise();
+    handleEvents();
+    if (live_->sessionsStarted() != sessionsSeen_) {  // a new stream: frame 0 again
+      sessionsSeen_ = live_->sessionsStarted();
+      playout_.reset();
+    }
+    const std::int64_t now = pipeline::steadyNanoseconds();
+    pipeline::AnimationFrame frame;
+    while (live_->nextFrame(frame)) {
+      panelStale_ = true;
+      playout_.push(frame, now);
+      panel_.frameTaken(frame);
+      stats_.frameTaken(frame, now);
+    }
+    std::array<float, 1024> block{};
+    for (std::size_t n = live_->readMonitor(block.data(), block.size()); n > 0;
+         n = live_->readMonitor(block.data(), block.size()))
+      panel_.monitor({block.data(), n}, live_->rateHz());
+  }
+
+  // What the pipeline reports goes to the log: what starts on stdout, what fails on stderr.
+  void handleEvents() {
+    for (const pipeline::LiveEvent& event : live_->events()) {
+      if (event.kind == pipeline::LiveEventKind::kSourceLost) playout_.reset();  // the face eases to neutral
+      const bool good =
+          event.kind == pipeline::LiveEventKind::kStarted || event.kind == pipeline::LiveEventKind::kPlaybackStarted;
+      (good ? std::cout : std::cerr) << (good ? "" : "talkinghead: ") << event.text << std::endl;
+    }
+  }
+
+  // A recording played aloud, over its first pass: at each swap, the instant heard then against the instant
+  // the face shows (the device test records the sink to check it against the sound itself).
+  void noteSoundToLips() {
+    double heard = 0.0;
+    if (live_->passes() != 1 || shownSeconds_ < 0.0 || !live_->heardInstant(pipeline::steadyNanoseconds(), heard)) return;
+    stats_.soundToLips((heard - shownSeconds_) * 1000.0);
+  }
+
+  void drawFace(FrameTimes& times) {
+    pipeline::PlayoutSample sample;
+    // Until the first frame of a new stream (another input, another display mode), the last pose stays: no
+    // jump to the neutral face between two streams.
+    face::FapFrame faps = lastDecoded_;
+    double levelDb = -140.0;  // no sound: silence
+    // A recording heard aloud is the clock: the face shows the instant heard when this frame is swapped in (now,
+    // plus what drawing and the swap have lately taken). Otherwise the playout's own clock.
+    const std::int64_t now = pipeline::steadyNanoseconds();
+    double instant = 0.0;
+    const bool shown = live_->heardInstant(now + static_cast<std::int64_t>(stats_.displayMs() * 1e6), instant)
+                           ? playout_.sampleAt(instant, sample)
+                           : playout_.sample(now, sample);
+    if (shown) {
+      faps = sample.frame.faps;
+      lastDecoded_ = faps;
+      shownSeconds_ = sample.streamSeconds;
+      levelDb = sample.frame.levelDb;
+      stats_.playoutBehind(sample.behindNewestMs);
+      framesWithout_ = 0;
+    } else if (++framesWithout_ > 30) {
+      // Half a second with no stream (a lost input): the face eases to neutral, the mouth closes.
+      for (double& value : lastDecoded_) value *= 0.9;
+    }
+    if (settings_.idle.idle)
+      idle_.apply(secondsSince(opened_), levelDb, {.blinks = settings_.live.blinks, .gaze = settings_.live.gaze}, faps);
+    const auto setupStart = std::chrono::steady_clock::now();
+    face_.pose(faps);
+    times.faceSetupMs = millisecondsBetween(setupStart, std::chrono::steady_clock::now());
+    render::FaceRenderer& renderer = face_.renderer();
+    if (renderer.options().samples <= 1) {
+      renderer.renderToWindow(face_.camera(), panelWidth_);  // no target of its own to copy: the fastest way on llvmpipe
+    } else {
+      face_.render();
+      window_.makeCurrent();
+      renderer.present(window_.framebufferSize(), panelWidth_);
+    }
+  }
+
+  void drawPanel(std::pair<int, int> size) {
+    ImGui_ImplOpenGL3_NewFrame();
+    ImGui_ImplGlfw_NewFrame();
+    ImGui::NewFrame();
+    const PanelChanges changes =
+        panel_.draw({.live = live_.get(), .settings = settings_, .stats = stats_,
+                     .displayStarved = playout_.starvedSamples(), .speaking = idle_.speaking(), .modelError = modelError_},
+                    size, panelWidth_);
+    ImGui::Render();
+    ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+    panelDrawn_ = std::chrono::steady_clock::now();
+    panelStale_ = false;
+    panelSpills_ = spillsOutOfTheColumn(*ImGui::GetDrawData());
+    ++panelDraws_;
+    apply(changes);
+  }
+
+  void apply(const PanelChanges& changes) {
+    if (changes.newPlayout) playout_ = pipeline::Playout(pipeline::PlayoutOptions{.interpolate = settings_.live.interpolate});
+    if (changes.idle) idle_ = animation::IdleMotion(settings_.idle.motionOptions());
+    if (changes.device) live_->selectDevice(settings_.live.deviceIndex());
+    if (changes.reloadModels) {
+      try {
+        models_ = loadModelsOf(settings_);
+        modelError_.clear();
+        panel_.showModelPaths(settings_.models.headModelPath().string(), settings_.mouthModelPath().string());
+        live_->reconfigure(models_, settings_.decoderOptions());
+      } catch (const Error& error) {
+        modelError_ = error.what();  // the running models stay
+      }
+    } else if (changes.redecode) {
+      live_->setDecoderOptions(settings_.decoderOptions());
+    }
+  }
+
+  static void noteInput(GLFWwindow* window) {
+    static_cast<LiveWindow*>(glfwGetWindowUserPointer(window))->lastInput_ = std::chrono::steady_clock::now();
+  }
+
+  // With the column kept: its plots and figures move on with each animation frame (30 a second), while the face
+  // is drawn at the display's rate. While the user works the panel (the cursor over the window, a key, a click, a
+  // field being edited), at the display's rate; otherwise at least 10 times a second (status text).
+  bool panelNeedsDrawing() {
+    const auto now = std::chrono::steady_clock::now();
+    double x = 0.0, y = 0.0;
+    glfwGetCursorPos(window_.window(), &x, &y);
+    if (x != cursor_[0] || y != cursor_[1]) lastInput_ = now;
+    cursor_ = {x, y};
+    return panelStale_ || panelSpills_ || now - lastInput_ < std::chrono::milliseconds(500) ||
+           ImGui::GetIO().WantTextInput || ImGui::IsAnyItemActive() || now - panelDrawn_ >= std::chrono::milliseconds(100);
+  }
+
+  // Whether ImGui drew beyond the column (a combo's list, a tooltip): the face, drawn every frame, would cover
+  // that part on the frames the panel is not drawn. (By the vertices: a window's first clip rectangle is the
+  // whole display, whatever it draws.)
+  bool spillsOutOfTheColumn(const ImDrawData& data) const {
+    const float right = data.DisplayPos.x + static_cast<float>(panelWidth_) + 0.5f;
+    for (int l = 0; l < data.CmdListsCount; ++l)
+      for (const ImDrawVert& vertex : data.CmdLists[l]->VtxBuffer)
+        if (vertex.pos.x > right) return true;
+    return false;
+  }
+
+  LiveWindowArguments arguments_;
+  pipeline::LiveSettings settings_;
+  face::FaceModel model_;
+  render::WindowContext window_;
+  render::AnimatedFace face_;
+  pipeline::Playout playout_;
+  animation::IdleMotion idle_;
+  std::chrono::steady_clock::time_point opened_ = std::chrono::steady_clock::now();
+  std::shared_ptr<const pipeline::AnimationModels> models_;
+  std::unique_ptr<pipeline::LivePipeline> live_;
+  std::uint64_t sessionsSeen_ = 0;
+  std::string modelError_;
+  LivePanel panel_;
+  FrameStats stats_;
+  KeptColumnCheck keptColumn_;
+  face::FapFrame lastDecoded_{};  // the decoders' last pose (before idle motion)
+  double shownSeconds_ = -1.0;    // the instant of speech drawn this frame (-1: none yet)
+  int framesWithout_ = 0;         // display frames since the playout last had a frame
+  bool panelStale_ = true;        // animation frames came in since the panel was drawn
+  bool panelSpills_ = false;      // it last drew beyond its column
+  std::chrono::steady_clock::time_point panelDrawn_, lastInput_;
+  std::array<double, 2> cursor_{-1.0, -1.0};
+  std::uint64_t panelDraws_ = 0;
+  int panelWidth_ = LivePanel::widthFor(1280);
+  std::chrono::steady_clock::time_point nextTick_ = std::chrono::steady_clock::now();
+  std::chrono::steady_clock::time_point lastSwap_ = std::chrono::steady_clock::now();
+};
+
+}  // namespace
+
+void runLiveWindow(const LiveWindowArguments& arguments, pipeline::LiveSettings settings) {
+  LiveWindow window(arguments, std::move(settings));
+  window.run();
+}
+
+}  // namespace th::app

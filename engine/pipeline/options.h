@@ -1,0 +1,115 @@
+// The options people set, each declared once (core/options.h): the command line, the live window's settings
+// file and panel, and the presets are made from these lists, so a name, a range or a default cannot differ
+// between them.
+//
+//   th::pipeline::ModelOptions models;              // which models speak, and how they decode
+//   th::pipeline::HeadMotionOptions head;           // how the head moves
+//   th::pipeline::IdleOptions idle;                 // what the face does besides speaking
+//   th::pipeline::AnimateOptions options = th::pipeline::animateOptionsOf(models, head, idle);
+//
+// Commands offer the groups that apply to them: animate, export and sidebyside the first three (animate also
+// StreamingOptions, for --online); render IdleOptions; live all of them and LiveOptions. docs/cli.md lists them.
+// Thread contract: plain values.
+#pragma once
+
+#include <array>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <string_view>
+
+#include "core/options.h"
+#include "pipeline/live_decoder.h"
+#include "pipeline/live_presets.h"
+#include "pipeline/offline.h"
+
+namespace th::pipeline {
+
+inline constexpr std::array<std::string_view, 4> kHeadVariantNames{"trajectory", "paper", "posterior", "none"};
+inline constexpr std::array<std::string_view, 3> kMouthMethodNames{"inversion", "mmse", "none"};
+inline constexpr std::array<std::string_view, 2> kCovarianceNames{"full", "diagonal"};
+inline constexpr std::array<std::string_view, 2> kInversionStartNames{"conditional", "random"};
+
+struct ModelOptions {
+  std::string head = "trajectory";  // kHeadVariantNames
+  std::string mouth = "inversion";  // kMouthMethodNames
+  std::string headModel;            // a file; empty: the shipped one
+  std::string mouthModel;           // a file; empty: the shipped one (live: the preset's)
+  void visitOptions(OptionVisitor& v);
+  // The files to load: the given ones, else the shipped ones (the mouth's: shippedMouth, in models/); empty for
+  // a part switched off ("none").
+  std::filesystem::path headModelPath() const;
+  std::filesystem::path mouthModelPath(std::string_view shippedMouth = "mouth.json") const;
+};
+
+struct HeadMotionOptions {
+  double amplitude = 1.0;  // times the model's rotations
+  double smoothing = 1.0;  // times the trajectory's velocity and acceleration precisions
+  double variation = 1.0;  // times the motion the voice does not explain
+  void visitOptions(OptionVisitor& v);
+};
+
+struct IdleOptions {
+  bool idle = true;  // blinks, gaze shifts, the head at rest in silence
+  double blinksPerMinute = animation::IdleMotionOptions{}.blinksPerMinute;
+  unsigned seed = 1;  // of the head's variation and of the idle behaviour
+  void visitOptions(OptionVisitor& v);
+  animation::IdleMotionOptions motionOptions() const;
+};
+
+// The streaming decoders' decisions (animate --online, live).
+struct StreamingOptions {
+  int lag = 6;     // head: online Viterbi's decision lag, frames
+  int window = 1;  // mouth: inversion window, frames (window - 1 of them look-ahead)
+  void visitOptions(OptionVisitor& v);
+};
+
+// Live's own.
+struct LiveOptions {
+  std::string preset = "default";     // live_presets.h
+  std::string device = "default";     // the sound input: "default" or a device number
+  std::string covariance = "full";    // the shipped mouth model's, or its diagonal twin
+  int iterations = 20;                // mouth: the most EM iterations a window
+  bool waitForHead = false;           // frames wait for their own head (less head delay, ~300 ms more latency)
+  double minF0 = 60.0;                // the prosody tracker's F0 search range, Hz
+  double maxF0 = 500.0;
+  bool interpolate = false;           // smooth 60 Hz motion between frames (+33 ms and the jitter margin)
+  bool blinks = true;                 // with idle: the blinks ...
+  bool gaze = true;                   // ... and the gaze shifts
+  void visitOptions(OptionVisitor& v);
+  // The device's number, or nothing for "default"; throws th::Error for other text.
+  std::optional<int> deviceIndex() const;
+};
+
+// Everything `live` offers, as its settings file holds it (one flat object, each option under its key).
+struct LiveSettings {
+  ModelOptions models;
+  HeadMotionOptions head;
+  IdleOptions idle;
+  StreamingOptions streaming;
+  LiveOptions live;
+  void visitOptions(OptionVisitor& v);
+  // Each option in its range, and min-f0 below max-f0; throws th::Error naming the option.
+  void check();
+  // The mouth model file: the one given, else the preset's (its _diagonal twin with covariance diagonal).
+  std::filesystem::path mouthModelPath() const;
+  LiveDecoderOptions decoderOptions() const;
+};
+
+// The preset's values into `settings`, as if typed (and live.preset); throws th::Error for an unknown preset.
+void applyLivePreset(LiveSettings& settings, std::string_view preset);
+
+// The offline path's options from the groups; `online` (non-null) asks for the streaming forms.
+AnimateOptions animateOptionsOf(const ModelOptions& models, const HeadMotionOptions& head, const IdleOptions& idle,
+                                const StreamingOptions* online = nullptr, std::string_view start = "conditional");
+
+// The live decoder's, from the groups live offers.
+LiveDecoderOptions decoderOptionsOf(const ModelOptions& models, const HeadMotionOptions& head, const IdleOptions& idle,
+                                    const StreamingOptions& streaming, const LiveOptions& live);
+
+// The models to load for these options (a part switched off is left out); throws th::Error naming a file.
+AnimationModels loadModels(const ModelOptions& models, std::string_view shippedMouth = "mouth.json");
+// Live's: the mouth model the settings name, or the preset's.
+AnimationModels loadModels(const LiveSettings& settings);
+
+}  // namespace th::pipeline
