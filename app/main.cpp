@@ -4,6 +4,7 @@
 #include <iostream>
 #include <string>
 
+#include "cli_reference.h"
 #include "commands.h"
 #include "core/error.h"
 
@@ -21,6 +22,10 @@ int main(int argc, char** argv) {
   th::app::addTrackCommand(app);
   th::app::addSideBySideCommand(app);
   th::app::addRecordCommand(app);
+  // docs/cli.md: the reference of every command above, from the commands themselves (hidden from --help).
+  app.add_subcommand("reference", "Print the command-line reference (Markdown)")
+      ->group("")
+      ->callback([&app] { th::app::writeCliReference(app, std::cout); });
   // A mistyped command line is one line, as every other error (CLI11 adds a second, "Run with --help ...").
   app.failure_message([](const CLI::App*, const CLI::Error& e) {
     return "talkinghead: " + std::string(e.what()) + " (--help lists the options)\n";

@@ -22,8 +22,7 @@
 #include "face/fap.h"
 #include "face/face_model.h"
 #include "face/poses.h"
-#include "render/camera.h"
-#include "render/face_renderer.h"
+#include "render/animated_face.h"
 #include "render/gl_context.h"
 #include "render/image.h"
 #include "formats/animation_format.h"
@@ -52,10 +51,8 @@ void runShow(const ShowArguments& arguments) {
   const face::FaceModel face = face::FaceModel::buildDefault();
   render::WindowContext window({.width = arguments.width, .height = arguments.height, .title = "talkinghead",
                                 .visible = true, .vsync = true});
-  render::FaceRenderer renderer(window, face.mesh(), {.width = arguments.width, .height = arguments.height});
-  renderer.setMouthOpening(face.innerLipVertices());
-  renderer.setEyeOpenings(face.eyeLidVertices(0), face.eyeLidVertices(1));
-  render::OrbitCamera camera = render::frameHead(face.mesh().positions, static_cast<double>(arguments.width) / arguments.height);
+  render::AnimatedFace animated(face, window, {.width = arguments.width, .height = arguments.height});
+  render::OrbitCamera& camera = animated.camera();
   const render::OrbitCamera home = camera;
 
   IMGUI_CHECKVERSION();
@@ -72,8 +69,6 @@ void runShow(const ShowArguments& arguments) {
       groups.push_back(face::fapDefinition(number).group);
 
   face::FapFrame faps{};
-  face::FapFrame shown{};
-  shown[1] = 1.0;  // differs from faps: the first frame deforms
   bool playing = animation.has_value();
   double playStart = glfwGetTime();
   int frame = 0;
@@ -83,7 +78,7 @@ void runShow(const ShowArguments& arguments) {
     const auto size = window.framebufferSize();
     if (size.first <= 0 || size.second <= 0) continue;  // minimised
     if (size != lastSize) {
-      renderer.resize(size.first, size.second);
+      animated.renderer().resize(size.first, size.second);  // the orbit the user set stays
       lastSize = size;
     }
     ImGui_ImplOpenGL3_NewFrame();
@@ -145,14 +140,10 @@ void runShow(const ShowArguments& arguments) {
     ImGui::End();
     ImGui::Render();
 
-    if (faps != shown) {
-      renderer.setPositions(face.deform(faps));
-      renderer.setPupilScale(face.pupilScale(faps));
-      shown = faps;
-    }
-    renderer.render(camera);
+    animated.pose(faps);
+    animated.render();
     window.makeCurrent();
-    renderer.present(size);
+    animated.renderer().present(size);
     ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
     if (!arguments.screenshot.empty() && ++frame >= arguments.frames) {
       render::writePng(arguments.screenshot, grabWindow(size));

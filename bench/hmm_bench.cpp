@@ -5,7 +5,7 @@
 //   taskset -c 0 build/bench/hmm_bench                 # or: bash scripts/bench.sh hmm; ~2 min
 //   build/bench/hmm_bench --quick                      # one pass of each, a smoke check
 //
-// Baum-Welch cases (issue 3): N=12, M=1, d=4, full, T=100 000 (the head model) and N=4, M=2, d=123, full,
+// Baum-Welch cases: N=12, M=1, d=4, full, T=100 000 (the head model) and N=4, M=2, d=123, full,
 // T=20 000 (the mouth model). Data: one sequence sampled from a random model of that size (tests/hmm
 // randomModel), which is also the starting model; both implementations do the same work (E-step over all
 // frames, ML M-step of π, A, weights, means, covariances). Ours is timed in CPU time of this thread; the numpy

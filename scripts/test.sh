@@ -5,29 +5,31 @@
 #
 # Parts, in order (each is timed; a failed part does not stop the later independent ones):
 #   1. packages     scripts/install-packages.sh (no network when everything is installed)
-#   2. release      Release build in build/ (Ninja), then `ctest -j2 --output-on-failure`
-#   3. sanitizers   AddressSanitizer + UBSan build in build-asan/ (Debug at -O1, so asserts and libstdc++'s
-#                   bounds checks are on), then ctest with leak detection; any report fails its test
-#   4. tsan         ThreadSanitizer build in build-tsan/ of the tests labelled `threads` only (the thread hand-off
-#                   the export's pipeline runs on, the live session's ring, worker and frame queue), then those
+#   2. format       clang-format --dry-run over every C++ source: the tree is formatted (.clang-format)
+#   3. build        one build of everything (engine, app, tests, benchmarks, tools) in build-asan/ with
+#                   AddressSanitizer + UBSan, at -O1 with libstdc++'s assertions and -Werror: the tests and the
+#                   benchmarks' smoke pass run on it. (The Release build is scripts/setup.sh's.)
+#   4. tests        ctest -j2 --output-on-failure on it, every label (unit, accuracy, crosscheck, threads,
+#                   system), leak detection on; any sanitizer report fails its test
+#   5. tsan         ThreadSanitizer build in build-tsan/ of the tests labelled `threads` only (the thread
+#                   hand-offs: the export's pipeline, the live session's ring, worker and frame queue), then those
 #                   tests; any report fails them
-#   5. fuzz         scripts/fuzz.sh, if present, for FUZZ_SECONDS (default 60)
-#   6. bench smoke  build/bench/{features,animation,render,export}_bench --quick: one pass of every benchmark (proves it
-#                   runs, times nothing)
+#   6. fuzz         scripts/fuzz.sh for FUZZ_SECONDS (default 60)
+#   7. bench smoke  build-asan/bench/{features,animation,render,export}_bench --quick: one pass of every
+#                   benchmark (proves it runs, times nothing)
 # Then a summary of the parts; the last line is "N passed, M failed", the ctest results of both runs together.
 # Exits non-zero if any part failed.
 #
-# Environment: BUILD_DIR (default build), ASAN_BUILD_DIR (default build-asan), FUZZ_SECONDS (default 60),
-# CTEST_TIMEOUT_SECONDS (per test without its own TIMEOUT, default 600), TALKINGHEAD_DATA (shared data folder).
+# Environment: ASAN_BUILD_DIR (default build-asan), TSAN_BUILD_DIR (default build-tsan), FUZZ_SECONDS (default
+# 60), CTEST_TIMEOUT_SECONDS (per test without its own TIMEOUT, default 900), TALKINGHEAD_DATA (shared data).
 set -euo pipefail
 
 repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$repo"
-build_dir="${BUILD_DIR:-build}"
 asan_dir="${ASAN_BUILD_DIR:-build-asan}"
 tsan_dir="${TSAN_BUILD_DIR:-build-tsan}"
 jobs="$(nproc 2>/dev/null || echo 2)"
-ctest_timeout="${CTEST_TIMEOUT_SECONDS:-600}"
+ctest_timeout="${CTEST_TIMEOUT_SECONDS:-900}"
 export FUZZ_SECONDS="${FUZZ_SECONDS:-60}"
 
 logs="$(mktemp -d "${TMPDIR:-/tmp}/talkinghead-test.XXXXXX")"
@@ -114,14 +116,17 @@ annotate_counts() {
   summary[-1]="${summary[-1]}  $ctest_counts"
 }
 
-build_release() {
-  configure "$build_dir" -DCMAKE_BUILD_TYPE=Release
-  cmake --build "$build_dir" --parallel "$jobs"
+# Every C++ source of the project formatted as .clang-format says (usage blocks in comments, indented, are left
+# as written: its CommentPragmas).
+check_format() {
+  local files
+  mapfile -t files < <(git ls-files '*.cpp' '*.h' 2>/dev/null || find engine app tests bench fuzz tools -name '*.cpp' -o -name '*.h')
+  clang-format --dry-run --Werror "${files[@]}"
+  echo "${#files[@]} files formatted"
 }
 
 build_sanitized() {
-  # No benchmarks here: they run (once, as a smoke test) from the Release build.
-  configure "$asan_dir" -DCMAKE_BUILD_TYPE=Debug -DTALKINGHEAD_SANITIZE=ON -DTALKINGHEAD_BENCHMARKS=OFF \
+  configure "$asan_dir" -DCMAKE_BUILD_TYPE=Debug -DTALKINGHEAD_SANITIZE=ON -DTALKINGHEAD_BENCHMARKS=ON \
     -DCMAKE_CXX_FLAGS_DEBUG="-g1 -O1 -D_GLIBCXX_ASSERTIONS" -DCMAKE_C_FLAGS_DEBUG="-g1 -O1"
   cmake --build "$asan_dir" --parallel "$jobs"
 }
@@ -134,17 +139,11 @@ export TSAN_OPTIONS="${TSAN_OPTIONS:-halt_on_error=1:second_deadlock_stack=1:sup
 
 part "packages" bash scripts/install-packages.sh
 
-part "release build" build_release
-release_built=$part_status
-if ((release_built == 0)); then
-  part "release tests" run_ctest "$build_dir"
-  annotate_counts "$build_dir"
-else
-  skip "release tests" "(build failed)"
-fi
+part "format" check_format
 
-part "asan+ubsan build" build_sanitized
-if ((part_status == 0)); then
+part "build (asan+ubsan)" build_sanitized
+built=$part_status
+if ((built == 0)); then
   part "asan+ubsan tests" run_ctest "$asan_dir"
   annotate_counts "$asan_dir"
 else
@@ -167,8 +166,8 @@ fi
 # The fuzzer's own output is long (libFuzzer status lines, decoder chatter): it goes to a log in the build
 # folder, and only its tail is shown (a longer tail when it fails, which holds the crash report).
 run_fuzz() {
-  local log="$build_dir/fuzz.log"
-  mkdir -p "$build_dir"
+  local log="$asan_dir/fuzz.log"
+  mkdir -p "$asan_dir"
   echo "full output: $log"
   if bash scripts/fuzz.sh >"$log" 2>&1; then
     tail -n 25 "$log"
@@ -185,14 +184,14 @@ else
   skip "fuzz" "(scripts/fuzz.sh not there yet)"
 fi
 
-if ((release_built == 0)); then
+if ((built == 0)); then
   bench_smoke() {
-    "$build_dir/bench/features_bench" --quick && "$build_dir/bench/animation_bench" --quick &&
-      "$build_dir/bench/render_bench" --quick && "$build_dir/bench/export_bench" --quick
+    "$asan_dir/bench/features_bench" --quick && "$asan_dir/bench/animation_bench" --quick &&
+      "$asan_dir/bench/render_bench" --quick && "$asan_dir/bench/export_bench" --quick
   }
   part "bench smoke" bench_smoke
 else
-  skip "bench smoke" "(release build failed)"
+  skip "bench smoke" "(the build failed)"
 fi
 
 printf '\n==== Summary (%s)\n' "$(if ((any_failed)); then echo FAILED; else echo all parts ok; fi)"

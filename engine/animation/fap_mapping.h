@@ -20,7 +20,7 @@
 // direction in its FAPU, divided by the shape's angle, gives that FAP per radian of opening.
 // What this cannot show: BEAT2 fits most of the mouth's shape into FLAME expression coefficients, whose
 // geometry needs FLAME's basis (not in the shared data; non-commercial licence). Their share of the visual
-// components is dropped here; lip shape independent of the jaw comes from tracked lips (the tracker issue).
+// components is dropped here; lip shape independent of the jaw comes from tracked lips (tracking/).
 // Thread contract: pure functions of values.
 #pragma once
 

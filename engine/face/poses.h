@@ -23,7 +23,7 @@ struct Pose {
 // spoken "ah" with a nod (for the contact sheet).
 std::vector<Pose> keyPoses();
 
-// The first five: the golden-image set the issue names.
+// The first five: the poses the golden-image tests hold to their references (tests/render/golden).
 std::vector<Pose> goldenPoses();
 
 }  // namespace th::face

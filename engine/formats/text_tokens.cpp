@@ -15,10 +15,11 @@ constexpr std::string_view kBlanks = " \t\r\v\f";
 
 bool isBlank(char c) { return kBlanks.find(c) != std::string_view::npos; }
 
-template <typename Integer>
-std::optional<Integer> parseInteger(std::string_view text) {
+// The whole text as a number of that type, or nothing.
+template <typename Number>
+std::optional<Number> parseWhole(std::string_view text) {
   if (text.empty()) return std::nullopt;
-  Integer value = 0;
+  Number value = 0;
   const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
   if (error != std::errc() || end != text.data() + text.size()) return std::nullopt;
   return value;
@@ -48,16 +49,9 @@ std::string fixedNotation(double value, std::optional<int> decimals) {
   return std::string(first, result.ptr);
 }
 
-std::optional<double> parseNumber(std::string_view text) {
-  if (text.empty()) return std::nullopt;
-  double value = 0.0;
-  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
-  if (error != std::errc() || end != text.data() + text.size()) return std::nullopt;
-  return value;
-}
-
-std::optional<int> parseInt(std::string_view text) { return parseInteger<int>(text); }
-std::optional<long long> parseLong(std::string_view text) { return parseInteger<long long>(text); }
+std::optional<double> parseNumber(std::string_view text) { return parseWhole<double>(text); }
+std::optional<int> parseInt(std::string_view text) { return parseWhole<int>(text); }
+std::optional<long long> parseLong(std::string_view text) { return parseWhole<long long>(text); }
 
 std::string counted(std::size_t count, const std::string& noun) {
   return std::to_string(count) + " " + noun + (count == 1 ? "" : "s");

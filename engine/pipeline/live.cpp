@@ -32,6 +32,14 @@ class ModelDecoder final : public FrameDecoder {
   LiveDecoder decoder_;
 };
 
+void add(SessionCounters& total, const SessionCounters& more) {
+  total.samplesIn += more.samplesIn;
+  total.overrunSamples += more.overrunSamples;
+  total.framesDecoded += more.framesDecoded;
+  total.framesDropped += more.framesDropped;
+  total.decodeSeconds += more.decodeSeconds;
+}
+
 }  // namespace
 
 LivePipeline::LivePipeline(std::shared_ptr<const AnimationModels> models, LiveSource source,
@@ -150,14 +158,7 @@ void LivePipeline::stopSource() {
   // Closed on a thread of its own: closing a stream whose sound server died can block in PortAudio.
   if ((capture_ || system_) && !audio::closeInBackground(std::move(capture_), std::move(system_), kClosePatience))
     note(LiveEventKind::kCloseStuck, sourceName_ + ": PortAudio has not closed it in 2 s; left closing");
-  if (session_) {
-    const SessionCounters counters = session_->counters();
-    totals_.samplesIn += counters.samplesIn;
-    totals_.overrunSamples += counters.overrunSamples;
-    totals_.framesDecoded += counters.framesDecoded;
-    totals_.framesDropped += counters.framesDropped;
-    totals_.decodeSeconds += counters.decodeSeconds;
-  }
+  if (session_) add(totals_, session_->counters());
   session_.reset();
 }
 
@@ -255,14 +256,7 @@ void LivePipeline::selectDevice(std::optional<int> device) {
 
 SessionCounters LivePipeline::counters() const {
   SessionCounters all = totals_;
-  if (session_) {
-    const SessionCounters current = session_->counters();
-    all.samplesIn += current.samplesIn;
-    all.overrunSamples += current.overrunSamples;
-    all.framesDecoded += current.framesDecoded;
-    all.framesDropped += current.framesDropped;
-    all.decodeSeconds += current.decodeSeconds;
-  }
+  if (session_) add(all, session_->counters());
   return all;
 }
 

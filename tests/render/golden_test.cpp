@@ -13,8 +13,7 @@
 
 #include "face/face_model.h"
 #include "face/poses.h"
-#include "render/camera.h"
-#include "render/face_renderer.h"
+#include "render/animated_face.h"
 #include "render/gl_context.h"
 #include "render/image.h"
 
@@ -54,12 +53,8 @@ class Golden : public ::testing::TestWithParam<th::face::Pose> {
   struct Scene {
     th::face::FaceModel face = th::face::FaceModel::buildDefault();
     th::render::OffscreenContext context;
-    th::render::FaceRenderer renderer{context, face.mesh(), {.width = kSize, .height = kSize}};
-    th::render::OrbitCamera camera = th::render::frameHead(face.mesh().positions, 1.0);
-    th::render::Image draw(const th::face::FapFrame& faps) {
-      renderer.setPositions(face.deform(faps));
-      return renderer.renderImage(camera);
-    }
+    th::render::AnimatedFace animated{face, context, {.width = kSize, .height = kSize}};
+    th::render::Image draw(const th::face::FapFrame& faps) { return animated.draw(faps); }
   };
   static Scene& scene() {
     static Scene built;

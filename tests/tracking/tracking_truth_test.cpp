@@ -3,8 +3,8 @@
 // a lot, the lips only with the jaw), and a real speaker's jaw and lips (a GRID clip tracked and fitted) with
 // the head model's rotations on that clip's sound. The head's rotations come back within 2° per axis (root mean
 // square over the frames), with either kind of curves. The jaw and lip FAPs' errors are printed as shares of
-// each one's range, not held to the 10 %, which dlib's landmarks on our rendered face do not allow
-// (README, "Tracking"); from perfect landmarks the fit meets it (the last test).
+// each one's range, not held to 10 %, which dlib's landmarks on our rendered face do not allow
+// (docs/tracking.md); from perfect landmarks the fit meets it (the last test).
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -1,9 +1,9 @@
 // Structure discovery over many draws: 3 samples of 20 000 frames from the sparse 6-state HMM x 4 k-means++
 // seeds, 20 fully connected starting states, the annealed entropic prior at Z = fraction x frames (default 0.1),
 // with and without state merging. Prints one line per run and a summary. Not a test (it takes minutes); the
-// figures in the closing note of issue 3 and the README come from it.
+// structure-discovery figures in docs/hmm.md come from it.
 //
-//   build/tests/hmm/structure_discovery_sweep [fraction ...]
+//   build/tools/diagnostics/structure_discovery_sweep [fraction ...]
 #include <cstdio>
 #include <cstdlib>
 #include <mutex>

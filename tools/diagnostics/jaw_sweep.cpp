@@ -2,7 +2,7 @@
 // tracked and fitted three ways (all FAPs; the jaw alone; without the inner lips' points), printing the jaw each
 // gives, and a picture of the widest frame with dlib's landmarks (red) and the model's at the truth (green).
 //
-//   build/tests/tracking/jaw_sweep [picture.png]
+//   build/tools/diagnostics/jaw_sweep [picture.png]
 #include <cmath>
 #include <filesystem>
 #include <iostream>

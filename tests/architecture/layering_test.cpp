@@ -1,0 +1,102 @@
+// The engine's stages include only the stages below them. The build already refuses a header of a stage a
+// target does not link (each stage has its own include root); this test reads the sources, so that a path
+// written around the roots ("../render/x.h") or a graph edited the wrong way round fails too.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <regex>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+// The stages from the lowest to the highest (DESIGN.md's order; docs/architecture.md).
+const std::vector<std::string> kOrder{"core",      "audio",  "hmm",      "face", "features", "formats",
+                                      "animation", "render", "tracking", "eval", "pipeline"};
+
+// stage -> the stages it declares it uses.
+std::map<std::string, std::set<std::string>> readGraph() {
+  std::ifstream in(TALKINGHEAD_STAGE_GRAPH);
+  std::map<std::string, std::set<std::string>> graph;
+  std::string line;
+  while (std::getline(in, line)) {
+    const auto colon = line.find(':');
+    if (colon == std::string::npos) continue;
+    std::istringstream uses(line.substr(colon + 1));
+    std::set<std::string>& set = graph[line.substr(0, colon)];
+    for (std::string stage; uses >> stage;) set.insert(stage);
+  }
+  return graph;
+}
+
+std::set<std::string> reachable(const std::map<std::string, std::set<std::string>>& graph, const std::string& from) {
+  std::set<std::string> seen{from};
+  std::vector<std::string> todo{from};
+  while (!todo.empty()) {
+    const std::string stage = todo.back();
+    todo.pop_back();
+    const auto found = graph.find(stage);
+    if (found == graph.end()) continue;
+    for (const std::string& next : found->second)
+      if (seen.insert(next).second) todo.push_back(next);
+  }
+  return seen;
+}
+
+int rankOf(const std::string& stage) {
+  const auto it = std::find(kOrder.begin(), kOrder.end(), stage);
+  return it == kOrder.end() ? -1 : static_cast<int>(it - kOrder.begin());
+}
+
+TEST(Layering, TheGraphHasEveryStageAndRunsFromLowerStagesToHigher) {
+  const auto graph = readGraph();
+  ASSERT_FALSE(graph.empty()) << "no graph at " << TALKINGHEAD_STAGE_GRAPH;
+  for (const std::string& stage : kOrder) EXPECT_TRUE(graph.count(stage)) << stage << " is not a stage of the build";
+  for (const auto& [stage, uses] : graph) {
+    ASSERT_GE(rankOf(stage), 0) << stage << " is not in the order";
+    for (const std::string& used : uses)
+      EXPECT_LT(rankOf(used), rankOf(stage)) << stage << " uses " << used << ", which is not below it";
+  }
+  // Every folder under engine/ is a stage.
+  for (const auto& entry : fs::directory_iterator(TALKINGHEAD_ENGINE_DIR))
+    if (entry.is_directory()) {
+      EXPECT_GE(rankOf(entry.path().filename().string()), 0) << entry.path();
+    }
+}
+
+TEST(Layering, NoIncludeRunsFromALowerStageToAHigherOne) {
+  const auto graph = readGraph();
+  const std::regex include(R"(^\s*#\s*include\s*"([^"]+)\")");
+  int includes = 0;
+  for (const auto& entry : fs::recursive_directory_iterator(TALKINGHEAD_ENGINE_DIR)) {
+    const std::string extension = entry.path().extension().string();
+    if (!entry.is_regular_file() || (extension != ".h" && extension != ".cpp")) continue;
+    const std::string stage = fs::relative(entry.path(), TALKINGHEAD_ENGINE_DIR).begin()->string();
+    const std::set<std::string> allowed = reachable(graph, stage);
+    std::ifstream in(entry.path());
+    std::string line;
+    for (int number = 1; std::getline(in, line); ++number) {
+      std::smatch match;
+      if (!std::regex_search(line, match, include)) continue;
+      const std::string path = match[1];
+      const std::string where = entry.path().string() + ":" + std::to_string(number) + ": " + path;
+      EXPECT_EQ(path.find(".."), std::string::npos) << where << " reaches around the include roots";
+      const auto slash = path.find('/');
+      if (slash == std::string::npos) continue;  // the stage's own private header ("shader_sources.h")
+      const std::string target = path.substr(0, slash);
+      if (rankOf(target) < 0) continue;  // not a stage ("glad/gl.h" is quoted by some)
+      ++includes;
+      EXPECT_TRUE(allowed.count(target)) << where << ": " << stage << " may not include " << target;
+    }
+  }
+  EXPECT_GT(includes, 300) << "the scan found the sources";
+}
+
+}  // namespace

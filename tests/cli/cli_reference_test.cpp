@@ -1,0 +1,24 @@
+// docs/cli.md is what `talkinghead reference` writes from the commands themselves: the reference cannot drift
+// from the program. (After changing an option: build/talkinghead reference > docs/cli.md.)
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include "cli_runner.h"
+#include "support/files.h"
+
+namespace {
+
+class CliReferenceTest : public th::test::CliTest {};
+
+TEST_F(CliReferenceTest, TheDocsReferenceIsWhatTheProgramWrites) {
+  const th::test::CliResult result = th::test::runCli({"reference"}, logs());
+  ASSERT_EQ(result.exitCode, 0) << result.err;
+  const std::string committed = th::test::readText(std::filesystem::path(TALKINGHEAD_SOURCE_DIR) / "docs" / "cli.md");
+  EXPECT_EQ(result.out, committed) << "docs/cli.md is out of date: build/talkinghead reference > docs/cli.md";
+  for (const char* command : {"## `talkinghead animate`", "## `talkinghead export`", "## `talkinghead live`",
+                              "## `talkinghead train mouth`", "| `--head-amplitude` |"})
+    EXPECT_NE(result.out.find(command), std::string::npos) << command;
+}
+
+}  // namespace
