@@ -41,6 +41,9 @@
 
 namespace th::render {
 
+class Culling;
+struct DrawList;
+
 struct Light {
   Eigen::Vector3f direction;  // towards the light, camera space: +x right, +y up, +z towards the viewer
   Eigen::Vector3f colour;     // linear
@@ -180,21 +183,19 @@ class FaceRenderer {
   const Eigen::VectorXf& lipWeight() const { return lipWeight_; }
 
  private:
-  struct Draw;
-  struct Eye;
   struct Gl;
 
+  void createPrograms();
+  void createBuffers(const std::vector<float>& detail);
   void createTargets();
   void resolve();
   void selectVisible(const Eigen::Vector3f& eye, const Eigen::Matrix4f& viewProjection);
-  PixelRegion headRegion(const Eigen::Matrix4f& viewProjection) const;
   // Into the bound framebuffer, after its clear; with the backdrop between the opaque and the see-through
   // surfaces if asked.
   void drawFace(const OrbitCamera& camera, bool withBackdrop = false);
   enum class Backdrop { kUnder, kBehindDepth };
   void drawBackdrop(Backdrop how);  // the gradient, into the bound framebuffer
   void prepare(RawFrame& frame) const;
-  void checkVertices(const std::vector<int>& vertices, const char* what) const;
 
   GlContext& context_;
   RenderOptions options_;
@@ -209,12 +210,9 @@ class FaceRenderer {
   std::vector<std::uint8_t> backdrop_;  // RGB, GL's row order, for the size in use
   std::array<Yuv420Image, 2> backdropYuv_;  // the backdrop in Y'CbCr: [0] BT.601, [1] BT.709
   PixelRegion drawn_;      // where the last render() drew
-  std::vector<std::uint32_t> indices_;  // every triangle, in draw order (draws_ index into it)
-  std::array<std::vector<int>, 3> openings_;  // lines bounding the mouth's opening, the left and right eye's
   int trianglesDrawn_ = 0;
-  std::vector<std::uint32_t> visibleIndices_;  // this frame's front-facing ones (per frame, no allocation)
-  std::vector<Draw> draws_;
-  std::vector<Eye> eyes_;
+  std::unique_ptr<DrawList> drawList_;  // the draws, their materials and eyes (render/materials.h)
+  std::unique_ptr<Culling> culling_;    // this frame's triangles of each draw (render/culling.h)
   std::unique_ptr<Gl> gl_;
 };
 
