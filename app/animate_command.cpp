@@ -59,8 +59,9 @@ void runAnimate(const AnimateArguments& arguments) {
 
 void addAnimateCommand(CLI::App& app) {
   auto arguments = std::make_shared<AnimateArguments>();
-  CLI::App* animate = app.add_subcommand(
-      "animate", "Recording -> MPEG-4 FAP animation (head FAPs 48-50, jaw FAP 3, lip FAPs, blinks and gaze) as .csv, .json or .fap");
+  CLI::App* animate = app.add_subcommand("animate",
+                                         "Recording -> MPEG-4 FAP animation (head FAPs 48-50, jaw FAP 3, lip FAPs, "
+                                         "blinks and gaze) as .csv, .json or .fap");
   animate->add_option("input", arguments->input, "Recording: WAV/FLAC/... or a video's audio track")->required();
   animate->add_option("-o,--output", arguments->output, "Animation file: .csv, .json or .fap (MPEG-4 FAP stream)")
       ->required();

@@ -19,8 +19,9 @@ class CliBinder final : public OptionVisitor {
 
   void option(bool& value, const OptionSpec& spec) override {
     if (value) {
-      command_.add_flag(flagOf(spec, true), [&value](std::int64_t) { value = false; },
-                        "Turn off " + helpOf(spec) + " (on by default)");
+      command_.add_flag(
+          flagOf(spec, true), [&value](std::int64_t) { value = false; },
+          "Turn off " + helpOf(spec) + " (on by default)");
     } else {
       command_.add_flag(flagOf(spec, false), value, helpOf(spec));
     }
@@ -41,7 +42,8 @@ class CliBinder final : public OptionVisitor {
   template <typename T>
   void number(T& value, const OptionSpec& spec) {
     CLI::Option* option = command_.add_option(flagOf(spec, false), value, helpOf(spec));
-    if (std::isfinite(spec.min) && std::isfinite(spec.max)) option->check(CLI::Range(static_cast<T>(spec.min), static_cast<T>(spec.max)));
+    if (std::isfinite(spec.min) && std::isfinite(spec.max))
+      option->check(CLI::Range(static_cast<T>(spec.min), static_cast<T>(spec.max)));
     option->capture_default_str();
   }
 

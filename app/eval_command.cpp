@@ -25,7 +25,9 @@ struct EvalPitchArguments {
 };
 
 // Our defaults were tuned on utterances 001-005 of each speaker; 006-010 are held out.
-bool isHeldOut(const std::string& name) { return name.size() >= 5 && name.substr(2) > "005"; }
+bool isHeldOut(const std::string& name) {
+  return name.size() >= 5 && name.substr(2) > "005";
+}
 
 void printRow(const std::string& name, const eval::PitchScore& score, const std::string& note) {
   std::printf("  %-16s %6.2f %6.2f %6.2f %6.2f %6.2f %8.1f %8.1f   %s\n", name.c_str(), 100.0 * score.ffe(),
@@ -38,13 +40,15 @@ void runEvalPitch(const EvalPitchArguments& arguments) {
       arguments.folder.empty() ? sharedDataPath("speech/fda-ue") : std::filesystem::path(arguments.folder);
   auto corpus = eval::loadPitchCorpus(folder, 0.015);
   if (arguments.subset != "all") {
-    std::erase_if(corpus, [&](const auto& recording) { return isHeldOut(recording.name) != (arguments.subset == "held-out"); });
+    std::erase_if(corpus,
+                  [&](const auto& recording) { return isHeldOut(recording.name) != (arguments.subset == "held-out"); });
   }
   long long referenceFrames = 0;
   for (const auto& recording : corpus) referenceFrames += static_cast<long long>(recording.reference.f0Hz.size());
-  std::printf("F0 accuracy on %s: %zu files, %lld reference frames (15 ms); every track sampled at the\n"
-              "reference times (nearest frame within half its hop). Search range %.0f-%.0f Hz for every tracker.\n",
-              folder.string().c_str(), corpus.size(), referenceFrames, arguments.minF0Hz, arguments.maxF0Hz);
+  std::printf(
+      "F0 accuracy on %s: %zu files, %lld reference frames (15 ms); every track sampled at the\n"
+      "reference times (nearest frame within half its hop). Search range %.0f-%.0f Hz for every tracker.\n",
+      folder.string().c_str(), corpus.size(), referenceFrames, arguments.minF0Hz, arguments.maxF0Hz);
 
   struct Hop {
     std::string label;

@@ -13,29 +13,29 @@
 #include <string>
 #include <vector>
 
-#include "pipeline/offline.h"
 #include "audio/media_audio.h"
+#include "cli_options.h"
 #include "commands.h"
-#include "interrupt.h"
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/progress.h"
 #include "core/text_files.h"
+#include "eval/talking_corpus.h"
 #include "face/face_model.h"
 #include "face/poses.h"
+#include "face_stage.h"
+#include "formats/animation_format.h"
+#include "formats/arkit_format.h"
+#include "formats/mp4_writer.h"
+#include "interrupt.h"
+#include "pipeline/offline.h"
+#include "pipeline/options.h"
+#include "pipeline/video_export.h"
 #include "render/camera.h"
 #include "render/face_renderer.h"
 #include "render/gl_context.h"
 #include "render/image.h"
-#include "pipeline/video_export.h"
-#include "cli_options.h"
-#include "pipeline/options.h"
-#include "face_stage.h"
 #include "text_overlay.h"
-#include "formats/animation_format.h"
-#include "formats/arkit_format.h"
-#include "formats/mp4_writer.h"
-#include "eval/talking_corpus.h"
 
 namespace th::app {
 namespace {
@@ -78,8 +78,8 @@ void runRender(const RenderArguments& arguments) {
     progress.update(frame + 1);
   }
   progress.finish();
-  std::cout << "wrote " << frames << " frames (" << width << "x" << height << ", " << fps << " fps) to " << folder.string()
-            << '\n';
+  std::cout << "wrote " << frames << " frames (" << width << "x" << height << ", " << fps << " fps) to "
+            << folder.string() << '\n';
 }
 
 // ---- poses ----
@@ -100,8 +100,7 @@ void runPoses(const PosesArguments& arguments) {
     const render::Image& tile = stage.animated.draw(poses[i].faps);
     const int left = static_cast<int>(i) % arguments.columns * arguments.tile;
     const int top = static_cast<int>(i) / arguments.columns * arguments.tile;
-    for (int y = 0; y < tile.height; ++y)
-      std::copy_n(tile.pixel(0, y), tile.width * 3, sheet.pixel(left, top + y));
+    for (int y = 0; y < tile.height; ++y) std::copy_n(tile.pixel(0, y), tile.width * 3, sheet.pixel(left, top + y));
     drawLabel(sheet, left + 8, top + 8, poses[i].title, 2);
   }
   render::writePng(arguments.output, sheet);
@@ -126,7 +125,8 @@ struct StripArguments {
 // held still), each tile labelled with its time (and its phone, given a TextGrid), so a reader sees the lips follow the
 // syllables.
 void runStrip(const StripArguments& arguments) {
-  if (lowercaseExtension(arguments.output) != ".png") throw fileError(arguments.output, "a film strip is written as .png");
+  if (lowercaseExtension(arguments.output) != ".png")
+    throw fileError(arguments.output, "a film strip is written as .png");
   checkOutputTarget(arguments.output);
   const face::FapTrack animation = formats::readAnimation(arguments.animation);
   std::vector<eval::LabelInterval> phones;
@@ -134,7 +134,8 @@ void runStrip(const StripArguments& arguments) {
   const double step = arguments.every / animation.framesPerSecond;
   const int count = std::max(1, static_cast<int>(std::floor(arguments.seconds / step + 1e-9)));
   if (arguments.fromSeconds + (count - 1) * step > animation.durationSeconds() + 1e-9)
-    throw fileError(arguments.animation, "ends before the strip does (" + std::to_string(animation.durationSeconds()) + " s)");
+    throw fileError(arguments.animation,
+                    "ends before the strip does (" + std::to_string(animation.durationSeconds()) + " s)");
   OffscreenFace stage({.width = arguments.tile, .height = arguments.tile});
   if (!arguments.wholeHead) stage.animated.frameMouth();
   const int rows = (count + arguments.columns - 1) / arguments.columns;
@@ -153,7 +154,8 @@ void runStrip(const StripArguments& arguments) {
     std::snprintf(label, sizeof label, "%.2f", seconds);
     std::string text = label;
     for (const eval::LabelInterval& phone : phones)
-      if (phone.startSeconds <= seconds && seconds < phone.endSeconds && phone.label != "SIL") text += " " + phone.label;
+      if (phone.startSeconds <= seconds && seconds < phone.endSeconds && phone.label != "SIL")
+        text += " " + phone.label;
     drawLabel(sheet, left + 4, top + arguments.tile + 3, text, 2);
   }
   render::writePng(arguments.output, sheet);
@@ -168,9 +170,9 @@ struct ExportArguments {
   std::string output;
   std::string size = "1280x720";
   double fps = 30.0;
-  std::string animation;              // --anim: play this instead of the models' animation
+  std::string animation;                   // --anim: play this instead of the models' animation
   std::vector<std::string> saveAnimation;  // --save-anim: .fap / .csv / .json beside the video
-  std::string arkit;                  // --arkit: ARKit blendshape weights CSV
+  std::string arkit;                       // --arkit: ARKit blendshape weights CSV
   pipeline::ModelOptions models;
   pipeline::HeadMotionOptions head;
   pipeline::IdleOptions idle;
@@ -191,9 +193,8 @@ void runExport(const ExportArguments& arguments) {
   if (!arguments.arkit.empty()) checkOutputTarget(arguments.arkit);
 
   // The face model (about 0.2 s) is built on another thread while the recording is read and animated.
-  std::future<face::FaceModel> building = std::async(std::launch::async, [] {
-    return face::FaceModel::buildDefault();
-  });
+  std::future<face::FaceModel> building =
+      std::async(std::launch::async, [] { return face::FaceModel::buildDefault(); });
   audio::AudioClip clip;
   face::FapTrack animation;
   if (!arguments.animation.empty()) {
@@ -201,9 +202,9 @@ void runExport(const ExportArguments& arguments) {
     animation = formats::readAnimation(arguments.animation);
     addIdleIfMissing(animation, arguments.idle);
   } else {
-    animation = pipeline::animateRecording(arguments.input, pipeline::loadModels(arguments.models),
-                                           pipeline::animateOptionsOf(arguments.models, arguments.head, arguments.idle),
-                                           &clip);
+    animation =
+        pipeline::animateRecording(arguments.input, pipeline::loadModels(arguments.models),
+                                   pipeline::animateOptionsOf(arguments.models, arguments.head, arguments.idle), &clip);
   }
   if (clip.samples.empty()) throw fileError(arguments.input, "has no samples");
 
@@ -213,13 +214,17 @@ void runExport(const ExportArguments& arguments) {
     const auto frames = formats::videoFramesFor(clip.samples.size(), clip.sampleRateHz, arguments.fps);
     ProgressBar progress(static_cast<double>(frames), "export", std::cerr, progressAt(arguments.fps));
     pipeline::exportVideo(face, animation, clip.samples, clip.sampleRateHz, arguments.output,
-                        {.width = width, .height = height, .framesPerSecond = arguments.fps, .crf = arguments.crf,
-                         .preset = arguments.preset},
-                        {.progress = [&](int done, int) { progress.update(done); }, .check = InterruptGuard::check});
+                          {.width = width,
+                           .height = height,
+                           .framesPerSecond = arguments.fps,
+                           .crf = arguments.crf,
+                           .preset = arguments.preset},
+                          {.progress = [&](int done, int) { progress.update(done); }, .check = InterruptGuard::check});
     progress.finish();
   }
   for (const std::string& path : arguments.saveAnimation) formats::writeAnimation(path, animation);
-  if (!arguments.arkit.empty()) formats::writeAnimation(arguments.arkit, animation, formats::ArkitFormat(formats::arkitScaleFor(face)));
+  if (!arguments.arkit.empty())
+    formats::writeAnimation(arguments.arkit, animation, formats::ArkitFormat(formats::arkitScaleFor(face)));
   std::cout << "wrote " << arguments.output << " (" << width << "x" << height << ", " << arguments.fps << " fps, "
             << static_cast<double>(clip.samples.size()) / clip.sampleRateHz << " s)\n";
 }
@@ -240,38 +245,61 @@ void addFaceCommands(CLI::App& app) {
   auto posesArguments = std::make_shared<PosesArguments>();
   CLI::App* poses = app.add_subcommand("poses", "A contact sheet PNG of the face's key poses");
   poses->add_option("-o,--output", posesArguments->output, "PNG to write")->capture_default_str();
-  poses->add_option("--tile", posesArguments->tile, "Pixels per pose (square)")->check(CLI::Range(64, 2048))->capture_default_str();
+  poses->add_option("--tile", posesArguments->tile, "Pixels per pose (square)")
+      ->check(CLI::Range(64, 2048))
+      ->capture_default_str();
   poses->callback([posesArguments] { runPoses(*posesArguments); });
 
   auto stripArguments = std::make_shared<StripArguments>();
-  CLI::App* strip = app.add_subcommand("strip", "Animation -> a film strip PNG: every N-th frame of a stretch, the mouth close");
+  CLI::App* strip =
+      app.add_subcommand("strip", "Animation -> a film strip PNG: every N-th frame of a stretch, the mouth close");
   strip->add_option("animation", stripArguments->animation, "Animation file (.csv, .json or .fap)")->required();
   strip->add_option("-o,--output", stripArguments->output, "PNG to write")->required();
-  strip->add_option("--from", stripArguments->fromSeconds, "Start (seconds)")->check(CLI::Range(0.0, 1e6))->capture_default_str();
-  strip->add_option("--seconds", stripArguments->seconds, "Length (seconds)")->check(CLI::Range(0.01, 60.0))->capture_default_str();
-  strip->add_option("--every", stripArguments->every, "Animation frames between tiles")->check(CLI::Range(1, 1000))->capture_default_str();
-  strip->add_option("--columns", stripArguments->columns, "Tiles per row")->check(CLI::Range(1, 100))->capture_default_str();
-  strip->add_option("--tile", stripArguments->tile, "Pixels per tile (square)")->check(CLI::Range(64, 1024))->capture_default_str();
-  strip->add_option("--phones", stripArguments->phones, "Praat TextGrid with a \"phones\" tier: each tile's phone under it");
-  strip->add_flag("--whole-head", stripArguments->wholeHead, "Frame the whole head, turning as animated, rather than the mouth");
+  strip->add_option("--from", stripArguments->fromSeconds, "Start (seconds)")
+      ->check(CLI::Range(0.0, 1e6))
+      ->capture_default_str();
+  strip->add_option("--seconds", stripArguments->seconds, "Length (seconds)")
+      ->check(CLI::Range(0.01, 60.0))
+      ->capture_default_str();
+  strip->add_option("--every", stripArguments->every, "Animation frames between tiles")
+      ->check(CLI::Range(1, 1000))
+      ->capture_default_str();
+  strip->add_option("--columns", stripArguments->columns, "Tiles per row")
+      ->check(CLI::Range(1, 100))
+      ->capture_default_str();
+  strip->add_option("--tile", stripArguments->tile, "Pixels per tile (square)")
+      ->check(CLI::Range(64, 1024))
+      ->capture_default_str();
+  strip->add_option("--phones", stripArguments->phones,
+                    "Praat TextGrid with a \"phones\" tier: each tile's phone under it");
+  strip->add_flag("--whole-head", stripArguments->wholeHead,
+                  "Frame the whole head, turning as animated, rather than the mouth");
   strip->callback([stripArguments] { runStrip(*stripArguments); });
 
   auto exportArguments = std::make_shared<ExportArguments>();
-  CLI::App* exporter = app.add_subcommand(
-      "export", "Recording -> MP4 (H.264 + AAC) of the face speaking it, rendered off-screen");
-  exporter->add_option("input", exportArguments->input, "Recording (WAV, FLAC, ... or a video's audio track)")->required();
+  CLI::App* exporter =
+      app.add_subcommand("export", "Recording -> MP4 (H.264 + AAC) of the face speaking it, rendered off-screen");
+  exporter->add_option("input", exportArguments->input, "Recording (WAV, FLAC, ... or a video's audio track)")
+      ->required();
   exporter->add_option("-o,--output", exportArguments->output, "MP4 file to write")->required();
   exporter->add_option("--size", exportArguments->size, "WIDTHxHEIGHT, both even")->capture_default_str();
-  exporter->add_option("--fps", exportArguments->fps, "Video frames per second")->check(CLI::Range(1.0, 120.0))->capture_default_str();
-  exporter->add_option("--anim", exportArguments->animation, "Play this animation (.csv, .json, .fap) instead of the models'");
+  exporter->add_option("--fps", exportArguments->fps, "Video frames per second")
+      ->check(CLI::Range(1.0, 120.0))
+      ->capture_default_str();
+  exporter->add_option("--anim", exportArguments->animation,
+                       "Play this animation (.csv, .json, .fap) instead of the models'");
   exporter->add_option("--save-anim", exportArguments->saveAnimation,
                        "Also write the animation (.fap MPEG-4 FAP stream, .csv or .json); repeatable");
-  exporter->add_option("--arkit", exportArguments->arkit, "Also write ARKit blendshape weights (CSV: time_s + 52 names)");
+  exporter->add_option("--arkit", exportArguments->arkit,
+                       "Also write ARKit blendshape weights (CSV: time_s + 52 names)");
   addOptions(*exporter, exportArguments->models);
   addOptions(*exporter, exportArguments->head);
   addOptions(*exporter, exportArguments->idle);
-  exporter->add_option("--crf", exportArguments->crf, "H.264 quality (lower is better and larger)")->check(CLI::Range(0, 51))->capture_default_str();
-  exporter->add_option("--preset", exportArguments->preset, "x264 preset (ultrafast ... veryslow)")->capture_default_str();
+  exporter->add_option("--crf", exportArguments->crf, "H.264 quality (lower is better and larger)")
+      ->check(CLI::Range(0, 51))
+      ->capture_default_str();
+  exporter->add_option("--preset", exportArguments->preset, "x264 preset (ultrafast ... veryslow)")
+      ->capture_default_str();
   exporter->callback([exportArguments] { runExport(*exportArguments); });
 }
 

@@ -45,9 +45,9 @@ void writeJson(std::ostream& out, const features::FeatureMatrix& matrix, const f
   const auto names = matrix.layout.columnNames();
   columns.insert(columns.end(), names.begin(), names.end());
   document["columns"] = columns;
-  document["lookahead_ms"] = {{"f0", lookahead.f0Ms}, {"energy", lookahead.energyMs}, {"mfcc", lookahead.mfccMs},
-                              {"deltas", lookahead.deltasMs}, {"context", lookahead.contextMs},
-                              {"total", lookahead.totalMs}};
+  document["lookahead_ms"] = {{"f0", lookahead.f0Ms},           {"energy", lookahead.energyMs},
+                              {"mfcc", lookahead.mfccMs},       {"deltas", lookahead.deltasMs},
+                              {"context", lookahead.contextMs}, {"total", lookahead.totalMs}};
   nlohmann::json rows = nlohmann::json::array();
   for (int frame = 0; frame < matrix.numFrames(); ++frame) {
     nlohmann::json row = nlohmann::json::array();
@@ -75,9 +75,10 @@ void printSummary(const std::string& input, const audio::AudioClip& clip, const 
             << "  source: " << clip.sourceRateHz << " Hz, " << clip.sourceChannels << " channel(s), "
             << std::setprecision(2) << clip.durationSeconds() << " s -> 16 kHz mono\n"
             << std::setprecision(1) << "  frames: " << matrix.numFrames() << " at " << matrix.framesPerSecond
-            << " fps, " << matrix.layout.size() << " values per frame (f0, energy, 2 deltas, "
-            << matrix.layout.numMfcc << " MFCC, +-" << matrix.layout.contextFrames << " frames of MFCC context)\n"
-            << "  voiced: " << (matrix.numFrames() ? 100.0 * static_cast<double>(voiced.size()) / matrix.numFrames() : 0.0)
+            << " fps, " << matrix.layout.size() << " values per frame (f0, energy, 2 deltas, " << matrix.layout.numMfcc
+            << " MFCC, +-" << matrix.layout.contextFrames << " frames of MFCC context)\n"
+            << "  voiced: "
+            << (matrix.numFrames() ? 100.0 * static_cast<double>(voiced.size()) / matrix.numFrames() : 0.0)
             << " % of frames; F0 median " << quantile(0.5) << " Hz, 5-95 % range " << quantile(0.05) << "-"
             << quantile(0.95) << " Hz\n"
             << "  look-ahead (ms): F0 " << lookahead.f0Ms << ", energy " << lookahead.energyMs << ", MFCC "
@@ -111,7 +112,7 @@ void runFeatures(const FeaturesArguments& arguments) {
   std::string format = arguments.format;
   if (format == "auto") {
     format = arguments.output.size() >= 5 && arguments.output.substr(arguments.output.size() - 5) == ".json" ? "json"
-                                                                                                           : "csv";
+                                                                                                             : "csv";
   }
   // Open the output first so that an unwritable path fails before any work is done.
   std::unique_ptr<AtomicFile> output;
@@ -139,7 +140,9 @@ void addFeaturesCommand(CLI::App& app) {
   auto arguments = std::make_shared<FeaturesArguments>();
   CLI::App* command = app.add_subcommand(
       "features", "Speech features per animation frame (F0, energy, deltas, MFCC, context) of a recording");
-  command->add_option("input", arguments->input, "Recording: WAV, FLAC, OGG (any rate 8-96 kHz, any channels), or a video's or MP3's sound")
+  command
+      ->add_option("input", arguments->input,
+                   "Recording: WAV, FLAC, OGG (any rate 8-96 kHz, any channels), or a video's or MP3's sound")
       ->required();
   command->add_option("-o,--output", arguments->output, "CSV or JSON file to write; without it, print a summary");
   command->add_option("--format", arguments->format, "csv, json, or auto (from the output's extension)")

@@ -11,13 +11,13 @@
 #include <string>
 #include <vector>
 
-#include "eval/head_corpus.h"
 #include "animation/head_data.h"
-#include "eval/head_evaluation.h"
 #include "animation/head_model.h"
 #include "animation/idle_motion.h"
 #include "commands.h"
 #include "core/atomic_file.h"
+#include "eval/head_corpus.h"
+#include "eval/head_evaluation.h"
 #include "hmm/entropic_training.h"
 
 namespace th::app {
@@ -29,9 +29,9 @@ using animation::HeadSynthesisOptions;
 using animation::HeadVariant;
 
 struct HeadArguments {
-  std::string model;       // eval: judge this model file too (trained on what it was trained on)
-  std::string compare;     // eval: another model file to judge beside (e.g. an older default)
-  std::string output;      // train: where to write it
+  std::string model;    // eval: judge this model file too (trained on what it was trained on)
+  std::string compare;  // eval: another model file to judge beside (e.g. an older default)
+  std::string output;   // train: where to write it
   double trainingFraction = 0.75;
   int lagFrames = 6;
   bool beat2Only = false;  // train: the single-speaker model of the paper's setting
@@ -39,26 +39,30 @@ struct HeadArguments {
 };
 
 void addModelOptions(CLI::App* command, HeadArguments& arguments) {
-  command->add_option("--train-fraction", arguments.trainingFraction,
-                      "The first this fraction of the BEAT2 take trains, the rest is held out")
+  command
+      ->add_option("--train-fraction", arguments.trainingFraction,
+                   "The first this fraction of the BEAT2 take trains, the rest is held out")
       ->check(CLI::Range(0.1, 0.95))
       ->capture_default_str();
   command->add_option("--start-states", arguments.options.startStates, "Fully connected states to start from")
       ->check(CLI::Range(2, 100))
       ->capture_default_str();
-  command->add_option("--entropic", arguments.options.entropicWeightPerFrame,
-                      "Entropic prior weight per training frame (Z = this x frames)")
+  command
+      ->add_option("--entropic", arguments.options.entropicWeightPerFrame,
+                   "Entropic prior weight per training frame (Z = this x frames)")
       ->check(CLI::Range(0.0, 10.0))
       ->capture_default_str();
   command->add_option("--seed", arguments.options.seed, "Seed of the k-means++ start")->capture_default_str();
   command->add_option("--iterations", arguments.options.maxIterations, "Most Baum-Welch iterations of the motion HMM")
       ->check(CLI::Range(5, 1000))
       ->capture_default_str();
-  command->add_flag("--residual-from-training", [&arguments](std::int64_t) { arguments.options.residualFromHeldOutSpeakers = false; },
-                    "Size the residual motion on the model's own training speech (one training instead of one more "
-                    "per speaker; the residual comes out smaller on new voices)");
-  command->add_flag("--no-speaker-normalisation", [&arguments](std::int64_t) { arguments.options.normaliseSpeakers = false; },
-                    "Keep each speaker's motion in degrees instead of in units of its own spread");
+  command->add_flag(
+      "--residual-from-training", [&arguments](std::int64_t) { arguments.options.residualFromHeldOutSpeakers = false; },
+      "Size the residual motion on the model's own training speech (one training instead of one more "
+      "per speaker; the residual comes out smaller on new voices)");
+  command->add_flag(
+      "--no-speaker-normalisation", [&arguments](std::int64_t) { arguments.options.normaliseSpeakers = false; },
+      "Keep each speaker's motion in degrees instead of in units of its own spread");
 }
 
 // Every recording with head pose: BEAT2's take split by time (its held-out part is never trained on) and
@@ -165,8 +169,7 @@ Row judge(const std::string& name, const std::vector<JudgedClip>& clips, const S
     const JudgedClip& c = clips[i];
     const double w = c.clip->numFrames() / truth.frames;
     const Eigen::MatrixXd predicted = estimate(i);
-    const eval::HeadMetrics m =
-        eval::evaluateHead(predicted, c.truth, eval::stepQuantile(c.truth, 0.99));
+    const eval::HeadMetrics m = eval::evaluateHead(predicted, c.truth, eval::stepQuantile(c.truth, 0.99));
     const eval::HeadMotionStatistics s = eval::motionStatistics(predicted, c.pauses, kFps);
     row.error += w * m.error;
     row.correlation += w * m.correlation;
@@ -188,11 +191,11 @@ std::string pauseText(bool pauses, double ratio) {
 }
 
 void printHeader(const SpeakerTruth& truth) {
-  std::printf("  %-44s %6s  %-17s  %-17s  %6s  %6s  %5s  %7s\n", "", "E", "corr p / y / r", "std ratio p/y/r",
-              "p95 v", "pause", "jump%", "FD");
-  std::printf("  %-44s %6s  %-17s  %5.1f %5.1f %5.1f  %6.1f  %s  %5s  %7s\n", "truth (std deg, p95 deg/s, pause/speech)",
-              "", "", truth.poseStd[0], truth.poseStd[1], truth.poseStd[2], truth.speedP95,
-              pauseText(truth.pauses, truth.pauseRatio).c_str(), "", "");
+  std::printf("  %-44s %6s  %-17s  %-17s  %6s  %6s  %5s  %7s\n", "", "E", "corr p / y / r", "std ratio p/y/r", "p95 v",
+              "pause", "jump%", "FD");
+  std::printf("  %-44s %6s  %-17s  %5.1f %5.1f %5.1f  %6.1f  %s  %5s  %7s\n",
+              "truth (std deg, p95 deg/s, pause/speech)", "", "", truth.poseStd[0], truth.poseStd[1], truth.poseStd[2],
+              truth.speedP95, pauseText(truth.pauses, truth.pauseRatio).c_str(), "", "");
 }
 
 void printRow(const Row& r) {
@@ -218,16 +221,17 @@ Eigen::MatrixXd otherMotion(const HeadRecording& other, int frames) {
   return out;
 }
 
-void evaluateSpeaker(const HeadCorpus& corpus, const std::string& speaker, const std::vector<const HeadRecording*>& heldOut,
-                     const HeadArguments& arguments, const HeadModel* compare, std::map<std::string, std::vector<Row>>& all) {
+void evaluateSpeaker(const HeadCorpus& corpus, const std::string& speaker,
+                     const std::vector<const HeadRecording*>& heldOut, const HeadArguments& arguments,
+                     const HeadModel* compare, std::map<std::string, std::vector<Row>>& all) {
   double seconds = 0.0;
   const std::vector<HeadRecording> parts = trainingSet(corpus, speaker);
   const HeadModel model = train(parts, arguments.options, &seconds);
   std::vector<JudgedClip> clips;
   int frames = 0;
   for (const HeadRecording* clip : heldOut) {
-    clips.push_back({clip, clip->rotations.colwise() - clip->rotations.rowwise().mean(),
-                     eval::pauseFrames(clip->levelDb)});
+    clips.push_back(
+        {clip, clip->rotations.colwise() - clip->rotations.rowwise().mean(), eval::pauseFrames(clip->levelDb)});
     frames += clip->numFrames();
   }
   const SpeakerTruth truth = truthOf(clips);
@@ -247,12 +251,13 @@ void evaluateSpeaker(const HeadCorpus& corpus, const std::string& speaker, const
   rows.push_back(judge("trajectory (the default)", clips, truth, synthesise(model, {})));
   rows.push_back(judge("trajectory, online (live, lag " + std::to_string(arguments.lagFrames) + ")", clips, truth,
                        synthesise(model, {.maxLagFrames = arguments.lagFrames})));
-  rows.push_back(judge("Viterbi state means (paper)", clips, truth, synthesise(model, {.variant = HeadVariant::kStateMeans})));
-  rows.push_back(judge("trajectory, unvoiced frames decoded too", clips, truth, synthesise(model, {.voicedOnly = false})));
+  rows.push_back(
+      judge("Viterbi state means (paper)", clips, truth, synthesise(model, {.variant = HeadVariant::kStateMeans})));
+  rows.push_back(
+      judge("trajectory, unvoiced frames decoded too", clips, truth, synthesise(model, {.voicedOnly = false})));
   if (compare != nullptr) {
     rows.push_back(judge("compared model, its own settings", clips, truth, [&](std::size_t i) {
-      return animation::synthesiseHead(*compare, clips[i].clip->prosody, Eigen::RowVectorXd(),
-                                       {.voicedOnly = false});
+      return animation::synthesiseHead(*compare, clips[i].clip->prosody, Eigen::RowVectorXd(), {.voicedOnly = false});
     }));
   }
   for (const auto& row : rows) printRow(row);
@@ -279,7 +284,8 @@ void evaluateSpeaker(const HeadCorpus& corpus, const std::string& speaker, const
   walks.pauses = truth.pauses;
   for (unsigned seed = 1; seed <= kWalks; ++seed) {
     const Row walk = judge("", clips, truth, [&](std::size_t i) {
-      return eval::matchedRandomWalk(poseStd, stepStd, clips[i].clip->numFrames(), seed * 100 + static_cast<unsigned>(i));
+      return eval::matchedRandomWalk(poseStd, stepStd, clips[i].clip->numFrames(),
+                                     seed * 100 + static_cast<unsigned>(i));
     });
     walks.error += walk.error / kWalks;
     walks.correlation += walk.correlation / kWalks;
@@ -304,8 +310,9 @@ void evaluateSpeaker(const HeadCorpus& corpus, const std::string& speaker, const
 // (30 dB under its loud frames, as above) or within half a second after one begins, per minute of such time,
 // against those that start while the voice goes on.
 void reportBlinks(const std::vector<const HeadRecording*>& takes) {
-  std::printf("\nBlinks (the idle behaviour on each take's sound, as animate and export add it): a minute in all, "
-              "at pauses (in one or within 0.5 s after it begins) and in speech\n");
+  std::printf(
+      "\nBlinks (the idle behaviour on each take's sound, as animate and export add it): a minute in all, "
+      "at pauses (in one or within 0.5 s after it begins) and in speech\n");
   double allMinutes = 0.0, allBlinks = 0.0, pauseMinutes = 0.0, pauseBlinks = 0.0;
   for (const HeadRecording* take : takes) {
     face::FapTrack animation;
@@ -318,8 +325,10 @@ void reportBlinks(const std::vector<const HeadRecording*>& takes) {
     std::vector<bool> atPause(static_cast<std::size_t>(take->numFrames()), false);
     for (int t = 0; t < take->numFrames(); ++t)
       if (pauses[t] > 0.0 && (t == 0 || pauses[t - 1] == 0.0))
-        for (int u = t; u < std::min(take->numFrames(), t + static_cast<int>(0.5 * kFps)); ++u) atPause[static_cast<std::size_t>(u)] = true;
-    for (int t = 0; t < take->numFrames(); ++t) atPause[static_cast<std::size_t>(t)] = atPause[static_cast<std::size_t>(t)] || pauses[t] > 0.0;
+        for (int u = t; u < std::min(take->numFrames(), t + static_cast<int>(0.5 * kFps)); ++u)
+          atPause[static_cast<std::size_t>(u)] = true;
+    for (int t = 0; t < take->numFrames(); ++t)
+      atPause[static_cast<std::size_t>(t)] = atPause[static_cast<std::size_t>(t)] || pauses[t] > 0.0;
     int blinks = 0, atPauses = 0, pauseFramesCount = 0;
     for (int t = 0; t < take->numFrames(); ++t) {
       pauseFramesCount += atPause[static_cast<std::size_t>(t)];
@@ -351,13 +360,15 @@ void runEval(const HeadArguments& arguments) {
   std::unique_ptr<HeadModel> judged;
   if (!arguments.model.empty()) judged = std::make_unique<HeadModel>(animation::loadHeadModel(arguments.model));
   const HeadCorpus corpus = loadHeadCorpus(arguments.trainingFraction);
-  std::printf("Head motion, leave one speaker out: for each speaker, the recipe is trained on the others and judged on "
-              "its speech (BEAT2's scott: the held-out last %.0f %% of the take).\n",
-              100.0 * (1.0 - arguments.trainingFraction));
-  std::printf("E: the paper's error; corr: per axis; std ratio: the estimate's spread over the truth's; p95 v: the "
-              "95th percentile of the angular speed over the truth's; pause: mean speed in pauses over mean speed in "
-              "speech (pause: 30 dB under the loud frames); jump%%: steps over the truth's 99th percentile; FD: Fréchet "
-              "distance of 1 s windows of pose and velocity. Poses about each clip's own mean.\n");
+  std::printf(
+      "Head motion, leave one speaker out: for each speaker, the recipe is trained on the others and judged on "
+      "its speech (BEAT2's scott: the held-out last %.0f %% of the take).\n",
+      100.0 * (1.0 - arguments.trainingFraction));
+  std::printf(
+      "E: the paper's error; corr: per axis; std ratio: the estimate's spread over the truth's; p95 v: the "
+      "95th percentile of the angular speed over the truth's; pause: mean speed in pauses over mean speed in "
+      "speech (pause: 30 dB under the loud frames); jump%%: steps over the truth's 99th percentile; FD: Fréchet "
+      "distance of 1 s windows of pose and velocity. Poses about each clip's own mean.\n");
   std::map<std::string, std::vector<Row>> all;
   evaluateSpeaker(corpus, corpus.beat2Test.speaker, {&corpus.beat2Test}, arguments, compare.get(), all);
   std::vector<std::string> speakers;
@@ -374,7 +385,8 @@ void runEval(const HeadArguments& arguments) {
   reportBlinks(takes);
   if (judged) {
     const HeadModel& model = *judged;
-    std::vector<JudgedClip> clips{{&corpus.beat2Test, corpus.beat2Test.rotations.colwise() - corpus.beat2Test.rotations.rowwise().mean(),
+    std::vector<JudgedClip> clips{{&corpus.beat2Test,
+                                   corpus.beat2Test.rotations.colwise() - corpus.beat2Test.rotations.rowwise().mean(),
                                    eval::pauseFrames(corpus.beat2Test.levelDb)}};
     const SpeakerTruth truth = truthOf(clips);
     std::printf("\n%s on BEAT2's held-out part (trained on", arguments.model.c_str());
@@ -394,8 +406,8 @@ void addTrainCommand(CLI::App& app) {
   train->require_subcommand(0, 1);  // none with --video
   auto arguments = std::make_shared<HeadArguments>();
   arguments->output = "models/head.json";
-  CLI::App* head = train->add_subcommand(
-      "head", "Prosody -> head motion HMM from BEAT2's training part and StyleTalk's speakers");
+  CLI::App* head =
+      train->add_subcommand("head", "Prosody -> head motion HMM from BEAT2's training part and StyleTalk's speakers");
   addModelOptions(head, *arguments);
   head->add_option("-o,--output", arguments->output, "Model file to write")->capture_default_str();
   head->add_flag("--beat2", arguments->beat2Only, "BEAT2's one speaker only (the paper's setting)");
@@ -407,8 +419,9 @@ void addTrainCommand(CLI::App& app) {
 void addEvalHeadCommand(CLI::App& eval) {
   auto arguments = std::make_shared<HeadArguments>();
   CLI::App* head = eval.add_subcommand(
-      "head", "Head motion from prosody, leave one speaker out: the paper's E, speed, spread, pauses, jumps and the "
-              "Fréchet distance beside baselines");
+      "head",
+      "Head motion from prosody, leave one speaker out: the paper's E, speed, spread, pauses, jumps and the "
+      "Fréchet distance beside baselines");
   addModelOptions(head, *arguments);
   head->add_option("--model", arguments->model, "Also judge this model file on BEAT2's held-out part");
   head->add_option("--compare", arguments->compare, "Judge this model file beside the recipe (e.g. an older default)");

@@ -31,14 +31,16 @@ std::vector<Eigen::MatrixXd> sequencesOf(const NumericTable& table, const std::v
     Eigen::MatrixXd frames(static_cast<Eigen::Index>(columns.size()), static_cast<Eigen::Index>(current.size()));
     for (size_t t = 0; t < current.size(); ++t) {
       for (size_t k = 0; k < columns.size(); ++k) {
-        frames(static_cast<Eigen::Index>(k), static_cast<Eigen::Index>(t)) = current[t][static_cast<size_t>(columns[k])];
+        frames(static_cast<Eigen::Index>(k), static_cast<Eigen::Index>(t)) =
+            current[t][static_cast<size_t>(columns[k])];
       }
     }
     sequences.push_back(std::move(frames));
     current.clear();
   };
   for (size_t r = 0; r < table.rows.size(); ++r) {
-    if (seq >= 0 && r > 0 && table.rows[r][static_cast<size_t>(seq)] != table.rows[r - 1][static_cast<size_t>(seq)]) flush();
+    if (seq >= 0 && r > 0 && table.rows[r][static_cast<size_t>(seq)] != table.rows[r - 1][static_cast<size_t>(seq)])
+      flush();
     current.push_back(table.rows[r]);
   }
   flush();
@@ -95,14 +97,13 @@ void runTrain(const TrainArguments& arguments) {
   options.maxIterations = arguments.iterations;
   options.seed = arguments.seed;
   const bool entropic = arguments.entropic != 0.0 || arguments.covariancePrior != 0.0;
-  const hmm::EstimationHooks hooks =
-      entropic ? hmm::entropicHooks({.multinomialWeight = arguments.entropic,
-                                     .covarianceWeight = arguments.covariancePrior,
-                                     .trim = !arguments.noTrim,
-                                     .warmupIterations = arguments.warmup,
-                                     .rampIterations = arguments.ramp,
-                                     .mergeCandidates = arguments.mergeCandidates})
-               : hmm::EstimationHooks{};
+  const hmm::EstimationHooks hooks = entropic ? hmm::entropicHooks({.multinomialWeight = arguments.entropic,
+                                                                    .covarianceWeight = arguments.covariancePrior,
+                                                                    .trim = !arguments.noTrim,
+                                                                    .warmupIterations = arguments.warmup,
+                                                                    .rampIterations = arguments.ramp,
+                                                                    .mergeCandidates = arguments.mergeCandidates})
+                                              : hmm::EstimationHooks{};
   hmm::TrainingResult result = hmm::trainHmm(sequences, options, hooks);
   result.model.columnNames = names;
   if (!visual.empty()) {
@@ -116,16 +117,24 @@ void runTrain(const TrainArguments& arguments) {
   training["sequences"] = sequences.size();
   training["iterations"] = result.history.size() - 1;
   training["converged"] = result.converged;
-  training["options"] = {{"states", arguments.states}, {"mixtures", arguments.mixtures},
-                         {"covariance", arguments.covariance}, {"entropic", arguments.entropic},
-                         {"covariance_prior", arguments.covariancePrior}, {"warmup", arguments.warmup},
-                         {"ramp", arguments.ramp}, {"merge_candidates", arguments.mergeCandidates},
-                         {"trim", !arguments.noTrim}, {"seed", arguments.seed}};
+  training["options"] = {{"states", arguments.states},
+                         {"mixtures", arguments.mixtures},
+                         {"covariance", arguments.covariance},
+                         {"entropic", arguments.entropic},
+                         {"covariance_prior", arguments.covariancePrior},
+                         {"warmup", arguments.warmup},
+                         {"ramp", arguments.ramp},
+                         {"merge_candidates", arguments.mergeCandidates},
+                         {"trim", !arguments.noTrim},
+                         {"seed", arguments.seed}};
   nlohmann::json history = nlohmann::json::array();
   for (const auto& record : result.history) {
-    history.push_back({{"log_likelihood", record.logLikelihood}, {"log_prior", record.logPrior},
-                       {"live_states", record.liveStates}, {"step_gain", record.stepGain},
-                       {"trim_retries", record.trimRetries}, {"states_merged", record.statesMerged}});
+    history.push_back({{"log_likelihood", record.logLikelihood},
+                       {"log_prior", record.logPrior},
+                       {"live_states", record.liveStates},
+                       {"step_gain", record.stepGain},
+                       {"trim_retries", record.trimRetries},
+                       {"states_merged", record.statesMerged}});
   }
   training["history"] = history;
   hmm::saveModel(arguments.output, result.model, training.dump());
@@ -143,7 +152,8 @@ void runInfo(const std::string& path) {
   info["covariance"] = model.covarianceType() == hmm::CovarianceType::kFull ? "full" : "diagonal";
   info["nonzero_transitions"] = hmm::countTransitions(model);
   nlohmann::json blocks = nlohmann::json::array();
-  for (const auto& block : model.blocks) blocks.push_back({{"name", block.name}, {"begin", block.begin}, {"size", block.size}});
+  for (const auto& block : model.blocks)
+    blocks.push_back({{"name", block.name}, {"begin", block.begin}, {"size", block.size}});
   info["blocks"] = blocks;
   if (!trainingText.empty()) {
     const Json training = parseJson(trainingText, path);
@@ -193,9 +203,9 @@ void runDecode(const DecodeArguments& arguments) {
       for (int state : hmm::viterbi(model, logB).states) rows.push_back({static_cast<double>(state)});
     }
   }
-  writeNumericCsv(arguments.output, arguments.online ? std::vector<std::string>{"state", "lag_frames"}
-                                                     : std::vector<std::string>{"state"},
-                  rows);
+  writeNumericCsv(
+      arguments.output,
+      arguments.online ? std::vector<std::string>{"state", "lag_frames"} : std::vector<std::string>{"state"}, rows);
 }
 
 struct InvertArguments {
@@ -222,7 +232,8 @@ void runInvert(const InvertArguments& arguments) {
   const hmm::HmmInverter inverter(model, options);
   std::vector<std::vector<double>> rows;
   for (const auto& frames : sequences) {
-    const Eigen::MatrixXd estimate = arguments.method == "mmse" ? inverter.mmse(frames) : inverter.invert(frames).visual;
+    const Eigen::MatrixXd estimate =
+        arguments.method == "mmse" ? inverter.mmse(frames) : inverter.invert(frames).visual;
     for (Eigen::Index t = 0; t < estimate.cols(); ++t) {
       rows.emplace_back(estimate.col(t).data(), estimate.col(t).data() + estimate.rows());
     }
@@ -239,9 +250,11 @@ void addHmmCommand(CLI::App& app) {
   hmm->require_subcommand(1);
 
   auto train = std::make_shared<TrainArguments>();
-  CLI::App* trainCommand = hmm->add_subcommand("train", "Train an HMM (Baum-Welch, optionally with Brand's entropic prior)");
+  CLI::App* trainCommand =
+      hmm->add_subcommand("train", "Train an HMM (Baum-Welch, optionally with Brand's entropic prior)");
   trainCommand->add_option("--data", train->data, "CSV with a header; a 'seq' column splits sequences")->required();
-  trainCommand->add_option("--states", train->states, "Number of states (a generous start when entropic)")->required()
+  trainCommand->add_option("--states", train->states, "Number of states (a generous start when entropic)")
+      ->required()
       ->check(CLI::Range(1, 1000));
   trainCommand->add_option("--mixtures", train->mixtures, "Gaussians per state")->check(CLI::Range(1, 100));
   trainCommand->add_option("--covariance", train->covariance, "full or diag")->check(CLI::IsMember({"full", "diag"}));
@@ -251,15 +264,17 @@ void addHmmCommand(CLI::App& app) {
   trainCommand->add_option("--covariance-prior", train->covariancePrior, "Entropic prior weight on covariances");
   trainCommand->add_option("--warmup", train->warmup, "Maximum-likelihood iterations before the prior starts");
   trainCommand->add_option("--ramp", train->ramp, "Iterations over which Z rises to its full value");
-  trainCommand->add_option("--merge-candidates", train->mergeCandidates,
-                           "With the entropic prior: most similar state pairs tried for merging per iteration once Z "
-                           "has settled; a merge is kept only if the log posterior rises (0: never)")
+  trainCommand
+      ->add_option("--merge-candidates", train->mergeCandidates,
+                   "With the entropic prior: most similar state pairs tried for merging per iteration once Z "
+                   "has settled; a merge is kept only if the log posterior rises (0: never)")
       ->check(CLI::Range(0, 100));
   trainCommand->add_flag("--no-trim", train->noTrim,
                          "With the entropic prior: no parameter extinction, state deletion or merging");
   trainCommand->add_option("--iterations", train->iterations, "Maximum EM iterations")->check(CLI::Range(1, 100000));
   trainCommand->add_option("--seed", train->seed, "Seed of the k-means++ initialisation");
-  trainCommand->add_option("--visual-columns", train->visualColumns, "Comma-separated columns forming the visual block");
+  trainCommand->add_option("--visual-columns", train->visualColumns,
+                           "Comma-separated columns forming the visual block");
   trainCommand->add_option("-o,--output", train->output, "Model file (JSON) to write")->required();
   trainCommand->callback([train] { runTrain(*train); });
 
@@ -281,9 +296,12 @@ void addHmmCommand(CLI::App& app) {
   CLI::App* invertCommand = hmm->add_subcommand("invert", "Visual columns from audio columns by HMM inversion or MMSE");
   invertCommand->add_option("model", invert->model, "Model file with 'audio' and 'visual' blocks")->required();
   invertCommand->add_option("--data", invert->data, "CSV with the model's audio columns")->required();
-  invertCommand->add_option("--method", invert->method, "inversion or mmse")->check(CLI::IsMember({"inversion", "mmse"}));
-  invertCommand->add_option("--window", invert->window, "Frames per EM window (0: whole sequence)")->check(CLI::Range(0, 1000000));
-  invertCommand->add_option("--start", invert->start, "mean (conditional mean) or random")->check(CLI::IsMember({"mean", "random"}));
+  invertCommand->add_option("--method", invert->method, "inversion or mmse")
+      ->check(CLI::IsMember({"inversion", "mmse"}));
+  invertCommand->add_option("--window", invert->window, "Frames per EM window (0: whole sequence)")
+      ->check(CLI::Range(0, 1000000));
+  invertCommand->add_option("--start", invert->start, "mean (conditional mean) or random")
+      ->check(CLI::IsMember({"mean", "random"}));
   invertCommand->add_option("-o,--output", invert->output, "CSV of the visual columns")->required();
   invertCommand->callback([invert] { runInvert(*invert); });
 }

@@ -16,7 +16,9 @@
 namespace th::app {
 
 inline std::atomic<bool> interruptRequested{false};
-extern "C" inline void onInterrupt(int) { interruptRequested.store(true); }
+extern "C" inline void onInterrupt(int) {
+  interruptRequested.store(true);
+}
 
 class InterruptGuard {
  public:

@@ -1,6 +1,5 @@
 // talkinghead: speech in, talking head out. One executable, one subcommand per job.
 #include <CLI/CLI.hpp>
-
 #include <iostream>
 #include <string>
 
@@ -23,9 +22,9 @@ int main(int argc, char** argv) {
   th::app::addSideBySideCommand(app);
   th::app::addRecordCommand(app);
   // docs/cli.md: the reference of every command above, from the commands themselves (hidden from --help).
-  app.add_subcommand("reference", "Print the command-line reference (Markdown)")
-      ->group("")
-      ->callback([&app] { th::app::writeCliReference(app, std::cout); });
+  app.add_subcommand("reference", "Print the command-line reference (Markdown)")->group("")->callback([&app] {
+    th::app::writeCliReference(app, std::cout);
+  });
   // A mistyped command line is one line, as every other error (CLI11 adds a second, "Run with --help ...").
   app.failure_message([](const CLI::App*, const CLI::Error& e) {
     return "talkinghead: " + std::string(e.what()) + " (--help lists the options)\n";

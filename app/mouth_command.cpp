@@ -1,8 +1,10 @@
 // `talkinghead eval mouth`: the audio → mouth AV-HMM on BEAT2, trained on the first part of the take and
 // measured by the paper's ε and ρ on both parts, per synthesis method, beside baselines.
+#include <unistd.h>
+
 #include <algorithm>
-#include <cmath>
 #include <chrono>
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
@@ -14,32 +16,32 @@
 #include <string>
 #include <vector>
 
-#include <unistd.h>
-
-#include "eval/mouth_corpus.h"
 #include "animation/mouth_data.h"
-#include "eval/mouth_evaluation.h"
-#include "eval/mouth_sweep.h"
 #include "animation/mouth_model.h"
 #include "animation/time_split.h"
 #include "commands.h"
-#include "mouth_corpus_command.h"
 #include "core/atomic_file.h"
 #include "core/data_path.h"
 #include "core/error.h"
 #include "core/parallel_for.h"
 #include "core/statistics.h"
+#include "eval/mouth_corpus.h"
+#include "eval/mouth_evaluation.h"
+#include "eval/mouth_sweep.h"
 #include "face/feature_points.h"
 #include "hmm/audio_retraining.h"
+#include "mouth_corpus_command.h"
 #include "subprocess.h"
 
 namespace th::app {
 namespace {
 
 struct MouthArguments {
-  std::string model;       // eval: evaluate this model file instead of the two built-in configurations
+  std::string model;  // eval: evaluate this model file instead of the two built-in configurations
   std::string modelOutput = "models/mouth.json";  // train
-  animation::MouthModelOptions options{.states = 5, .mixtures = 2, .covariance = hmm::CovarianceType::kFull,
+  animation::MouthModelOptions options{.states = 5,
+                                       .mixtures = 2,
+                                       .covariance = hmm::CovarianceType::kFull,
                                        .contextFrames = 2};  // what the sweep chose on validation data
   double trainingFraction = 0.75;
   int windowFrames = 30;
@@ -91,20 +93,26 @@ void evaluatePart(const std::string& title, const animation::MouthModel& model, 
               static_cast<int>(40 - title.size()), "");
   int iterations = 0;
   using animation::MouthMethod;
-  const Eigen::MatrixXd mean = animation::synthesiseMouth(model, part.speech, {.start = hmm::InversionStart::kConditionalMean}, &iterations);
+  const Eigen::MatrixXd mean =
+      animation::synthesiseMouth(model, part.speech, {.start = hmm::InversionStart::kConditionalMean}, &iterations);
   printRow("inversion, conditional-mean start (ours)", mean, truth, iterations);
-  const Eigen::MatrixXd random = animation::synthesiseMouth(model, part.speech, {.start = hmm::InversionStart::kRandom}, &iterations);
+  const Eigen::MatrixXd random =
+      animation::synthesiseMouth(model, part.speech, {.start = hmm::InversionStart::kRandom}, &iterations);
   printRow("inversion, random start (paper)", random, truth, iterations);
-  const Eigen::MatrixXd windowed = animation::synthesiseMouth(model, part.speech, {.windowFrames = window}, &iterations);
+  const Eigen::MatrixXd windowed =
+      animation::synthesiseMouth(model, part.speech, {.windowFrames = window}, &iterations);
   printRow("inversion, windows of " + std::to_string(window) + " frames (streaming)", windowed, truth, iterations);
   printRow("MMSE estimate", animation::synthesiseMouth(model, part.speech, {.method = MouthMethod::kMmse}), truth, 0);
   // The training data's mean: the components are zero-mean there by construction.
-  printRow("baseline: mean prediction (the training mean)", Eigen::MatrixXd::Zero(truth.rows(), truth.cols()), truth, 0);
+  printRow("baseline: mean prediction (the training mean)", Eigen::MatrixXd::Zero(truth.rows(), truth.cols()), truth,
+           0);
   printRow("baseline: inversion of another segment's audio",
            animation::synthesiseMouth(model, anotherSegment(part.speech), {}), truth, 0);
 }
 
-const char* covarianceName(hmm::CovarianceType type) { return type == hmm::CovarianceType::kFull ? "full" : "diag"; }
+const char* covarianceName(hmm::CovarianceType type) {
+  return type == hmm::CovarianceType::kFull ? "full" : "diag";
+}
 
 // Fig. 3 of the paper: ε and ρ on the held-out part against N, one curve per M, at the context tc chosen on the
 // validation data; one PNG per covariance type, drawn by gnuplot.
@@ -126,8 +134,9 @@ void plotSweep(const std::filesystem::path& folder, const std::filesystem::path&
       out << "set ylabel '" << (std::string(measure) == "epsilon" ? "AMSE (epsilon)" : "ACC (rho)") << "'\n"
           << "plot ";
       for (size_t i = 0; i < mixtures.size(); ++i) {
-        out << (i ? ", " : "") << "'" << csv.string() << "' using ($1 == " << (covariance == hmm::CovarianceType::kFull ? 0 : 1)
-            << " && $2 == " << contextFrames << " && $3 == " << mixtures[i] << " ? $4 : 1/0):" << column
+        out << (i ? ", " : "") << "'" << csv.string()
+            << "' using ($1 == " << (covariance == hmm::CovarianceType::kFull ? 0 : 1) << " && $2 == " << contextFrames
+            << " && $3 == " << mixtures[i] << " ? $4 : 1/0):" << column
             << " with linespoints title 'M = " << mixtures[i] << "'";
       }
       out << "\n";
@@ -141,19 +150,21 @@ void plotSweep(const std::filesystem::path& folder, const std::filesystem::path&
 
 void runSweep(const MouthArguments& arguments, const animation::MouthRecording& train,
               const animation::MouthRecording& test) {
-  if (!programExists("gnuplot")) throw Error("eval mouth --sweep: gnuplot is not installed (scripts/setup.sh installs it)");
+  if (!programExists("gnuplot"))
+    throw Error("eval mouth --sweep: gnuplot is not installed (scripts/setup.sh installs it)");
   // Choices are made on the last fifth of the training part, fitted on the rest; the held-out part is only
   // reported.
   const auto [fit, validation] = animation::splitByTime(train, 0.8);
   eval::MouthSweepGrid grid{.covariances = {},
-                             .contexts = integerList(arguments.contexts, "--contexts"),
-                             .mixtures = integerList(arguments.mixtures, "--mixtures"),
-                             .states = integerList(arguments.states, "--states"),
-                             .iterations = arguments.iterations};
+                            .contexts = integerList(arguments.contexts, "--contexts"),
+                            .mixtures = integerList(arguments.mixtures, "--mixtures"),
+                            .states = integerList(arguments.states, "--states"),
+                            .iterations = arguments.iterations};
   std::stringstream covariances(arguments.covariances);
   std::string covariance;
   while (std::getline(covariances, covariance, ',')) {
-    if (covariance != "full" && covariance != "diag") throw Error("--covariances: \"" + covariance + "\" is not full or diag");
+    if (covariance != "full" && covariance != "diag")
+      throw Error("--covariances: \"" + covariance + "\" is not full or diag");
     grid.covariances.push_back(covariance == "full" ? hmm::CovarianceType::kFull : hmm::CovarianceType::kDiagonal);
   }
   const std::size_t total = grid.covariances.size() * grid.contexts.size() * grid.mixtures.size() * grid.states.size();
@@ -173,11 +184,12 @@ void runSweep(const MouthArguments& arguments, const animation::MouthRecording& 
     int failed = 0;
     const eval::MouthSweepPoint* best = eval::bestOnValidation(points, type, &failed);
     if (best == nullptr) continue;
-    std::printf("%s covariance: chosen on validation N = %d, M = %d, tc = %d (validation ε %.3f, ρ %.3f) -> held-out "
-                "ε %.3f, ρ %.3f%s\n",
-                covarianceName(type), best->states, best->mixtures, best->contextFrames, best->validationEpsilon,
-                best->validationRho, best->heldOutEpsilon, best->heldOutRho,
-                failed ? (", " + std::to_string(failed) + " models could not be trained").c_str() : "");
+    std::printf(
+        "%s covariance: chosen on validation N = %d, M = %d, tc = %d (validation ε %.3f, ρ %.3f) -> held-out "
+        "ε %.3f, ρ %.3f%s\n",
+        covarianceName(type), best->states, best->mixtures, best->contextFrames, best->validationEpsilon,
+        best->validationRho, best->heldOutEpsilon, best->heldOutRho,
+        failed ? (", " + std::to_string(failed) + " models could not be trained").c_str() : "");
     plotSweep(arguments.output, csv, type, best->contextFrames, grid.mixtures);
   }
   std::printf("wrote %s and the plots beside it\n", csv.string().c_str());
@@ -243,16 +255,18 @@ void runStage2(const animation::MouthModel& model, const animation::MouthRecordi
 // The jaw as the face will show it: FAP 3 from the predicted and from the true jaw opening, through the model's
 // FAP map, on the held-out part.
 void reportJawFaps(const animation::MouthModel& model, const animation::MouthRecording& test) {
-  const Eigen::RowVectorXd predictedJaw = animation::jawOpeningOf(model, animation::synthesiseMouth(model, test.speech, {}));
+  const Eigen::RowVectorXd predictedJaw =
+      animation::jawOpeningOf(model, animation::synthesiseMouth(model, test.speech, {}));
   const Eigen::RowVectorXd trueJaw = test.visual.row(0);
   const Eigen::RowVectorXd predicted = animation::mouthFaps(*model.fapMap, predictedJaw).row(0);
   const Eigen::RowVectorXd truth = animation::mouthFaps(*model.fapMap, trueJaw).row(0);
-  std::printf("  jaw → FAP 3 on the held-out part (inversion, conditional-mean start): correlation with the truth "
-              "%.3f (jaw angle %.3f); FAP 3 1st / 50th / 99th percentile %.0f / %.0f / %.0f, the truth's %.0f / %.0f "
-              "/ %.0f (true jaw %.2f° to %.2f°)\n",
-              pearsonCorrelation(predicted, truth), pearsonCorrelation(predictedJaw, trueJaw), quantile(predicted, 0.01),
-              quantile(predicted, 0.5), quantile(predicted, 0.99), quantile(truth, 0.01), quantile(truth, 0.5),
-              quantile(truth, 0.99), trueJaw.minCoeff(), trueJaw.maxCoeff());
+  std::printf(
+      "  jaw → FAP 3 on the held-out part (inversion, conditional-mean start): correlation with the truth "
+      "%.3f (jaw angle %.3f); FAP 3 1st / 50th / 99th percentile %.0f / %.0f / %.0f, the truth's %.0f / %.0f "
+      "/ %.0f (true jaw %.2f° to %.2f°)\n",
+      pearsonCorrelation(predicted, truth), pearsonCorrelation(predictedJaw, trueJaw), quantile(predicted, 0.01),
+      quantile(predicted, 0.5), quantile(predicted, 0.99), quantile(truth, 0.01), quantile(truth, 0.5),
+      quantile(truth, 0.99), trueJaw.minCoeff(), trueJaw.maxCoeff());
 }
 
 void runEvalMouth(const MouthArguments& arguments) {
@@ -264,10 +278,11 @@ void runEvalMouth(const MouthArguments& arguments) {
   // A bad model file fails before anything is printed.
   const std::optional<animation::MouthModel> given =
       arguments.model.empty() ? std::nullopt : std::optional(animation::loadMouthModel(arguments.model));
-  std::printf("Mouth from audio on BEAT2: trained on the first %d frames, held out the last %d (%.1f s). Visual: "
-              "K = 2 ICA-after-PCA components of [jaw opening, 100 expression coefficients]; audio: 11 MFCC with "
-              "±tc frames of context. ε = AMSE normalised by the truth's variance (mean prediction: 1), ρ = ACC.\n",
-              train.numFrames(), test.numFrames(), test.numFrames() / test.framesPerSecond);
+  std::printf(
+      "Mouth from audio on BEAT2: trained on the first %d frames, held out the last %d (%.1f s). Visual: "
+      "K = 2 ICA-after-PCA components of [jaw opening, 100 expression coefficients]; audio: 11 MFCC with "
+      "±tc frames of context. ε = AMSE normalised by the truth's variance (mean prediction: 1), ρ = ACC.\n",
+      train.numFrames(), test.numFrames(), test.numFrames() / test.framesPerSecond);
   if (given) {
     std::printf("\n%s: %d states, tc = %d\n", arguments.model.c_str(), given->hmm.numStates(), given->contextFrames);
     evaluatePart("training part", *given, train, arguments.windowFrames);
@@ -293,8 +308,9 @@ void runEvalMouth(const MouthArguments& arguments) {
     std::printf("  stage 2, audio re-trained on speech only (inversion, conditional-mean start):\n");
     runStage2(model, test, speech);
   }
-  std::printf("\nThe paper's own best, on its own data: full N = 4, M = 2: ε = 0.47, ρ = 0.75; diagonal N = 19, "
-              "M = 3: ε = 0.47, ρ = 0.76.\n");
+  std::printf(
+      "\nThe paper's own best, on its own data: full N = 4, M = 2: ε = 0.47, ρ = 0.75; diagonal N = 19, "
+      "M = 3: ε = 0.47, ρ = 0.76.\n");
 }
 
 }  // namespace
@@ -318,16 +334,18 @@ void addTrainMouthCommand(CLI::App& train) {
   auto corpus = std::make_shared<MouthCorpusArguments>();
   auto beat2 = std::make_shared<bool>(false);
   CLI::App* mouth = train.add_subcommand(
-      "mouth", "Audio -> mouth model from the shared talking videos (GRID s1, StyleTalk), the default; --beat2: the "
-               "paper's model from BEAT2's FLAME fits");
+      "mouth",
+      "Audio -> mouth model from the shared talking videos (GRID s1, StyleTalk), the default; --beat2: the "
+      "paper's model from BEAT2's FLAME fits");
   mouth->add_option("-o,--output", arguments->modelOutput, "Model file to write (default models/mouth.json)");
-  mouth->add_option("--tracks", corpus->tracks,
-                    "Folder of the clips' tracks, made on first use (default: " + defaultMouthTrackFolder().string() + ")");
+  mouth->add_option(
+      "--tracks", corpus->tracks,
+      "Folder of the clips' tracks, made on first use (default: " + defaultMouthTrackFolder().string() + ")");
   CLI::Option* states = mouth->add_option("--states", corpus->model.states, "States N (default 8; 16 with --diagonal)")
                             ->check(CLI::Range(1, 100));
-  CLI::Option* mixtures = mouth->add_option("--mixtures", corpus->model.mixtures,
-                                            "Gaussians per state M (default 2; 3 with --diagonal)")
-                              ->check(CLI::Range(1, 20));
+  CLI::Option* mixtures =
+      mouth->add_option("--mixtures", corpus->model.mixtures, "Gaussians per state M (default 2; 3 with --diagonal)")
+          ->check(CLI::Range(1, 20));
   mouth->add_option("--context", corpus->model.contextFrames, "MFCC context tc (frames either side)")
       ->check(CLI::Range(0, 10))
       ->capture_default_str();
@@ -341,12 +359,16 @@ void addTrainMouthCommand(CLI::App& train) {
         corpus->model.covariance = hmm::CovarianceType::kDiagonal;
       },
       "Diagonal covariance (default full)");
-  mouth->add_option("--stage2", corpus->stageTwo, "Re-train the audio side on speech-only voices (stage 2)")->capture_default_str();
+  mouth->add_option("--stage2", corpus->stageTwo, "Re-train the audio side on speech-only voices (stage 2)")
+      ->capture_default_str();
   mouth->add_option("--corpus", corpus->corpora,
                     "A folder of talking clips to train on, FOLDER or FOLDER=SPEAKER (repeatable; default: the shared "
                     "GRID s1 and StyleTalk folders)");
-  mouth->add_flag("--beat2", *beat2, "The paper's model: BEAT2's FLAME fits (the first --train-fraction of the take)")->group("BEAT2");
-  mouth->add_option("--train-fraction", arguments->trainingFraction, "--beat2: the first this fraction of the take trains")
+  mouth->add_flag("--beat2", *beat2, "The paper's model: BEAT2's FLAME fits (the first --train-fraction of the take)")
+      ->group("BEAT2");
+  mouth
+      ->add_option("--train-fraction", arguments->trainingFraction,
+                   "--beat2: the first this fraction of the take trains")
       ->check(CLI::Range(0.1, 0.95))
       ->group("BEAT2");
   mouth->add_option("--beat2-states", arguments->options.states, "--beat2: states N (default 5, the sweep's choice)")
@@ -377,10 +399,13 @@ void addEvalMouthCommand(CLI::App& eval) {
   auto corpus = std::make_shared<MouthCorpusArguments>();
   auto beat2 = std::make_shared<bool>(false);
   CLI::App* mouth = eval.add_subcommand(
-      "mouth", "Mouth from audio: the default recipe on held-out GRID clips and StyleTalk speakers left out, beside "
-               "baselines (--beat2: the paper's evaluation on BEAT2)");
-  mouth->add_flag("--beat2", *beat2, "The paper's ε and ρ on BEAT2 per synthesis method, beside baselines (and --sweep)");
-  mouth->add_option("--tracks", corpus->tracks, "Folder of the clips' tracks (default: " + defaultMouthTrackFolder().string() + ")");
+      "mouth",
+      "Mouth from audio: the default recipe on held-out GRID clips and StyleTalk speakers left out, beside "
+      "baselines (--beat2: the paper's evaluation on BEAT2)");
+  mouth->add_flag("--beat2", *beat2,
+                  "The paper's ε and ρ on BEAT2 per synthesis method, beside baselines (and --sweep)");
+  mouth->add_option("--tracks", corpus->tracks,
+                    "Folder of the clips' tracks (default: " + defaultMouthTrackFolder().string() + ")");
   mouth->add_option("--compare", corpus->compare, "Other mouth model files to judge on the same clips");
   mouth->add_option("--multilingual", corpus->multilingual,
                     "Folder of phone-aligned speech in other languages (tools/multilingual_speech.py; default: made "
@@ -395,14 +420,21 @@ void addEvalMouthCommand(CLI::App& eval) {
   mouth->add_option("--recipe-mean-seconds", corpus->model.normalisation.meanSeconds)->group("Recipe");
   mouth->add_option("--recipe-peak-decay", corpus->model.normalisation.peakDecayDbPerSecond)->group("Recipe");
   mouth->add_option("--recipe-iterations", corpus->model.maxIterations)->group("Recipe");
-  mouth->add_flag_function("--recipe-diagonal", [corpus](std::int64_t) { corpus->model.covariance = hmm::CovarianceType::kDiagonal; })->group("Recipe");
-  mouth->add_flag_function("--recipe-inversion", [corpus](std::int64_t) { corpus->synthesis.method = animation::MouthMethod::kInversion; })->group("Recipe");
+  mouth
+      ->add_flag_function("--recipe-diagonal",
+                          [corpus](std::int64_t) { corpus->model.covariance = hmm::CovarianceType::kDiagonal; })
+      ->group("Recipe");
+  mouth
+      ->add_flag_function("--recipe-inversion",
+                          [corpus](std::int64_t) { corpus->synthesis.method = animation::MouthMethod::kInversion; })
+      ->group("Recipe");
   mouth->add_option("--recipe-trajectory", corpus->synthesis.trajectory)->group("Recipe");
   mouth->add_option("--recipe-window", corpus->synthesis.windowFrames)->group("Recipe");
   mouth->add_option("--recipe-stage2", corpus->stageTwo)->group("Recipe");
   mouth->add_option("--recipe-other-weight", corpus->otherSpeakerWeight)->group("Recipe");
-  mouth->add_option("--train-fraction", arguments->trainingFraction,
-                    "The first this fraction of the BEAT2 take trains, the rest is held out")
+  mouth
+      ->add_option("--train-fraction", arguments->trainingFraction,
+                   "The first this fraction of the BEAT2 take trains, the rest is held out")
       ->check(CLI::Range(0.1, 0.95));
   mouth->add_option("--window", arguments->windowFrames, "Frames per window of the streaming inversion")
       ->check(CLI::Range(1, 10000));
@@ -419,8 +451,10 @@ void addEvalMouthCommand(CLI::App& eval) {
       ->group("Sweep");
   mouth->add_option("--output", arguments->output, "Sweep: folder for the CSV and the plots")->group("Sweep");
   mouth->callback([arguments, corpus, beat2] {
-    if (*beat2) runEvalMouth(*arguments);
-    else runEvalMouthCorpora(*corpus);
+    if (*beat2)
+      runEvalMouth(*arguments);
+    else
+      runEvalMouthCorpora(*corpus);
   });
 }
 

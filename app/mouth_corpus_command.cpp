@@ -18,8 +18,6 @@
 #include <map>
 #include <sstream>
 
-#include "eval/mouth_corpus.h"
-#include "pipeline/offline.h"
 #include "animation/fap_mapping.h"
 #include "animation/mouth_model.h"
 #include "audio/media_audio.h"
@@ -27,11 +25,13 @@
 #include "core/data_path.h"
 #include "core/error.h"
 #include "core/progress.h"
-#include "face/face_model.h"
-#include "face/feature_points.h"
-#include "subprocess.h"
+#include "eval/mouth_corpus.h"
 #include "eval/mouth_scores.h"
 #include "eval/talking_corpus.h"
+#include "face/face_model.h"
+#include "face/feature_points.h"
+#include "pipeline/offline.h"
+#include "subprocess.h"
 
 namespace th::app {
 namespace {
@@ -49,14 +49,13 @@ std::filesystem::path cacheFolder() {
 }
 
 eval::TalkingCorpus loadCorpus(const std::vector<eval::TalkingFolder>& folders, const std::string& tracks,
-                                   const face::FaceModel& face) {
+                               const face::FaceModel& face) {
   tracking::VideoCorpusOptions options;
   options.trackFolder = tracks.empty() ? defaultMouthTrackFolder() : std::filesystem::path(tracks);
   options.synchronise = true;
   ProgressBar bar(1.0, "track", std::cerr);
-  eval::TalkingCorpus corpus = eval::loadTalkingCorpus(folders, face, options, [&](int done, int total) {
-    bar.update(static_cast<double>(done) / total);
-  });
+  eval::TalkingCorpus corpus = eval::loadTalkingCorpus(
+      folders, face, options, [&](int done, int total) { bar.update(static_cast<double>(done) / total); });
   bar.finish();
   int trackedNow = 0;
   for (const TalkingClip& clip : corpus.clips) trackedNow += clip.clip.trackedNow ? 1 : 0;
@@ -109,7 +108,9 @@ std::vector<animation::SpeechFrames> speechOnlyRecordings(double* seconds) {
   return speech;
 }
 
-const char* covarianceName(hmm::CovarianceType type) { return type == hmm::CovarianceType::kFull ? "full" : "diagonal"; }
+const char* covarianceName(hmm::CovarianceType type) {
+  return type == hmm::CovarianceType::kFull ? "full" : "diagonal";
+}
 
 std::string describeRecipe(const MouthCorpusArguments& a) {
   std::ostringstream text;
@@ -119,18 +120,21 @@ std::string describeRecipe(const MouthCorpusArguments& a) {
        << (a.model.normaliseSpeech ? ", normalised speech" : ", raw MFCCs")
        << (a.model.varianceValidationEvery > 0 ? ", variance compensation" : "")
        << (a.stageTwo ? ", stage 2 on speech-only voices" : "")
-       << (a.otherSpeakerWeight > 1 ? ", speakers other than GRID's weighing " + std::to_string(a.otherSpeakerWeight) + "x" : "");
+       << (a.otherSpeakerWeight > 1
+               ? ", speakers other than GRID's weighing " + std::to_string(a.otherSpeakerWeight) + "x"
+               : "");
   return text.str();
 }
 
 // The recipe: the mouth model on these clips (and, with stage 2, the speech-only recordings), driving the
 // corpus's FAPs.
-animation::MouthModel trainRecipe(const Clips& clips, const std::vector<int>& faps, const MouthCorpusArguments& arguments,
+animation::MouthModel trainRecipe(const Clips& clips, const std::vector<int>& faps,
+                                  const MouthCorpusArguments& arguments,
                                   const std::vector<animation::SpeechFrames>& speechOnly) {
   const auto started = std::chrono::steady_clock::now();
-  animation::MouthModel model = animation::trainMouthModel(
-      recordingsOf(clips, arguments.otherSpeakerWeight), arguments.model,
-      arguments.stageTwo ? speechOnly : std::vector<animation::SpeechFrames>{});
+  animation::MouthModel model =
+      animation::trainMouthModel(recordingsOf(clips, arguments.otherSpeakerWeight), arguments.model,
+                                 arguments.stageTwo ? speechOnly : std::vector<animation::SpeechFrames>{});
   model.visualFaps = faps;
   std::fprintf(stderr, "trained on %zu clips in %.1f s (%d Baum-Welch iterations)\n", clips.size(),
                std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count(), model.iterations);
@@ -157,8 +161,8 @@ void printHeader(const std::string& title, const Clips& clips) {
   int frames = 0;
   for (const TalkingClip* clip : clips) frames += clip->clip.recording.numFrames();
   std::printf("\n%s (%zu clips, %d frames, %.0f s)\n  %-50s %6s %6s %6s  %6s %6s  %6s %6s\n", title.c_str(),
-              clips.size(), frames, frames / animation::kMouthFramesPerSecond, "", "jaw ρ", "lip ρ", "wid ρ",
-              "spr J", "spr L", "jaw ε", "FAPs ε");
+              clips.size(), frames, frames / animation::kMouthFramesPerSecond, "", "jaw ρ", "lip ρ", "wid ρ", "spr J",
+              "spr L", "jaw ε", "FAPs ε");
 }
 
 void printScores(const std::string& name, const eval::MouthScores& s) {
@@ -194,11 +198,12 @@ Baselines baselinesFor(const Clips& training, const std::vector<int>& faps) {
   }
   mean /= frames;
   auto level = std::make_shared<eval::LevelBaseline>(recordings, 2);
-  return {{"baseline: the sound's level alone (linear, +-2 frames)",
-           [level](const animation::SpeechFrames& speech) { return level->predict(speech); }, faps},
-          {"baseline: the training mean",
-           [mean](const animation::SpeechFrames& speech) { return Eigen::MatrixXd(mean.replicate(1, speech.numFrames())); },
-           faps}};
+  return {
+      {"baseline: the sound's level alone (linear, +-2 frames)",
+       [level](const animation::SpeechFrames& speech) { return level->predict(speech); }, faps},
+      {"baseline: the training mean",
+       [mean](const animation::SpeechFrames& speech) { return Eigen::MatrixXd(mean.replicate(1, speech.numFrames())); },
+       faps}};
 }
 
 // What a set is judged with: the recipe's model with and without its variance compensation, the other model
@@ -231,7 +236,8 @@ struct Judged {
 struct ClassShapes {
   std::map<PhoneClass, std::pair<Eigen::Vector2d, int>> sums;
   void add(const std::vector<PhoneClass>& classes, const Eigen::MatrixXd& shapes) {
-    for (Eigen::Index t = 0; t < std::min<Eigen::Index>(shapes.cols(), static_cast<Eigen::Index>(classes.size())); ++t) {
+    for (Eigen::Index t = 0; t < std::min<Eigen::Index>(shapes.cols(), static_cast<Eigen::Index>(classes.size()));
+         ++t) {
       auto& [sum, count] = sums[classes[static_cast<std::size_t>(t)]];
       if (count == 0) sum.setZero();
       sum += shapes.col(t);
@@ -251,7 +257,8 @@ struct ClassShapes {
 
 void printClassRow(const std::string& name, const ClassShapes& shapes) {
   std::printf("  %-50s %7.3f %7.3f %7.3f   %7.3f %7.3f\n", name.c_str(), shapes.mean(PhoneClass::kBilabial)[0],
-              shapes.mean(PhoneClass::kOpenVowel)[0], shapes.mean(PhoneClass::kOpenVowel)[0] - shapes.mean(PhoneClass::kBilabial)[0],
+              shapes.mean(PhoneClass::kOpenVowel)[0],
+              shapes.mean(PhoneClass::kOpenVowel)[0] - shapes.mean(PhoneClass::kBilabial)[0],
               shapes.mean(PhoneClass::kRoundedVowel)[1], shapes.mean(PhoneClass::kSpreadVowel)[1]);
 }
 
@@ -261,17 +268,18 @@ void reportPhoneClasses(const std::string& title, const Clips& clips, const std:
   std::vector<ClassShapes> estimated(estimators.size());
   for (const TalkingClip* clip : clips) {
     if (clip->labels.empty()) continue;
-    const std::vector<PhoneClass> classes = eval::labelClassesAt(clip->labels, clip->labelsAreWords,
-                                                                     animation::kMouthFramesPerSecond, clip->clip.recording.numFrames());
+    const std::vector<PhoneClass> classes = eval::labelClassesAt(
+        clip->labels, clip->labelsAreWords, animation::kMouthFramesPerSecond, clip->clip.recording.numFrames());
     truth.add(classes, clip->clip.lipShape);
     for (std::size_t e = 0; e < estimators.size(); ++e)
       estimated[e].add(classes, shapes.of(estimators[e]->estimate(clip->clip.recording.speech), estimators[e]->faps));
   }
-  std::printf("\n%s: lip opening at bilabials (%d frames) and open vowels (%d), and their difference; mouth width at "
-              "rounded (%d) and spread vowels (%d); shares of the eye corners' distance\n  %-50s %7s %7s %7s   %7s %7s\n",
-              title.c_str(), truth.count(PhoneClass::kBilabial), truth.count(PhoneClass::kOpenVowel),
-              truth.count(PhoneClass::kRoundedVowel), truth.count(PhoneClass::kSpreadVowel), "", "/p b m/", "open V",
-              "diff", "rounded", "spread");
+  std::printf(
+      "\n%s: lip opening at bilabials (%d frames) and open vowels (%d), and their difference; mouth width at "
+      "rounded (%d) and spread vowels (%d); shares of the eye corners' distance\n  %-50s %7s %7s %7s   %7s %7s\n",
+      title.c_str(), truth.count(PhoneClass::kBilabial), truth.count(PhoneClass::kOpenVowel),
+      truth.count(PhoneClass::kRoundedVowel), truth.count(PhoneClass::kSpreadVowel), "", "/p b m/", "open V", "diff",
+      "rounded", "spread");
   printClassRow("truth (the tracked landmarks)", truth);
   for (std::size_t e = 0; e < estimators.size(); ++e) printClassRow(estimators[e]->name, estimated[e]);
 }
@@ -297,7 +305,8 @@ void judge(const std::string& title, const Clips& clips, const std::vector<const
   printHeader(title, clips);
   std::printf("  the truth's chin drop (5th / 50th / 95th percentile): %s\n", chinDropOf(clips, faps).c_str());
   for (const Estimator* estimator : estimators)
-    printScores(estimator->name, eval::scoreMouth(estimatesFor(*estimator, clips), estimator->faps, shapes, clips, faps));
+    printScores(estimator->name,
+                eval::scoreMouth(estimatesFor(*estimator, clips), estimator->faps, shapes, clips, faps));
   if (shuffled != nullptr && clips.size() > 1)
     printScores("baseline: " + shuffled->name + " on another clip's sound",
                 eval::scoreMouth(estimatesFor(*shuffled, clips, 1), shuffled->faps, shapes, clips, faps));
@@ -310,9 +319,10 @@ void judgeBeat2(const std::vector<const Estimator*>& estimators, const animation
   const auto boundary = static_cast<Eigen::Index>(std::lround(0.75 * take.numFrames()));
   const Eigen::Index count = take.numFrames() - boundary;
   const Eigen::RowVectorXd truth = animation::mouthFaps(map, take.visual.row(0).tail(count)).row(0);
-  std::printf("\nBEAT2's held-out quarter (%.1f s) against the motion capture's jaw (FAP 3 through the jaw's geometry; "
-              "speech from the whole take, scored on the last quarter)\n  %-50s %6s %6s %6s\n",
-              static_cast<double>(count) / animation::kMouthFramesPerSecond, "", "jaw ρ", "spr J", "jaw ε");
+  std::printf(
+      "\nBEAT2's held-out quarter (%.1f s) against the motion capture's jaw (FAP 3 through the jaw's geometry; "
+      "speech from the whole take, scored on the last quarter)\n  %-50s %6s %6s %6s\n",
+      static_cast<double>(count) / animation::kMouthFramesPerSecond, "", "jaw ρ", "spr J", "jaw ε");
   for (const Estimator* estimator : estimators) {
     const Eigen::MatrixXd faps = estimator->estimate(take.speech);
     const auto jaw = std::find(estimator->faps.begin(), estimator->faps.end(), 3) - estimator->faps.begin();
@@ -327,7 +337,8 @@ void judgeBeat2(const std::vector<const Estimator*>& estimators, const animation
 void judgeLanguages(const std::filesystem::path& folder, const std::vector<const Estimator*>& estimators,
                     const ClassShapes& typical, const eval::MouthShapes& shapes) {
   std::ifstream index(folder / "index.csv");
-  if (!index) throw fileError(folder / "index.csv", "cannot be read (make the folder with tools/multilingual_speech.py)");
+  if (!index)
+    throw fileError(folder / "index.csv", "cannot be read (make the folder with tools/multilingual_speech.py)");
   std::string line;
   std::getline(index, line);
   std::map<std::string, std::vector<std::string>> byLanguage;
@@ -337,17 +348,20 @@ void judgeLanguages(const std::filesystem::path& folder, const std::vector<const
     if (comma == std::string::npos || second == std::string::npos) continue;
     byLanguage[line.substr(comma + 1, second - comma - 1)].push_back(line.substr(0, comma));
   }
-  std::printf("\nOther languages (%s: espeak-ng, phone-aligned): per language, the correlation of the lip opening "
-              "with each phone class's typical opening on tracked speakers, and (open vowels - /p b m/) / spread\n"
-              "  %-8s", folder.c_str(), "");
+  std::printf(
+      "\nOther languages (%s: espeak-ng, phone-aligned): per language, the correlation of the lip opening "
+      "with each phone class's typical opening on tracked speakers, and (open vowels - /p b m/) / spread\n"
+      "  %-8s",
+      folder.c_str(), "");
   for (const Estimator* e : estimators) std::printf(" %24.24s", e->name.c_str());
   std::printf("\n");
   // Means over the languages other than English (en is there to compare with), and per estimator the languages
   // where its correlation beats the sound's level (the estimator so named, if judged).
   std::vector<std::pair<double, double>> sums(estimators.size(), {0.0, 0.0});
   std::vector<int> beatsLevel(estimators.size(), 0);
-  const auto level = std::find_if(estimators.begin(), estimators.end(),
-                                  [](const Estimator* e) { return e->name.rfind("baseline: the sound's level", 0) == 0; });
+  const auto level = std::find_if(estimators.begin(), estimators.end(), [](const Estimator* e) {
+    return e->name.rfind("baseline: the sound's level", 0) == 0;
+  });
   const double others = static_cast<double>(byLanguage.size() - byLanguage.count("en"));
   for (const auto& [language, files] : byLanguage) {
     std::vector<double> rhos;
@@ -376,11 +390,14 @@ void judgeLanguages(const std::filesystem::path& folder, const std::vector<const
           std::getline(fields, end, ',');
           std::getline(fields, phone, ',');
           std::getline(fields, kind, ',');
-          const std::map<std::string, PhoneClass> kinds{
-              {"silence", PhoneClass::kSilence},       {"bilabial", PhoneClass::kBilabial},
-              {"labiodental", PhoneClass::kLabiodental}, {"open_vowel", PhoneClass::kOpenVowel},
-              {"rounded_vowel", PhoneClass::kRoundedVowel}, {"spread_vowel", PhoneClass::kSpreadVowel},
-              {"other_vowel", PhoneClass::kOtherVowel}, {"consonant", PhoneClass::kConsonant}};
+          const std::map<std::string, PhoneClass> kinds{{"silence", PhoneClass::kSilence},
+                                                        {"bilabial", PhoneClass::kBilabial},
+                                                        {"labiodental", PhoneClass::kLabiodental},
+                                                        {"open_vowel", PhoneClass::kOpenVowel},
+                                                        {"rounded_vowel", PhoneClass::kRoundedVowel},
+                                                        {"spread_vowel", PhoneClass::kSpreadVowel},
+                                                        {"other_vowel", PhoneClass::kOtherVowel},
+                                                        {"consonant", PhoneClass::kConsonant}};
           labels.push_back({std::stod(start), std::stod(end), phone});
           labelClasses.push_back(kinds.count(kind) ? kinds.at(kind) : PhoneClass::kConsonant);
         }
@@ -440,14 +457,16 @@ void reportChinDrop(const std::vector<const Estimator*>& estimators) {
   const face::FaceAssets assets = face::loadIctFace(face::ictFaceDirectory());
   const double mnsMillimetres = 10.0 * face::measureFapUnits(assets.points, assets.neutral.positions).mns * 1024.0;
   const animation::SpeechFrames speech = animation::speechFramesOf(sharedDataPath("beat2/2_scott_0_1_1.wav"));
-  std::printf("\nThe demo's speech (BEAT2, 64 s): the chin's drop (FAP 3 on the reference face, MNS0 = %.1f mm), "
-              "5th / 50th / 95th percentile in mm\n",
-              mnsMillimetres);
+  std::printf(
+      "\nThe demo's speech (BEAT2, 64 s): the chin's drop (FAP 3 on the reference face, MNS0 = %.1f mm), "
+      "5th / 50th / 95th percentile in mm\n",
+      mnsMillimetres);
   for (const Estimator* estimator : estimators) {
     const Eigen::MatrixXd faps = estimator->estimate(speech);
     const auto jaw = std::find(estimator->faps.begin(), estimator->faps.end(), 3) - estimator->faps.begin();
     std::vector<double> drop;
-    for (Eigen::Index t = 0; t < faps.cols(); ++t) drop.push_back(std::max(0.0, faps(jaw, t)) * mnsMillimetres / 1024.0);
+    for (Eigen::Index t = 0; t < faps.cols(); ++t)
+      drop.push_back(std::max(0.0, faps(jaw, t)) * mnsMillimetres / 1024.0);
     std::sort(drop.begin(), drop.end());
     const auto at = [&](double p) { return drop[static_cast<std::size_t>(p * static_cast<double>(drop.size() - 1))]; };
     std::printf("  %-50s %5.1f / %5.1f / %5.1f\n", estimator->name.c_str(), at(0.05), at(0.5), at(0.95));
@@ -456,7 +475,9 @@ void reportChinDrop(const std::vector<const Estimator*>& estimators) {
 
 }  // namespace
 
-std::filesystem::path defaultMouthTrackFolder() { return cacheFolder() / "tracks"; }
+std::filesystem::path defaultMouthTrackFolder() {
+  return cacheFolder() / "tracks";
+}
 
 void runEvalMouthCorpora(const MouthCorpusArguments& arguments) {
   const face::FaceModel face = face::FaceModel::buildDefault();
@@ -470,10 +491,12 @@ void runEvalMouthCorpora(const MouthCorpusArguments& arguments) {
 
   std::printf("Mouth from audio, the recipe: %s\n", describeRecipe(arguments).c_str());
   if (!arguments.compare.empty())
-    std::printf("Model files given with --compare are judged as they are: on clips they were trained on (the shipped "
-                "models/mouth.json on StyleTalk's speakers) they are not held out.\n");
-  std::printf("\nSound against picture, per clip of 10 s or more (the offset is taken out before training and "
-              "scoring):\n");
+    std::printf(
+        "Model files given with --compare are judged as they are: on clips they were trained on (the shipped "
+        "models/mouth.json on StyleTalk's speakers) they are not held out.\n");
+  std::printf(
+      "\nSound against picture, per clip of 10 s or more (the offset is taken out before training and "
+      "scoring):\n");
   for (const TalkingClip& clip : corpus.clips)
     if (clip.clip.soundOffset.measured)
       std::printf("  %-28s the sound lags the picture by %4.0f ms (r %.2f)\n", clip.clip.video.filename().c_str(),
@@ -485,15 +508,16 @@ void runEvalMouthCorpora(const MouthCorpusArguments& arguments) {
     const int jawRow = static_cast<int>(std::find(corpus.faps.begin(), corpus.faps.end(), 3) - corpus.faps.begin());
     for (const TalkingClip& clip : corpus.clips)
       if (clip.speaker == "grid-s1")
-        leads.push_back(1000.0 * tracking::estimateSoundOffset(clip.clip.recording.speech.levelDb,
-                                                                clip.clip.recording.visual.row(jawRow), clip.clip.lipShape.row(0),
-                                                                animation::kMouthFramesPerSecond,
-                                                                {.naturalLeadSeconds = 0.0, .minSeconds = 0.0})
+        leads.push_back(1000.0 * tracking::estimateSoundOffset(
+                                     clip.clip.recording.speech.levelDb, clip.clip.recording.visual.row(jawRow),
+                                     clip.clip.lipShape.row(0), animation::kMouthFramesPerSecond,
+                                     {.naturalLeadSeconds = 0.0, .minSeconds = 0.0})
                                      .lateSeconds);
     std::sort(leads.begin(), leads.end());
-    std::printf("  GRID s1 (in sync): the mouth leads the sound by %.0f ms (median over %zu clips; the lead taken as "
-                "natural: %.0f ms)\n",
-                leads[leads.size() / 2], leads.size(), 1000.0 * tracking::SoundSyncOptions{}.naturalLeadSeconds);
+    std::printf(
+        "  GRID s1 (in sync): the mouth leads the sound by %.0f ms (median over %zu clips; the lead taken as "
+        "natural: %.0f ms)\n",
+        leads[leads.size() / 2], leads.size(), 1000.0 * tracking::SoundSyncOptions{}.naturalLeadSeconds);
   }
 
   Clips gridTrain, gridTest;
@@ -525,7 +549,8 @@ void runEvalMouthCorpora(const MouthCorpusArguments& arguments) {
   const Judged judged(model, arguments.synthesis, training, corpus.faps, compared);
   const Estimator& recipe = judged.recipe;
   const std::vector<const Estimator*>& all = judged.all;
-  std::printf("\nTrained on GRID s1's training clips and all StyleTalk speakers (%zu clips); variance scale:", training.size());
+  std::printf("\nTrained on GRID s1's training clips and all StyleTalk speakers (%zu clips); variance scale:",
+              training.size());
   for (Eigen::Index k = 0; k < model.varianceScale.size(); ++k) std::printf(" %.2f", model.varianceScale[k]);
   std::printf("\n");
   judge("GRID s1, held-out clips", gridTest, all, &recipe, corpus.faps, shapes);
@@ -544,7 +569,7 @@ void runEvalMouthCorpora(const MouthCorpusArguments& arguments) {
     reportPhoneClasses("StyleTalk speaker left out: " + speaker + " (phones)", clips, foldJudged.all, shapes);
     for (const TalkingClip* clip : clips)
       styleTalkTruth.add(eval::labelClassesAt(clip->labels, clip->labelsAreWords, animation::kMouthFramesPerSecond,
-                                                  clip->clip.recording.numFrames()),
+                                              clip->clip.recording.numFrames()),
                          clip->clip.lipShape);
   }
 
@@ -562,7 +587,8 @@ void runTrainMouthCorpora(const MouthCorpusArguments& arguments, const std::stri
   std::vector<eval::TalkingFolder> folders;
   for (const std::string& corpus : arguments.corpora) {
     const std::size_t equals = corpus.find('=');
-    folders.push_back({corpus.substr(0, equals), equals == std::string::npos ? std::string() : corpus.substr(equals + 1)});
+    folders.push_back(
+        {corpus.substr(0, equals), equals == std::string::npos ? std::string() : corpus.substr(equals + 1)});
   }
   if (folders.empty()) folders = eval::sharedTalkingFolders();
   const face::FaceModel face = face::FaceModel::buildDefault();
@@ -577,11 +603,14 @@ void runTrainMouthCorpora(const MouthCorpusArguments& arguments, const std::stri
   const animation::MouthModel model = trainRecipe(training, corpus.faps, arguments, speechOnly);
   animation::saveMouthModel(path, model, arguments.model);
   double seconds = 0.0;
-  for (const TalkingClip* clip : training) seconds += clip->clip.recording.numFrames() / animation::kMouthFramesPerSecond;
+  for (const TalkingClip* clip : training)
+    seconds += clip->clip.recording.numFrames() / animation::kMouthFramesPerSecond;
   std::fprintf(stderr, "mouth model: %s; trained on %zu clips (%.0f s of talking video%s)%s; wrote %s\n",
                describeRecipe(arguments).c_str(), training.size(), seconds,
                gridTest.empty() ? "" : ", GRID s1's every fifth clip kept for `eval mouth`",
-               arguments.stageTwo ? (" and " + std::to_string(static_cast<int>(speechSeconds)) + " s of speech-only voices").c_str() : "",
+               arguments.stageTwo
+                   ? (" and " + std::to_string(static_cast<int>(speechSeconds)) + " s of speech-only voices").c_str()
+                   : "",
                path.c_str());
 }
 

@@ -11,12 +11,12 @@
 namespace th::app {
 
 struct MouthCorpusArguments {
-  std::string tracks;                  // where the clips' tracks are kept; empty: defaultMouthTrackFolder()
+  std::string tracks;  // where the clips' tracks are kept; empty: defaultMouthTrackFolder()
   // train: folders of talking clips, "FOLDER" or "FOLDER=SPEAKER" (tracking/talking_corpus.h); empty: the
   // shared corpora (sharedTalkingFolders), GRID s1's every fifth clip held out.
   std::vector<std::string> corpora;
-  std::vector<std::string> compare;    // eval: other model files judged on the same clips
-  std::string multilingual;            // eval: the folder tools/multilingual_speech.py made; empty: made in the cache
+  std::vector<std::string> compare;  // eval: other model files judged on the same clips
+  std::string multilingual;          // eval: the folder tools/multilingual_speech.py made; empty: made in the cache
   animation::MouthModelOptions model{.states = 8,
                                      .mixtures = 2,
                                      .covariance = hmm::CovarianceType::kFull,

@@ -73,11 +73,11 @@ eval::F0Track runSptk(const std::filesystem::path& wav, const PeerSettings& sett
     }
   }
   const int hopSamples = static_cast<int>(std::lround(settings.hopSeconds * clip.sampleRateHz));
-  const std::string out = runProgram({"sptk", "pitch", "-a", std::to_string(algorithm), "-s",
-                                      std::to_string(clip.sampleRateHz / 1000.0), "-p", std::to_string(hopSamples),
-                                      "-L", std::to_string(settings.minF0Hz), "-H", std::to_string(settings.maxF0Hz),
-                                      "-o", "1"},
-                                     raw.path().string());
+  const std::string out =
+      runProgram({"sptk", "pitch", "-a", std::to_string(algorithm), "-s", std::to_string(clip.sampleRateHz / 1000.0),
+                  "-p", std::to_string(hopSamples), "-L", std::to_string(settings.minF0Hz), "-H",
+                  std::to_string(settings.maxF0Hz), "-o", "1"},
+                 raw.path().string());
   th::eval::F0Track track;
   const size_t count = out.size() / sizeof(float);
   for (size_t i = 0; i < count; ++i) {
@@ -100,8 +100,8 @@ eval::F0Track runAubio(const std::filesystem::path& wav, const PeerSettings& set
   // FDA-UE than with 2048 (FFE 11.4 % against 18.7 % at a 5 ms hop).
   int buffer = 512;
   while (buffer < 0.05 * rate) buffer *= 2;
-  const std::string out = runProgram({"aubiopitch", "-i", wav.string(), "-p", "yinfft", "-H", std::to_string(hopSamples),
-                                      "-B", std::to_string(buffer), "-u", "Hz"});
+  const std::string out = runProgram({"aubiopitch", "-i", wav.string(), "-p", "yinfft", "-H",
+                                      std::to_string(hopSamples), "-B", std::to_string(buffer), "-u", "Hz"});
   th::eval::F0Track track = parseTimeValueLines(out, "aubiopitch");
   // aubio reports no voicing decision other than 0 Hz; values outside the search range count as unvoiced.
   for (double& f : track.f0Hz) {
@@ -118,30 +118,41 @@ std::vector<PeerTracker> allPeerTrackers() {
 
 std::string peerName(PeerTracker peer) {
   switch (peer) {
-    case PeerTracker::kPraat: return "Praat ac";
-    case PeerTracker::kRapt: return "SPTK RAPT";
-    case PeerTracker::kSwipe: return "SPTK SWIPE";
-    case PeerTracker::kAubioYinFft: return "aubio yinfft";
+    case PeerTracker::kPraat:
+      return "Praat ac";
+    case PeerTracker::kRapt:
+      return "SPTK RAPT";
+    case PeerTracker::kSwipe:
+      return "SPTK SWIPE";
+    case PeerTracker::kAubioYinFft:
+      return "aubio yinfft";
   }
   return "?";
 }
 
 std::string peerProgram(PeerTracker peer) {
   switch (peer) {
-    case PeerTracker::kPraat: return "praat";
+    case PeerTracker::kPraat:
+      return "praat";
     case PeerTracker::kRapt:
-    case PeerTracker::kSwipe: return "sptk";
-    case PeerTracker::kAubioYinFft: return "aubiopitch";
+    case PeerTracker::kSwipe:
+      return "sptk";
+    case PeerTracker::kAubioYinFft:
+      return "aubiopitch";
   }
   return "?";
 }
 
 eval::F0Track runPeerTracker(PeerTracker peer, const std::filesystem::path& wav, const PeerSettings& settings) {
   switch (peer) {
-    case PeerTracker::kPraat: return runPraat(wav, settings);
-    case PeerTracker::kRapt: return runSptk(wav, settings, 0);
-    case PeerTracker::kSwipe: return runSptk(wav, settings, 1);
-    case PeerTracker::kAubioYinFft: return runAubio(wav, settings);
+    case PeerTracker::kPraat:
+      return runPraat(wav, settings);
+    case PeerTracker::kRapt:
+      return runSptk(wav, settings, 0);
+    case PeerTracker::kSwipe:
+      return runSptk(wav, settings, 1);
+    case PeerTracker::kAubioYinFft:
+      return runAubio(wav, settings);
   }
   throw Error("unknown peer tracker");
 }

@@ -8,15 +8,14 @@
 // (one is repeated when the camera lags, one dropped when it runs fast). Picture and sound therefore agree to
 // within a frame plus the devices' own buffering, which they do not report.
 // Where there is no camera or no sound input, it says which in one line and writes nothing.
-#include <opencv2/core/utils/logger.hpp>
-#include <opencv2/videoio.hpp>
-
 #include <chrono>
 #include <cstdio>
 #include <ctime>
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <opencv2/core/utils/logger.hpp>
+#include <opencv2/videoio.hpp>
 #include <optional>
 #include <string>
 #include <system_error>
@@ -26,9 +25,9 @@
 #include "audio/capture.h"
 #include "audio/resampler.h"
 #include "commands.h"
+#include "core/audio_ring.h"
 #include "core/error.h"
 #include "interrupt.h"
-#include "core/audio_ring.h"
 
 namespace th::app {
 namespace {
@@ -54,7 +53,8 @@ std::string takeName() {
 }
 
 std::int64_t nowNs() {
-  return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch()).count();
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch())
+      .count();
 }
 
 void runRecord(const RecordArguments& arguments) {
@@ -84,7 +84,8 @@ void runRecord(const RecordArguments& arguments) {
   }
   try {
     system = std::make_unique<audio::PortAudioSystem>();
-    if (!device && !system->defaultInput()) throw Error("no sound input (a microphone; live --list-devices lists them)");
+    if (!device && !system->defaultInput())
+      throw Error("no sound input (a microphone; live --list-devices lists them)");
     (void)audio::captureRateFor(*system, device, 16000.0);
   } catch (const Error& noInput) {
     missing += (missing.empty() ? "" : ", and ") + std::string(noInput.what());
@@ -100,8 +101,8 @@ void runRecord(const RecordArguments& arguments) {
 
   // Hidden names until the take is complete.
   const std::filesystem::path partialVideo = folder / ("." + name + ".avi.partial");
-  cv::VideoWriter writer(partialVideo.string(), cv::CAP_FFMPEG, cv::VideoWriter::fourcc('M', 'J', 'P', 'G'), arguments.fps,
-                         size);
+  cv::VideoWriter writer(partialVideo.string(), cv::CAP_FFMPEG, cv::VideoWriter::fourcc('M', 'J', 'P', 'G'),
+                         arguments.fps, size);
   if (!writer.isOpened()) throw fileError(videoPath, "cannot be written (Motion-JPEG through OpenCV)");
   struct Cleanup {
     std::filesystem::path path;
@@ -148,7 +149,8 @@ void runRecord(const RecordArguments& arguments) {
     takeSound();
     if (!microphone.active()) stoppedBy = "the sound input went away";
     if (InterruptGuard::requested()) stoppedBy = "interrupted";
-    if (arguments.seconds > 0.0 && static_cast<double>(grabbedNs - startNs) >= arguments.seconds * 1e9) stoppedBy = "the duration was reached";
+    if (arguments.seconds > 0.0 && static_cast<double>(grabbedNs - startNs) >= arguments.seconds * 1e9)
+      stoppedBy = "the duration was reached";
   }
   takeSound();
   writer.release();
@@ -163,26 +165,36 @@ void runRecord(const RecordArguments& arguments) {
   }
   cleanup.keep = true;
   std::cout << "wrote " << videoPath.string() << " (" << written << " frames, " << grabbed << " from the camera) and "
-            << soundPath.string() << " (" << static_cast<double>(sound16k.size()) / 16000.0 << " s); stopped: " << stoppedBy
-            << '\n';
-  if (stoppedBy.find("went away") != std::string::npos) throw Error("record: " + stoppedBy + "; the take so far is kept");
+            << soundPath.string() << " (" << static_cast<double>(sound16k.size()) / 16000.0
+            << " s); stopped: " << stoppedBy << '\n';
+  if (stoppedBy.find("went away") != std::string::npos)
+    throw Error("record: " + stoppedBy + "; the take so far is kept");
 }
 
 }  // namespace
 
 void addRecordCommand(CLI::App& app) {
   auto arguments = std::make_shared<RecordArguments>();
-  CLI::App* record = app.add_subcommand(
-      "record", "Webcam + microphone on one clock -> NAME.avi + NAME.wav, a take for train --video");
+  CLI::App* record =
+      app.add_subcommand("record", "Webcam + microphone on one clock -> NAME.avi + NAME.wav, a take for train --video");
   record->add_option("folder", arguments->folder, "Folder for the take")->required();
   record->add_option("--name", arguments->name, "The take's name (default take_YYYYMMDD_HHMMSS)");
-  record->add_option("--camera", arguments->camera, "Camera number (/dev/videoN)")->check(CLI::Range(0, 63))->capture_default_str();
+  record->add_option("--camera", arguments->camera, "Camera number (/dev/videoN)")
+      ->check(CLI::Range(0, 63))
+      ->capture_default_str();
   record->add_option("--device", arguments->device, "Sound input: default, or a number from live --list-devices")
       ->capture_default_str();
-  record->add_option("--duration", arguments->seconds, "Seconds to record (default: until Ctrl-C)")->check(CLI::Range(0.5, 36000.0));
-  record->add_option("--fps", arguments->fps, "Video frames per second")->check(CLI::Range(5.0, 60.0))->capture_default_str();
-  record->add_option("--width", arguments->width, "Camera width asked for")->check(CLI::Range(160, 3840))->capture_default_str();
-  record->add_option("--height", arguments->height, "Camera height asked for")->check(CLI::Range(120, 2160))->capture_default_str();
+  record->add_option("--duration", arguments->seconds, "Seconds to record (default: until Ctrl-C)")
+      ->check(CLI::Range(0.5, 36000.0));
+  record->add_option("--fps", arguments->fps, "Video frames per second")
+      ->check(CLI::Range(5.0, 60.0))
+      ->capture_default_str();
+  record->add_option("--width", arguments->width, "Camera width asked for")
+      ->check(CLI::Range(160, 3840))
+      ->capture_default_str();
+  record->add_option("--height", arguments->height, "Camera height asked for")
+      ->check(CLI::Range(120, 2160))
+      ->capture_default_str();
   record->callback([arguments] { runRecord(*arguments); });
 }
 

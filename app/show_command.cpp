@@ -19,13 +19,13 @@
 
 #include "commands.h"
 #include "core/error.h"
-#include "face/fap.h"
 #include "face/face_model.h"
+#include "face/fap.h"
 #include "face/poses.h"
+#include "formats/animation_format.h"
 #include "render/animated_face.h"
 #include "render/gl_context.h"
 #include "render/image.h"
-#include "formats/animation_format.h"
 #include "window_capture.h"
 
 namespace th::app {
@@ -49,8 +49,8 @@ void runShow(const ShowArguments& arguments) {
   std::optional<face::FapTrack> animation;
   if (!arguments.animation.empty()) animation = formats::readAnimation(arguments.animation);
   const face::FaceModel face = face::FaceModel::buildDefault();
-  render::WindowContext window({.width = arguments.width, .height = arguments.height, .title = "talkinghead",
-                                .visible = true, .vsync = true});
+  render::WindowContext window(
+      {.width = arguments.width, .height = arguments.height, .title = "talkinghead", .visible = true, .vsync = true});
   render::AnimatedFace animated(face, window, {.width = arguments.width, .height = arguments.height});
   render::OrbitCamera& camera = animated.camera();
   const render::OrbitCamera home = camera;
@@ -65,7 +65,8 @@ void runShow(const ShowArguments& arguments) {
   // One panel header per FAP group, in the order the standard first names it.
   std::vector<std::string_view> groups;
   for (int number = 3; number <= face::kNumFaps; ++number)
-    if (face.supports(number) && std::find(groups.begin(), groups.end(), face::fapDefinition(number).group) == groups.end())
+    if (face.supports(number) &&
+        std::find(groups.begin(), groups.end(), face::fapDefinition(number).group) == groups.end())
       groups.push_back(face::fapDefinition(number).group);
 
   face::FapFrame faps{};
@@ -122,7 +123,8 @@ void runShow(const ShowArguments& arguments) {
     ImGui::PushItemWidth(-190.0f);
     for (std::string_view group : groups) {
       const bool openAtStart = group == "jaw" || group == "inner lip";
-      if (!ImGui::CollapsingHeader(std::string(group).c_str(), openAtStart ? ImGuiTreeNodeFlags_DefaultOpen : 0)) continue;
+      if (!ImGui::CollapsingHeader(std::string(group).c_str(), openAtStart ? ImGuiTreeNodeFlags_DefaultOpen : 0))
+        continue;
       for (int number = 3; number <= face::kNumFaps; ++number) {
         const face::FapDefinition& fap = face::fapDefinition(number);
         if (!face.supports(number) || fap.group != group) continue;
@@ -161,10 +163,13 @@ void runShow(const ShowArguments& arguments) {
 
 void addShowCommand(CLI::App& app) {
   auto arguments = std::make_shared<ShowArguments>();
-  CLI::App* show = app.add_subcommand("show", "The face in a window: orbit it, move every FAP with sliders, play an animation");
+  CLI::App* show =
+      app.add_subcommand("show", "The face in a window: orbit it, move every FAP with sliders, play an animation");
   show->add_option("--anim", arguments->animation, "Animation to play (.csv, .json, .fap)");
   show->add_option("--screenshot", arguments->screenshot, "Save the window as PNG after --frames frames and quit");
-  show->add_option("--frames", arguments->frames, "Frames before the screenshot")->check(CLI::Range(1, 10000))->capture_default_str();
+  show->add_option("--frames", arguments->frames, "Frames before the screenshot")
+      ->check(CLI::Range(1, 10000))
+      ->capture_default_str();
   show->add_option("--width", arguments->width, "Window width")->check(CLI::Range(320, 7680))->capture_default_str();
   show->add_option("--height", arguments->height, "Window height")->check(CLI::Range(240, 4320))->capture_default_str();
   show->callback([arguments] { runShow(*arguments); });

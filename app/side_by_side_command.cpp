@@ -10,22 +10,22 @@
 #include <opencv2/imgproc.hpp>
 #include <string>
 
-#include "pipeline/offline.h"
 #include "cli_options.h"
-#include "pipeline/options.h"
 #include "commands.h"
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/text_files.h"
+#include "face/fap_track.h"
 #include "face_stage.h"
-#include "render/image.h"
+#include "formats/mp4_writer.h"
 #include "interrupt.h"
+#include "pipeline/offline.h"
+#include "pipeline/options.h"
+#include "render/image.h"
 #include "text_overlay.h"
 #include "tracking/landmarks.h"
 #include "tracking/video_reader.h"
 #include "tracking/video_training.h"
-#include "face/fap_track.h"
-#include "formats/mp4_writer.h"
 
 namespace th::app {
 namespace {
@@ -85,8 +85,8 @@ void writeStrip(const SideBySideArguments& arguments, tracking::VideoReader& cli
       // As much of the face round the lips as the close camera shows of ours: from the nose to the chin.
       const Eigen::Vector2d lips = points.middleCols(48, 20).rowwise().mean();
       const double side = 1.25 * (points.col(8) - points.col(33)).norm();
-      box = cv::Rect(static_cast<int>(lips.x() - side / 2), static_cast<int>(lips.y() - side / 2), static_cast<int>(side),
-                     static_cast<int>(side)) &
+      box = cv::Rect(static_cast<int>(lips.x() - side / 2), static_cast<int>(lips.y() - side / 2),
+                     static_cast<int>(side), static_cast<int>(side)) &
             cv::Rect(0, 0, frame.cols, frame.rows);
     }
     cv::resize(frame(box), scaled, cv::Size(width, height), 0.0, 0.0, cv::INTER_AREA);
@@ -171,10 +171,14 @@ void addSideBySideCommand(CLI::App& app) {
   auto arguments = std::make_shared<SideBySideArguments>();
   CLI::App* command = app.add_subcommand(
       "sidebyside", "Talking video -> MP4 of it beside our face driven by its sound alone (to judge a model by eye)");
-  command->add_option("clip", arguments->clip, "Talking video (its sound, or the .wav of its name beside it)")->required();
-  command->add_option("-o,--output", arguments->output, "MP4 file to write, or a .png film strip (--from, --seconds, --every)")
+  command->add_option("clip", arguments->clip, "Talking video (its sound, or the .wav of its name beside it)")
       ->required();
-  command->add_option("--from", arguments->fromSeconds, ".png: where the strip starts (seconds)")->check(CLI::Range(0.0, 1e6));
+  command
+      ->add_option("-o,--output", arguments->output,
+                   "MP4 file to write, or a .png film strip (--from, --seconds, --every)")
+      ->required();
+  command->add_option("--from", arguments->fromSeconds, ".png: where the strip starts (seconds)")
+      ->check(CLI::Range(0.0, 1e6));
   command->add_option("--seconds", arguments->seconds, ".png: how long it lasts")->check(CLI::Range(0.01, 60.0));
   command->add_option("--every", arguments->every, ".png: video frames between tiles")->check(CLI::Range(1, 1000));
   addOptions(*command, arguments->models);  // --head none: the face's head still, the mouth alone

@@ -1,9 +1,9 @@
 #include "text_overlay.h"
 
+#include <stb/stb_easy_font.h>
+
 #include <algorithm>
 #include <vector>
-
-#include <stb/stb_easy_font.h>
 
 namespace th::app {
 namespace {
@@ -13,7 +13,8 @@ void blend(render::Image& image, int x0, int y0, int x1, int y1, int value, floa
   for (int y = y0; y < y1; ++y)
     for (int x = x0; x < x1; ++x) {
       std::uint8_t* p = image.pixel(x, y);
-      for (int c = 0; c < 3; ++c) p[c] = static_cast<std::uint8_t>((1.0f - alpha) * static_cast<float>(p[c]) + alpha * static_cast<float>(value));
+      for (int c = 0; c < 3; ++c)
+        p[c] = static_cast<std::uint8_t>((1.0f - alpha) * static_cast<float>(p[c]) + alpha * static_cast<float>(value));
     }
 }
 

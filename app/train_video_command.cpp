@@ -10,12 +10,12 @@
 #include <string>
 #include <system_error>
 
-#include "eval/mouth_evaluation.h"
 #include "animation/mouth_model.h"
 #include "commands.h"
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/progress.h"
+#include "eval/mouth_evaluation.h"
 #include "face/face_model.h"
 #include "tracking/video_training.h"
 
@@ -45,8 +45,8 @@ struct TrainVideoArguments {
 };
 
 void printScores(const char* label, const eval::FapScores& scores) {
-  std::printf("  %-58s %6.3f / %6.3f   %6.3f / %6.3f (%d FAPs)\n", label, scores.jawEpsilon, scores.jawRho, scores.epsilon,
-              scores.rho, scores.faps);
+  std::printf("  %-58s %6.3f / %6.3f   %6.3f / %6.3f (%d FAPs)\n", label, scores.jawEpsilon, scores.jawRho,
+              scores.epsilon, scores.rho, scores.faps);
 }
 
 void runTrainVideo(const TrainVideoArguments& arguments) {
@@ -65,7 +65,8 @@ void runTrainVideo(const TrainVideoArguments& arguments) {
   const bool tracksExisted = std::filesystem::exists(tracks, error);
   try {
     ProgressBar bar(static_cast<double>(videos.size()), "track", std::cerr);
-    corpus = tracking::loadVideoCorpus(videos, face, {.trackFolder = tracks, .threads = arguments.threads, .synchronise = true},
+    corpus = tracking::loadVideoCorpus(videos, face,
+                                       {.trackFolder = tracks, .threads = arguments.threads, .synchronise = true},
                                        [&](int done, int) { bar.update(done); });
     bar.finish();
   } catch (...) {
@@ -79,10 +80,12 @@ void runTrainVideo(const TrainVideoArguments& arguments) {
     residual += clip.meanResidualPixels / static_cast<double>(corpus.clips.size());
     found += clip.faceFoundShare / static_cast<double>(corpus.clips.size());
   }
-  std::printf("%zu clips from %s: %d tracked now, %zu read from %s, in %.1f s; face found in %.1f %% of frames, "
-              "mean fit residual %.2f px\n",
-              corpus.clips.size(), arguments.folder.c_str(), trackedNow, corpus.clips.size() - static_cast<std::size_t>(trackedNow),
-              tracks.c_str(), corpus.trackingSeconds, 100.0 * found, residual);
+  std::printf(
+      "%zu clips from %s: %d tracked now, %zu read from %s, in %.1f s; face found in %.1f %% of frames, "
+      "mean fit residual %.2f px\n",
+      corpus.clips.size(), arguments.folder.c_str(), trackedNow,
+      corpus.clips.size() - static_cast<std::size_t>(trackedNow), tracks.c_str(), corpus.trackingSeconds, 100.0 * found,
+      residual);
   for (const tracking::SkippedClip& skipped : corpus.skipped) std::printf("  left out: %s\n", skipped.reason.c_str());
   for (const tracking::VideoClip& clip : corpus.clips)
     if (clip.soundOffset.measured)
@@ -102,26 +105,28 @@ void runTrainVideo(const TrainVideoArguments& arguments) {
   const animation::MouthModel model = tracking::trainVideoMouthModel(train, corpus.faps, arguments.options);
   const double trainSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   animation::saveMouthModel(output, model, arguments.options);
-  std::printf("mouth model: %d states x %d mixtures (%s), tc = %d, K = %d components keeping %.1f %% of the FAP "
-              "variance; trained on %zu clips, %d frames (%.1f s of speech) in %.2f s (%d Baum-Welch iterations); "
-              "wrote %s\n",
-              model.hmm.numStates(), arguments.options.mixtures,
-              arguments.options.covariance == hmm::CovarianceType::kFull ? "full" : "diagonal", model.contextFrames,
-              model.basis.components(), 100.0 * model.basis.explainedVariance(), train.size(), trainFrames,
-              trainFrames / 30.0, trainSeconds, model.iterations, output.c_str());
+  std::printf(
+      "mouth model: %d states x %d mixtures (%s), tc = %d, K = %d components keeping %.1f %% of the FAP "
+      "variance; trained on %zu clips, %d frames (%.1f s of speech) in %.2f s (%d Baum-Welch iterations); "
+      "wrote %s\n",
+      model.hmm.numStates(), arguments.options.mixtures,
+      arguments.options.covariance == hmm::CovarianceType::kFull ? "full" : "diagonal", model.contextFrames,
+      model.basis.components(), 100.0 * model.basis.explainedVariance(), train.size(), trainFrames, trainFrames / 30.0,
+      trainSeconds, model.iterations, output.c_str());
   if (test.empty()) return;
 
   int testFrames = 0;
   for (const auto& recording : test) testFrames += recording.numFrames();
-  std::printf("\nheld out: every %d. clip, %zu clips, %d frames. eps / rho on the jaw (FAP 3)   and on the FAPs both "
-              "hold:\n",
-              arguments.holdOutEvery, test.size(), testFrames);
+  std::printf(
+      "\nheld out: every %d. clip, %zu clips, %d frames. eps / rho on the jaw (FAP 3)   and on the FAPs both "
+      "hold:\n",
+      arguments.holdOutEvery, test.size(), testFrames);
   const std::vector<int> modelFaps = animation::mouthFapNumbers(model);
   printScores("this model, inversion (conditional-mean start)",
               eval::scoreFaps(eval::predictFaps(model, test), modelFaps, test, corpus.faps));
   printScores("this model, MMSE estimate",
-              eval::scoreFaps(eval::predictFaps(model, test, {.method = animation::MouthMethod::kMmse}),
-                                  modelFaps, test, corpus.faps));
+              eval::scoreFaps(eval::predictFaps(model, test, {.method = animation::MouthMethod::kMmse}), modelFaps,
+                              test, corpus.faps));
   {
     // The paper's own measure: on the model's K visual components rather than on FAPs.
     std::vector<Eigen::MatrixXd> estimates, truths;
@@ -139,11 +144,11 @@ void runTrainVideo(const TrainVideoArguments& arguments) {
       column += truths[i].cols();
     }
     std::printf("  %-58s %6.3f / %6.3f   on its %d visual components (the paper's measure)\n", "this model, inversion",
-                eval::averageMse(estimate, truth), eval::averageCorrelation(estimate, truth),
-                model.basis.components());
+                eval::averageMse(estimate, truth), eval::averageCorrelation(estimate, truth), model.basis.components());
   }
-  printScores(("--compare " + std::filesystem::path(arguments.compare).filename().string() + ", inversion").c_str(),
-              eval::scoreFaps(eval::predictFaps(compared, test), animation::mouthFapNumbers(compared), test, corpus.faps));
+  printScores(
+      ("--compare " + std::filesystem::path(arguments.compare).filename().string() + ", inversion").c_str(),
+      eval::scoreFaps(eval::predictFaps(compared, test), animation::mouthFapNumbers(compared), test, corpus.faps));
   // The training clips' mean FAPs in every frame.
   Eigen::VectorXd mean = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(corpus.faps.size()));
   for (const auto& recording : train) mean += recording.visual.rowwise().sum() / trainFrames;
@@ -165,13 +170,16 @@ void addTrainVideoOptions(CLI::App& train) {
   train.add_option("--tracks", arguments->tracks,
                    "--video: folder for the clips' tracks, re-used while newer than the videos (default: "
                    "beside the model, <name>_tracks)");
-  train.add_option("--hold-out", arguments->holdOutEvery,
-                   "--video: hold out every N-th clip (by name) and report on them; 0 trains on all")
+  train
+      .add_option("--hold-out", arguments->holdOutEvery,
+                  "--video: hold out every N-th clip (by name) and report on them; 0 trains on all")
       ->check(CLI::Range(0, 1000))
       ->capture_default_str();
   train.add_option("--compare", arguments->compare, "--video: the mouth model to compare with on the held-out clips")
       ->capture_default_str();
-  train.add_option("--states", arguments->options.states, "--video: states N")->check(CLI::Range(1, 100))->capture_default_str();
+  train.add_option("--states", arguments->options.states, "--video: states N")
+      ->check(CLI::Range(1, 100))
+      ->capture_default_str();
   train.add_option("--mixtures", arguments->options.mixtures, "--video: Gaussians per state M")
       ->check(CLI::Range(1, 20))
       ->capture_default_str();
@@ -184,7 +192,8 @@ void addTrainVideoOptions(CLI::App& train) {
   train.add_flag_function(
       "--diagonal", [arguments](std::int64_t) { arguments->options.covariance = hmm::CovarianceType::kDiagonal; },
       "--video: diagonal covariance (default full)");
-  train.add_option("--threads", arguments->threads, "--video: tracking threads (0: one per core)")->capture_default_str();
+  train.add_option("--threads", arguments->threads, "--video: tracking threads (0: one per core)")
+      ->capture_default_str();
   train.callback([&train, arguments] {
     if (!train.get_subcommands().empty()) {
       if (!arguments->folder.empty()) throw Error("train: --video goes without a subcommand (head, mouth)");

@@ -1,7 +1,7 @@
 // glad before GLFW: glad's header stands in for the system GL header.
-#include <glad/gl.h>
-
 #include "window_capture.h"
+
+#include <glad/gl.h>
 
 #include <algorithm>
 #include <cstdint>
@@ -18,7 +18,8 @@ render::Image grabWindow(std::pair<int, int> size) {
     for (int x = 0; x < size.first; ++x) {
       const std::uint8_t* source =
           rgba.data() + (static_cast<std::size_t>(size.second - 1 - y) * static_cast<std::size_t>(size.first) +
-                         static_cast<std::size_t>(x)) * 4;
+                         static_cast<std::size_t>(x)) *
+                            4;
       std::copy_n(source, 3, image.pixel(x, y));
     }
   return image;

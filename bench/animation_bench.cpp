@@ -12,13 +12,13 @@
 #include <iostream>
 #include <memory>
 
-#include "eval/mouth_corpus.h"
-#include "eval/head_corpus.h"
 #include "animation/head_data.h"
 #include "animation/head_model.h"
 #include "animation/mouth_data.h"
 #include "animation/mouth_model.h"
 #include "bench_arguments.h"
+#include "eval/head_corpus.h"
+#include "eval/mouth_corpus.h"
 
 namespace {
 
@@ -51,8 +51,8 @@ void trainHead(benchmark::State& state) {
 void synthesiseHead(benchmark::State& state, HeadVariant variant, int lag) {
   const Data& d = data();
   for (auto _ : state) {
-    const Eigen::MatrixXd rotations =
-        th::animation::synthesiseHead(d.model, d.test.prosody, d.test.voiced, {.variant = variant, .maxLagFrames = lag});
+    const Eigen::MatrixXd rotations = th::animation::synthesiseHead(d.model, d.test.prosody, d.test.voiced,
+                                                                    {.variant = variant, .maxLagFrames = lag});
     benchmark::DoNotOptimize(rotations.data());
   }
   const double seconds = d.test.numFrames() / d.test.framesPerSecond;
@@ -107,7 +107,9 @@ int main(int argc, char** argv) {
   const BenchArguments arguments = parseBenchArguments(argc, argv, "animation_bench");
   if (!arguments.ok) return 1;
   const double minTime = arguments.quick ? 0.01 : 0.5;
-  benchmark::RegisterBenchmark("head/train_on_47.7s", trainHead)->Unit(benchmark::kMillisecond)->Iterations(arguments.quick ? 1 : 3);
+  benchmark::RegisterBenchmark("head/train_on_47.7s", trainHead)
+      ->Unit(benchmark::kMillisecond)
+      ->Iterations(arguments.quick ? 1 : 3);
   const struct {
     const char* name;
     HeadVariant variant;
@@ -137,7 +139,9 @@ int main(int argc, char** argv) {
       {"mouth/mmse", {.method = MouthMethod::kMmse}},
   };
   for (const auto& m : mouthMethods) {
-    benchmark::RegisterBenchmark(m.name.c_str(), synthesiseMouth, m.options)->Unit(benchmark::kMillisecond)->MinTime(minTime);
+    benchmark::RegisterBenchmark(m.name.c_str(), synthesiseMouth, m.options)
+        ->Unit(benchmark::kMillisecond)
+        ->MinTime(minTime);
   }
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();

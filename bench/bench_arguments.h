@@ -16,8 +16,8 @@
 
 struct BenchArguments {
   bool ok = false;
-  bool quick = false;               // one short pass, a smoke check
-  std::string format = "console";   // console or json
+  bool quick = false;              // one short pass, a smoke check
+  std::string format = "console";  // console or json
 };
 
 inline BenchArguments parseBenchArguments(int argc, char** argv, const char* program) {

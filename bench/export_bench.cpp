@@ -25,7 +25,6 @@
 #include <string>
 #include <vector>
 
-#include "pipeline/offline.h"
 #include "audio/media_audio.h"
 #include "bench_arguments.h"
 #include "core/cpu_time.h"
@@ -33,8 +32,9 @@
 #include "core/temporary_file.h"
 #include "face/face_model.h"
 #include "face/feature_points.h"
-#include "pipeline/video_export.h"
 #include "formats/mp4_writer.h"
+#include "pipeline/offline.h"
+#include "pipeline/video_export.h"
 
 namespace {
 
@@ -122,7 +122,8 @@ void exportClip(benchmark::State& state, const Case& c, double seconds) {
   }
   const double videoSeconds = static_cast<double>(frameCount) / kFps;
   state.counters["realtime_factor"] = benchmark::Counter(videoSeconds, benchmark::Counter::kIsIterationInvariantRate);
-  state.counters["fps"] = benchmark::Counter(static_cast<double>(frameCount), benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["fps"] =
+      benchmark::Counter(static_cast<double>(frameCount), benchmark::Counter::kIsIterationInvariantRate);
   // Video seconds per CPU second of all threads: what one dedicated core would do, whatever else is running.
   state.counters["realtime_factor_per_core"] =
       videoSeconds * static_cast<double>(state.iterations()) / std::max(cpuSeconds, 1e-9);
@@ -130,9 +131,9 @@ void exportClip(benchmark::State& state, const Case& c, double seconds) {
 }
 
 // The whole export as `talkinghead export` runs it, on real speech: the face model built (on another thread)
-// while the animation comes from the shipped models, every frame rendered off-screen (llvmpipe), finished and encoded (exportVideo, with its
-// default settings: FXAA, x264 veryfast with subme=1, CRF 20). Only reading the recording is left out.
-// realtime_factor: seconds of video per wall-clock second.
+// while the animation comes from the shipped models, every frame rendered off-screen (llvmpipe), finished and encoded
+// (exportVideo, with its default settings: FXAA, x264 veryfast with subme=1, CRF 20). Only reading the recording is
+// left out. realtime_factor: seconds of video per wall-clock second.
 void exportFace(benchmark::State& state, int width, int height, double seconds) {
   th::audio::AudioClip clip = th::audio::readRecording(th::sharedDataPath("beat2/audio_only/2_scott_0_2_2.wav"));
   clip.samples.resize(std::min(clip.samples.size(), static_cast<std::size_t>(seconds * clip.sampleRateHz)));
@@ -144,18 +145,18 @@ void exportFace(benchmark::State& state, int width, int height, double seconds) 
   for (auto _ : state) {
     const double cpuBefore = th::processCpuSeconds();
     // As `talkinghead export` does: the face model built on another thread while the recording is animated.
-    std::future<th::face::FaceModel> building = std::async(std::launch::async, [] {
-      return th::face::FaceModel::buildDefault();
-    });
+    std::future<th::face::FaceModel> building =
+        std::async(std::launch::async, [] { return th::face::FaceModel::buildDefault(); });
     const th::face::FapTrack animation = th::pipeline::animate(clip.samples, &head, &mouth, {});
     const th::face::FaceModel face = building.get();
     frames = th::pipeline::exportVideo(face, animation, clip.samples, clip.sampleRateHz, folder.path() / "face.mp4",
-                                     {.width = width, .height = height});
+                                       {.width = width, .height = height});
     cpuSeconds += th::processCpuSeconds() - cpuBefore;
   }
   const double videoSeconds = static_cast<double>(frames) / kFps;
   state.counters["realtime_factor"] = benchmark::Counter(videoSeconds, benchmark::Counter::kIsIterationInvariantRate);
-  state.counters["fps"] = benchmark::Counter(static_cast<double>(frames), benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["fps"] =
+      benchmark::Counter(static_cast<double>(frames), benchmark::Counter::kIsIterationInvariantRate);
   state.counters["realtime_factor_per_core"] =
       videoSeconds * static_cast<double>(state.iterations()) / std::max(cpuSeconds, 1e-9);
 }
@@ -174,8 +175,8 @@ int main(int argc, char** argv) {
   for (const Case& c : cases) {
     const std::string name = "export/" + std::to_string(c.width) + "x" + std::to_string(c.height) + "/" +
                              (c.content == Content::kGradient ? "gradient" : "textured") + "/" +
-                             std::to_string(static_cast<int>(seconds)) + "s/" + c.preset + "/threads:" +
-                             (c.threads == 0 ? std::string("auto") : std::to_string(c.threads));
+                             std::to_string(static_cast<int>(seconds)) + "s/" + c.preset +
+                             "/threads:" + (c.threads == 0 ? std::string("auto") : std::to_string(c.threads));
     benchmark::RegisterBenchmark(name.c_str(), exportClip, c, seconds)
         ->Unit(benchmark::kMillisecond)
         ->UseRealTime()

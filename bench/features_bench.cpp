@@ -12,8 +12,6 @@
 //
 // Thread contract: single-threaded; pin it to one core (the budget is "on one core").
 #include <benchmark/benchmark.h>
-
-#include "bench_arguments.h"
 #include <sys/resource.h>
 
 #include <algorithm>
@@ -29,9 +27,10 @@
 #include <vector>
 
 #include "audio/audio_file.h"
+#include "bench_arguments.h"
 #include "core/data_path.h"
-#include "core/temporary_file.h"
 #include "core/error.h"
+#include "core/temporary_file.h"
 #include "features/mfcc.h"
 #include "features/online_features.h"
 #include "features/pitch.h"
@@ -87,14 +86,13 @@ void benchMfcc(benchmark::State& state, const std::vector<float>& samples) {
   th::features::MfccComputer mfcc(options.mfcc, kRateHz);
   const auto length = static_cast<long long>(mfcc.windowLength());
   const auto numSamples = static_cast<long long>(samples.size());
-  const auto numFrames = static_cast<long long>((static_cast<double>(numSamples) - 1.0) * options.framesPerSecond /
-                                                kRateHz) + 1;
+  const auto numFrames =
+      static_cast<long long>((static_cast<double>(numSamples) - 1.0) * options.framesPerSecond / kRateHz) + 1;
   std::vector<float> window(static_cast<size_t>(length));
   std::vector<float> coefficients(static_cast<size_t>(mfcc.numOutputs()));
   for (auto _ : state) {
     for (long long frame = 0; frame < numFrames; ++frame) {
-      const long long start =
-          std::llround(static_cast<double>(frame) * kRateHz / options.framesPerSecond) - length / 2;
+      const long long start = std::llround(static_cast<double>(frame) * kRateHz / options.framesPerSecond) - length / 2;
       for (long long n = 0; n < length; ++n) {
         const long long index = start + n;
         window[static_cast<size_t>(n)] = index >= 0 && index < numSamples ? samples[static_cast<size_t>(index)] : 0.0f;
@@ -110,7 +108,9 @@ void benchMfcc(benchmark::State& state, const std::vector<float>& samples) {
 double childCpuSeconds() {
   rusage usage{};
   ::getrusage(RUSAGE_CHILDREN, &usage);
-  const auto seconds = [](const timeval& t) { return static_cast<double>(t.tv_sec) + 1e-6 * static_cast<double>(t.tv_usec); };
+  const auto seconds = [](const timeval& t) {
+    return static_cast<double>(t.tv_sec) + 1e-6 * static_cast<double>(t.tv_usec);
+  };
   return seconds(usage.ru_utime) + seconds(usage.ru_stime);
 }
 
@@ -247,8 +247,8 @@ void printSummary(const SummaryReporter& reporter, std::ostream& out) {
     out << "  without start-up: Praat " << times(praatNet) << ", RAPT " << times(raptNet) << " real time\n";
   }
   if (ours && praat && rapt && praat->realtimeFactor > 0.0) {
-    out << "ours " << times(ours->realtimeFactor) << " real time, Praat " << times(praat->realtimeFactor)
-        << ", RAPT " << times(rapt->realtimeFactor) << "; ours/Praat = ";
+    out << "ours " << times(ours->realtimeFactor) << " real time, Praat " << times(praat->realtimeFactor) << ", RAPT "
+        << times(rapt->realtimeFactor) << "; ours/Praat = ";
     std::snprintf(line, sizeof line, "%.1f", ours->realtimeFactor / praat->realtimeFactor);
     out << line << "\n";
   }

@@ -18,8 +18,6 @@
 // HmmModel::emissionLogLikelihoods for one frame at a time (the streaming call) and over a whole block.
 // Thread contract: single-threaded; pin it to one core (the budgets are "on one core").
 #include <benchmark/benchmark.h>
-
-#include "bench_arguments.h"
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -37,10 +35,11 @@
 #include <string>
 #include <vector>
 
+#include "bench_arguments.h"
 #include "core/error.h"
 #include "core/temporary_file.h"
-#include "hmm/model_file.h"
 #include "hmm/inversion.h"
+#include "hmm/model_file.h"
 #include "hmm/sampling.h"
 #include "hmm/training.h"
 #include "hmm/viterbi.h"
@@ -69,8 +68,8 @@ struct ModelSize {
   int dimension;
   CovarianceType covariance;
   std::string describe() const {
-    return "N=" + std::to_string(numStates) + " M=" + std::to_string(numMixtures) + " d=" +
-           std::to_string(dimension) + (covariance == CovarianceType::kFull ? " full" : " diag");
+    return "N=" + std::to_string(numStates) + " M=" + std::to_string(numMixtures) + " d=" + std::to_string(dimension) +
+           (covariance == CovarianceType::kFull ? " full" : " diag");
   }
 };
 
@@ -126,8 +125,7 @@ struct BaumWelchCase {
 void benchOurBaumWelch(benchmark::State& state, const BaumWelchCase* c) {
   for (auto _ : state) {
     HmmModel model = c->start;  // a copy: microseconds next to the iteration
-    const th::hmm::IterationRecord record =
-        th::hmm::baumWelchIteration(model, c->sequences, c->varianceFloor, {});
+    const th::hmm::IterationRecord record = th::hmm::baumWelchIteration(model, c->sequences, c->varianceFloor, {});
     benchmark::DoNotOptimize(record.logLikelihood);
   }
   state.counters["frames"] = c->numFrames;
@@ -310,8 +308,7 @@ void printSummary(const SummaryReporter& reporter, const std::vector<std::unique
   char line[256];
   out << "\nSummary (one core; CPU time). One Baum-Welch iteration, ours vs the numpy reference "
          "(tools/hmm_reference.py):\n";
-  std::snprintf(line, sizeof line, "  %-34s %12s %12s %11s  %s\n", "case", "ours", "numpy", "numpy/ours",
-                "target");
+  std::snprintf(line, sizeof line, "  %-34s %12s %12s %11s  %s\n", "case", "ours", "numpy", "numpy/ours", "target");
   out << line;
   std::string numpyNote;
   for (const auto& c : cases) {
@@ -330,8 +327,8 @@ void printSummary(const SummaryReporter& reporter, const std::vector<std::unique
                                : blas.find("/blas/") != std::string::npos
                                    ? "the netlib reference BLAS/LAPACK (Debian's default libblas3)"
                                    : "an unrecognised BLAS";
-      numpyNote = "numpy " + run->second.numpyVersion + ", BLAS threads " + run->second.blasThreads + ", on " +
-                  kind + ":\n    " + blas;
+      numpyNote = "numpy " + run->second.numpyVersion + ", BLAS threads " + run->second.blasThreads + ", on " + kind +
+                  ":\n    " + blas;
     }
   }
   if (!numpyNote.empty()) out << "  " << numpyNote << "\n";
@@ -395,23 +392,26 @@ int main(int argc, char** argv) {
       frameRows.emplace_back(name, what);
     };
     const std::string lag = " (max lag " + std::to_string(kMaxLagFrames) + ")";
-    for (const ModelSize& size : {ModelSize{12, 1, 4, CovarianceType::kFull}, ModelSize{20, 1, 123, CovarianceType::kFull}}) {
+    for (const ModelSize& size :
+         {ModelSize{12, 1, 4, CovarianceType::kFull}, ModelSize{20, 1, 123, CovarianceType::kFull}}) {
       registerFrameBench("online_viterbi/N" + std::to_string(size.numStates),
                          "OnlineViterbi::acceptFrame, N=" + std::to_string(size.numStates) + lag, benchOnlineViterbi,
                          frameCase(size));
     }
-    for (const ModelSize& size : {ModelSize{12, 1, 4, CovarianceType::kFull}, ModelSize{4, 2, 123, CovarianceType::kFull},
-                                  ModelSize{19, 3, 123, CovarianceType::kDiagonal}}) {
+    for (const ModelSize& size :
+         {ModelSize{12, 1, 4, CovarianceType::kFull}, ModelSize{4, 2, 123, CovarianceType::kFull},
+          ModelSize{19, 3, 123, CovarianceType::kDiagonal}}) {
       std::string id = size.describe();
       for (char& ch : id) ch = ch == ' ' || ch == '=' ? '_' : ch;
       registerFrameBench("emissions_one_frame/" + id, "emissions, one frame per call, " + size.describe(),
                          benchEmissionsPerFrame, frameCase(size));
-      registerFrameBench("emissions_block/" + id, "emissions, " + std::to_string(numFrames) + " frames per call, " +
-                                                      size.describe(),
+      registerFrameBench("emissions_block/" + id,
+                         "emissions, " + std::to_string(numFrames) + " frames per call, " + size.describe(),
                          benchEmissionsBatch, frameCase(size));
     }
 
-    for (const ModelSize& size : {ModelSize{4, 2, 123, CovarianceType::kFull}, ModelSize{19, 3, 123, CovarianceType::kDiagonal}}) {
+    for (const ModelSize& size :
+         {ModelSize{4, 2, 123, CovarianceType::kFull}, ModelSize{19, 3, 123, CovarianceType::kDiagonal}}) {
       std::string id = size.describe();
       for (char& ch : id) ch = ch == ' ' || ch == '=' ? '_' : ch;
       for (int window : {0, 10, 30}) {

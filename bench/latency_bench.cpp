@@ -13,9 +13,9 @@
 // after. Onsets that rise 25 dB within 80 ms (a burst, not a voiced /b/'s slow rise) are also reported alone as
 // the sharp ones. (BEAT2 is fluent speech with few clean pauses: 15 or so in three minutes.)
 // "The mouth has moved": the jaw passes a quarter of the way from where it is when the onset arrives to its
-// peak in the 500 ms after, both taken from the same decoder run offline on the same samples (the pipeline's frames are the same values, tests/pipeline). Onsets where the model opens the
-// jaw by less than a quarter of its usual range (5th to 95th percentile) are skipped (a closure like /m/ moves
-// the lips, not the jaw).
+// peak in the 500 ms after, both taken from the same decoder run offline on the same samples (the pipeline's frames are
+// the same values, tests/pipeline). Onsets where the model opens the jaw by less than a quarter of its usual range (5th
+// to 95th percentile) are skipped (a closure like /m/ moves the lips, not the jaw).
 //
 // Each setting reports the distribution (median, 10th and 90th percentiles, largest), split into the model's own
 // response (when the offline jaw crosses, after the onset) and the pipeline (from the crossing instant's samples
@@ -41,8 +41,8 @@
 #include "face/face_model.h"
 #include "pipeline/live_decoder.h"
 #include "pipeline/live_presets.h"
-#include "pipeline/options.h"
 #include "pipeline/live_session.h"
+#include "pipeline/options.h"
 #include "pipeline/playout.h"
 #include "render/camera.h"
 #include "render/face_renderer.h"
@@ -79,7 +79,7 @@ double percentileOf(std::vector<double> values, double p) {
 }
 
 OnsetRecording buildOnsetRecording(std::size_t wanted) {
-  const std::size_t hop = kRate / 200;     // 5 ms
+  const std::size_t hop = kRate / 200;        // 5 ms
   const std::size_t before = kRate * 4 / 10;  // 400 ms of the pause before the onset
   const std::size_t after = kRate * 6 / 10;
   OnsetRecording result;
@@ -174,8 +174,7 @@ struct Result {
 };
 
 Result run(const Setting& setting, const OnsetRecording& recording, const th::animation::HeadModel& head,
-           const th::face::FaceModel& face, th::render::FaceRenderer& renderer,
-           const th::render::OrbitCamera& camera) {
+           const th::face::FaceModel& face, th::render::FaceRenderer& renderer, const th::render::OrbitCamera& camera) {
   Result result;
   const th::animation::MouthModel& mouth = *setting.mouth;
   const std::vector<double> reference = offlineJaw(recording.samples, head, mouth, setting.options);
@@ -284,7 +283,8 @@ int main(int argc, char** argv) {
     baseline.mouth.windowFrames = 2;
     for (const th::pipeline::LivePreset& preset : th::pipeline::kLivePresets) {
       mouths.push_back(th::animation::loadMouthModel(models / std::string(preset.mouthModelFile)));
-      if (preset.name == "accurate") settings.push_back({"baseline: frames wait for the head (accurate's mouth)", baseline, true, &mouths.back()});
+      if (preset.name == "accurate")
+        settings.push_back({"baseline: frames wait for the head (accurate's mouth)", baseline, true, &mouths.back()});
     }
     for (std::size_t p = 0; p < th::pipeline::kLivePresets.size(); ++p) {
       const th::pipeline::LivePreset& preset = th::pipeline::kLivePresets[p];
@@ -294,8 +294,9 @@ int main(int argc, char** argv) {
       LiveDecoderOptions options;
       options.mouth.windowFrames = applied.streaming.window;
       const bool interpolate = applied.live.interpolate;
-      settings.push_back({"preset " + std::string(preset.name) + ": " + std::string(preset.mouthModelFile) + ", window " +
-                              std::to_string(applied.streaming.window) + (interpolate ? ", interpolated" : ", newest frame"),
+      settings.push_back({"preset " + std::string(preset.name) + ": " + std::string(preset.mouthModelFile) +
+                              ", window " + std::to_string(applied.streaming.window) +
+                              (interpolate ? ", interpolated" : ", newest frame"),
                           options, interpolate, &mouths[p]});
     }
     double baselineMedian = 0.0;

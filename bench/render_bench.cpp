@@ -26,8 +26,7 @@
 namespace {
 
 const th::face::Mesh& neutral() {
-  static const th::face::Mesh mesh =
-      th::face::loadObjMesh(th::face::ictFaceDirectory() / "generic_neutral_mesh.obj");
+  static const th::face::Mesh mesh = th::face::loadObjMesh(th::face::ictFaceDirectory() / "generic_neutral_mesh.obj");
   return mesh;
 }
 
@@ -55,8 +54,7 @@ void renderFrames(benchmark::State& state, int width, int height, int samples, b
   const double cpuSeconds = th::processCpuSeconds() - cpuStart;
   state.counters["cpu_ms"] =
       1e3 * cpuSeconds / static_cast<double>(std::max<benchmark::IterationCount>(state.iterations(), 1));
-  state.counters["fps"] =
-      benchmark::Counter(static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
+  state.counters["fps"] = benchmark::Counter(static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
   state.counters["samples"] = renderer.samples();
 }
 
@@ -79,8 +77,7 @@ int main(int argc, char** argv) {
   for (const auto& c : cases) {
     const std::string antialiasing =
         c.samples > 1 ? "msaa" + std::to_string(c.samples) : std::string(c.fxaa ? "fxaa" : "none");
-    const std::string name =
-        "render/" + std::to_string(c.width) + "x" + std::to_string(c.height) + "/" + antialiasing;
+    const std::string name = "render/" + std::to_string(c.width) + "x" + std::to_string(c.height) + "/" + antialiasing;
     benchmark::RegisterBenchmark(name.c_str(), renderFrames, c.width, c.height, c.samples, c.fxaa)
         ->Unit(benchmark::kMillisecond)
         ->UseRealTime()

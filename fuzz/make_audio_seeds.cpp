@@ -31,7 +31,8 @@ bool readMono(const fs::path& path, double seconds, Source& source) {
   sf_close(file);
   source.sampleRateHz = info.samplerate;
   source.samples.assign(static_cast<size_t>(got), 0.0f);
-  for (sf_count_t f = 0; f < got; ++f) source.samples[static_cast<size_t>(f)] = interleaved[static_cast<size_t>(f * info.channels)];
+  for (sf_count_t f = 0; f < got; ++f)
+    source.samples[static_cast<size_t>(f)] = interleaved[static_cast<size_t>(f * info.channels)];
   return got > 0;
 }
 
@@ -69,7 +70,8 @@ int main(int argc, char** argv) {
   Source arctic, fda, beat;
   // 24 kHz mono 16-bit; 20 kHz mono 16-bit; 16 kHz mono float.
   if (!readMono(data / "speech/arctic/arctic_a0001.wav", 0.5, arctic) ||
-      !readMono(data / "speech/fda-ue/sb001.wav", 0.25, fda) || !readMono(data / "beat2/2_scott_0_1_1.wav", 0.1, beat)) {
+      !readMono(data / "speech/fda-ue/sb001.wav", 0.25, fda) ||
+      !readMono(data / "beat2/2_scott_0_1_1.wav", 0.1, beat)) {
     std::fprintf(stderr, "make_audio_seeds: cannot read the recordings under %s\n", data.c_str());
     return 1;
   }

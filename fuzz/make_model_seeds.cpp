@@ -33,8 +33,8 @@ int main(int argc, char** argv) {
     const std::filesystem::path out = argv[1];
     std::filesystem::create_directories(out);
 
-    write(out / "sticky_1d.json",
-          th::hmm::formatModel(th::test::stickyModel1d(3, 0.9), R"({"iterations": 12, "logLikelihoods": [-310.5, -290.25]})"));
+    write(out / "sticky_1d.json", th::hmm::formatModel(th::test::stickyModel1d(3, 0.9),
+                                                       R"({"iterations": 12, "logLikelihoods": [-310.5, -290.25]})"));
 
     th::hmm::HmmModel named = th::test::randomModel(2, 2, 3, CovarianceType::kFull, 1);
     named.columnNames = {"f0_hz", "energy_db", "jaw"};

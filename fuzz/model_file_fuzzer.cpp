@@ -48,9 +48,28 @@ bool mutateOneValue(Json& document, std::minstd_rand& random) {
   }
   auto pick = [&](size_t n) { return static_cast<size_t>(random() % n); };
   Json& target = *values[pick(values.size())];
-  static const double kNumbers[] = {0.0, -0.0, 1.0, -1.0, 0.5, 2.0, 3.0, 10000.0, 10001.0, 1000.0, 1001.0,
-                                    1e-150, 1e-151, 1e150, 1e151, 1e-300, 5e-324, 1.7976931348623157e308,
-                                    -1.7976931348623157e308, 1e-6, 1.000001, 0.999999};
+  static const double kNumbers[] = {0.0,
+                                    -0.0,
+                                    1.0,
+                                    -1.0,
+                                    0.5,
+                                    2.0,
+                                    3.0,
+                                    10000.0,
+                                    10001.0,
+                                    1000.0,
+                                    1001.0,
+                                    1e-150,
+                                    1e-151,
+                                    1e150,
+                                    1e151,
+                                    1e-300,
+                                    5e-324,
+                                    1.7976931348623157e308,
+                                    -1.7976931348623157e308,
+                                    1e-6,
+                                    1.000001,
+                                    0.999999};
   switch (pick(8)) {
     case 0:
       if (target.is_number()) {
@@ -65,8 +84,8 @@ bool mutateOneValue(Json& document, std::minstd_rand& random) {
       target = kNumbers[pick(std::size(kNumbers))];
       break;
     case 2: {
-      const int64_t integers[] = {-1, 0, 1, 2, 3, std::numeric_limits<int64_t>::min(),
-                                  std::numeric_limits<int64_t>::max()};
+      const int64_t integers[] = {
+          -1, 0, 1, 2, 3, std::numeric_limits<int64_t>::min(), std::numeric_limits<int64_t>::max()};
       if (pick(4) == 0) {
         target = std::numeric_limits<uint64_t>::max();
       } else {
@@ -75,8 +94,8 @@ bool mutateOneValue(Json& document, std::minstd_rand& random) {
       break;
     }
     case 3: {
-      const Json others[] = {nullptr, true, "x", Json::array(), Json::object(), "talkinghead-hmm", "full",
-                             "diagonal", "audio", ""};
+      const Json others[] = {nullptr,           true,   "x",        Json::array(), Json::object(),
+                             "talkinghead-hmm", "full", "diagonal", "audio",       ""};
       target = others[pick(std::size(others))];
       break;
     }

@@ -27,7 +27,9 @@ void FrameStats::frameTaken(const pipeline::AnimationFrame& frame, std::int64_t 
   record(queueMs_, static_cast<double>(nowNs - frame.decodedNs) * 1e-6);
 }
 
-void FrameStats::playoutBehind(double ms) { record(behindMs_, ms); }
+void FrameStats::playoutBehind(double ms) {
+  record(behindMs_, ms);
+}
 
 void FrameStats::frameDrawn(const FrameTimes& times) {
   ++framesDrawn_;
@@ -48,15 +50,33 @@ void FrameStats::soundToLips(double lateMs) {
   if (lateMs_.size() < 100000) lateMs_.push_back(lateMs);
 }
 
-double FrameStats::processingMs() const { return median(processingMs_); }
-double FrameStats::queueMs() const { return median(queueMs_); }
-double FrameStats::behindMs() const { return median(behindMs_); }
-double FrameStats::displayMs() const { return median(displayMs_); }
-double FrameStats::periodMs() const { return median(periodMs_); }
-double FrameStats::faceSetupMs() const { return median(stageMs_[0]); }
-double FrameStats::glMs() const { return median(stageMs_[1]); }
-double FrameStats::panelMs() const { return median(stageMs_[2]); }
-double FrameStats::swapMs() const { return median(stageMs_[3]); }
+double FrameStats::processingMs() const {
+  return median(processingMs_);
+}
+double FrameStats::queueMs() const {
+  return median(queueMs_);
+}
+double FrameStats::behindMs() const {
+  return median(behindMs_);
+}
+double FrameStats::displayMs() const {
+  return median(displayMs_);
+}
+double FrameStats::periodMs() const {
+  return median(periodMs_);
+}
+double FrameStats::faceSetupMs() const {
+  return median(stageMs_[0]);
+}
+double FrameStats::glMs() const {
+  return median(stageMs_[1]);
+}
+double FrameStats::panelMs() const {
+  return median(stageMs_[2]);
+}
+double FrameStats::swapMs() const {
+  return median(stageMs_[3]);
+}
 
 void FrameStats::printSummary(double secondsOpen, std::uint64_t panelDraws) const {
   if (allPeriodsMs_.empty()) return;
@@ -71,11 +91,12 @@ void FrameStats::printSummary(double secondsOpen, std::uint64_t panelDraws) cons
   // The process's CPU time, llvmpipe's rasterising threads and the decoders included: less at the mercy of what
   // else the machine runs than the frame rate (two cores give 33.3 ms a frame at 60 frames/s).
   const double cpuMs = (processCpuSeconds() - cpuAtFrame30_) * 1000.0 / static_cast<double>(periods.size());
-  std::printf("display: %zu frames, median %.1f frames/s (95th percentile frame %.1f ms), CPU %.1f ms a frame (all "
-              "threads), busy %.1f ms a frame (95th percentile %.1f), the panel drawn %.1f times a second; per frame "
-              "(median ms of the last 5 s): face %.1f, GL %.1f, panel %.1f (the frames that draw it), swap %.1f\n",
-              periods.size(), 1000.0 / medianPeriod, slow, cpuMs, busy[busy.size() / 2], busy[busy.size() * 95 / 100],
-              static_cast<double>(panelDraws) / secondsOpen, faceSetupMs(), glMs(), panelMs(), swapMs());
+  std::printf(
+      "display: %zu frames, median %.1f frames/s (95th percentile frame %.1f ms), CPU %.1f ms a frame (all "
+      "threads), busy %.1f ms a frame (95th percentile %.1f), the panel drawn %.1f times a second; per frame "
+      "(median ms of the last 5 s): face %.1f, GL %.1f, panel %.1f (the frames that draw it), swap %.1f\n",
+      periods.size(), 1000.0 / medianPeriod, slow, cpuMs, busy[busy.size() / 2], busy[busy.size() * 95 / 100],
+      static_cast<double>(panelDraws) / secondsOpen, faceSetupMs(), glMs(), panelMs(), swapMs());
 }
 
 void FrameStats::printSoundToLips(double firstSoundSeconds, double firstDeviceDelayMs, double scheduledMs,
@@ -84,11 +105,12 @@ void FrameStats::printSoundToLips(double firstSoundSeconds, double firstDeviceDe
   std::vector<double> late = lateMs_;
   std::sort(late.begin(), late.end());
   const auto at = [&](double q) { return late[static_cast<std::size_t>(q * static_cast<double>(late.size() - 1))]; };
-  std::printf("sound to lips: the face shows each instant %+.1f ms after it is heard (median of %zu frames; 10-90 %%: "
-              "%+.1f to %+.1f ms); the recording's start heard at %.6f s on the steady clock, by the device's reported "
-              "delay of %.1f ms; the sound scheduled %.1f ms after the input; %llu underruns\n",
-              at(0.5), late.size(), at(0.1), at(0.9), firstSoundSeconds, firstDeviceDelayMs, scheduledMs,
-              static_cast<unsigned long long>(underruns));
+  std::printf(
+      "sound to lips: the face shows each instant %+.1f ms after it is heard (median of %zu frames; 10-90 %%: "
+      "%+.1f to %+.1f ms); the recording's start heard at %.6f s on the steady clock, by the device's reported "
+      "delay of %.1f ms; the sound scheduled %.1f ms after the input; %llu underruns\n",
+      at(0.5), late.size(), at(0.1), at(0.9), firstSoundSeconds, firstDeviceDelayMs, scheduledMs,
+      static_cast<unsigned long long>(underruns));
 }
 
 }  // namespace th::app

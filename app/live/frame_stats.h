@@ -25,8 +25,8 @@ struct FrameTimes {
   double glMs = 0.0;         // rendered and presented
   double panelMs = -1.0;     // the panel drawn (-1: not this frame)
   double swapMs = 0.0;
-  double busyMs = 0.0;       // from the loop's top to the swap's return (its sleep left out)
-  double periodMs = 0.0;     // swap to swap
+  double busyMs = 0.0;    // from the loop's top to the swap's return (its sleep left out)
+  double periodMs = 0.0;  // swap to swap
 };
 
 class FrameStats {
@@ -39,7 +39,7 @@ class FrameStats {
   double processingMs() const;  // read to frame out
   double queueMs() const;       // frame out to the display
   double behindMs() const;
-  double displayMs() const;     // drawing and swapping
+  double displayMs() const;  // drawing and swapping
   double periodMs() const;
   double faceSetupMs() const;
   double glMs() const;

@@ -52,7 +52,8 @@ face::FapTrack trackOf(const std::vector<pipeline::AnimationFrame>& frames, cons
 
 void runHeadless(const HeadlessArguments& arguments, const pipeline::LiveSettings& settings) {
   const bool fromDevice = arguments.input.empty();
-  if (fromDevice && arguments.speed != 1.0) throw Error("live: --speed is for --input files; a device runs in real time");
+  if (fromDevice && arguments.speed != 1.0)
+    throw Error("live: --speed is for --input files; a device runs in real time");
   if (!arguments.dump.empty()) {
     formats::animationFormatFor(arguments.dump);
     checkOutputTarget(arguments.dump);
@@ -70,7 +71,8 @@ void runHeadless(const HeadlessArguments& arguments, const pipeline::LiveSetting
     audio::AudioClip clip = audio::readRecording(arguments.input);
     if (clip.samples.empty()) throw fileError(arguments.input, "has no samples");
     if (arguments.duration > 0.0)
-      clip.samples.resize(std::min(clip.samples.size(), static_cast<std::size_t>(arguments.duration * clip.sampleRateHz)));
+      clip.samples.resize(
+          std::min(clip.samples.size(), static_cast<std::size_t>(arguments.duration * clip.sampleRateHz)));
     seconds = std::max(static_cast<double>(clip.samples.size()) / clip.sampleRateHz, arguments.repeatTo);
     options.repeatToSamples = static_cast<std::size_t>(arguments.repeatTo * clip.sampleRateHz);
     source.recording = std::move(clip.samples);
@@ -83,9 +85,9 @@ void runHeadless(const HeadlessArguments& arguments, const pipeline::LiveSetting
   printEvents(live);
   // A sound input that will not open at the start is an error, not something to wait for.
   if (!live.running()) throw Error(live.sourceError().empty() ? "live: the source did not start" : live.sourceError());
-  const std::string sourceName = fromDevice ? live.sourceName() + " (" + std::to_string(static_cast<int>(live.rateHz())) +
-                                                  " Hz)"
-                                            : live.sourceName();
+  const std::string sourceName =
+      fromDevice ? live.sourceName() + " (" + std::to_string(static_cast<int>(live.rateHz())) + " Hz)"
+                 : live.sourceName();
   const auto started = std::chrono::steady_clock::now();
 
   // The display loop: 60 Hz in the recording's time (faster when it plays faster; at full speed as often as it
@@ -128,7 +130,8 @@ void runHeadless(const HeadlessArguments& arguments, const pipeline::LiveSetting
   std::printf("live (headless): %s, %.2f s of sound at %s real time\n", sourceName.c_str(), seconds, pace);
   std::printf("  frames: %llu decoded, %llu shown, %llu dropped; samples: %llu in, %llu overrun\n",
               static_cast<unsigned long long>(counters.framesDecoded), static_cast<unsigned long long>(framesShown),
-              static_cast<unsigned long long>(counters.framesDropped), static_cast<unsigned long long>(counters.samplesIn),
+              static_cast<unsigned long long>(counters.framesDropped),
+              static_cast<unsigned long long>(counters.samplesIn),
               static_cast<unsigned long long>(counters.overrunSamples));
   if (fromDevice)
     std::printf("  sound inputs: %llu opened, %llu lost\n", static_cast<unsigned long long>(live.sessionsStarted()),
@@ -149,7 +152,8 @@ void runHeadless(const HeadlessArguments& arguments, const pipeline::LiveSetting
   if (!live.failure().empty()) throw Error(sourceName + ": " + live.failure() + "; no dump written");
 
   if (!arguments.dump.empty()) {
-    formats::writeAnimation(arguments.dump, trackOf(shown, live.fapNumbers(), std::filesystem::path(arguments.input).stem().string()));
+    formats::writeAnimation(arguments.dump,
+                            trackOf(shown, live.fapNumbers(), std::filesystem::path(arguments.input).stem().string()));
     std::printf("wrote %s: %zu frames\n", arguments.dump.c_str(), shown.size());
   }
 }

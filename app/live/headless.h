@@ -15,12 +15,12 @@
 namespace th::app {
 
 struct HeadlessArguments {
-  std::string input;              // a recording; empty: the sound input settings.live.device
-  double speed = 1.0;             // a recording: times real time (0: as fast as the worker decodes)
-  double duration = 0.0;          // seconds: of the recording (0: all), of listening (0: until Ctrl-C)
-  double repeatTo = 0.0;          // a recording: played over and over to this many seconds
-  std::string dump;               // the frames received, as .csv, .json or .fap
-  double reconnectSeconds = 10.0; // a lost sound input is waited for this long
+  std::string input;               // a recording; empty: the sound input settings.live.device
+  double speed = 1.0;              // a recording: times real time (0: as fast as the worker decodes)
+  double duration = 0.0;           // seconds: of the recording (0: all), of listening (0: until Ctrl-C)
+  double repeatTo = 0.0;           // a recording: played over and over to this many seconds
+  std::string dump;                // the frames received, as .csv, .json or .fap
+  double reconnectSeconds = 10.0;  // a lost sound input is waited for this long
 };
 
 void runHeadless(const HeadlessArguments& arguments, const pipeline::LiveSettings& settings);

@@ -6,10 +6,10 @@
 #include <memory>
 #include <string>
 
+#include "audio/capture.h"
 #include "cli_options.h"
 #include "commands.h"
 #include "core/error.h"
-#include "audio/capture.h"
 #include "live/headless.h"
 #include "live/settings_file.h"
 #include "live/window.h"
@@ -23,7 +23,7 @@ struct LiveArguments {
   bool listDevices = false;
   std::string settingsFile;  // the window's saved settings
   bool noSettings = false;
-  HeadlessArguments run;     // --input, --speed, --duration, --repeat-to, --dump, --reconnect-seconds
+  HeadlessArguments run;  // --input, --speed, --duration, --repeat-to, --dump, --reconnect-seconds
   LiveWindowArguments window;
   pipeline::LiveSettings given;  // the options as typed (which ones were: CLI11's count)
 };
@@ -33,12 +33,13 @@ void listDevices() {
   const std::vector<audio::AudioDevice> inputs = system.inputDevices();
   if (inputs.empty()) std::printf("no sound input devices\n");
   for (const audio::AudioDevice& d : inputs)
-    std::printf("%3d  %s%s  (%s, %d channels, %.0f Hz)\n", d.index, d.name.c_str(), d.isDefaultInput ? "  [default]" : "",
-                d.hostApi.c_str(), d.inputChannels, d.defaultRateHz);
+    std::printf("%3d  %s%s  (%s, %d channels, %.0f Hz)\n", d.index, d.name.c_str(),
+                d.isDefaultInput ? "  [default]" : "", d.hostApi.c_str(), d.inputChannels, d.defaultRateHz);
 }
 
 // The saved settings, then the preset typed, then every option typed.
-pipeline::LiveSettings resolveSettings(LiveArguments& arguments, const CLI::App& command, pipeline::LiveSettings settings) {
+pipeline::LiveSettings resolveSettings(LiveArguments& arguments, const CLI::App& command,
+                                       pipeline::LiveSettings settings) {
   if (command.count("--preset") > 0) pipeline::applyLivePreset(settings, arguments.given.live.preset);
   copyTypedOptions(command, arguments.given, settings);
   try {
@@ -56,7 +57,8 @@ void runLive(LiveArguments& arguments, const CLI::App& command) {
   }
   const bool typedDevice = command.count("--device") > 0;
   const std::string& input = arguments.run.input;
-  if (!input.empty() && typedDevice) throw Error("live: give the sound either as --input FILE or as --device, not both");
+  if (!input.empty() && typedDevice)
+    throw Error("live: give the sound either as --input FILE or as --device, not both");
   if (arguments.headless) {
     if (input.empty() && !typedDevice)
       throw Error("live --headless: give the sound either as --input FILE or as --device (default or a number)");
@@ -70,7 +72,8 @@ void runLive(LiveArguments& arguments, const CLI::App& command) {
   arguments.window.duration = arguments.run.duration;
   arguments.window.settingsPath =
       arguments.noSettings ? std::filesystem::path()
-                           : (arguments.settingsFile.empty() ? defaultLiveSettingsPath() : std::filesystem::path(arguments.settingsFile));
+                           : (arguments.settingsFile.empty() ? defaultLiveSettingsPath()
+                                                             : std::filesystem::path(arguments.settingsFile));
   runLiveWindow(arguments.window, resolveSettings(arguments, command, loadLiveSettings(arguments.window.settingsPath)));
 }
 
@@ -80,10 +83,13 @@ void addLiveCommand(CLI::App& app) {
   auto arguments = std::make_shared<LiveArguments>();
   CLI::App* live = app.add_subcommand(
       "live", "Speech in real time -> the face: a window with a panel, or --headless (frames reported or dumped)");
-  live->add_flag("--headless", arguments->headless, "Without a window: decode, and report or dump what a display would get");
+  live->add_flag("--headless", arguments->headless,
+                 "Without a window: decode, and report or dump what a display would get");
   live->add_flag("--list-devices", arguments->listDevices, "List the sound inputs and exit");
-  live->add_option("--input", arguments->run.input, "Recording to play into the pipeline (WAV, FLAC, ... or a video's audio)");
-  live->add_option("--speed", arguments->run.speed, "--headless --input: times real time (0: as fast as the worker decodes)")
+  live->add_option("--input", arguments->run.input,
+                   "Recording to play into the pipeline (WAV, FLAC, ... or a video's audio)");
+  live->add_option("--speed", arguments->run.speed,
+                   "--headless --input: times real time (0: as fast as the worker decodes)")
       ->check(CLI::Range(0.0, 1000.0))
       ->capture_default_str();
   live->add_option("--duration", arguments->run.duration,
@@ -92,7 +98,8 @@ void addLiveCommand(CLI::App& app) {
   live->add_option("--repeat-to", arguments->run.repeatTo,
                    "--headless --input: play the recording over and over to this many seconds (a soak test)")
       ->check(CLI::Range(0.0, 1e6));
-  live->add_option("--dump", arguments->run.dump, "--headless: write the frames the display received: .csv, .json or .fap");
+  live->add_option("--dump", arguments->run.dump,
+                   "--headless: write the frames the display received: .csv, .json or .fap");
   live->add_option("--reconnect-seconds", arguments->run.reconnectSeconds,
                    "--headless --device: how long a lost sound input is waited for before the run fails")
       ->check(CLI::Range(0.0, 1e6))
@@ -101,11 +108,13 @@ void addLiveCommand(CLI::App& app) {
   live->add_option("--settings", arguments->settingsFile,
                    "The window's settings file (default $XDG_CONFIG_HOME/talkinghead/live.json or ~/.config/...)");
   live->add_flag("--no-settings", arguments->noSettings, "Neither read nor save the window's settings");
-  live->add_option("--screenshot", arguments->window.screenshot, "Window: save it as PNG after --frames frames and quit");
+  live->add_option("--screenshot", arguments->window.screenshot,
+                   "Window: save it as PNG after --frames frames and quit");
   live->add_option("--frames", arguments->window.frames, "Window: frames before the screenshot")
       ->check(CLI::Range(1, 100000))
       ->capture_default_str();
-  live->add_option("--msaa", arguments->window.msaa, "Window: MSAA samples (0: 4 on a GPU, 1 = none on a software renderer)")
+  live->add_option("--msaa", arguments->window.msaa,
+                   "Window: MSAA samples (0: 4 on a GPU, 1 = none on a software renderer)")
       ->check(CLI::Range(0, 16))
       ->capture_default_str();
   live->add_option("--max-fps", arguments->window.maxFps,

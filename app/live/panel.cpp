@@ -122,10 +122,11 @@ void LivePanel::soundSection(const PanelView& view, PanelChanges& changes) {
   }
   if (live.isRecording()) {
     if (const audio::Playback* playback = live.playback())
-      ImGui::TextWrapped("played on %s, heard %.0f ms after it goes in, to meet the lips (device latency %.0f ms), %llu "
-                         "underruns",
-                         playback->device().name.c_str(), live.playbackLatencyMs(),
-                         playback->outputLatencySeconds() * 1000.0, static_cast<unsigned long long>(playback->underruns()));
+      ImGui::TextWrapped(
+          "played on %s, heard %.0f ms after it goes in, to meet the lips (device latency %.0f ms), %llu "
+          "underruns",
+          playback->device().name.c_str(), live.playbackLatencyMs(), playback->outputLatencySeconds() * 1000.0,
+          static_cast<unsigned long long>(playback->underruns()));
     else
       ImGui::TextWrapped("not played aloud");
     return;
@@ -193,7 +194,8 @@ void LivePanel::latencySection(const PanelView& view) {
               static_cast<unsigned long long>(counters.framesDropped),
               static_cast<unsigned long long>(counters.overrunSamples),
               static_cast<unsigned long long>(view.displayStarved));
-  if (!live.isRecording()) ImGui::Text("device overflows %llu", static_cast<unsigned long long>(live.deviceOverflows()));
+  if (!live.isRecording())
+    ImGui::Text("device overflows %llu", static_cast<unsigned long long>(live.deviceOverflows()));
   const double period = stats.periodMs();
   ImGui::Text("display %.1f frames/s; per frame (median ms):", period > 0.0 ? 1000.0 / period : 0.0);
   ImGui::Text("  face %.1f, GL %.1f, panel %.1f (when drawn), swap %.1f", stats.faceSetupMs(), stats.glMs(),

@@ -28,11 +28,11 @@ namespace th::app {
 
 // What the user changed, for the window to act on.
 struct PanelChanges {
-  bool reloadModels = false;   // other model files, variants, covariance or preset
-  bool redecode = false;       // decoder settings: a new decoder, warmed up, no gap
-  bool newPlayout = false;     // the display mode (interpolation)
-  bool idle = false;           // the idle behaviour's pace
-  bool device = false;         // another sound input, or a rescan
+  bool reloadModels = false;  // other model files, variants, covariance or preset
+  bool redecode = false;      // decoder settings: a new decoder, warmed up, no gap
+  bool newPlayout = false;    // the display mode (interpolation)
+  bool idle = false;          // the idle behaviour's pace
+  bool device = false;        // another sound input, or a rescan
 };
 
 // The settings' widgets, and what their changes ask for (a preset's values applied, a min-f0 at or above

@@ -19,8 +19,8 @@ std::filesystem::path defaultLiveSettingsPath() {
 pipeline::LiveSettings loadLiveSettings(const std::filesystem::path& path) {
   pipeline::LiveSettings settings;
   if (path.empty() || !std::filesystem::exists(path)) return settings;
-  const Json document = readJsonFile(path, "settings file",
-                                     {.maxDepth = 4, .depthNote = "settings are one flat object", .subject = ""});
+  const Json document =
+      readJsonFile(path, "settings file", {.maxDepth = 4, .depthNote = "settings are one flat object", .subject = ""});
   optionsFromJson(document, settings, path);
   try {
     settings.check();

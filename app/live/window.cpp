@@ -1,11 +1,11 @@
 // glad before GLFW: glad's header stands in for the system GL header that GLFW would otherwise pull in.
+#include "live/window.h"
+
 #include <glad/gl.h>
 #include <GLFW/glfw3.h>
 #include <imgui.h>
 #include <imgui_impl_glfw.h>
 #include <imgui_impl_opengl3.h>
-
-#include "live/window.h"
 
 #include <algorithm>
 #include <array>
@@ -112,9 +112,11 @@ class LiveWindow {
       : arguments_(arguments),
         settings_(std::move(settings)),
         model_(face::FaceModel::buildDefault()),
-        window_({.width = 1280, .height = 720, .title = "talkinghead live", .visible = true, .vsync = true, .depth = true}),
-        face_(model_, window_,
-              {.width = 1280 - LivePanel::widthFor(1280), .height = 720, .samples = samplesFor(window_, arguments.msaa)}),
+        window_(
+            {.width = 1280, .height = 720, .title = "talkinghead live", .visible = true, .vsync = true, .depth = true}),
+        face_(
+            model_, window_,
+            {.width = 1280 - LivePanel::widthFor(1280), .height = 720, .samples = samplesFor(window_, arguments.msaa)}),
         playout_(pipeline::PlayoutOptions{.interpolate = settings_.live.interpolate}),
         idle_(settings_.idle.motionOptions()) {
     models_ = loadModelsOf(settings_);  // a bad model file is an error before the window is of any use
@@ -149,9 +151,9 @@ class LiveWindow {
     handleEvents();
     const pipeline::LiveSettings& s = settings_;
     std::cout << "live: preset " << s.live.preset << ", head " << s.models.head << " (lag " << s.streaming.lag
-              << "), mouth " << s.models.mouth << " (" << s.live.covariance << " covariance, window " << s.streaming.window
-              << ", " << s.live.iterations << " iterations), " << s.mouthModelPath().string() << "; "
-              << (live_->sourceError().empty() ? live_->sourceName() : live_->sourceError()) << std::endl;
+              << "), mouth " << s.models.mouth << " (" << s.live.covariance << " covariance, window "
+              << s.streaming.window << ", " << s.live.iterations << " iterations), " << s.mouthModelPath().string()
+              << "; " << (live_->sourceError().empty() ? live_->sourceName() : live_->sourceError()) << std::endl;
   }
 
   ~LiveWindow() {
@@ -278,7 +280,8 @@ class LiveWindow {
   // the face shows (the device test records the sink to check it against the sound itself).
   void noteSoundToLips() {
     double heard = 0.0;
-    if (live_->passes() != 1 || shownSeconds_ < 0.0 || !live_->heardInstant(pipeline::steadyNanoseconds(), heard)) return;
+    if (live_->passes() != 1 || shownSeconds_ < 0.0 || !live_->heardInstant(pipeline::steadyNanoseconds(), heard))
+      return;
     stats_.soundToLips((heard - shownSeconds_) * 1000.0);
   }
 
@@ -313,7 +316,8 @@ class LiveWindow {
     times.faceSetupMs = millisecondsBetween(setupStart, std::chrono::steady_clock::now());
     render::FaceRenderer& renderer = face_.renderer();
     if (renderer.options().samples <= 1) {
-      renderer.renderToWindow(face_.camera(), panelWidth_);  // no target of its own to copy: the fastest way on llvmpipe
+      renderer.renderToWindow(face_.camera(),
+                              panelWidth_);  // no target of its own to copy: the fastest way on llvmpipe
     } else {
       face_.render();
       window_.makeCurrent();
@@ -325,10 +329,13 @@ class LiveWindow {
     ImGui_ImplOpenGL3_NewFrame();
     ImGui_ImplGlfw_NewFrame();
     ImGui::NewFrame();
-    const PanelChanges changes =
-        panel_.draw({.live = live_.get(), .settings = settings_, .stats = stats_,
-                     .displayStarved = playout_.starvedSamples(), .speaking = idle_.speaking(), .modelError = modelError_},
-                    size, panelWidth_);
+    const PanelChanges changes = panel_.draw({.live = live_.get(),
+                                              .settings = settings_,
+                                              .stats = stats_,
+                                              .displayStarved = playout_.starvedSamples(),
+                                              .speaking = idle_.speaking(),
+                                              .modelError = modelError_},
+                                             size, panelWidth_);
     ImGui::Render();
     ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
     panelDrawn_ = std::chrono::steady_clock::now();
@@ -339,7 +346,8 @@ class LiveWindow {
   }
 
   void apply(const PanelChanges& changes) {
-    if (changes.newPlayout) playout_ = pipeline::Playout(pipeline::PlayoutOptions{.interpolate = settings_.live.interpolate});
+    if (changes.newPlayout)
+      playout_ = pipeline::Playout(pipeline::PlayoutOptions{.interpolate = settings_.live.interpolate});
     if (changes.idle) idle_ = animation::IdleMotion(settings_.idle.motionOptions());
     if (changes.device) live_->selectDevice(settings_.live.deviceIndex());
     if (changes.reloadModels) {
@@ -370,7 +378,8 @@ class LiveWindow {
     if (x != cursor_[0] || y != cursor_[1]) lastInput_ = now;
     cursor_ = {x, y};
     return panelStale_ || panelSpills_ || now - lastInput_ < std::chrono::milliseconds(500) ||
-           ImGui::GetIO().WantTextInput || ImGui::IsAnyItemActive() || now - panelDrawn_ >= std::chrono::milliseconds(100);
+           ImGui::GetIO().WantTextInput || ImGui::IsAnyItemActive() ||
+           now - panelDrawn_ >= std::chrono::milliseconds(100);
   }
 
   // Whether ImGui drew beyond the column (a combo's list, a tooltip): the face, drawn every frame, would cover

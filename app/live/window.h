@@ -22,8 +22,8 @@ struct LiveWindowArguments {
   std::filesystem::path settingsPath;  // saved here when the window closes (empty: not saved)
   std::string screenshot;              // save the window as PNG after `frames` frames and quit
   int frames = 90;
-  double duration = 0.0;               // seconds, then quit (0: until closed or Ctrl-C)
-  int msaa = 0;                        // MSAA samples; 0: 4 on a GPU, none on a software renderer (llvmpipe)
+  double duration = 0.0;  // seconds, then quit (0: until closed or Ctrl-C)
+  int msaa = 0;           // MSAA samples; 0: 4 on a GPU, none on a software renderer (llvmpipe)
   // The loop's cap where the display does not pace the swaps (no vsync: Xvfb, some drivers); 0: none, every
   // frame as soon as the last is swapped (to measure how many frames a second the machine could draw).
   double maxFps = 60.0;

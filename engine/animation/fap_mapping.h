@@ -36,12 +36,12 @@
 namespace th::animation {
 
 struct MouthFapMap {
-  Eigen::Vector3d hingeAxis = Eigen::Vector3d::UnitX();  // face frame, unit; a positive angle opens
+  Eigen::Vector3d hingeAxis = Eigen::Vector3d::UnitX();     // face frame, unit; a positive angle opens
   Eigen::Vector3d chinFromPivot = Eigen::Vector3d::Zero();  // feature point 2.1 − pivot, in MNS units
-  double chinFollow = 1.0;              // the chin point's share of the bone's motion (jawFollowWeights)
-  std::vector<int> lipFaps;             // FAP numbers, ascending
-  Eigen::VectorXd lipPerRadian;         // each lip FAP's value per radian of jaw opening
-  double shapeAngleDegrees = 0.0;       // the jawOpen shape's opening, where the lip pattern was measured
+  double chinFollow = 1.0;         // the chin point's share of the bone's motion (jawFollowWeights)
+  std::vector<int> lipFaps;        // FAP numbers, ascending
+  Eigen::VectorXd lipPerRadian;    // each lip FAP's value per radian of jaw opening
+  double shapeAngleDegrees = 0.0;  // the jawOpen shape's opening, where the lip pattern was measured
 };
 
 MouthFapMap defineMouthFapMap(const face::FaceAssets& face);

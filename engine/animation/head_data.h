@@ -5,9 +5,8 @@
 //   auto [train, test] = th::animation::splitByTime(take, 0.75);
 //
 // Sets measure rotation from different rest poses, which is why models normalise each speaker's motion
-// (head_model.h). Frame i of both streams is at i / 30 s (the feature extractor centres frame i there; the pose's frame i is
-// sampled there). The longer stream is cut to the shorter.
-// Thread contract: pure functions of files.
+// (head_model.h). Frame i of both streams is at i / 30 s (the feature extractor centres frame i there; the pose's frame
+// i is sampled there). The longer stream is cut to the shorter. Thread contract: pure functions of files.
 #pragma once
 
 #include <Eigen/Core>
@@ -22,14 +21,14 @@
 namespace th::animation {
 
 struct HeadRecording {
-  std::string speaker;          // who speaks ("scott", "Obama", ...): models normalise per speaker
-  std::string name;             // the clip
+  std::string speaker;  // who speaks ("scott", "Obama", ...): models normalise per speaker
+  std::string name;     // the clip
   double framesPerSecond = 30.0;
-  double startSeconds = 0.0;    // time of column 0 in the original take
-  Eigen::MatrixXd rotations;    // 3 x T: pitch, yaw, roll in degrees
-  Eigen::MatrixXd prosody;      // 4 x T: ProsodyTracker output
-  Eigen::RowVectorXd voiced;    // T: 1 where the pitch tracker found a voice, else 0
-  Eigen::RowVectorXd levelDb;   // T: the sound's level, dB re full scale (animation/mouth_data.h's)
+  double startSeconds = 0.0;   // time of column 0 in the original take
+  Eigen::MatrixXd rotations;   // 3 x T: pitch, yaw, roll in degrees
+  Eigen::MatrixXd prosody;     // 4 x T: ProsodyTracker output
+  Eigen::RowVectorXd voiced;   // T: 1 where the pitch tracker found a voice, else 0
+  Eigen::RowVectorXd levelDb;  // T: the sound's level, dB re full scale (animation/mouth_data.h's)
   int numFrames() const { return static_cast<int>(rotations.cols()); }
 };
 

@@ -1,19 +1,19 @@
 #include "animation/head_model.h"
 
 #include <Eigen/LU>
-#include <nlohmann/json.hpp>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <random>
 #include <string>
 
 #include "animation/head_states.h"
 #include "animation/mlpg.h"
 #include "core/error.h"
-#include "core/json_reading.h"
 #include "core/frame_store.h"
-#include "hmm/forward_filter.h"
+#include "core/json_reading.h"
 #include "hmm/entropic_training.h"
 #include "hmm/forward_backward.h"
+#include "hmm/forward_filter.h"
 #include "hmm/model_file.h"
 #include "hmm/viterbi.h"
 
@@ -21,9 +21,9 @@ namespace th::animation {
 namespace {
 
 const std::vector<std::string>& columnNames() {
-  static const std::vector<std::string> names = {
-      "pitch",    "yaw",      "roll",      "d_pitch",  "d_yaw",  "d_roll",     "dd_pitch",
-      "dd_yaw",   "dd_roll",  "pitch_st",  "energy",   "d_pitch_st", "d_energy"};
+  static const std::vector<std::string> names = {"pitch",  "yaw",        "roll",    "d_pitch", "d_yaw",
+                                                 "d_roll", "dd_pitch",   "dd_yaw",  "dd_roll", "pitch_st",
+                                                 "energy", "d_pitch_st", "d_energy"};
   return names;
 }
 
@@ -87,7 +87,8 @@ HeadModel trainHeadModel(const std::vector<HeadRecording>& parts, const HeadMode
     model.speakers.push_back(speaker);
   }
   model.meanPose = meanPose;
-  model.amplitude = options.normaliseSpeakers ? Eigen::Vector3d(logSpread.array().exp().matrix()) : Eigen::Vector3d::Ones();
+  model.amplitude =
+      options.normaliseSpeakers ? Eigen::Vector3d(logSpread.array().exp().matrix()) : Eigen::Vector3d::Ones();
   std::vector<Eigen::MatrixXd> motion;
   for (const auto& part : parts) {
     const SpeakerNorm& norm = norms.at(part.speaker);
@@ -103,12 +104,12 @@ HeadModel trainHeadModel(const std::vector<HeadRecording>& parts, const HeadMode
   training.covariance = hmm::CovarianceType::kFull;
   training.maxIterations = options.maxIterations;
   training.seed = options.seed;
-  const hmm::TrainingResult result = hmm::trainHmm(
-      motion, training,
-      hmm::entropicHooks({.multinomialWeight = options.entropicWeightPerFrame * totalFrames,
-                          .covarianceWeight = options.covariancePriorWeight,
-                          .warmupIterations = options.warmupIterations,
-                          .rampIterations = options.rampIterations}));
+  const hmm::TrainingResult result =
+      hmm::trainHmm(motion, training,
+                    hmm::entropicHooks({.multinomialWeight = options.entropicWeightPerFrame * totalFrames,
+                                        .covarianceWeight = options.covariancePriorWeight,
+                                        .warmupIterations = options.warmupIterations,
+                                        .rampIterations = options.rampIterations}));
   const hmm::HmmModel& motionModel = result.model;
   model.history = result.history;
 
@@ -132,8 +133,7 @@ HeadModel trainHeadModel(const std::vector<HeadRecording>& parts, const HeadMode
     const Eigen::MatrixXd& p = parts[s].prosody;
     const Eigen::RowVectorXd voiced =
         parts[s].voiced.size() != 0 ? parts[s].voiced : Eigen::RowVectorXd::Ones(parts[s].numFrames());
-    const hmm::Posteriors posteriors =
-        hmm::forwardBackward(motionModel, motionModel.emissionLogLikelihoods(motion[s]));
+    const hmm::Posteriors posteriors = hmm::forwardBackward(motionModel, motionModel.emissionLogLikelihoods(motion[s]));
     for (int j = 0; j < n; ++j) {
       const Eigen::VectorXd gamma = posteriors.stateGivenAll.row(j).transpose();
       const Eigen::VectorXd voicedGamma = gamma.cwiseProduct(voiced.transpose());
@@ -191,8 +191,8 @@ HeadModel trainHeadModel(const std::vector<HeadRecording>& parts, const HeadMode
         dynamicCovariance.bottomRightCorner(3, 3), dynamicFloor.tail(3), hmm::CovarianceType::kFull);
     joint.block<4, 4>(kProsodyBegin, kProsodyBegin) =
         hmm::applyCovarianceFloor(prosodyCovariance, prosodyFloor, hmm::CovarianceType::kFull);
-    model.hmm.states.emplace_back(Eigen::VectorXd::Ones(1),
-                                  std::vector<hmm::Gaussian>{hmm::Gaussian(jointMean, joint, hmm::CovarianceType::kFull)});
+    model.hmm.states.emplace_back(Eigen::VectorXd::Ones(1), std::vector<hmm::Gaussian>{hmm::Gaussian(
+                                                                jointMean, joint, hmm::CovarianceType::kFull)});
   }
   model.hmm.columnNames = columnNames();
   model.hmm.blocks = {{"motion", kMotionBegin, 3},
@@ -257,8 +257,10 @@ void saveHeadModel(const std::filesystem::path& path, const HeadModel& model, co
                          {"seed", options.seed}};
   nlohmann::json history = nlohmann::json::array();
   for (const auto& record : model.history) {
-    history.push_back({{"log_likelihood", record.logLikelihood}, {"log_prior", record.logPrior},
-                       {"live_states", record.liveStates}, {"step_gain", record.stepGain}});
+    history.push_back({{"log_likelihood", record.logLikelihood},
+                       {"log_prior", record.logPrior},
+                       {"live_states", record.liveStates},
+                       {"step_gain", record.stepGain}});
   }
   training["history"] = history;
   hmm::saveModel(path, model.hmm, training.dump());
@@ -268,7 +270,8 @@ HeadModel loadHeadModel(const std::filesystem::path& path) {
   std::string trainingText;
   HeadModel model;
   model.hmm = hmm::loadModel(path, &trainingText);
-  const Json training = parseJson(trainingText, path.string(), {.maxDepth = 64, .depthNote = "", .subject = "the training metadata"});
+  const Json training =
+      parseJson(trainingText, path.string(), {.maxDepth = 64, .depthNote = "", .subject = "the training metadata"});
   const JsonFields fields(path.string());
   if (!training.is_object() || !training.contains("kind") || training["kind"] != "head") {
     throw fileError(path, "is an HMM file but not a head model (training.kind is not \"head\")");
@@ -280,13 +283,14 @@ HeadModel loadHeadModel(const std::filesystem::path& path) {
     return false;
   };
   model.hasAcceleration = blockIs("motion_acceleration", kAccelerationBegin, 3);
-  const bool newLayout = model.hasAcceleration && model.hmm.dimension() == kDimension &&
-                         blockIs("prosody", kProsodyBegin, 4);
-  const bool oldLayout = !model.hasAcceleration && model.hmm.dimension() == kOldDimension &&
-                         blockIs("prosody", kOldProsodyBegin, 4);
+  const bool newLayout =
+      model.hasAcceleration && model.hmm.dimension() == kDimension && blockIs("prosody", kProsodyBegin, 4);
+  const bool oldLayout =
+      !model.hasAcceleration && model.hmm.dimension() == kOldDimension && blockIs("prosody", kOldProsodyBegin, 4);
   if (!blockIs("motion", kMotionBegin, 3) || !blockIs("motion_delta", kDeltaBegin, 3) || !(newLayout || oldLayout)) {
-    throw fileError(path, "a head model needs blocks motion (0, 3), motion_delta (3, 3), motion_acceleration (6, 3) "
-                          "and prosody (9, 4), or the older motion, motion_delta and prosody (6, 4)");
+    throw fileError(path,
+                    "a head model needs blocks motion (0, 3), motion_delta (3, 3), motion_acceleration (6, 3) "
+                    "and prosody (9, 4), or the older motion, motion_delta and prosody (6, 4)");
   }
   const auto readVector = [&](const char* key, Eigen::Vector3d& out) {
     const Json& value = fields.member(training, key, "training");

@@ -45,7 +45,7 @@
 namespace th::animation {
 
 struct HeadModelOptions {
-  int startStates = 24;               // a generous, fully connected start
+  int startStates = 24;                  // a generous, fully connected start
   double entropicWeightPerFrame = 0.05;  // Z = this x training frames
   double covariancePriorWeight = 0.0;
   int warmupIterations = 10;
@@ -66,8 +66,8 @@ struct HeadModel {
   // The motion the voice does not explain (model units, per axis): its spread and frame-to-frame step.
   Eigen::Vector3d residualStd = Eigen::Vector3d::Zero();
   Eigen::Vector3d residualStepStd = Eigen::Vector3d::Zero();
-  std::vector<std::string> speakers;                    // trained on
-  std::vector<hmm::IterationRecord> history;            // of the motion HMM's training (empty when loaded)
+  std::vector<std::string> speakers;          // trained on
+  std::vector<hmm::IterationRecord> history;  // of the motion HMM's training (empty when loaded)
 };
 
 HeadModel trainHeadModel(const std::vector<HeadRecording>& parts, const HeadModelOptions& options);

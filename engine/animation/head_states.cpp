@@ -33,7 +33,8 @@ Eigen::MatrixXd trajectoryFor(const StateTables& tables, const std::vector<int>&
   frames.reserve(end - begin);
   for (size_t t = begin; t < end; ++t) {
     const auto j = static_cast<size_t>(states[t]);
-    frames.push_back({tables.poseMean[j], tables.posePrecision[j], tables.deltaMean[j], tables.deltaPrecision[j], {}, {}});
+    frames.push_back(
+        {tables.poseMean[j], tables.posePrecision[j], tables.deltaMean[j], tables.deltaPrecision[j], {}, {}});
     if (!tables.accelerationMean.empty()) {
       frames.back().accelerationMean = tables.accelerationMean[j];
       frames.back().accelerationPrecision = tables.accelerationPrecision[j];

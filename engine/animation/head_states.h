@@ -6,7 +6,6 @@
 #pragma once
 
 #include <Eigen/Core>
-
 #include <algorithm>
 #include <cmath>
 #include <random>
@@ -28,7 +27,9 @@ inline constexpr int kDimension = 13;
 inline constexpr int kOldProsodyBegin = 6;
 inline constexpr int kOldDimension = 10;
 
-inline int prosodyBegin(const HeadModel& model) { return model.hasAcceleration ? kProsodyBegin : kOldProsodyBegin; }
+inline int prosodyBegin(const HeadModel& model) {
+  return model.hasAcceleration ? kProsodyBegin : kOldProsodyBegin;
+}
 
 // Per state: the pose and velocity Gaussians that synthesis reads.
 struct StateTables {
@@ -36,7 +37,7 @@ struct StateTables {
   std::vector<Eigen::Matrix3d> posePrecision;
   std::vector<Eigen::Vector3d> deltaMean;
   std::vector<Eigen::Matrix3d> deltaPrecision;
-  std::vector<Eigen::Vector3d> accelerationMean;        // empty without the acceleration block
+  std::vector<Eigen::Vector3d> accelerationMean;  // empty without the acceleration block
   std::vector<Eigen::Matrix3d> accelerationPrecision;
   Eigen::MatrixXd poseMeans;  // 3 x N, for posterior-weighted means
 };

@@ -20,7 +20,8 @@ Eigen::MatrixXd synthesiseHead(const HeadModel& model, const Eigen::MatrixXd& pr
   if (prosody.cols() == 0) return Eigen::MatrixXd(3, 0);
   if (options.maxLagFrames >= 0) {
     HeadSynthesiser online(model, options);
-    for (Eigen::Index t = 0; t < prosody.cols(); ++t) online.acceptProsody(prosody.col(t), voiced.size() == 0 || voiced[t] > 0.0);
+    for (Eigen::Index t = 0; t < prosody.cols(); ++t)
+      online.acceptProsody(prosody.col(t), voiced.size() == 0 || voiced[t] > 0.0);
     online.finish();
     Eigen::MatrixXd out(3, prosody.cols());
     for (int t = 0; t < online.numReady(); ++t) out.col(t) = online.rotation(t);
@@ -58,7 +59,7 @@ struct HeadSynthesiser::Impl {
   FrameStore<Eigen::Vector3d> residuals;
   std::vector<Eigen::Vector4d> pending;  // batch mode: everything, solved at finish()
   std::vector<double> pendingVoiced;
-  FrameStore<int> decided;               // online trajectory: states decided so far (the recent ones kept)
+  FrameStore<int> decided;  // online trajectory: states decided so far (the recent ones kept)
   FrameStore<Eigen::Vector3d> ready;
   bool finished = false;
   std::unique_ptr<hmm::ForwardFilter> filter;  // P(state | prosody so far), for display
@@ -70,7 +71,8 @@ struct HeadSynthesiser::Impl {
       }
       return;
     }
-    while (viterbi->numDecided() > static_cast<int>(decided.size())) decided.push_back(viterbi->state(static_cast<int>(decided.size())));
+    while (viterbi->numDecided() > static_cast<int>(decided.size()))
+      decided.push_back(viterbi->state(static_cast<int>(decided.size())));
     viterbi->forgetBefore(static_cast<int>(decided.size()));  // copied here
     if (options.variant == HeadVariant::kStateMeans) {
       while (decided.size() > ready.size())
@@ -81,7 +83,9 @@ struct HeadSynthesiser::Impl {
     const auto lookahead = static_cast<size_t>(options.trajectoryLookaheadFrames);
     while (ready.size() < decided.size() && (finished || ready.size() + lookahead < decided.size())) {
       const size_t t = ready.size();
-      const size_t begin = t > static_cast<size_t>(options.trajectoryWindowFrames) ? t - static_cast<size_t>(options.trajectoryWindowFrames) : 0;
+      const size_t begin = t > static_cast<size_t>(options.trajectoryWindowFrames)
+                               ? t - static_cast<size_t>(options.trajectoryWindowFrames)
+                               : 0;
       const size_t end = std::min(decided.size(), t + lookahead + 1);
       std::vector<int> window(end - begin);
       for (size_t i = begin; i < end; ++i) window[i - begin] = decided[i];
@@ -104,7 +108,8 @@ HeadSynthesiser::HeadSynthesiser(const HeadModel& model, const HeadSynthesisOpti
   if (options.variant == HeadVariant::kPosteriorMeans) {
     impl_->smoother = std::make_unique<hmm::FixedLagSmoother>(impl_->decoder, options.maxLagFrames);
   } else {
-    impl_->viterbi = std::make_unique<hmm::OnlineViterbi>(impl_->decoder, hmm::OnlineViterbiOptions{options.maxLagFrames});
+    impl_->viterbi =
+        std::make_unique<hmm::OnlineViterbi>(impl_->decoder, hmm::OnlineViterbiOptions{options.maxLagFrames});
   }
 }
 
@@ -135,8 +140,8 @@ void HeadSynthesiser::finish() {
   if (impl_->options.maxLagFrames < 0) {
     Eigen::MatrixXd prosody(ProsodyTracker::kDimension, static_cast<Eigen::Index>(impl_->pending.size()));
     for (size_t t = 0; t < impl_->pending.size(); ++t) prosody.col(static_cast<Eigen::Index>(t)) = impl_->pending[t];
-    const Eigen::RowVectorXd voiced =
-        Eigen::Map<const Eigen::RowVectorXd>(impl_->pendingVoiced.data(), static_cast<Eigen::Index>(impl_->pendingVoiced.size()));
+    const Eigen::RowVectorXd voiced = Eigen::Map<const Eigen::RowVectorXd>(
+        impl_->pendingVoiced.data(), static_cast<Eigen::Index>(impl_->pendingVoiced.size()));
     const Eigen::MatrixXd rotations = synthesiseHead(impl_->model, prosody, voiced, impl_->options);
     for (Eigen::Index t = 0; t < rotations.cols(); ++t) impl_->ready.push_back(rotations.col(t));
     return;
@@ -149,7 +154,9 @@ void HeadSynthesiser::finish() {
   impl_->drain();
 }
 
-int HeadSynthesiser::numReady() const { return static_cast<int>(impl_->ready.size()); }
+int HeadSynthesiser::numReady() const {
+  return static_cast<int>(impl_->ready.size());
+}
 
 Eigen::Vector3d HeadSynthesiser::rotation(int frame) const {
   const auto f = static_cast<size_t>(frame);
@@ -167,12 +174,17 @@ void HeadSynthesiser::forgetBefore(int frame) {
   impl_->residuals.forgetBefore(f);
 }
 
-const Eigen::VectorXd& HeadSynthesiser::filteredPosterior() const { return impl_->filter->posterior(); }
+const Eigen::VectorXd& HeadSynthesiser::filteredPosterior() const {
+  return impl_->filter->posterior();
+}
 
-int HeadSynthesiser::numStates() const { return impl_->decoder.numStates(); }
+int HeadSynthesiser::numStates() const {
+  return impl_->decoder.numStates();
+}
 
 std::size_t HeadSynthesiser::framesHeld() const {
-  return impl_->ready.held() + impl_->decided.held() + impl_->residuals.held() + (impl_->viterbi ? impl_->viterbi->framesHeld() : 0);
+  return impl_->ready.held() + impl_->decided.held() + impl_->residuals.held() +
+         (impl_->viterbi ? impl_->viterbi->framesHeld() : 0);
 }
 
 int headLookaheadFrames(const HeadSynthesisOptions& options) {
@@ -180,7 +192,9 @@ int headLookaheadFrames(const HeadSynthesisOptions& options) {
   return options.maxLagFrames + (options.variant == HeadVariant::kTrajectory ? options.trajectoryLookaheadFrames : 0);
 }
 
-int HeadSynthesiser::lookaheadFrames() const { return headLookaheadFrames(impl_->options); }
+int HeadSynthesiser::lookaheadFrames() const {
+  return headLookaheadFrames(impl_->options);
+}
 
 Eigen::MatrixXd randomWalkHead(const HeadModel& model, int numFrames, unsigned seed) {
   std::mt19937 random(seed);

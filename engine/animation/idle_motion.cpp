@@ -13,7 +13,9 @@ namespace {
 
 constexpr double kFullClose = 1024.0;  // FAPs 19/20: the top lid down by an iris diameter
 
-double angleUnits(double degrees) { return degrees * std::numbers::pi / 180.0 / face::kAngleUnit; }
+double angleUnits(double degrees) {
+  return degrees * std::numbers::pi / 180.0 / face::kAngleUnit;
+}
 
 // 0 → 1 with zero slope at both ends.
 double smoothstep(double x) {
@@ -31,7 +33,9 @@ IdleMotion::IdleMotion(const IdleMotionOptions& options) : options_(options), ra
     throw Error("idle motion: rates and durations must be positive");
 }
 
-double IdleMotion::uniform(double low, double high) { return std::uniform_real_distribution<double>(low, high)(random_); }
+double IdleMotion::uniform(double low, double high) {
+  return std::uniform_real_distribution<double>(low, high)(random_);
+}
 
 void IdleMotion::scheduleBlink() {
   const double mean = 60.0 / options_.blinksPerMinute;
@@ -149,9 +153,11 @@ void addIdleMotion(face::FapTrack& animation, const Eigen::RowVectorXd& levelDb,
   if (!hearing) used.restHead = false;
   for (int t = 0; t < animation.numFrames(); ++t) {
     face::FapFrame faps{};
-    for (std::size_t r = 0; r < numbers.size(); ++r) faps[static_cast<std::size_t>(numbers[r])] = values(static_cast<Eigen::Index>(r), t);
+    for (std::size_t r = 0; r < numbers.size(); ++r)
+      faps[static_cast<std::size_t>(numbers[r])] = values(static_cast<Eigen::Index>(r), t);
     idle.apply(t / animation.framesPerSecond, hearing ? levelDb[t] : 0.0, used, faps);
-    for (std::size_t r = 0; r < numbers.size(); ++r) values(static_cast<Eigen::Index>(r), t) = faps[static_cast<std::size_t>(numbers[r])];
+    for (std::size_t r = 0; r < numbers.size(); ++r)
+      values(static_cast<Eigen::Index>(r), t) = faps[static_cast<std::size_t>(numbers[r])];
   }
   animation.faps = std::move(numbers);
   animation.values = std::move(values);

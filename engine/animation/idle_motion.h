@@ -13,9 +13,9 @@
 // blinking in dyadic conversation"; Nakano & Kitazawa 2010): while the voice is on, the spontaneous clock runs
 // at speechBlinkFactor of its pace, and where a phrase ends (boundaryPauseSeconds of quiet after at least
 // boundarySpeechSeconds of speech) a blink follows with boundaryBlinkProbability. A blink closes the top lids in
-// 80 ms, holds 30 ms and opens in 150 ms (the opening is the slower phase). Gaze: a fixation holds for 1–5 s, then a 50 ms saccade moves the eyes to a
-// point within a few degrees, half the time back to the centre. Head: a frame is speech if its level is
-// speechMarginDb over the floor (a slow follower of the quietest level); after restAfterSeconds without
+// 80 ms, holds 30 ms and opens in 150 ms (the opening is the slower phase). Gaze: a fixation holds for 1–5 s, then a 50
+// ms saccade moves the eyes to a point within a few degrees, half the time back to the centre. Head: a frame is speech
+// if its level is speechMarginDb over the floor (a slow follower of the quietest level); after restAfterSeconds without
 // speech the head's rotation eases to the mean pose with time constant restSeconds, and back when speech
 // returns.
 //
@@ -42,7 +42,7 @@ struct IdleMotionOptions {
   double openSeconds = 0.15;
   double fixationMinSeconds = 1.0;
   double fixationMaxSeconds = 5.0;
-  double gazeDegrees = 4.0;        // the largest shift off centre, yaw (pitch: half of it)
+  double gazeDegrees = 4.0;  // the largest shift off centre, yaw (pitch: half of it)
   double saccadeSeconds = 0.05;
   double speechMarginDb = 12.0;
   double floorRiseDbPerSecond = 1.0;  // how fast the tracked floor follows a louder room
@@ -66,11 +66,11 @@ class IdleMotion {
   void apply(double seconds, double levelDb, const IdleSwitches& switches, face::FapFrame& faps);
 
   bool speaking() const { return speaking_; }
-  double headGain() const { return headGain_; }  // 1 while speaking, easing to 0 at rest
-  int blinks() const { return blinks_; }         // blinks begun so far
+  double headGain() const { return headGain_; }           // 1 while speaking, easing to 0 at rest
+  int blinks() const { return blinks_; }                  // blinks begun so far
   int boundaryBlinks() const { return boundaryBlinks_; }  // of them, at a phrase's end
   double blinkStart() const { return blinkStart_; }       // of the latest blink (< 0: none yet)
-  double yawDegrees() const { return yaw_; }     // the gaze now
+  double yawDegrees() const { return yaw_; }              // the gaze now
   double pitchDegrees() const { return pitch_; }
 
  private:
@@ -84,14 +84,14 @@ class IdleMotion {
   bool started_ = false;
   double now_ = 0.0;
   // Blinks
-  double blinkDue_ = 0.0;         // seconds of the spontaneous clock to the next blink
-  double boundaryBlink_ = -1.0;   // when a blink at a phrase's end is due (< 0: none)
+  double blinkDue_ = 0.0;        // seconds of the spontaneous clock to the next blink
+  double boundaryBlink_ = -1.0;  // when a blink at a phrase's end is due (< 0: none)
   double blinkStart_ = -1.0;
   int blinks_ = 0;
   int boundaryBlinks_ = 0;
-  double voiceStart_ = -1.0;      // the current stretch of voice began (< 0: quiet)
+  double voiceStart_ = -1.0;  // the current stretch of voice began (< 0: quiet)
   double lastVoice_ = -1e9;
-  double voicedRun_ = 0.0;        // how long the last stretch of speech lasted
+  double voicedRun_ = 0.0;  // how long the last stretch of speech lasted
   // Gaze
   double nextFixation_ = 0.0;
   double saccadeStart_ = -1.0;

@@ -45,8 +45,8 @@ std::string framePrefix(std::size_t frame) {
 
 void checkVector(const Eigen::VectorXd& vector, Eigen::Index dimension, std::size_t frame, const char* what) {
   if (vector.size() != dimension) {
-    throw Error(framePrefix(frame) + "a " + what + " of size " + std::to_string(vector.size()) +
-                ", expected " + std::to_string(dimension));
+    throw Error(framePrefix(frame) + "a " + what + " of size " + std::to_string(vector.size()) + ", expected " +
+                std::to_string(dimension));
   }
   if (!vector.allFinite()) throw Error(framePrefix(frame) + "a non-finite " + what);
 }
@@ -62,8 +62,8 @@ void checkMatrix(const Eigen::MatrixXd& matrix, Eigen::Index dimension, std::siz
 
 // Adds `block` at block position (rowBlock, colBlock) of the dT x dT system, lower triangle only: the solver
 // below reads nothing else, and this halves the triplets.
-void addLowerBlock(std::vector<Eigen::Triplet<double>>& triplets, Eigen::Index rowBlock,
-                   Eigen::Index colBlock, const Eigen::MatrixXd& block) {
+void addLowerBlock(std::vector<Eigen::Triplet<double>>& triplets, Eigen::Index rowBlock, Eigen::Index colBlock,
+                   const Eigen::MatrixXd& block) {
   const Eigen::Index d = block.rows();
   for (Eigen::Index j = 0; j < d; ++j) {
     const Eigen::Index col = colBlock * d + j;
@@ -158,18 +158,15 @@ Eigen::MatrixXd generateTrajectory(const std::vector<MlpgFrame>& frames) {
 
   // Natural ordering: the matrix is banded (half-bandwidth < 3d) and the LDLᵀ factor of a banded matrix stays
   // inside the band, so factorisation and solve cost O(T d³); a fill-reducing ordering cannot do better.
-  using Solver =
-      Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower, Eigen::NaturalOrdering<int>>;
+  using Solver = Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower, Eigen::NaturalOrdering<int>>;
   const Solver solver(system);
   // LDLᵀ succeeds on indefinite matrices too (it only fails on an exact zero pivot), but then the solution is
   // a saddle point, not the most likely trajectory: demand positive pivots.
   if (solver.info() != Eigen::Success || !(solver.vectorD().array() > 0.0).all()) {
-    throw Error(
-        "MLPG: the normal equations are not positive definite (are the precisions positive definite?)");
+    throw Error("MLPG: the normal equations are not positive definite (are the precisions positive definite?)");
   }
   Eigen::VectorXd x = solver.solve(rhs);
-  if (solver.info() != Eigen::Success || !x.allFinite())
-    throw Error("MLPG: solving the normal equations failed");
+  if (solver.info() != Eigen::Success || !x.allFinite()) throw Error("MLPG: solving the normal equations failed");
   // x stacks x_0, …, x_{T−1}, so its column-major d x T view has x_t in column t.
   return Eigen::Map<const Eigen::MatrixXd>(x.data(), d, numFrames);
 }

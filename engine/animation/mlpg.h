@@ -32,10 +32,10 @@ Eigen::MatrixXd accelerations(const Eigen::MatrixXd& x);
 // The Gaussian of one output frame over [x_t; Δx_t; ΔΔx_t]; the parts independent (each full d x d). The
 // acceleration part is optional: empty (size 0) leaves it out.
 struct MlpgFrame {
-  Eigen::VectorXd staticMean;       // d
-  Eigen::MatrixXd staticPrecision;  // d x d, symmetric positive definite
-  Eigen::VectorXd deltaMean;        // d
-  Eigen::MatrixXd deltaPrecision;   // d x d, symmetric positive semi-definite
+  Eigen::VectorXd staticMean;             // d
+  Eigen::MatrixXd staticPrecision;        // d x d, symmetric positive definite
+  Eigen::VectorXd deltaMean;              // d
+  Eigen::MatrixXd deltaPrecision;         // d x d, symmetric positive semi-definite
   Eigen::VectorXd accelerationMean;       // d, or empty
   Eigen::MatrixXd accelerationPrecision;  // d x d, or empty
 };

@@ -5,9 +5,9 @@
 #include <cmath>
 #include <string>
 
+#include "animation/time_split.h"
 #include "audio/audio_file.h"
 #include "audio/media_audio.h"
-#include "animation/time_split.h"
 #include "core/error.h"
 #include "features/online_features.h"
 
@@ -26,7 +26,8 @@ SpeechFrames speechFramesOf(const features::FeatureMatrix& rows) {
   SpeechFrames speech{Eigen::MatrixXd(numMfcc, frames), Eigen::RowVectorXd(frames)};
   for (int t = 0; t < frames; ++t) {
     const std::span<const float> row = rows.row(t);
-    for (int k = 0; k < numMfcc; ++k) speech.mfcc(k, t) = row[static_cast<std::size_t>(features::FeatureLayout::kMfccBegin + k)];
+    for (int k = 0; k < numMfcc; ++k)
+      speech.mfcc(k, t) = row[static_cast<std::size_t>(features::FeatureLayout::kMfccBegin + k)];
     speech.levelDb[t] = rows.levelDb[static_cast<std::size_t>(t)];
   }
   return speech;

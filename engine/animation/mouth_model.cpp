@@ -1,10 +1,9 @@
 #include "animation/mouth_model.h"
 
 #include <Eigen/Cholesky>
-#include <nlohmann/json.hpp>
-
 #include <algorithm>
 #include <cmath>
+#include <nlohmann/json.hpp>
 #include <string>
 
 #include "animation/mlpg.h"
@@ -52,7 +51,8 @@ MouthModel trainOnParts(const std::vector<MouthRecording>& parts, const std::vec
   MouthModel model;
   model.contextFrames = options.contextFrames;
   model.visualDeltas = options.visualDeltas;
-  model.basis = VisualBasis::fit(allVisual, {.components = options.visualComponents, .standardise = options.standardiseVisual});
+  model.basis =
+      VisualBasis::fit(allVisual, {.components = options.visualComponents, .standardise = options.standardiseVisual});
   if (options.normaliseSpeech)
     model.normalisation = MouthSpeechNormalisation{options.normalisation, mfccSum / static_cast<double>(total)};
 
@@ -81,19 +81,21 @@ MouthModel trainOnParts(const std::vector<MouthRecording>& parts, const std::vec
   const int rowsPerFrame = audioSize / (2 * options.contextFrames + 1);
   for (int k = 0; k < audioSize; ++k) {
     const int row = k % rowsPerFrame;
-    model.hmm.columnNames.push_back("ctx" + std::to_string(k / rowsPerFrame - options.contextFrames) +
-                                    (model.normalisation && row == rowsPerFrame - 1 ? std::string("_level")
-                                                                                    : "_mfcc" + std::to_string(row + 1)));
+    model.hmm.columnNames.push_back(
+        "ctx" + std::to_string(k / rowsPerFrame - options.contextFrames) +
+        (model.normalisation && row == rowsPerFrame - 1 ? std::string("_level") : "_mfcc" + std::to_string(row + 1)));
   }
   for (int k = 0; k < options.visualComponents; ++k) model.hmm.columnNames.push_back("visual" + std::to_string(k + 1));
   if (options.visualDeltas)
-    for (int k = 0; k < options.visualComponents; ++k) model.hmm.columnNames.push_back("d_visual" + std::to_string(k + 1));
+    for (int k = 0; k < options.visualComponents; ++k)
+      model.hmm.columnNames.push_back("d_visual" + std::to_string(k + 1));
   if (!speechOnly.empty()) {
     // Stage 2: the audio side re-estimated on the training speech and the speech-only recordings together.
     std::vector<Eigen::MatrixXd> audio;
     for (const Eigen::MatrixXd& sequence : sequences) audio.push_back(sequence.topRows(audioSize));
     for (const SpeechFrames& speech : speechOnly)
-      if (speech.numFrames() > 0) audio.push_back(features::stackContext(mouthAudioFrames(model, speech), options.contextFrames));
+      if (speech.numFrames() > 0)
+        audio.push_back(features::stackContext(mouthAudioFrames(model, speech), options.contextFrames));
     model.hmm = hmm::retrainAudio(model.hmm, audio, {.iterations = options.speechOnlyIterations}).model;
   }
   model.hmm.check();
@@ -109,7 +111,8 @@ MouthModel trainMouthModel(const std::vector<MouthRecording>& parts, const Mouth
   if (every <= 0) return trainOnParts(parts, speechOnly, options);
   // Global variance compensation: the spread a model's estimates lose on sequences it did not see.
   std::vector<MouthRecording> fit, validation;
-  for (std::size_t i = 0; i < parts.size(); ++i) ((i + 1) % static_cast<std::size_t>(every) == 0 ? validation : fit).push_back(parts[i]);
+  for (std::size_t i = 0; i < parts.size(); ++i)
+    ((i + 1) % static_cast<std::size_t>(every) == 0 ? validation : fit).push_back(parts[i]);
   if (fit.empty() || validation.empty()) return trainOnParts(parts, speechOnly, options);  // too few to measure it
   const MouthModel first = trainOnParts(fit, speechOnly, options);
   const Eigen::Index k = first.basis.components();
@@ -225,7 +228,8 @@ MouthModel loadMouthModel(const std::filesystem::path& path) {
   std::string trainingText;
   MouthModel model;
   model.hmm = hmm::loadModel(path, &trainingText);
-  const Json training = parseJson(trainingText, path.string(), {.maxDepth = 64, .depthNote = "", .subject = "the training metadata"});
+  const Json training =
+      parseJson(trainingText, path.string(), {.maxDepth = 64, .depthNote = "", .subject = "the training metadata"});
   if (!training.is_object() || !training.contains("kind") || training["kind"] != "mouth") {
     throw fileError(path, "is an HMM file but not a mouth model (training.kind is not \"mouth\")");
   }
@@ -242,11 +246,10 @@ MouthModel loadMouthModel(const std::filesystem::path& path) {
     throw fileError(path, "training.visual_basis.explained_variance must be a number");
   }
   try {
-    model.basis = VisualBasis::fromParts(vectorFrom(basis.value("mean", Json()), path, "mean"),
-                                         vectorFrom(basis.value("scale", Json()), path, "scale"),
-                                         matrixFrom(basis.value("unmixing", Json()), path, "unmixing"),
-                                         matrixFrom(basis.value("mixing", Json()), path, "mixing"),
-                                         basis["explained_variance"].get<double>());
+    model.basis = VisualBasis::fromParts(
+        vectorFrom(basis.value("mean", Json()), path, "mean"), vectorFrom(basis.value("scale", Json()), path, "scale"),
+        matrixFrom(basis.value("unmixing", Json()), path, "unmixing"),
+        matrixFrom(basis.value("mixing", Json()), path, "mixing"), basis["explained_variance"].get<double>());
   } catch (const Error& error) {
     const std::string what = error.what();
     if (what.rfind(path.string(), 0) == 0) throw;
@@ -257,8 +260,8 @@ MouthModel loadMouthModel(const std::filesystem::path& path) {
     const Json& faps = training["visual_faps"];
     const auto rows = static_cast<std::size_t>(model.basis.inputDimension());
     if (!faps.is_array() || faps.size() != rows)
-      throw fileError(path, "training.visual_faps must list one FAP number per visual parameter (" +
-                                std::to_string(rows) + ")");
+      throw fileError(
+          path, "training.visual_faps must list one FAP number per visual parameter (" + std::to_string(rows) + ")");
     for (const Json& number : faps) {
       if (!number.is_number_integer() || number.get<int>() < 1 || number.get<int>() > face::kNumFaps ||
           (!model.visualFaps.empty() && number.get<int>() <= model.visualFaps.back()))
@@ -283,8 +286,10 @@ MouthModel loadMouthModel(const std::filesystem::path& path) {
     } catch (const Error& error) {
       throw fileError(path, std::string("training.speech_normalisation: ") + error.what());
     }
-    normalisation.priorMean = vectorFrom(n.value("prior_mean", Json()), path, "prior_mean", "training.speech_normalisation.");
-    if (!normalisation.priorMean.allFinite()) throw fileError(path, "training.speech_normalisation.prior_mean must be finite");
+    normalisation.priorMean =
+        vectorFrom(n.value("prior_mean", Json()), path, "prior_mean", "training.speech_normalisation.");
+    if (!normalisation.priorMean.allFinite())
+      throw fileError(path, "training.speech_normalisation.prior_mean must be finite");
     model.normalisation = std::move(normalisation);
   }
   if (training.contains("visual_deltas")) {
@@ -305,15 +310,18 @@ MouthModel loadMouthModel(const std::filesystem::path& path) {
   int audioSize = -1;
   bool visualOk = false;
   for (const auto& block : model.hmm.blocks) {
-    if (block.name == "audio" && block.begin == 0 && block.size > 0 && block.size % contextWidth == 0) audioSize = block.size;
+    if (block.name == "audio" && block.begin == 0 && block.size > 0 && block.size % contextWidth == 0)
+      audioSize = block.size;
   }
   for (const auto& block : model.hmm.blocks) {
     if (block.name == "visual") visualOk = block.begin == audioSize && block.size == visualSize;
   }
   if (audioSize < 0 || !visualOk) {
-    throw fileError(path, "a mouth model needs an audio block at 0 of (2 tc + 1) x its audio features and a visual "
-                          "block of the basis's " + std::to_string(model.basis.components()) + " components" +
-                          (model.visualDeltas ? " and their deltas" : "") + " after it");
+    throw fileError(path,
+                    "a mouth model needs an audio block at 0 of (2 tc + 1) x its audio features and a visual "
+                    "block of the basis's " +
+                        std::to_string(model.basis.components()) + " components" +
+                        (model.visualDeltas ? " and their deltas" : "") + " after it");
   }
   if (model.normalisation && audioSize != contextWidth * (static_cast<int>(model.normalisation->priorMean.size()) + 1))
     throw fileError(path, "the audio block does not hold (2 tc + 1) frames of the normalised MFCCs and the level");
@@ -324,7 +332,8 @@ namespace {
 
 // The visual components among the visual block's rows (the first K; deltas follow), with the model's variance
 // compensation if asked for.
-Eigen::MatrixXd finishComponents(const MouthModel& model, const Eigen::MatrixXd& visual, const MouthSynthesisOptions& options) {
+Eigen::MatrixXd finishComponents(const MouthModel& model, const Eigen::MatrixXd& visual,
+                                 const MouthSynthesisOptions& options) {
   Eigen::MatrixXd components = visual.topRows(model.basis.components());
   if (options.varianceCompensation && model.varianceScale.size() == components.rows())
     components = model.varianceScale.asDiagonal() * components;
@@ -333,7 +342,8 @@ Eigen::MatrixXd finishComponents(const MouthModel& model, const Eigen::MatrixXd&
 
 // MLPG over the frames' Gaussians of [components; deltas]: means as given, precisions from the posterior's
 // covariances (the static and delta blocks; their cross-covariance is left out, as MlpgFrame holds none).
-Eigen::MatrixXd generateComponents(const Eigen::MatrixXd& means, const std::vector<Eigen::MatrixXd>& covariances, Eigen::Index k) {
+Eigen::MatrixXd generateComponents(const Eigen::MatrixXd& means, const std::vector<Eigen::MatrixXd>& covariances,
+                                   Eigen::Index k) {
   std::vector<MlpgFrame> frames(static_cast<std::size_t>(means.cols()));
   const Eigen::MatrixXd identity = Eigen::MatrixXd::Identity(k, k);
   for (Eigen::Index t = 0; t < means.cols(); ++t) {
@@ -355,8 +365,8 @@ Eigen::MatrixXd generateComponents(const Eigen::MatrixXd& means, const std::vect
 
 }  // namespace
 
-Eigen::MatrixXd synthesiseMouth(const MouthModel& model, const SpeechFrames& speech, const MouthSynthesisOptions& options,
-                                int* iterations) {
+Eigen::MatrixXd synthesiseMouth(const MouthModel& model, const SpeechFrames& speech,
+                                const MouthSynthesisOptions& options, int* iterations) {
   const Eigen::MatrixXd audio = features::stackContext(mouthAudioFrames(model, speech), model.contextFrames);
   const hmm::HmmInverter inverter(model.hmm, {.maxIterations = options.maxIterations,
                                               .start = options.start,
@@ -375,7 +385,8 @@ Eigen::MatrixXd synthesiseMouth(const MouthModel& model, const SpeechFrames& spe
     if (iterations != nullptr) *iterations = result.iterations;
     if (!trajectory) return finishComponents(model, result.visual, options);
     // The inversion's estimates of the components and their deltas, held as surely as the posterior holds them.
-    visual = generateComponents(result.visual, inverter.conditionalDistribution(audio).covariance, model.basis.components());
+    visual =
+        generateComponents(result.visual, inverter.conditionalDistribution(audio).covariance, model.basis.components());
   }
   return finishComponents(model, visual, options);
 }
@@ -405,7 +416,8 @@ MouthSynthesiser::MouthSynthesiser(const MouthModel& model, const MouthSynthesis
 
 void MouthSynthesiser::acceptFrame(double levelDb, const Eigen::Ref<const Eigen::VectorXd>& mfcc) {
   if (finished_) throw Error("mouth synthesis: speech frames after finish()");
-  const Eigen::Index expected = normaliser_ ? normaliser_->numMfcc() : stacker_->outputDimension() / (2 * model_.contextFrames + 1);
+  const Eigen::Index expected =
+      normaliser_ ? normaliser_->numMfcc() : stacker_->outputDimension() / (2 * model_.contextFrames + 1);
   if (mfcc.size() != expected)
     throw Error("mouth synthesis: " + std::to_string(mfcc.size()) + " MFCCs a frame, the model has " +
                 std::to_string(expected));
@@ -437,7 +449,9 @@ bool MouthSynthesiser::next(Eigen::VectorXd& components) {
   return true;
 }
 
-int MouthSynthesiser::numStates() const { return inverter_.audioModel().numStates(); }
+int MouthSynthesiser::numStates() const {
+  return inverter_.audioModel().numStates();
+}
 
 int MouthSynthesiser::lookaheadFrames() const {
   return model_.contextFrames + std::max(stream_.windowFrames(), 1) - 1;
@@ -459,7 +473,9 @@ Eigen::RowVectorXd jawOpeningOf(const MouthModel& model, const Eigen::MatrixXd& 
 constexpr const char* kDrivesNoFaps =
     "mouth model: it drives no FAPs (no FAP map, a sweep model?); make one with `talkinghead train mouth`";
 
-bool drivesFaps(const MouthModel& model) { return model.fapMap.has_value() || !model.visualFaps.empty(); }
+bool drivesFaps(const MouthModel& model) {
+  return model.fapMap.has_value() || !model.visualFaps.empty();
+}
 
 std::vector<int> mouthFapNumbers(const MouthModel& model) {
   if (!model.visualFaps.empty()) return model.visualFaps;
@@ -469,13 +485,13 @@ std::vector<int> mouthFapNumbers(const MouthModel& model) {
 
 Eigen::MatrixXd mouthFapsOf(const MouthModel& model, const Eigen::MatrixXd& components) {
   if (model.visualFaps.empty()) {
-    if (!model.fapMap)
-      throw Error(kDrivesNoFaps);
+    if (!model.fapMap) throw Error(kDrivesNoFaps);
     return mouthFaps(*model.fapMap, jawOpeningOf(model, components));
   }
   Eigen::MatrixXd faps = model.basis.reconstruct(components);
   for (std::size_t i = 0; i < model.visualFaps.size(); ++i)
-    if (model.visualFaps[i] == 3) faps.row(static_cast<Eigen::Index>(i)) = faps.row(static_cast<Eigen::Index>(i)).cwiseMax(0.0);
+    if (model.visualFaps[i] == 3)
+      faps.row(static_cast<Eigen::Index>(i)) = faps.row(static_cast<Eigen::Index>(i)).cwiseMax(0.0);
   return faps;
 }
 

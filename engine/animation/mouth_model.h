@@ -19,9 +19,8 @@
 // Thread contract: models are values; synthesis is a pure function.
 #pragma once
 
-#include <deque>
-
 #include <Eigen/Core>
+#include <deque>
 #include <filesystem>
 #include <optional>
 #include <vector>
@@ -31,18 +30,18 @@
 #include "animation/visual_basis.h"
 #include "features/context.h"
 #include "features/speech_normaliser.h"
-#include "hmm/hmm_model.h"
 #include "hmm/forward_filter.h"
+#include "hmm/hmm_model.h"
 #include "hmm/inversion.h"
 
 namespace th::animation {
 
 struct MouthModelOptions {
-  int states = 4;                                        // N
-  int mixtures = 2;                                      // M
+  int states = 4;    // N
+  int mixtures = 2;  // M
   hmm::CovarianceType covariance = hmm::CovarianceType::kFull;
-  int contextFrames = 3;                                 // tc
-  int visualComponents = 2;                              // K
+  int contextFrames = 3;          // tc
+  int visualComponents = 2;       // K
   bool standardiseVisual = true;  // scale each visual parameter to unit variance before PCA (BEAT2's mix of
                                   // degrees and coefficients); FAPs share one unit and keep their scales
   int maxIterations = 60;
@@ -72,11 +71,11 @@ struct MouthSpeechNormalisation {
 };
 
 struct MouthModel {
-  hmm::HmmModel hmm;    // blocks "audio" (D·(2tc+1), D = 11 MFCCs, or 12 with the level) and "visual" (K, or
-                        // 2K with deltas)
+  hmm::HmmModel hmm;  // blocks "audio" (D·(2tc+1), D = 11 MFCCs, or 12 with the level) and "visual" (K, or
+                      // 2K with deltas)
   VisualBasis basis;
   int contextFrames = 3;
-  int iterations = 0;   // Baum-Welch iterations used
+  int iterations = 0;  // Baum-Welch iterations used
   // From the jaw opening to MPEG-4 FAPs (fap_mapping.h); `train mouth --beat2` measures it on the reference face
   // and stores it with the model, so the model file alone turns audio into FAPs. Absent in sweep models.
   std::optional<MouthFapMap> fapMap;
@@ -105,7 +104,7 @@ enum class MouthMethod { kInversion, kMmse };
 struct MouthSynthesisOptions {
   MouthMethod method = MouthMethod::kInversion;
   hmm::InversionStart start = hmm::InversionStart::kConditionalMean;
-  int windowFrames = 0;     // 0: batch
+  int windowFrames = 0;  // 0: batch
   int maxIterations = 100;
   unsigned seed = 1;
   // For models with visual deltas: the MMSE estimate's Gaussians (means and posterior spread, per frame) turned
@@ -133,9 +132,9 @@ class MouthSynthesiser {
 
   // The next frame's level (dB re full scale) and c1..c11.
   void acceptFrame(double levelDb, const Eigen::Ref<const Eigen::VectorXd>& mfcc);
-  void finish();                                                   // the last tc frames, the last window
-  bool next(Eigen::VectorXd& components);                          // K values, if a frame is ready
-  int lookaheadFrames() const;  // the most frames a frame waits past its own: tc + window - 1
+  void finish();                           // the last tc frames, the last window
+  bool next(Eigen::VectorXd& components);  // K values, if a frame is ready
+  int lookaheadFrames() const;             // the most frames a frame waits past its own: tc + window - 1
   int lastIterations() const { return stream_.lastIterations(); }
   // P(state | audio up to the frame) under the model's audio marginal (its forward filter) for the frame the
   // last next() gave: for a display of the model's belief.
@@ -151,8 +150,8 @@ class MouthSynthesiser {
   Eigen::VectorXd normalised_;
   hmm::HmmInverter inverter_;
   hmm::StreamingInverter stream_;
-  hmm::ForwardFilter filter_;                    // over inverter_.audioModel()
-  std::deque<Eigen::VectorXd> posteriors_;       // of frames stacked, not yet given by next()
+  hmm::ForwardFilter filter_;               // over inverter_.audioModel()
+  std::deque<Eigen::VectorXd> posteriors_;  // of frames stacked, not yet given by next()
   Eigen::VectorXd lastPosterior_;
   std::optional<features::ContextStacker> stacker_;
   Eigen::VectorXd stacked_;

@@ -50,7 +50,9 @@ Eigen::MatrixXd prosodyOf(const features::FeatureMatrix& features, const Prosody
   return prosody;
 }
 
-bool isVoiced(std::span<const float> featureRow) { return featureRow[features::FeatureLayout::kF0Hz] > 0.0f; }
+bool isVoiced(std::span<const float> featureRow) {
+  return featureRow[features::FeatureLayout::kF0Hz] > 0.0f;
+}
 
 Eigen::RowVectorXd voicingOf(const features::FeatureMatrix& features) {
   Eigen::RowVectorXd voiced(features.numFrames());

@@ -37,8 +37,8 @@ class ProsodyTracker {
   Eigen::Vector4d accept(std::span<const float> featureRow);
 
  private:
-  double holdFactor_;    // per frame, for the unvoiced decay
-  double meanFactor_;    // per frame, for the running mean
+  double holdFactor_;  // per frame, for the unvoiced decay
+  double meanFactor_;  // per frame, for the running mean
   bool haveMean_ = false;
   double meanLogHz_ = 0.0;
   double heldPitch_ = 0.0;

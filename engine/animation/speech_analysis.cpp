@@ -5,7 +5,8 @@
 namespace th::animation {
 
 SpeechAnalysis analyseSpeech(std::span<const float> samples16k, const ProsodyOptions& options) {
-  const features::FeatureMatrix rows = features::computeFeatures(samples16k, prosodyFeatureOptions(kAnimationFramesPerSecond));
+  const features::FeatureMatrix rows =
+      features::computeFeatures(samples16k, prosodyFeatureOptions(kAnimationFramesPerSecond));
   SpeechAnalysis analysis;
   analysis.prosody = prosodyOf(rows, options);
   analysis.voiced = voicingOf(rows);

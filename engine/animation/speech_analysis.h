@@ -12,7 +12,6 @@
 #pragma once
 
 #include <Eigen/Core>
-
 #include <span>
 
 #include "animation/mouth_data.h"

@@ -102,8 +102,8 @@ void checkOptions(const VisualBasisOptions& options, Eigen::Index dimension, Eig
                 "-dimensional data (need 1 <= K <= d)");
   }
   if (numFrames < k + 1) {
-    throw Error("visual basis: " + std::to_string(numFrames) + " frames are too few for " +
-                std::to_string(k) + " components (need at least K + 1 = " + std::to_string(k + 1) + ")");
+    throw Error("visual basis: " + std::to_string(numFrames) + " frames are too few for " + std::to_string(k) +
+                " components (need at least K + 1 = " + std::to_string(k + 1) + ")");
   }
   if (options.maxIterations < 1) {
     throw Error("visual basis: maxIterations is " + std::to_string(options.maxIterations) + ", need >= 1");
@@ -156,9 +156,9 @@ VisualBasis VisualBasis::fit(const Eigen::MatrixXd& data, const VisualBasisOptio
     vectors.col(j) *= canonicalSign(vectors.col(j));
   }
   if (!(largestValue > 0.0) || !(values[k - 1] > kRankRelativeEigenvalue * largestValue)) {
-    throw Error("visual basis: the data span fewer than " + std::to_string(k) +
-                " dimensions (PCA eigenvalue " + std::to_string(k) + " is " + std::to_string(values[k - 1]) +
-                " of largest " + std::to_string(largestValue) + ")");
+    throw Error("visual basis: the data span fewer than " + std::to_string(k) + " dimensions (PCA eigenvalue " +
+                std::to_string(k) + " is " + std::to_string(values[k - 1]) + " of largest " +
+                std::to_string(largestValue) + ")");
   }
   double total = 0.0;  // the trace: the total variance of x̃, free of the eigen-solver's rounding
   for (Eigen::Index i = 0; i < d; ++i) total += covariance(i, i);
@@ -171,7 +171,7 @@ VisualBasis VisualBasis::fit(const Eigen::MatrixXd& data, const VisualBasisOptio
   const Eigen::MatrixXd whitening = inverseRoot.asDiagonal() * vectors.transpose();  // K x d
   const Eigen::MatrixXd z = whitening * centred;
   const Eigen::MatrixXd w = fastIca(z, options);
-  const Eigen::MatrixXd unmixing = w * whitening;  // W Λ^{-1/2} Vᵀ
+  const Eigen::MatrixXd unmixing = w * whitening;                                            // W Λ^{-1/2} Vᵀ
   const Eigen::MatrixXd mixing = vectors * values.cwiseSqrt().asDiagonal() * w.transpose();  // V Λ^{1/2} Wᵀ
 
   // Canonical form: by decreasing ‖mixing column‖² (each y_k has unit variance and they are uncorrelated, so
@@ -206,8 +206,8 @@ VisualBasis VisualBasis::fromParts(Eigen::VectorXd mean, Eigen::VectorXd scale, 
                 std::to_string(d));
   }
   if (k < 1 || k > d || unmixing.cols() != d) {
-    throw Error("visual basis: the stored unmixing is " + shape(unmixing.rows(), unmixing.cols()) +
-                ", expected K x " + std::to_string(d) + " with 1 <= K <= " + std::to_string(d));
+    throw Error("visual basis: the stored unmixing is " + shape(unmixing.rows(), unmixing.cols()) + ", expected K x " +
+                std::to_string(d) + " with 1 <= K <= " + std::to_string(d));
   }
   if (mixing.rows() != d || mixing.cols() != k) {
     throw Error("visual basis: the stored mixing is " + shape(mixing.rows(), mixing.cols()) + ", expected " +

@@ -3,8 +3,8 @@
 #include <sndfile.h>
 
 #include <algorithm>
-#include <cctype>
 #include <array>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -33,7 +33,9 @@ struct MemoryStream {
   sf_count_t position;
 };
 
-sf_count_t memoryLength(void* user) { return static_cast<MemoryStream*>(user)->size; }
+sf_count_t memoryLength(void* user) {
+  return static_cast<MemoryStream*>(user)->size;
+}
 sf_count_t memorySeek(sf_count_t offset, int whence, void* user) {
   auto* stream = static_cast<MemoryStream*>(user);
   sf_count_t base = 0;
@@ -58,8 +60,12 @@ sf_count_t memoryRead(void* destination, sf_count_t count, void* user) {
   stream->position += taken;
   return taken;
 }
-sf_count_t memoryWrite(const void*, sf_count_t, void*) { return 0; }
-sf_count_t memoryTell(void* user) { return static_cast<MemoryStream*>(user)->position; }
+sf_count_t memoryWrite(const void*, sf_count_t, void*) {
+  return 0;
+}
+sf_count_t memoryTell(void* user) {
+  return static_cast<MemoryStream*>(user)->position;
+}
 
 // libsndfile reads a WAV, AIFF, AU or W64 file whose audio chunk claims more bytes than the file holds as if
 // it were complete: it shrinks the chunk to fit and says so only in its log, as "data : 161040 (should be
@@ -107,8 +113,7 @@ bool logReportsTruncation(SNDFILE* file) {
 
 constexpr float kMaxSampleMagnitude = 1e6f;
 
-AudioClip decodeOpened(SNDFILE* file, const SF_INFO& info, const std::string& name,
-                       const AudioReadOptions& options) {
+AudioClip decodeOpened(SNDFILE* file, const SF_INFO& info, const std::string& name, const AudioReadOptions& options) {
   if (info.channels <= 0) throw Error(name + ": no audio channels");
   if (info.samplerate < options.minInputRateHz || info.samplerate > options.maxInputRateHz) {
     throw Error(name + ": sample rate " + std::to_string(info.samplerate) + " Hz is outside the supported " +
@@ -117,7 +122,8 @@ AudioClip decodeOpened(SNDFILE* file, const SF_INFO& info, const std::string& na
   if (info.frames <= 0) throw Error(name + ": contains no samples");
   // An Ogg stream whose final page is missing has no known length; libsndfile says so with SF_COUNT_MAX.
   if (info.frames == SF_COUNT_MAX) throw Error(name + ": truncated (the stream's final page is missing)");
-  if (logReportsTruncation(file)) throw Error(name + ": truncated (the header promises more audio than the file holds)");
+  if (logReportsTruncation(file))
+    throw Error(name + ": truncated (the header promises more audio than the file holds)");
   // Guard against absurd headers: 24 hours at the maximum rate is far beyond any real use.
   const sf_count_t maxFrames = static_cast<sf_count_t>(options.maxInputRateHz) * 3600 * 24;
   if (info.frames > maxFrames) throw Error(name + ": header claims an implausible length");
@@ -167,9 +173,8 @@ AudioClip decodeOpened(SNDFILE* file, const SF_INFO& info, const std::string& na
   clip.sourceRateHz = info.samplerate;
   clip.sourceChannels = info.channels;
   clip.sampleRateHz = options.outputRateHz > 0 ? options.outputRateHz : info.samplerate;
-  clip.samples = info.samplerate == clip.sampleRateHz
-                     ? std::move(mono)
-                     : resample(mono, info.samplerate, clip.sampleRateHz);
+  clip.samples =
+      info.samplerate == clip.sampleRateHz ? std::move(mono) : resample(mono, info.samplerate, clip.sampleRateHz);
   // A sample or two at a higher rate can round to nothing at the output rate: as empty as no samples at all.
   if (clip.samples.empty()) {
     throw Error(name + ": too short (" + std::to_string(total) + " sample frames at " +
@@ -190,8 +195,9 @@ void checkContainer(const unsigned char* head, size_t size, const std::string& n
     if (start == magic) return;
   }
   if (start == "caff") return;
-  throw Error(name + ": not a readable audio file (its first bytes are not those of WAV, FLAC, OGG, AIFF, AU, "
-                     "W64 or CAF)");
+  throw Error(name +
+              ": not a readable audio file (its first bytes are not those of WAV, FLAC, OGG, AIFF, AU, "
+              "W64 or CAF)");
 }
 
 }  // namespace

@@ -27,19 +27,16 @@ struct AudioReadOptions {
 struct AudioClip {
   std::vector<float> samples;  // mono, at sampleRateHz
   int sampleRateHz = 0;
-  int sourceRateHz = 0;        // what the file had before conversion
+  int sourceRateHz = 0;  // what the file had before conversion
   int sourceChannels = 0;
-  double durationSeconds() const {
-    return sampleRateHz > 0 ? static_cast<double>(samples.size()) / sampleRateHz : 0.0;
-  }
+  double durationSeconds() const { return sampleRateHz > 0 ? static_cast<double>(samples.size()) / sampleRateHz : 0.0; }
 };
 
 // Reads, validates, downmixes (channel mean) and resamples to options.outputRateHz with libsoxr.
 AudioClip readAudioFile(const std::filesystem::path& path, const AudioReadOptions& options = {});
 
 // The same validation and decoding, from bytes in memory (used by the fuzzer; `name` appears in errors).
-AudioClip decodeAudio(const void* data, size_t size, const std::string& name,
-                      const AudioReadOptions& options = {});
+AudioClip decodeAudio(const void* data, size_t size, const std::string& name, const AudioReadOptions& options = {});
 
 // Writes 16-bit PCM WAV (mono). Used by tests and tools; written to a temporary name, then renamed.
 void writeWav16(const std::filesystem::path& path, const std::vector<float>& samples, int sampleRateHz);

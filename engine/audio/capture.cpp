@@ -4,11 +4,10 @@
 #include <portaudio.h>
 #include <unistd.h>
 
-#include <cstdio>
-
 #include <algorithm>
 #include <chrono>
 #include <condition_variable>
+#include <cstdio>
 #include <functional>
 #include <mutex>
 #include <string>
@@ -80,7 +79,8 @@ bool runWithin(std::function<void()> close, std::chrono::milliseconds patience) 
 }
 
 std::int64_t steadyNs() {
-  return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch()).count();
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch())
+      .count();
 }
 
 // Blocks that were coming have stopped for a second, or the first has not come in 4 s (a PulseAudio monitor can
@@ -90,7 +90,9 @@ bool stalled(std::int64_t openedNs, std::int64_t lastCallbackNs) {
   return lastCallbackNs == 0 ? now - openedNs > 4'000'000'000 : now - lastCallbackNs > 1'000'000'000;
 }
 
-bool streamActive(void* stream) { return stream != nullptr && Pa_IsStreamActive(static_cast<PaStream*>(stream)) == 1; }
+bool streamActive(void* stream) {
+  return stream != nullptr && Pa_IsStreamActive(static_cast<PaStream*>(stream)) == 1;
+}
 
 AudioDevice describe(PaDeviceIndex index) {
   const PaDeviceInfo* info = Pa_GetDeviceInfo(index);
@@ -147,10 +149,12 @@ bool closeStreamInBackground(std::unique_ptr<Stream> owned, std::unique_ptr<Port
   if (owned) owned->detachFromRing();
   std::shared_ptr<Stream> stream = std::move(owned);
   std::shared_ptr<PortAudioSystem> owner = std::move(system);
-  return runWithin([stream = std::move(stream), owner = std::move(owner)]() mutable {
-    stream.reset();  // the stream before its PortAudio
-    owner.reset();
-  }, patience);
+  return runWithin(
+      [stream = std::move(stream), owner = std::move(owner)]() mutable {
+        stream.reset();  // the stream before its PortAudio
+        owner.reset();
+      },
+      patience);
 }
 
 }  // namespace
@@ -165,7 +169,9 @@ bool closeInBackground(std::unique_ptr<Playback> playback, std::unique_ptr<PortA
   return closeStreamInBackground(std::move(playback), std::move(system), patience);
 }
 
-int closesUnfinished() { return unfinishedCloses.load(); }
+int closesUnfinished() {
+  return unfinishedCloses.load();
+}
 
 std::vector<AudioDevice> PortAudioSystem::devices() const {
   std::vector<AudioDevice> all;
@@ -238,7 +244,9 @@ Capture::Capture(const PortAudioSystem& system, std::optional<int> device, doubl
   openedNs_ = steadyNs();
 }
 
-Capture::~Capture() { closeStream(stream_); }
+Capture::~Capture() {
+  closeStream(stream_);
+}
 
 bool Capture::active() const {
   return streamActive(stream_) && !stalled(openedNs_, lastCallbackNs_.load(std::memory_order_relaxed));
@@ -263,7 +271,8 @@ int Capture::callback(const void* input, void*, unsigned long frames, const PaSt
     const unsigned long n = std::min<unsigned long>(frames - done, capture.mono_.size());
     for (unsigned long i = 0; i < n; ++i) {
       float sum = 0.0f;
-      for (int c = 0; c < channels; ++c) sum += samples[(done + i) * static_cast<unsigned long>(channels) + static_cast<unsigned long>(c)];
+      for (int c = 0; c < channels; ++c)
+        sum += samples[(done + i) * static_cast<unsigned long>(channels) + static_cast<unsigned long>(c)];
       capture.mono_[i] = sum / static_cast<float>(channels);
     }
     capture.ring_.write(capture.mono_.data(), n);
@@ -273,8 +282,7 @@ int Capture::callback(const void* input, void*, unsigned long frames, const PaSt
   return paContinue;
 }
 
-Playback::Playback(const PortAudioSystem&, std::optional<int> device, double rateHz, AudioRing& ring)
-    : ring_(ring) {
+Playback::Playback(const PortAudioSystem&, std::optional<int> device, double rateHz, AudioRing& ring) : ring_(ring) {
   PaDeviceIndex index = paNoDevice;
   if (device) {
     if (*device < 0 || *device >= Pa_GetDeviceCount())
@@ -300,7 +308,9 @@ Playback::Playback(const PortAudioSystem&, std::optional<int> device, double rat
   stream_ = openStream(nullptr, &output, rateHz, &Playback::callback, this, named);
 }
 
-Playback::~Playback() { closeStream(stream_); }
+Playback::~Playback() {
+  closeStream(stream_);
+}
 
 // Sequentially consistent throughout: no fences (ThreadSanitizer does not model them), and two values a
 // block are no cost worth saving.
@@ -320,7 +330,9 @@ bool SequencedPair::read(std::uint64_t& first, std::int64_t& second) const {
   return version_.load() == version;
 }
 
-void Playback::schedule(std::uint64_t ringSample, std::int64_t dueNs) { schedule_.write(ringSample, dueNs); }
+void Playback::schedule(std::uint64_t ringSample, std::int64_t dueNs) {
+  schedule_.write(ringSample, dueNs);
+}
 
 bool Playback::heardSample(std::int64_t nowNs, double& ringSample) const {
   std::uint64_t sample = 0;
@@ -332,7 +344,9 @@ bool Playback::heardSample(std::int64_t nowNs, double& ringSample) const {
 
 // Not the capture's stall watchdog: PulseAudio's ALSA plugin asks an output stream for blocks in bursts, with
 // gaps of over a second while its own buffer plays (seen in the playback test).
-bool Playback::active() const { return streamActive(stream_); }
+bool Playback::active() const {
+  return streamActive(stream_);
+}
 
 double Playback::outputLatencySeconds() const {
   const PaStreamInfo* info = stream_ != nullptr ? Pa_GetStreamInfo(static_cast<PaStream*>(stream_)) : nullptr;
@@ -379,14 +393,16 @@ int Playback::callback(const void*, void* output, unsigned long frames, const Pa
         const double nextDueNs = static_cast<double>(dueNs) +
                                  (static_cast<double>(playback.read_) - static_cast<double>(sample)) * nsPerSample;
         const double early = (nextDueNs - blockHeardNs) / nsPerSample;  // in samples
-        if (early > 0.0) playback.silenceLeft_ = static_cast<std::uint64_t>(early);
-        else playback.skipLeft_ = static_cast<std::uint64_t>(-early);
+        if (early > 0.0)
+          playback.silenceLeft_ = static_cast<std::uint64_t>(early);
+        else
+          playback.skipLeft_ = static_cast<std::uint64_t>(-early);
       }
     }
     if (playback.flowing_) {
       while (playback.skipLeft_ > 0) {
-        const std::size_t got =
-            playback.ring_.read(playback.mono_.data(), static_cast<std::size_t>(std::min<std::uint64_t>(playback.skipLeft_, n)));
+        const std::size_t got = playback.ring_.read(
+            playback.mono_.data(), static_cast<std::size_t>(std::min<std::uint64_t>(playback.skipLeft_, n)));
         if (got == 0) break;
         playback.skipLeft_ -= got;
         playback.read_ += got;
@@ -398,12 +414,14 @@ int Playback::callback(const void*, void* output, unsigned long frames, const Pa
         const std::size_t got = playback.ring_.read(playback.mono_.data() + silent, n - silent);
         if (got > 0 && playback.firstSoundNs_.load(std::memory_order_relaxed) == 0) {
           playback.firstDeviceDelay_.store(deviceDelay, std::memory_order_release);
-          playback.firstSoundNs_.store(static_cast<std::int64_t>(blockHeardNs + (static_cast<double>(silent) -
-                                                                                 static_cast<double>(playback.read_)) * nsPerSample),
-                                       std::memory_order_release);
+          playback.firstSoundNs_.store(
+              static_cast<std::int64_t>(
+                  blockHeardNs + (static_cast<double>(silent) - static_cast<double>(playback.read_)) * nsPerSample),
+              std::memory_order_release);
         }
         if (got > 0)
-          playback.played_.write(playback.read_, static_cast<std::int64_t>(blockHeardNs + static_cast<double>(silent) * nsPerSample));
+          playback.played_.write(playback.read_,
+                                 static_cast<std::int64_t>(blockHeardNs + static_cast<double>(silent) * nsPerSample));
         playback.read_ += got;
         if (got < n - silent) {  // ran dry: the rest is silence
           playback.underruns_.fetch_add(1, std::memory_order_relaxed);

@@ -124,7 +124,7 @@ class Capture {
   void* stream_ = nullptr;   // PaStream
   std::atomic<std::uint64_t> callbacks_{0};
   std::atomic<std::uint64_t> overflows_{0};
-  std::int64_t openedNs_ = 0;                      // steady clock
+  std::int64_t openedNs_ = 0;                    // steady clock
   std::atomic<std::int64_t> lastCallbackNs_{0};  // steady clock; 0 until the first block
   CallbackGate gate_;
 };
@@ -133,11 +133,11 @@ class Capture {
 // sample k is heard when schedule() says (a recording heard in step with the face, whose frames come the
 // pipeline's latency after the samples go in). Whenever samples come after none (the first, or after the ring
 // was empty for 100 ms), the callback puts the next one on time, by silence if it is early or by skipping
-// samples if it is late: a device that wakes slowly (a suspended PulseAudio sink takes a second or more) costs the start of the
-// sound, not the sync. When a sample is heard is the callback's time plus the delay PortAudio reports for its
-// buffer. The callback reads the ring into a buffer made at start-up and copies it to the device's channels;
-// a short ring plays silence and counts an underrun. Throws th::Error if there is no output device or it will
-// not play at `rateHz`.
+// samples if it is late: a device that wakes slowly (a suspended PulseAudio sink takes a second or more) costs the
+// start of the sound, not the sync. When a sample is heard is the callback's time plus the delay PortAudio reports for
+// its buffer. The callback reads the ring into a buffer made at start-up and copies it to the device's channels; a
+// short ring plays silence and counts an underrun. Throws th::Error if there is no output device or it will not play at
+// `rateHz`.
 class Playback {
  public:
   Playback(const PortAudioSystem& system, std::optional<int> device, double rateHz, AudioRing& ring);
@@ -150,7 +150,7 @@ class Playback {
   Playback& operator=(const Playback&) = delete;
 
   const AudioDevice& device() const { return device_; }
-  bool active() const;  // false once the stream has stopped
+  bool active() const;                  // false once the stream has stopped
   double outputLatencySeconds() const;  // PortAudio's estimate: from the callback to the speaker
   std::uint64_t underruns() const { return underruns_.load(std::memory_order_relaxed); }
   // Blocks the device has asked for: a sound server wakes a suspended output before it asks (a second or

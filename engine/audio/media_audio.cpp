@@ -23,9 +23,9 @@ extern "C" {
 #include <vector>
 
 #include "audio/resampler.h"
-#include "core/text_files.h"
 #include "core/error.h"
 #include "core/ffmpeg_support.h"
+#include "core/text_files.h"
 
 #if LIBAVUTIL_VERSION_INT < AV_VERSION_INT(57, 24, 100)
 #error "media_audio.cpp needs FFmpeg 5.1 or later (AVFrame::ch_layout)"
@@ -55,8 +55,7 @@ constexpr double kMaxSampleMagnitude = 1e6;  // as readAudioFile: 120 dB over fu
 // Collects the stream's samples as mono (channel mean), checking each one.
 class MonoCollector {
  public:
-  MonoCollector(const std::filesystem::path& path, const AudioReadOptions& options)
-      : path_(path), options_(options) {}
+  MonoCollector(const std::filesystem::path& path, const AudioReadOptions& options) : path_(path), options_(options) {}
 
   void add(const AVFrame& frame) {
     if (frame.nb_samples <= 0) return;
@@ -76,8 +75,7 @@ class MonoCollector {
         mix<int32_t>(frame, channels, [](int32_t v) { return static_cast<double>(v) / 2147483648.0; });
         break;
       case AV_SAMPLE_FMT_S64:
-        mix<int64_t>(frame, channels,
-                     [](int64_t v) { return static_cast<double>(v) / 9223372036854775808.0; });
+        mix<int64_t>(frame, channels, [](int64_t v) { return static_cast<double>(v) / 9223372036854775808.0; });
         break;
       case AV_SAMPLE_FMT_FLT:
         mix<float>(frame, channels, [](float v) { return static_cast<double>(v); });
@@ -107,9 +105,8 @@ class MonoCollector {
       }
       sourceRateHz_ = rateHz;
     } else if (rateHz != sourceRateHz_) {
-      throw fileError(path_, "the audio's sample rate changes from " + std::to_string(sourceRateHz_) +
-                                 " to " + std::to_string(rateHz) + " Hz after " +
-                                 std::to_string(mono_.size()) + " samples");
+      throw fileError(path_, "the audio's sample rate changes from " + std::to_string(sourceRateHz_) + " to " +
+                                 std::to_string(rateHz) + " Hz after " + std::to_string(mono_.size()) + " samples");
     }
   }
 
@@ -121,18 +118,16 @@ class MonoCollector {
     const auto channelCount = static_cast<size_t>(channels);
     // 24 hours at the maximum rate, as readAudioFile allows: beyond that the file is not a recording.
     const auto maxSamples = static_cast<size_t>(options_.maxInputRateHz) * 3600 * 24;
-    if (mono_.size() + count > maxSamples)
-      throw fileError(path_, "its audio is implausibly long (over 24 hours)");
+    if (mono_.size() + count > maxSamples) throw fileError(path_, "its audio is implausibly long (over 24 hours)");
     for (size_t n = 0; n < count; ++n) {
       double sum = 0.0;
       for (size_t c = 0; c < channelCount; ++c) {
-        const Sample* base =
-            planar ? reinterpret_cast<const Sample*>(frame.extended_data[c]) + n
-                   : reinterpret_cast<const Sample*>(frame.extended_data[0]) + n * channelCount + c;
+        const Sample* base = planar ? reinterpret_cast<const Sample*>(frame.extended_data[c]) + n
+                                    : reinterpret_cast<const Sample*>(frame.extended_data[0]) + n * channelCount + c;
         const double value = toDouble(*base);
         if (!std::isfinite(value)) {
-          throw fileError(
-              path_, "sample " + std::to_string(mono_.size()) + " is not a finite number (NaN or infinity)");
+          throw fileError(path_,
+                          "sample " + std::to_string(mono_.size()) + " is not a finite number (NaN or infinity)");
         }
         if (std::abs(value) > kMaxSampleMagnitude) {
           char level[32];
@@ -154,8 +149,7 @@ class MonoCollector {
 };
 
 // Takes every frame the decoder has ready; false once it has signalled the end of the stream.
-bool receiveFrames(AVCodecContext* codec, AVFrame* frame, MonoCollector& collector,
-                   const std::filesystem::path& path) {
+bool receiveFrames(AVCodecContext* codec, AVFrame* frame, MonoCollector& collector, const std::filesystem::path& path) {
   for (;;) {
     const int result = avcodec_receive_frame(codec, frame);
     if (result == kTryAgain) return true;
@@ -202,8 +196,7 @@ FormatHandle openContainer(const std::filesystem::path& path) {
   FormatHandle format(raw);
   const int found = avformat_find_stream_info(format.get(), nullptr);
   if (found < 0) {
-    throw fileError(
-        path, "not a readable media file (FFmpeg cannot read its streams: " + ffmpeg::message(found) + ")");
+    throw fileError(path, "not a readable media file (FFmpeg cannot read its streams: " + ffmpeg::message(found) + ")");
   }
   return format;
 }
@@ -267,8 +260,7 @@ AudioClip readMediaAudio(const std::filesystem::path& path, const AudioReadOptio
       throw fileError(path, "read error after " + std::to_string(collector.samples().size()) +
                                 " audio samples (FFmpeg: " + ffmpeg::message(result) + ")");
     }
-    if (packet->stream_index == streamIndex)
-      sendPacket(codec.get(), packet.get(), frame.get(), collector, path);
+    if (packet->stream_index == streamIndex) sendPacket(codec.get(), packet.get(), frame.get(), collector, path);
     av_packet_unref(packet.get());
   }
   // An empty packet flushes the decoder: its delayed frames come out, then the end of the stream.
@@ -284,9 +276,8 @@ AudioClip readMediaAudio(const std::filesystem::path& path, const AudioReadOptio
                      ? std::move(collector.samples())
                      : resample(collector.samples(), clip.sourceRateHz, clip.sampleRateHz);
   if (clip.samples.empty()) {
-    throw fileError(path, "too short (" + std::to_string(decoded) + " samples at " +
-                              std::to_string(clip.sourceRateHz) + " Hz make no sample at " +
-                              std::to_string(clip.sampleRateHz) + " Hz)");
+    throw fileError(path, "too short (" + std::to_string(decoded) + " samples at " + std::to_string(clip.sourceRateHz) +
+                              " Hz make no sample at " + std::to_string(clip.sampleRateHz) + " Hz)");
   }
   return clip;
 }

@@ -9,10 +9,11 @@
 
 namespace th::audio {
 
-void Resampler::SoxrDeleter::operator()(soxr* handle) const { soxr_delete(handle); }
+void Resampler::SoxrDeleter::operator()(soxr* handle) const {
+  soxr_delete(handle);
+}
 
-Resampler::Resampler(double inputRateHz, double outputRateHz)
-    : inputRateHz_(inputRateHz), outputRateHz_(outputRateHz) {
+Resampler::Resampler(double inputRateHz, double outputRateHz) : inputRateHz_(inputRateHz), outputRateHz_(outputRateHz) {
   if (!(inputRateHz > 0) || !(outputRateHz > 0)) {
     throw Error("resampler: sample rates must be positive");
   }
@@ -51,7 +52,9 @@ void Resampler::process(std::span<const float> input, std::vector<float>& output
   drain(input.data(), input.size(), output);
 }
 
-void Resampler::finish(std::vector<float>& output) { drain(nullptr, 0, output); }
+void Resampler::finish(std::vector<float>& output) {
+  drain(nullptr, 0, output);
+}
 
 std::vector<float> resample(std::span<const float> input, double inputRateHz, double outputRateHz) {
   if (inputRateHz == outputRateHz) return {input.begin(), input.end()};

@@ -11,9 +11,8 @@
 // read from any thread.
 #pragma once
 
-#include <boost/lockfree/spsc_queue.hpp>
-
 #include <atomic>
+#include <boost/lockfree/spsc_queue.hpp>
 #include <cstddef>
 #include <cstdint>
 

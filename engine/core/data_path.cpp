@@ -11,6 +11,8 @@ std::filesystem::path sharedDataDir() {
   return TALKINGHEAD_DEFAULT_DATA_DIR;
 }
 
-std::filesystem::path sharedDataPath(const std::filesystem::path& relative) { return sharedDataDir() / relative; }
+std::filesystem::path sharedDataPath(const std::filesystem::path& relative) {
+  return sharedDataDir() / relative;
+}
 
 }  // namespace th

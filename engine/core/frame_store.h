@@ -21,7 +21,7 @@ class FrameStore {
   std::size_t size() const { return base_ + items_.size(); }  // frames stored, forgotten ones included
   bool empty() const { return size() == 0; }
   std::size_t firstKept() const { return base_; }
-  std::size_t held() const { return items_.size(); }  // frames in memory
+  std::size_t held() const { return items_.size(); }                              // frames in memory
   const T& operator[](std::size_t frame) const { return items_[frame - base_]; }  // firstKept() <= frame < size()
   T& operator[](std::size_t frame) { return items_[frame - base_]; }
   const T& back() const { return items_.back(); }

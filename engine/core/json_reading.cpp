@@ -37,8 +37,8 @@ Json parseJson(std::string_view text, const std::string& fileName, const JsonPar
       const auto column = lineStart == std::string_view::npos ? at + 1 : at - lineStart;
       where = " at line " + std::to_string(line) + ", column " + std::to_string(column);
     }
-    throw fileError(fileName, (options.subject.empty() ? "" : options.subject + ": ") + "the number " + printable(token) +
-                                  where + " is out of the range of a double");
+    throw fileError(fileName, (options.subject.empty() ? "" : options.subject + ": ") + "the number " +
+                                  printable(token) + where + " is out of the range of a double");
   } catch (const Json::exception& e) {
     throw fileError(fileName, prefix + "is not valid JSON (" + jsonReason(e.what()) + ")");
   }
@@ -116,15 +116,23 @@ std::int64_t JsonFields::integer(const Json& value, const std::string& field) co
 
 std::string JsonFields::kindOf(const Json& value) {
   switch (value.type()) {
-    case Json::value_t::null: return "null";
-    case Json::value_t::object: return "an object";
-    case Json::value_t::array: return "an array";
-    case Json::value_t::string: return "a string";
-    case Json::value_t::boolean: return "a boolean";
+    case Json::value_t::null:
+      return "null";
+    case Json::value_t::object:
+      return "an object";
+    case Json::value_t::array:
+      return "an array";
+    case Json::value_t::string:
+      return "a string";
+    case Json::value_t::boolean:
+      return "a boolean";
     case Json::value_t::number_integer:
-    case Json::value_t::number_unsigned: return "an integer";
-    case Json::value_t::number_float: return "a number";
-    default: return "not a JSON value";
+    case Json::value_t::number_unsigned:
+      return "an integer";
+    case Json::value_t::number_float:
+      return "a number";
+    default:
+      return "not a JSON value";
   }
 }
 

@@ -12,11 +12,10 @@
 // Thread contract: pure functions; a JsonFields is immutable.
 #pragma once
 
-#include <nlohmann/json.hpp>
-
 #include <cstdint>
 #include <filesystem>
 #include <initializer_list>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <string_view>
 
@@ -50,8 +49,8 @@ class JsonFields {
   const Json* find(const Json& object, std::string_view key) const;  // nullptr if absent
   // Any other key is an error: "X is not a known field (there are a, b)", or with a description
   // "X is not a field of DESCRIPTION (it has a, b)".
-  void onlyKnownFields(const Json& object, std::initializer_list<std::string_view> known, const std::string& objectField,
-                       std::string_view description = {}) const;
+  void onlyKnownFields(const Json& object, std::initializer_list<std::string_view> known,
+                       const std::string& objectField, std::string_view description = {}) const;
 
   const Json& object(const Json& value, const std::string& field) const;
   const Json& array(const Json& value, const std::string& field) const;

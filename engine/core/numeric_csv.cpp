@@ -70,8 +70,8 @@ NumericTable readNumericCsv(const std::filesystem::path& path) {
       double value = 0.0;
       const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
       if (error != std::errc() || end != text.data() + text.size() || text.empty() || !std::isfinite(value)) {
-        throw fileError(path, "line " + std::to_string(lineNumber) + ", column '" + table.columns[i] +
-                                  "': '" + text + "' is not a finite number");
+        throw fileError(path, "line " + std::to_string(lineNumber) + ", column '" + table.columns[i] + "': '" + text +
+                                  "' is not a finite number");
       }
       row[i] = value;
     }

@@ -19,8 +19,8 @@ struct NumericTable {
   std::vector<std::vector<double>> rows;
   std::filesystem::path source;
 
-  int column(const std::string& name) const;          // throws if absent
-  int findColumn(const std::string& name) const;      // -1 if absent
+  int column(const std::string& name) const;      // throws if absent
+  int findColumn(const std::string& name) const;  // -1 if absent
 };
 
 NumericTable readNumericCsv(const std::filesystem::path& path);

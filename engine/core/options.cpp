@@ -16,7 +16,9 @@ std::string formatValue(double value) {
   return out.str();
 }
 
-bool inRange(double value, const OptionSpec& spec) { return value >= spec.min && value <= spec.max; }
+bool inRange(double value, const OptionSpec& spec) {
+  return value >= spec.min && value <= spec.max;
+}
 
 bool isChoice(const std::string& value, const OptionSpec& spec) {
   return spec.choices.empty() || std::find(spec.choices.begin(), spec.choices.end(), value) != spec.choices.end();
@@ -127,7 +129,8 @@ class JsonReader final : public OptionVisitor {
     const Json* item = find(spec);
     if (item == nullptr) return;
     const double read = fields_.number(*item, key(spec));
-    if (!inRange(read, spec)) fields_.fail(key(spec), "is " + formatValue(read) + "; it must be " + describeRange(spec));
+    if (!inRange(read, spec))
+      fields_.fail(key(spec), "is " + formatValue(read) + "; it must be " + describeRange(spec));
     value = read;
   }
   void option(std::string& value, const OptionSpec& spec) override {
@@ -174,9 +177,12 @@ std::string describeRange(const OptionSpec& spec) {
   }
   const bool low = std::isfinite(spec.min);
   const bool high = std::isfinite(spec.max);
-  if (low && high) text = formatValue(spec.min) + ".." + formatValue(spec.max);
-  else if (low) text = "at least " + formatValue(spec.min);
-  else if (high) text = "at most " + formatValue(spec.max);
+  if (low && high)
+    text = formatValue(spec.min) + ".." + formatValue(spec.max);
+  else if (low)
+    text = "at least " + formatValue(spec.min);
+  else if (high)
+    text = "at most " + formatValue(spec.max);
   if (!spec.unit.empty() && !text.empty()) text += " " + std::string(spec.unit);
   return text;
 }

@@ -44,7 +44,9 @@ ProgressBar::~ProgressBar() {
   }
 }
 
-double ProgressBar::elapsedSeconds() const { return std::max(0.0, options_.clock() - start_); }
+double ProgressBar::elapsedSeconds() const {
+  return std::max(0.0, options_.clock() - start_);
+}
 
 std::string ProgressBar::line(double done) const {
   const double fraction = total_ > 0.0 ? std::clamp(done / total_, 0.0, 1.0) : 1.0;

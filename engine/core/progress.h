@@ -22,10 +22,10 @@
 namespace th {
 
 struct ProgressOptions {
-  double unitsPerSecond = 1.0;        // units of total/done per second of media, for the real-time factor
-  int barWidth = 30;                  // characters between the brackets
-  std::optional<bool> terminal;       // unset: detected from the stream (see above)
-  std::function<double()> clock;      // seconds on any fixed origin; unset: std::chrono::steady_clock
+  double unitsPerSecond = 1.0;    // units of total/done per second of media, for the real-time factor
+  int barWidth = 30;              // characters between the brackets
+  std::optional<bool> terminal;   // unset: detected from the stream (see above)
+  std::function<double()> clock;  // seconds on any fixed origin; unset: std::chrono::steady_clock
 };
 
 class ProgressBar {

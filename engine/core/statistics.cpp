@@ -22,7 +22,8 @@ double standardDeviation(const Eigen::RowVectorXd& values) {
   return std::sqrt(sum / static_cast<double>(values.size()));
 }
 
-double pearsonCorrelation(const Eigen::Ref<const Eigen::RowVectorXd>& a, const Eigen::Ref<const Eigen::RowVectorXd>& b) {
+double pearsonCorrelation(const Eigen::Ref<const Eigen::RowVectorXd>& a,
+                          const Eigen::Ref<const Eigen::RowVectorXd>& b) {
   if (a.size() != b.size()) throw Error("correlation of sequences of different lengths");
   const double meanA = mean(a);
   const double meanB = mean(b);

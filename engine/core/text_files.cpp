@@ -18,7 +18,9 @@ std::string readTextFile(const std::filesystem::path& path, std::string_view kin
     }
     throw fileError(path, "does not exist");
   }
-  if (std::filesystem::is_directory(status)) throw fileError(path, "is a directory, not a" + std::string(kind.starts_with('a') ? "n " : " ") + std::string(kind));
+  if (std::filesystem::is_directory(status))
+    throw fileError(path,
+                    "is a directory, not a" + std::string(kind.starts_with('a') ? "n " : " ") + std::string(kind));
   std::ifstream in(path, std::ios::binary);
   if (!in) throw fileError(path, "cannot be read (permission denied?)");
   std::string text;
@@ -27,7 +29,8 @@ std::string readTextFile(const std::filesystem::path& path, std::string_view kin
   // in memory.
   while (in.read(buffer.data(), static_cast<std::streamsize>(buffer.size())) || in.gcount() > 0) {
     text.append(buffer.data(), static_cast<std::size_t>(in.gcount()));
-    if (text.size() > kMaxTextFileBytes) throw fileError(path, "is larger than 1 GiB, which no " + std::string(kind) + " is");
+    if (text.size() > kMaxTextFileBytes)
+      throw fileError(path, "is larger than 1 GiB, which no " + std::string(kind) + " is");
   }
   if (in.bad()) throw fileError(path, "cannot be read (an I/O error)");
   return text;

@@ -26,7 +26,7 @@ std::array<int, 3> poseColumns(const NumericTable& pose) {
 }  // namespace
 
 animation::HeadRecording loadHeadRecording(const std::filesystem::path& wav, const std::filesystem::path& headPoseCsv,
-                                const animation::ProsodyOptions& prosody) {
+                                           const animation::ProsodyOptions& prosody) {
   const NumericTable pose = readNumericCsv(headPoseCsv);
   const std::array<int, 3> columns = poseColumns(pose);
   if (pose.rows.size() < 2) throw fileError(headPoseCsv, "has fewer than 2 frames of head pose");
@@ -41,7 +41,8 @@ animation::HeadRecording loadHeadRecording(const std::filesystem::path& wav, con
   take.rotations.resize(3, frames);
   for (int t = 0; t < frames; ++t) {
     const auto& row = pose.rows[static_cast<size_t>(t)];
-    for (int axis = 0; axis < 3; ++axis) take.rotations(axis, t) = row[static_cast<size_t>(columns[static_cast<size_t>(axis)])];
+    for (int axis = 0; axis < 3; ++axis)
+      take.rotations(axis, t) = row[static_cast<size_t>(columns[static_cast<size_t>(axis)])];
   }
   take.prosody = heard.prosody.leftCols(frames);
   take.voiced = heard.voiced.head(frames);
@@ -51,7 +52,7 @@ animation::HeadRecording loadHeadRecording(const std::filesystem::path& wav, con
 
 animation::HeadRecording loadBeat2Head(const animation::ProsodyOptions& prosody) {
   animation::HeadRecording take = loadHeadRecording(sharedDataPath("beat2/2_scott_0_1_1.wav"),
-                                         sharedDataPath("beat2/2_scott_0_1_1_headpose_30fps.csv"), prosody);
+                                                    sharedDataPath("beat2/2_scott_0_1_1_headpose_30fps.csv"), prosody);
   take.speaker = "scott";
   take.name = "2_scott_0_1_1";
   return take;

@@ -24,7 +24,9 @@ Eigen::Vector3d rowStd(const Eigen::MatrixXd& m) {
   return result;
 }
 
-Eigen::MatrixXd steps(const Eigen::MatrixXd& m) { return m.rightCols(m.cols() - 1) - m.leftCols(m.cols() - 1); }
+Eigen::MatrixXd steps(const Eigen::MatrixXd& m) {
+  return m.rightCols(m.cols() - 1) - m.leftCols(m.cols() - 1);
+}
 
 // The symmetric square root of a symmetric positive semi-definite matrix (negative round-off clipped).
 Eigen::MatrixXd symmetricSqrt(const Eigen::MatrixXd& m) {
@@ -49,8 +51,9 @@ Eigen::MatrixXd windowFeatures(const Eigen::MatrixXd& rotations, double fps, int
       const Eigen::Index first = begin + part * partFrames;
       const Eigen::Index last = std::min<Eigen::Index>(first + partFrames, rotations.cols() - 1);
       features.block<1, 3>(w, 3 * part) = centred.col(first).transpose();
-      features.block<1, 3>(w, 3 * (kParts + part)) =
-          ((centred.col(last) - centred.col(first)) * fps / static_cast<double>(std::max<Eigen::Index>(1, last - first))).transpose();
+      features.block<1, 3>(w, 3 * (kParts + part)) = ((centred.col(last) - centred.col(first)) * fps /
+                                                      static_cast<double>(std::max<Eigen::Index>(1, last - first)))
+                                                         .transpose();
     }
   }
   return features;
@@ -60,7 +63,8 @@ Eigen::MatrixXd windowFeatures(const Eigen::MatrixXd& rotations, double fps, int
 
 HeadMotionStatistics motionStatistics(const Eigen::MatrixXd& rotations, const Eigen::RowVectorXd& pauses, double fps) {
   if (rotations.rows() != 3 || rotations.cols() < 2) throw Error("head evaluation: need a 3 x T motion with T >= 2");
-  if (pauses.size() != 0 && pauses.size() != rotations.cols()) throw Error("head evaluation: pauses and motion differ in length");
+  if (pauses.size() != 0 && pauses.size() != rotations.cols())
+    throw Error("head evaluation: pauses and motion differ in length");
   HeadMotionStatistics statistics;
   std::vector<double> speeds;
   double pauseSum = 0.0, speechSum = 0.0;

@@ -46,13 +46,13 @@ Eigen::MatrixXd matchedRandomWalk(const Eigen::Vector3d& poseStd, const Eigen::V
                                   unsigned seed);
 
 struct HeadMetrics {
-  double error = 0.0;                 // the paper's E
-  Eigen::Vector3d correlation;        // per axis, Pearson (0 when either side is constant)
-  Eigen::Vector3d poseStd;            // per axis, of the prediction (degrees)
+  double error = 0.0;           // the paper's E
+  Eigen::Vector3d correlation;  // per axis, Pearson (0 when either side is constant)
+  Eigen::Vector3d poseStd;      // per axis, of the prediction (degrees)
   Eigen::Vector3d truthPoseStd;
-  Eigen::Vector3d velocityStd;        // per axis, of the frame-to-frame step (degrees per frame)
+  Eigen::Vector3d velocityStd;  // per axis, of the frame-to-frame step (degrees per frame)
   Eigen::Vector3d truthVelocityStd;
-  double jumpRate = 0.0;              // fraction of steps whose length exceeds the jump threshold
+  double jumpRate = 0.0;  // fraction of steps whose length exceeds the jump threshold
 };
 
 // The paper's E alone.

@@ -15,7 +15,7 @@ constexpr int kExpressionCoefficients = 100;
 }  // namespace
 
 animation::MouthRecording loadMouthRecording(const std::filesystem::path& wav, const std::filesystem::path& headPoseCsv,
-                                  const std::filesystem::path& expressionCsv) {
+                                             const std::filesystem::path& expressionCsv) {
   const NumericTable pose = readNumericCsv(headPoseCsv);
   const NumericTable expressions = readNumericCsv(expressionCsv);
   const int jaw = pose.column("jaw_aa_x_deg");
@@ -33,7 +33,8 @@ animation::MouthRecording loadMouthRecording(const std::filesystem::path& wav, c
   for (int t = 0; t < frames; ++t) {
     take.visual(0, t) = pose.rows[static_cast<size_t>(t)][static_cast<size_t>(jaw)];
     for (int k = 0; k < kExpressionCoefficients; ++k) {
-      take.visual(1 + k, t) = expressions.rows[static_cast<size_t>(t)][static_cast<size_t>(columns[static_cast<size_t>(k)])];
+      take.visual(1 + k, t) =
+          expressions.rows[static_cast<size_t>(t)][static_cast<size_t>(columns[static_cast<size_t>(k)])];
     }
   }
   take.speech = speech.middleFrames(0, frames);

@@ -16,8 +16,7 @@ namespace th::eval {
 
 // A recording and its head-pose and expression CSVs (jaw_aa_x_deg; e0..e99). Errors name the file.
 animation::MouthRecording loadMouthRecording(const std::filesystem::path& wav, const std::filesystem::path& headPoseCsv,
-                                  const std::filesystem::path& expressionCsv);
+                                             const std::filesystem::path& expressionCsv);
 animation::MouthRecording loadBeat2Mouth();
-
 
 }  // namespace th::eval

@@ -38,7 +38,8 @@ double averageMse(const Eigen::MatrixXd& estimate, const Eigen::MatrixXd& truth)
     const Moments m = momentsOf(truth, k);
     if (!(m.deviation > 0.0)) throw Error("mouth evaluation: a truth component is constant (ε undefined)");
     double sum = 0.0;
-    for (Eigen::Index t = 0; t < truth.cols(); ++t) sum += (estimate(k, t) - truth(k, t)) * (estimate(k, t) - truth(k, t));
+    for (Eigen::Index t = 0; t < truth.cols(); ++t)
+      sum += (estimate(k, t) - truth(k, t)) * (estimate(k, t) - truth(k, t));
     total += sum / (m.deviation * m.deviation);
   }
   return total / static_cast<double>(truth.rows() * truth.cols());
@@ -59,7 +60,8 @@ double averageCorrelation(const Eigen::MatrixXd& estimate, const Eigen::MatrixXd
 }
 
 std::vector<std::pair<Eigen::Index, Eigen::Index>> commonFapRows(const std::vector<int>& estimateFaps,
-                                                                 const std::vector<int>& truthFaps, Eigen::Index& jawPair) {
+                                                                 const std::vector<int>& truthFaps,
+                                                                 Eigen::Index& jawPair) {
   std::vector<std::pair<Eigen::Index, Eigen::Index>> rows;
   jawPair = -1;
   for (std::size_t e = 0; e < estimateFaps.size(); ++e)

@@ -12,7 +12,6 @@
 #pragma once
 
 #include <Eigen/Core>
-
 #include <utility>
 #include <vector>
 
@@ -38,7 +37,8 @@ struct FapScores {
 // The FAPs an estimate and a truth both hold, as (estimate row, truth row) pairs in the estimate's order;
 // `jawPair` receives the index of FAP 3's pair (-1 if either lacks it).
 std::vector<std::pair<Eigen::Index, Eigen::Index>> commonFapRows(const std::vector<int>& estimateFaps,
-                                                                 const std::vector<int>& truthFaps, Eigen::Index& jawPair);
+                                                                 const std::vector<int>& truthFaps,
+                                                                 Eigen::Index& jawPair);
 
 // estimates[i] (rows: estimateFaps) against truth[i].visual (rows: truthFaps), each cut to the shorter.
 FapScores scoreFaps(const std::vector<Eigen::MatrixXd>& estimates, const std::vector<int>& estimateFaps,

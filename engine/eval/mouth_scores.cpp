@@ -4,8 +4,8 @@
 #include <algorithm>
 #include <cmath>
 
-#include "eval/mouth_evaluation.h"
 #include "core/error.h"
+#include "eval/mouth_evaluation.h"
 #include "features/speech_normaliser.h"
 #include "tracking/track.h"
 
@@ -47,7 +47,8 @@ MouthScores scoreMouth(const std::vector<Eigen::MatrixXd>& estimates, const std:
   const std::vector<std::pair<Eigen::Index, Eigen::Index>> rows = commonFapRows(estimateFaps, truthFaps, jawRow);
   if (jawRow < 0) throw Error("mouth scores: the estimate and the truth need the jaw (FAP 3)");
   Eigen::Index frames = 0;
-  for (std::size_t i = 0; i < clips.size(); ++i) frames += std::min(estimates[i].cols(), clips[i]->clip.recording.visual.cols());
+  for (std::size_t i = 0; i < clips.size(); ++i)
+    frames += std::min(estimates[i].cols(), clips[i]->clip.recording.visual.cols());
   const auto n = static_cast<Eigen::Index>(rows.size());
   Eigen::MatrixXd estimate(n, frames), truth(n, frames), estimateShape(2, frames), truthShape(2, frames);
   Eigen::Index column = 0;
@@ -55,7 +56,8 @@ MouthScores scoreMouth(const std::vector<Eigen::MatrixXd>& estimates, const std:
     const Eigen::Index count = std::min(estimates[i].cols(), clips[i]->clip.recording.visual.cols());
     for (Eigen::Index r = 0; r < n; ++r) {
       estimate.row(r).segment(column, count) = estimates[i].row(rows[static_cast<std::size_t>(r)].first).head(count);
-      truth.row(r).segment(column, count) = clips[i]->clip.recording.visual.row(rows[static_cast<std::size_t>(r)].second).head(count);
+      truth.row(r).segment(column, count) =
+          clips[i]->clip.recording.visual.row(rows[static_cast<std::size_t>(r)].second).head(count);
     }
     estimateShape.middleCols(column, count) = shapes.of(estimates[i].leftCols(count), estimateFaps);
     truthShape.middleCols(column, count) = clips[i]->clip.lipShape.leftCols(count);
@@ -85,7 +87,8 @@ LevelBaseline::LevelBaseline(const std::vector<const animation::MouthRecording*>
     column += recording->numFrames();
   }
   // Least squares, with a whisper of ridge so that a constant level cannot make the system singular.
-  const Eigen::MatrixXd gram = x * x.transpose() + 1e-6 * static_cast<double>(frames) * Eigen::MatrixXd::Identity(width, width);
+  const Eigen::MatrixXd gram =
+      x * x.transpose() + 1e-6 * static_cast<double>(frames) * Eigen::MatrixXd::Identity(width, width);
   weights_ = gram.llt().solve(x * y.transpose()).transpose();
 }
 

@@ -17,9 +17,9 @@
 #include <vector>
 
 #include "animation/mouth_data.h"
+#include "eval/talking_corpus.h"
 #include "face/face_model.h"
 #include "tracking/face_fit.h"
-#include "eval/talking_corpus.h"
 
 namespace th::eval {
 
@@ -34,15 +34,15 @@ class MouthShapes {
 };
 
 struct CurveScore {
-  double rho = 0.0;     // Pearson correlation
-  double spread = 0.0;  // std(estimate) / std(truth)
-  double epsilon = 0.0; // the paper's ε: mean squared error / the truth's variance (the mean scores 1)
+  double rho = 0.0;      // Pearson correlation
+  double spread = 0.0;   // std(estimate) / std(truth)
+  double epsilon = 0.0;  // the paper's ε: mean squared error / the truth's variance (the mean scores 1)
 };
 
 struct MouthScores {
-  CurveScore jaw;      // FAP 3
-  CurveScore opening;  // inner-lip opening
-  CurveScore width;    // mouth width
+  CurveScore jaw;            // FAP 3
+  CurveScore opening;        // inner-lip opening
+  CurveScore width;          // mouth width
   double fapsEpsilon = 0.0;  // ε and ρ averaged over the FAPs both hold (the paper's measures)
   double fapsRho = 0.0;
   int frames = 0;

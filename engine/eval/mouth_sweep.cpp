@@ -26,9 +26,11 @@ std::vector<MouthSweepPoint> sweepMouthModels(const MouthSweepGrid& grid, const 
     MouthSweepPoint& point = points[index];
     const auto start = std::chrono::steady_clock::now();
     try {
-      const animation::MouthModel model = animation::trainMouthModel(
-          {fit}, {.states = point.states, .mixtures = point.mixtures, .covariance = point.covariance,
-                  .contextFrames = point.contextFrames, .maxIterations = grid.iterations});
+      const animation::MouthModel model = animation::trainMouthModel({fit}, {.states = point.states,
+                                                                             .mixtures = point.mixtures,
+                                                                             .covariance = point.covariance,
+                                                                             .contextFrames = point.contextFrames,
+                                                                             .maxIterations = grid.iterations});
       const Eigen::MatrixXd validationTruth = model.basis.transform(validation.visual);
       const Eigen::MatrixXd validationEstimate = animation::synthesiseMouth(model, validation.speech);
       point.validationEpsilon = averageMse(validationEstimate, validationTruth);

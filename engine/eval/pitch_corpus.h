@@ -11,8 +11,8 @@
 #include <string>
 #include <vector>
 
-#include "features/online_features.h"
 #include "eval/pitch_evaluation.h"
+#include "features/online_features.h"
 
 namespace th::eval {
 

@@ -90,7 +90,9 @@ void PitchScore::merge(const PitchScore& other) {
   fineAbsSum_ += other.fineAbsSum_;
 }
 
-double PitchScore::fineMeanCents() const { return fineCount_ > 0 ? fineSum_ / static_cast<double>(fineCount_) : 0.0; }
+double PitchScore::fineMeanCents() const {
+  return fineCount_ > 0 ? fineSum_ / static_cast<double>(fineCount_) : 0.0;
+}
 double PitchScore::fineMeanAbsCents() const {
   return fineCount_ > 0 ? fineAbsSum_ / static_cast<double>(fineCount_) : 0.0;
 }

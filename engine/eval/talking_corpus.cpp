@@ -34,13 +34,15 @@ std::string trackFolderName(const std::filesystem::path& folder) {
   const std::filesystem::path normal = folder.lexically_normal();
   std::filesystem::path last = normal.filename();
   if (last.empty()) last = normal.parent_path().filename();
-  const std::filesystem::path parent = normal.filename().empty() ? normal.parent_path().parent_path() : normal.parent_path();
+  const std::filesystem::path parent =
+      normal.filename().empty() ? normal.parent_path().parent_path() : normal.parent_path();
   const std::string name = parent.filename().empty() ? last.string() : parent.filename().string() + "_" + last.string();
   return name.empty() ? std::string("clips") : name;
 }
 
 std::string upper(std::string text) {
-  std::transform(text.begin(), text.end(), text.begin(), [](unsigned char c) { return static_cast<char>(std::toupper(c)); });
+  std::transform(text.begin(), text.end(), text.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::toupper(c)); });
   return text;
 }
 
@@ -63,7 +65,8 @@ void readLabelsBeside(TalkingClip& clip) {
 }  // namespace
 
 TalkingCorpus loadTalkingCorpus(const std::vector<TalkingFolder>& folders, const face::FaceModel& face,
-                                const tracking::VideoCorpusOptions& options, const std::function<void(int, int)>& progress) {
+                                const tracking::VideoCorpusOptions& options,
+                                const std::function<void(int, int)>& progress) {
   std::vector<std::vector<std::filesystem::path>> videos;
   int total = 0;
   for (const TalkingFolder& folder : folders) {
@@ -74,7 +77,8 @@ TalkingCorpus loadTalkingCorpus(const std::vector<TalkingFolder>& folders, const
   int doneBefore = 0;
   for (std::size_t f = 0; f < folders.size(); ++f) {
     tracking::VideoCorpusOptions folderOptions = options;
-    if (!options.trackFolder.empty()) folderOptions.trackFolder = options.trackFolder / trackFolderName(folders[f].folder);
+    if (!options.trackFolder.empty())
+      folderOptions.trackFolder = options.trackFolder / trackFolderName(folders[f].folder);
     tracking::VideoCorpus loaded;
     try {
       loaded = tracking::loadVideoCorpus(videos[f], face, folderOptions, [&](int done, int) {
@@ -118,8 +122,8 @@ std::vector<LabelInterval> readGridAlignment(const std::filesystem::path& align)
   return words;
 }
 
-std::vector<LabelInterval> readFramePhones(const std::filesystem::path& phonesJson, const std::filesystem::path& indexJson,
-                                           double framesPerSecond) {
+std::vector<LabelInterval> readFramePhones(const std::filesystem::path& phonesJson,
+                                           const std::filesystem::path& indexJson, double framesPerSecond) {
   const Json index = readJsonFile(indexJson, "phone index");
   if (!index.is_object() || index.empty()) throw fileError(indexJson, "is not a JSON object of phone names to numbers");
   std::vector<std::string> names;
@@ -141,8 +145,10 @@ std::vector<LabelInterval> readFramePhones(const std::filesystem::path& phonesJs
     // Frame i is centred at i / fps: its phone covers half a frame either side.
     const double start = (static_cast<double>(i) - 0.5) / framesPerSecond;
     const double end = (static_cast<double>(i) + 0.5) / framesPerSecond;
-    if (!phones.empty() && phones.back().label == name) phones.back().endSeconds = end;
-    else phones.push_back({std::max(0.0, start), end, name});
+    if (!phones.empty() && phones.back().label == name)
+      phones.back().endSeconds = end;
+    else
+      phones.push_back({std::max(0.0, start), end, name});
   }
   return phones;
 }
@@ -169,8 +175,10 @@ std::vector<LabelInterval> readTextGridPhones(const std::filesystem::path& textG
     }
     if (!inPhones) continue;
     try {
-      if (trimmed.rfind("xmin =", 0) == 0) current.startSeconds = std::stod(valueOf(trimmed));
-      else if (trimmed.rfind("xmax =", 0) == 0) current.endSeconds = std::stod(valueOf(trimmed));
+      if (trimmed.rfind("xmin =", 0) == 0)
+        current.startSeconds = std::stod(valueOf(trimmed));
+      else if (trimmed.rfind("xmax =", 0) == 0)
+        current.endSeconds = std::stod(valueOf(trimmed));
     } catch (const std::exception&) {
       throw fileError(textGrid, "has a time that is not a number: " + trimmed);
     }
@@ -206,14 +214,22 @@ PhoneClass phoneClassOf(const std::string& arpabet) {
 
 const char* phoneClassName(PhoneClass phoneClass) {
   switch (phoneClass) {
-    case PhoneClass::kSilence: return "silence";
-    case PhoneClass::kBilabial: return "bilabial /p b m/";
-    case PhoneClass::kLabiodental: return "labiodental /f v/";
-    case PhoneClass::kOpenVowel: return "open vowel";
-    case PhoneClass::kRoundedVowel: return "rounded /u o w/";
-    case PhoneClass::kSpreadVowel: return "spread /i/";
-    case PhoneClass::kOtherVowel: return "other vowel";
-    case PhoneClass::kConsonant: return "consonant";
+    case PhoneClass::kSilence:
+      return "silence";
+    case PhoneClass::kBilabial:
+      return "bilabial /p b m/";
+    case PhoneClass::kLabiodental:
+      return "labiodental /f v/";
+    case PhoneClass::kOpenVowel:
+      return "open vowel";
+    case PhoneClass::kRoundedVowel:
+      return "rounded /u o w/";
+    case PhoneClass::kSpreadVowel:
+      return "spread /i/";
+    case PhoneClass::kOtherVowel:
+      return "other vowel";
+    case PhoneClass::kConsonant:
+      return "consonant";
   }
   return "?";
 }
@@ -241,8 +257,10 @@ std::vector<PhoneClass> labelClassesAt(const std::vector<LabelInterval>& labels,
     }
     const double into = t - label.startSeconds;
     const double length = label.endSeconds - label.startSeconds;
-    if (label.label == "sil" || label.label == "sp") out = PhoneClass::kSilence;
-    else if (bilabialStart.count(label.label) && into < 0.080) out = PhoneClass::kBilabial;
+    if (label.label == "sil" || label.label == "sp")
+      out = PhoneClass::kSilence;
+    else if (bilabialStart.count(label.label) && into < 0.080)
+      out = PhoneClass::kBilabial;
     else if (openVowel.count(label.label) && into >= length / 3.0 && into < 2.0 * length / 3.0 &&
              (!bilabialStart.count(label.label) || into >= 0.080))
       out = PhoneClass::kOpenVowel;

@@ -48,7 +48,7 @@ struct TalkingClip {
 struct TalkingCorpus {
   std::vector<TalkingClip> clips;  // folder by folder, each by name
   std::vector<tracking::SkippedClip> skipped;
-  std::vector<int> faps;           // the visual rows of every recording
+  std::vector<int> faps;  // the visual rows of every recording
   double trackingSeconds = 0.0;
 };
 
@@ -62,13 +62,22 @@ std::string speakerOfClip(const std::filesystem::path& video);  // the naming ru
 
 // Readers; errors name the file.
 std::vector<LabelInterval> readGridAlignment(const std::filesystem::path& align);
-std::vector<LabelInterval> readFramePhones(const std::filesystem::path& phonesJson, const std::filesystem::path& indexJson,
-                                           double framesPerSecond = 30.0);
+std::vector<LabelInterval> readFramePhones(const std::filesystem::path& phonesJson,
+                                           const std::filesystem::path& indexJson, double framesPerSecond = 30.0);
 std::vector<LabelInterval> readTextGridPhones(const std::filesystem::path& textGrid);
 
 // What a label says of the lips. Phones: ARPAbet. Words (GRID's vocabulary): the closure at the start of a word
 // that opens with /b p m/ and the nucleus of a word whose vowel is open; see labelClassesAt.
-enum class PhoneClass { kSilence, kBilabial, kLabiodental, kOpenVowel, kRoundedVowel, kSpreadVowel, kOtherVowel, kConsonant };
+enum class PhoneClass {
+  kSilence,
+  kBilabial,
+  kLabiodental,
+  kOpenVowel,
+  kRoundedVowel,
+  kSpreadVowel,
+  kOtherVowel,
+  kConsonant
+};
 PhoneClass phoneClassOf(const std::string& arpabet);
 const char* phoneClassName(PhoneClass phoneClass);
 

@@ -38,7 +38,8 @@ constexpr double kOuterSlack = 0.25;
 BezierLattice BezierLattice::around(const Eigen::Vector3d& minCorner, const Eigen::Vector3d& maxCorner,
                                     const BezierLatticeOptions& options) {
   if (options.degree < 1 || options.degree > kMaxDegree)
-    throw Error("Bézier lattice: degree " + std::to_string(options.degree) + " is outside 1.." + std::to_string(kMaxDegree));
+    throw Error("Bézier lattice: degree " + std::to_string(options.degree) + " is outside 1.." +
+                std::to_string(kMaxDegree));
   for (int count : options.volumes)
     if (count < 1) throw Error("Bézier lattice: every axis needs at least one volume");
   if (!((maxCorner - minCorner).array() > 0.0).all()) throw Error("Bézier lattice: the box is empty");
@@ -62,7 +63,8 @@ BezierLattice BezierLattice::around(const Eigen::Vector3d& minCorner, const Eige
   return lattice;
 }
 
-BezierLattice BezierLattice::enclosing(const Eigen::Matrix3Xd& points, double margin, const BezierLatticeOptions& options) {
+BezierLattice BezierLattice::enclosing(const Eigen::Matrix3Xd& points, double margin,
+                                       const BezierLatticeOptions& options) {
   if (points.cols() == 0) throw Error("Bézier lattice: no points to enclose");
   const Eigen::Vector3d low = points.rowwise().minCoeff();
   const Eigen::Vector3d high = points.rowwise().maxCoeff();
@@ -77,7 +79,8 @@ BezierLattice BezierLattice::enclosing(const Eigen::Matrix3Xd& points, double ma
     back = std::min(back, z);
   }
   const Eigen::Vector3d pad = Eigen::Vector3d::Constant(margin);
-  return around(Eigen::Vector3d(low.x(), low.y(), back) - pad, Eigen::Vector3d(high.x(), high.y(), front) + pad, options);
+  return around(Eigen::Vector3d(low.x(), low.y(), back) - pad, Eigen::Vector3d(high.x(), high.y(), front) + pad,
+                options);
 }
 
 int BezierLattice::controlIndex(int i, int j, int k) const {
@@ -120,7 +123,8 @@ std::pair<std::array<int, 3>, Eigen::Vector3d> BezierLattice::affineGuess(const 
   Eigen::Vector3d local;
   for (int d = 0; d < 3; ++d) {
     const double s = scaled[d] * volumes_[static_cast<std::size_t>(d)];
-    index[static_cast<std::size_t>(d)] = std::clamp(static_cast<int>(std::floor(s)), 0, volumes_[static_cast<std::size_t>(d)] - 1);
+    index[static_cast<std::size_t>(d)] =
+        std::clamp(static_cast<int>(std::floor(s)), 0, volumes_[static_cast<std::size_t>(d)] - 1);
     local[d] = s - index[static_cast<std::size_t>(d)];
   }
   return {index, local};
@@ -137,8 +141,7 @@ Eigen::Vector3d BezierLattice::evaluate(int volume, const Eigen::Vector3d& param
   std::size_t next = 0;
   for (int k = 0; k <= degree_; ++k)
     for (int j = 0; j <= degree_; ++j)
-      for (int i = 0; i <= degree_; ++i)
-        sum += bu[i] * bv[j] * bw[k] * controlPoints.row(indices[next++]).transpose();
+      for (int i = 0; i <= degree_; ++i) sum += bu[i] * bv[j] * bw[k] * controlPoints.row(indices[next++]).transpose();
   return sum;
 }
 
@@ -181,8 +184,13 @@ Embedding BezierLattice::embed(const Eigen::Matrix3Xd& points) const {
       for (int d = 0; d < 3; ++d) {
         auto& i = index[static_cast<std::size_t>(d)];
         const int count = volumes_[static_cast<std::size_t>(d)];
-        if (u[d] < 0.0 && i > 0) { --i; u[d] += 1.0; }
-        else if (u[d] > 1.0 && i < count - 1) { ++i; u[d] -= 1.0; }
+        if (u[d] < 0.0 && i > 0) {
+          --i;
+          u[d] += 1.0;
+        } else if (u[d] > 1.0 && i < count - 1) {
+          ++i;
+          u[d] -= 1.0;
+        }
         u[d] = std::clamp(u[d], -kOuterSlack, 1.0 + kOuterSlack);
       }
     }
@@ -208,7 +216,8 @@ Embedding BezierLattice::embed(const Eigen::Matrix3Xd& points) const {
         for (int i = 0; i <= n; ++i) entries.emplace_back(row, indices[next++], bu[0][i] * bu[1][j] * bu[2][k]);
   }
   embedding.parameters.resize(3, static_cast<Eigen::Index>(parameters.size()));
-  for (std::size_t i = 0; i < parameters.size(); ++i) embedding.parameters.col(static_cast<Eigen::Index>(i)) = parameters[i];
+  for (std::size_t i = 0; i < parameters.size(); ++i)
+    embedding.parameters.col(static_cast<Eigen::Index>(i)) = parameters[i];
   embedding.basis.resize(static_cast<Eigen::Index>(embedding.points.size()), numControlPoints());
   embedding.basis.setFromTriplets(entries.begin(), entries.end());
   return embedding;

@@ -27,16 +27,16 @@ namespace th::face {
 
 struct BezierLatticeOptions {
   std::array<int, 3> volumes{4, 5, 2};  // volumes along x, y, z
-  int degree = 3;                        // cubic
-  double bend = 0.04;                    // backward bend of the sides, per squared mesh unit (see above)
+  int degree = 3;                       // cubic
+  double bend = 0.04;                   // backward bend of the sides, per squared mesh unit (see above)
 };
 
 struct Embedding {
-  std::vector<int> points;               // indices of the embedded points (columns of the input)
-  std::vector<int> volume;               // per embedded point: its volume (a + nx·(b + ny·c))
-  Eigen::Matrix3Xd parameters;           // per embedded point: (u, v, w) in [0, 1]³ within its volume
+  std::vector<int> points;                             // indices of the embedded points (columns of the input)
+  std::vector<int> volume;                             // per embedded point: its volume (a + nx·(b + ny·c))
+  Eigen::Matrix3Xd parameters;                         // per embedded point: (u, v, w) in [0, 1]³ within its volume
   Eigen::SparseMatrix<double, Eigen::RowMajor> basis;  // embedded points x control points: B
-  double largestResidual = 0.0;          // max |x(u, v, w) − point| after Newton, mesh units
+  double largestResidual = 0.0;                        // max |x(u, v, w) − point| after Newton, mesh units
 };
 
 class BezierLattice {
@@ -46,11 +46,12 @@ class BezierLattice {
   static BezierLattice around(const Eigen::Vector3d& minCorner, const Eigen::Vector3d& maxCorner,
                               const BezierLatticeOptions& options = {});
   // The smallest lattice (plus `margin` on every side) whose bent volumes hold all `points`.
-  static BezierLattice enclosing(const Eigen::Matrix3Xd& points, double margin, const BezierLatticeOptions& options = {});
+  static BezierLattice enclosing(const Eigen::Matrix3Xd& points, double margin,
+                                 const BezierLatticeOptions& options = {});
 
   // Every column of `points` inside the lattice gets parametric coordinates (in [0, 1]³) and a row of B;
-  // points outside it are left out (they are not deformed by the lattice). Throws th::Error if Newton fails to converge for
-  // a point inside (a folded lattice).
+  // points outside it are left out (they are not deformed by the lattice). Throws th::Error if Newton fails to converge
+  // for a point inside (a folded lattice).
   Embedding embed(const Eigen::Matrix3Xd& points) const;
 
   // The position inside volume `volume` at (u, v, w) for control points `controlPoints` (numControlPoints x 3).

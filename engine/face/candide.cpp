@@ -66,7 +66,8 @@ int CandideFap::mainVertex() const {
 }
 
 std::filesystem::path candideFile() {
-  const std::filesystem::path copied = std::filesystem::path(TALKINGHEAD_SOURCE_DIR) / "assets" / "candide3" / "candide3_v3.1.6.wfm";
+  const std::filesystem::path copied =
+      std::filesystem::path(TALKINGHEAD_SOURCE_DIR) / "assets" / "candide3" / "candide3_v3.1.6.wfm";
   std::error_code error;
   if (std::filesystem::is_regular_file(copied, error)) return copied;
   return sharedDataPath("face/candide3/candide3_v3.1.6.wfm");
@@ -104,8 +105,10 @@ Candide loadCandide(const std::filesystem::path& path) {
     std::string name, tag;
     while (!lines.done() && (lines.peek().empty() || lines.peek()[0] == '#')) {
       const std::string comment = lines.take();
-      if (comment.rfind("# FAP", 0) == 0 || comment.rfind("# AUV", 0) == 0) name = comment, tag.clear();
-      else if (comment.size() > 2 && comment.find(' ', 2) == std::string::npos) tag = comment.substr(2);
+      if (comment.rfind("# FAP", 0) == 0 || comment.rfind("# AUV", 0) == 0)
+        name = comment, tag.clear();
+      else if (comment.size() > 2 && comment.find(' ', 2) == std::string::npos)
+        tag = comment.substr(2);
     }
     const int count = countFrom(lines, numVertices);
     CandideFap unit{.unit = tag, .displacements = {}};
@@ -113,14 +116,16 @@ Candide loadCandide(const std::filesystem::path& path) {
       std::istringstream in(lines.data());
       int vertex;
       double dx, dy, dz;
-      if (!(in >> vertex >> dx >> dy >> dz) || vertex < 0 || vertex >= numVertices) throw lines.error("expected \"vertex dx dy dz\"");
+      if (!(in >> vertex >> dx >> dy >> dz) || vertex < 0 || vertex >= numVertices)
+        throw lines.error("expected \"vertex dx dy dz\"");
       unit.displacements.emplace_back(vertex, Eigen::Vector3d(dx, dy, dz));
     }
     if (name.rfind("# FAP", 0) == 0) {
       // "# FAP 3 open_jaw" or "# FAP14 thrust_jaw": the number follows "FAP", with or without a space.
       std::istringstream in(name.substr(5));
       int number = 0;
-      if (!(in >> number) || number < 1 || number > 68) throw lines.error("cannot read the FAP number in \"" + name + "\"");
+      if (!(in >> number) || number < 1 || number > 68)
+        throw lines.error("cannot read the FAP number in \"" + name + "\"");
       candide.faps[number] = std::move(unit);
     }
   }

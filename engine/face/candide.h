@@ -30,8 +30,8 @@ struct CandideFap {
 };
 
 struct Candide {
-  Mesh mesh;                        // 113 vertices, one material "Candide"
-  std::map<int, CandideFap> faps;   // by FAP number
+  Mesh mesh;                       // 113 vertices, one material "Candide"
+  std::map<int, CandideFap> faps;  // by FAP number
 };
 
 // assets/candide3/candide3_v3.1.6.wfm when the set-up script has copied it, else the shared data's.

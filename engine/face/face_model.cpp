@@ -28,7 +28,9 @@ Eigen::Matrix3d headRotation(double pitch, double yaw, double roll) {
       .toRotationMatrix();
 }
 
-FaceModel FaceModel::buildDefault() { return build(loadIctFace(ictFaceDirectory())); }
+FaceModel FaceModel::buildDefault() {
+  return build(loadIctFace(ictFaceDirectory()));
+}
 
 // The rig's parts (rig_*.h), each built from the neutral face and from what the parts before it found: the jaw's
 // shares tell the lips and the tongue apart, and the feature points a part places are there for those after it.
@@ -109,13 +111,17 @@ double FaceModel::jawAngleFor(double openJaw) const {
 }
 
 std::array<double, 2> FaceModel::pupilScale(const FapFrame& faps) const {
-  return {std::max(0.1, 1.0 + faps[29] * units_.irisd / pupilRadius_), std::max(0.1, 1.0 + faps[30] * units_.irisd / pupilRadius_)};
+  return {std::max(0.1, 1.0 + faps[29] * units_.irisd / pupilRadius_),
+          std::max(0.1, 1.0 + faps[30] * units_.irisd / pupilRadius_)};
 }
 
-Eigen::Matrix3Xd FaceModel::deform(const FapFrame& faps) const { return deformSelected(faps, nullptr); }
+Eigen::Matrix3Xd FaceModel::deform(const FapFrame& faps) const {
+  return deformSelected(faps, nullptr);
+}
 
 Eigen::Matrix3Xd FaceModel::deform(const FapFrame& faps, const VertexSelection& selection) const {
-  if (selection.columnOf.size() != static_cast<std::size_t>(mesh_.numVertices()) || selection.fields.size() != linear_.size())
+  if (selection.columnOf.size() != static_cast<std::size_t>(mesh_.numVertices()) ||
+      selection.fields.size() != linear_.size())
     throw Error("FaceModel::deform: the selection was made for another mesh");
   return deformSelected(faps, &selection);
 }
@@ -140,7 +146,9 @@ VertexSelection FaceModel::select(const std::vector<int>& vertices) const {
 
 Eigen::Matrix3Xd FaceModel::deformSelected(const FapFrame& faps, const VertexSelection* selection) const {
   // The column of a mesh vertex in `v` (-1: not deformed here), and the mesh vertex of a column.
-  const auto columnOf = [&](int vertex) { return selection ? selection->columnOf[static_cast<std::size_t>(vertex)] : vertex; };
+  const auto columnOf = [&](int vertex) {
+    return selection ? selection->columnOf[static_cast<std::size_t>(vertex)] : vertex;
+  };
   const auto vertexOf = [&](Eigen::Index column) {
     return selection ? selection->vertices[static_cast<std::size_t>(column)] : static_cast<int>(column);
   };
@@ -182,13 +190,15 @@ Eigen::Matrix3Xd FaceModel::deformSelected(const FapFrame& faps, const VertexSel
   // slide is scaled so that the chin point, whose share is chinFollow_, moves by exactly value × FAPU.
   const double angle = jawAngleFor(faps[3]);
   const Eigen::Vector3d slide = (std::max(0.0, faps[14]) * units_.mns * Eigen::Vector3d::UnitZ() +
-                                 faps[15] * units_.mw * -Eigen::Vector3d::UnitX()) / chinFollow_;
+                                 faps[15] * units_.mw * -Eigen::Vector3d::UnitX()) /
+                                chinFollow_;
   if (angle != 0.0 || slide.squaredNorm() > 0.0) {
     for (int vertex : jawVertices_) {
       const int column = columnOf(vertex);
       if (column < 0) continue;
       const double share = jawFollow_[vertex];
-      v.col(column) = jaw_.pivot + Eigen::AngleAxisd(share * angle, jaw_.axis) * (v.col(column) - jaw_.pivot) + share * slide;
+      v.col(column) =
+          jaw_.pivot + Eigen::AngleAxisd(share * angle, jaw_.axis) * (v.col(column) - jaw_.pivot) + share * slide;
     }
   }
 
@@ -220,8 +230,9 @@ Eigen::Matrix3Xd FaceModel::deformSelected(const FapFrame& faps, const VertexSel
     const double yaw = faps[left ? 23 : 24] * kAngleUnit, pitch = faps[left ? 25 : 26] * kAngleUnit;
     const double thrust = faps[left ? 27 : 28] * units_.es;
     if (yaw != 0.0 || pitch != 0.0 || thrust != 0.0) {
-      const Eigen::Matrix3d turn = (Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitY()) *
-                                    Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitX())).toRotationMatrix();
+      const Eigen::Matrix3d turn =
+          (Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitY()) * Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitX()))
+              .toRotationMatrix();
       for (int vertex : eye.ball)
         if (const int c = columnOf(vertex); c >= 0)
           v.col(c) = eye.centre + turn * (v.col(c) - eye.centre) + thrust * Eigen::Vector3d::UnitZ();

@@ -61,7 +61,6 @@
 
 namespace th::face {
 
-
 struct FaceModelOptions {
   BezierLatticeOptions lattice{.volumes = {12, 15, 4}, .degree = 3, .bend = 0.04};
 };
@@ -132,7 +131,7 @@ class FaceModel {
   struct Eye {
     Eigen::Vector3d centre;
     double radius = 0.0;
-    std::vector<int> ball;                 // vertices that turn with the eyeball
+    std::vector<int> ball;                                  // vertices that turn with the eyeball
     std::vector<std::pair<int, float>> upperLid, lowerLid;  // vertex, share of the lid's angle
   };
 
@@ -144,18 +143,18 @@ class FaceModel {
   std::vector<int> landmarks_;
   FapUnits units_;
   JawHinge jaw_;
-  Eigen::VectorXd jawFollow_;             // per vertex
-  std::vector<int> jawVertices_;          // vertices with a jaw share > 0
+  Eigen::VectorXd jawFollow_;     // per vertex
+  std::vector<int> jawVertices_;  // vertices with a jaw share > 0
   double chinFollow_ = 1.0;
   BezierLattice lattice_;
   Embedding embedding_;
   std::array<std::vector<FieldEntry>, kNumFaps + 1> linear_;
   std::array<double, kNumFaps + 1> reach_{};
-  std::array<Eye, 2> eyes_;               // 0 left (+x), 1 right
+  std::array<Eye, 2> eyes_;  // 0 left (+x), 1 right
   Eigen::Vector3d neckPivot_ = Eigen::Vector3d::Zero();
-  std::vector<float> headShare_;          // per vertex, 0..1
+  std::vector<float> headShare_;                   // per vertex, 0..1
   std::vector<std::pair<int, float>> tongueRoll_;  // vertex, signed share of the roll angle (+ on the left)
-  double tongueAxisY_ = 0.0;              // height of the mid-line axis the tongue's sides roll about
+  double tongueAxisY_ = 0.0;                       // height of the mid-line axis the tongue's sides roll about
   double pupilRadius_ = 0.0;
 };
 

@@ -15,9 +15,9 @@ constexpr std::array<double, 3> kLeft{1, 0, 0};    // the face's left
 constexpr std::array<double, 3> kRight{-1, 0, 0};  // the face's right
 constexpr std::array<double, 3> kForward{0, 0, 1};
 // Rotation axes, signed so that a positive angle moves as the standard names it (right-hand rule):
-constexpr std::array<double, 3> kPitchDown{1, 0, 0};   // +z turns towards −y
-constexpr std::array<double, 3> kYawLeft{0, 1, 0};     // +z turns towards +x
-constexpr std::array<double, 3> kRollRight{0, 0, 1};   // +y turns towards −x
+constexpr std::array<double, 3> kPitchDown{1, 0, 0};  // +z turns towards −y
+constexpr std::array<double, 3> kYawLeft{0, 1, 0};    // +z turns towards +x
+constexpr std::array<double, 3> kRollRight{0, 0, 1};  // +y turns towards −x
 
 using enum Fapu;
 
@@ -105,13 +105,20 @@ static_assert(numberedInOrder());
 
 std::string_view fapuName(Fapu unit) {
   switch (unit) {
-    case kMns: return "MNS";
-    case kMw: return "MW";
-    case kEns: return "ENS";
-    case kEs: return "ES";
-    case kIrisd: return "IRISD";
-    case kAngle: return "AU";
-    case kNone: break;
+    case kMns:
+      return "MNS";
+    case kMw:
+      return "MW";
+    case kEns:
+      return "ENS";
+    case kEs:
+      return "ES";
+    case kIrisd:
+      return "IRISD";
+    case kAngle:
+      return "AU";
+    case kNone:
+      break;
   }
   return "";
 }
@@ -130,13 +137,20 @@ int fapNumber(std::string_view name) {
 
 double FapUnits::of(Fapu unit) const {
   switch (unit) {
-    case kMns: return mns;
-    case kMw: return mw;
-    case kEns: return ens;
-    case kEs: return es;
-    case kIrisd: return irisd;
-    case kAngle: return kAngleUnit;
-    case kNone: break;
+    case kMns:
+      return mns;
+    case kMw:
+      return mw;
+    case kEns:
+      return ens;
+    case kEs:
+      return es;
+    case kIrisd:
+      return irisd;
+    case kAngle:
+      return kAngleUnit;
+    case kNone:
+      break;
   }
   return 0.0;
 }

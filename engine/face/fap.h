@@ -23,20 +23,20 @@ enum class Fapu { kNone, kMns, kMw, kEns, kEs, kIrisd, kAngle };
 
 std::string_view fapuName(Fapu unit);  // "MNS", "MW", ..., "AU"; "" for kNone
 
-constexpr int kNumFaps = 68;       // numbered 1..68
+constexpr int kNumFaps = 68;         // numbered 1..68
 constexpr double kAngleUnit = 1e-5;  // AU in radians
 
 // One frame of FAP values: [n] is FAP n (1..68) in counts of its unit; [0] is unused.
 using FapFrame = std::array<double, kNumFaps + 1>;
 
 struct FapDefinition {
-  int number;                 // 1..68
-  std::string_view name;      // the standard's name, e.g. "open_jaw"
+  int number;             // 1..68
+  std::string_view name;  // the standard's name, e.g. "open_jaw"
   Fapu unit;
   bool bidirectional;
-  std::string_view featurePoint;   // the feature point it moves ("2.1"), "" for high-level FAPs
-  std::array<double, 3> direction; // unit vector of positive motion (or rotation axis), face frame
-  std::string_view group;          // "jaw", "inner lip", "eyelid", ... for panels and tables
+  std::string_view featurePoint;    // the feature point it moves ("2.1"), "" for high-level FAPs
+  std::array<double, 3> direction;  // unit vector of positive motion (or rotation axis), face frame
+  std::string_view group;           // "jaw", "inner lip", "eyelid", ... for panels and tables
 };
 
 // Throws th::Error for a number outside 1..68.

@@ -19,26 +19,26 @@ struct LandmarkPoint {
 
 const std::vector<LandmarkPoint>& ibugFeaturePoints() {
   static const std::vector<LandmarkPoint> table{
-      {"2.1", {8}},                                      // bottom of the chin
-      {"2.2", {62}}, {"2.3", {66}},                      // inner lip, upper and lower middle
-      {"2.4", {64}}, {"2.5", {60}},                      // inner lip corners, left and right
-      {"2.6", {63}}, {"2.7", {61}},                      // inner upper lip, left and right of the middle
-      {"2.8", {65}}, {"2.9", {67}},                      // inner lower lip, likewise
-      {"2.13", {12}}, {"2.14", {4}},                     // jaw line towards the angles of the jaw
-      {"3.1", {43, 44}}, {"3.2", {37, 38}},              // upper eyelid middles, left and right
-      {"3.3", {46, 47}}, {"3.4", {40, 41}},              // lower eyelid middles
-      {"3.7", {45}}, {"3.8", {36}},                      // outer eye corners
-      {"3.11", {42}}, {"3.12", {39}},                    // inner eye corners
-      {"4.1", {22}}, {"4.2", {21}},                      // inner eyebrow ends
-      {"4.3", {24}}, {"4.4", {19}},                      // eyebrow middles
-      {"4.5", {26}}, {"4.6", {17}},                      // outer eyebrow ends
-      {"8.1", {51}}, {"8.2", {57}},                      // outer lip, upper and lower middle
-      {"8.3", {54}}, {"8.4", {48}},                      // outer lip corners
-      {"8.5", {52}}, {"8.6", {50}},                      // outer upper lip, left and right of the middle
-      {"8.7", {56}}, {"8.8", {58}},                      // outer lower lip, likewise
-      {"9.1", {35}}, {"9.2", {31}},                      // nostrils, left and right
-      {"9.3", {30}},                                     // nose tip
-      {"9.15", {33}},                                    // bottom of the nose, above the upper lip
+      {"2.1", {8}},                          // bottom of the chin
+      {"2.2", {62}},     {"2.3", {66}},      // inner lip, upper and lower middle
+      {"2.4", {64}},     {"2.5", {60}},      // inner lip corners, left and right
+      {"2.6", {63}},     {"2.7", {61}},      // inner upper lip, left and right of the middle
+      {"2.8", {65}},     {"2.9", {67}},      // inner lower lip, likewise
+      {"2.13", {12}},    {"2.14", {4}},      // jaw line towards the angles of the jaw
+      {"3.1", {43, 44}}, {"3.2", {37, 38}},  // upper eyelid middles, left and right
+      {"3.3", {46, 47}}, {"3.4", {40, 41}},  // lower eyelid middles
+      {"3.7", {45}},     {"3.8", {36}},      // outer eye corners
+      {"3.11", {42}},    {"3.12", {39}},     // inner eye corners
+      {"4.1", {22}},     {"4.2", {21}},      // inner eyebrow ends
+      {"4.3", {24}},     {"4.4", {19}},      // eyebrow middles
+      {"4.5", {26}},     {"4.6", {17}},      // outer eyebrow ends
+      {"8.1", {51}},     {"8.2", {57}},      // outer lip, upper and lower middle
+      {"8.3", {54}},     {"8.4", {48}},      // outer lip corners
+      {"8.5", {52}},     {"8.6", {50}},      // outer upper lip, left and right of the middle
+      {"8.7", {56}},     {"8.8", {58}},      // outer lower lip, likewise
+      {"9.1", {35}},     {"9.2", {31}},      // nostrils, left and right
+      {"9.3", {30}},                         // nose tip
+      {"9.15", {33}},                        // bottom of the nose, above the upper lip
   };
   return table;
 }
@@ -60,9 +60,13 @@ std::vector<int> landmarkVertices(const std::filesystem::path& path, int numVert
 
 }  // namespace
 
-void FeaturePointMap::set(std::string id, std::vector<int> vertices) { points_[std::move(id)] = std::move(vertices); }
+void FeaturePointMap::set(std::string id, std::vector<int> vertices) {
+  points_[std::move(id)] = std::move(vertices);
+}
 
-bool FeaturePointMap::has(std::string_view id) const { return points_.find(id) != points_.end(); }
+bool FeaturePointMap::has(std::string_view id) const {
+  return points_.find(id) != points_.end();
+}
 
 const std::vector<int>& FeaturePointMap::vertices(std::string_view id) const {
   const auto found = points_.find(id);
@@ -117,9 +121,11 @@ FaceAssets loadIctFace(const std::filesystem::path& directory) {
   // texture), so the pupil is the mean of that sphere's front-most vertices (its apex on the eye's axis).
   for (const auto& [id, material] : {std::pair{"3.5", "M_IrisLeft"}, std::pair{"3.6", "M_IrisRight"}}) {
     const std::vector<int> iris = face.neutral.verticesOf(material);
-    if (iris.empty()) throw fileError(directory / "generic_neutral_mesh.obj", std::string("no ") + material + " material");
+    if (iris.empty())
+      throw fileError(directory / "generic_neutral_mesh.obj", std::string("no ") + material + " material");
     double front = -std::numeric_limits<double>::infinity(), back = std::numeric_limits<double>::infinity();
-    for (int v : iris) front = std::max(front, face.neutral.positions(2, v)), back = std::min(back, face.neutral.positions(2, v));
+    for (int v : iris)
+      front = std::max(front, face.neutral.positions(2, v)), back = std::min(back, face.neutral.positions(2, v));
     std::vector<int> apex;
     for (int v : iris)
       if (face.neutral.positions(2, v) >= front - 0.05 * (front - back)) apex.push_back(v);

@@ -4,11 +4,10 @@
 //   Eigen::Vector3d chin = ict.points.position(ict.neutral.positions, "2.1");
 //   th::face::FapUnits fapu = th::face::measureFapUnits(ict.points, ict.neutral.positions);
 //
-// A feature point is one vertex, or the mean of a few (a pupil is the apex of its eye's iris sphere). The ICT FaceKit map
-// is made from the 68 iBUG landmarks its authors marked on the mesh (vertex_indices.json,
-// idx_to_landmark_verts) and from its iris materials; the table is in feature_points.cpp with the landmark
-// behind each point. The face's left (+x) is the iBUG right-hand side of the image.
-// FAPUs (ISO/IEC 14496-2 C.2, each the neutral distance / 1024):
+// A feature point is one vertex, or the mean of a few (a pupil is the apex of its eye's iris sphere). The ICT FaceKit
+// map is made from the 68 iBUG landmarks its authors marked on the mesh (vertex_indices.json, idx_to_landmark_verts)
+// and from its iris materials; the table is in feature_points.cpp with the landmark behind each point. The face's left
+// (+x) is the iBUG right-hand side of the image. FAPUs (ISO/IEC 14496-2 C.2, each the neutral distance / 1024):
 //   ES0 = 3.5.x − 3.6.x  (pupils),  IRISD0 = 3.1.y − 3.3.y (= 3.2.y − 3.4.y; we average both eyes),
 //   ENS0 = 3.5.y − 9.15.y,  MNS0 = 9.15.y − 2.2.y,  MW0 = 8.3.x − 8.4.x.
 // Thread contract: values.
@@ -46,7 +45,7 @@ struct FaceAssets {
   Mesh neutral;
   FeaturePointMap points;
   std::vector<int> landmarks;  // the 68 iBUG landmarks' vertices, in iBUG order (0-based)
-  Eigen::Matrix3Xd jawOpen;  // 3 x V, the ARKit jawOpen shape at weight 1
+  Eigen::Matrix3Xd jawOpen;    // 3 x V, the ARKit jawOpen shape at weight 1
 };
 
 // assets/ict-facekit in the source tree when the set-up script has copied it there, else the shared data's

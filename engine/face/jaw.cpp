@@ -10,7 +10,8 @@
 
 namespace th::face {
 
-JawHinge fitJawHinge(const Eigen::Matrix3Xd& neutral, const Eigen::Matrix3Xd& open, const std::vector<int>& rigidVertices) {
+JawHinge fitJawHinge(const Eigen::Matrix3Xd& neutral, const Eigen::Matrix3Xd& open,
+                     const std::vector<int>& rigidVertices) {
   const auto n = static_cast<Eigen::Index>(rigidVertices.size());
   if (n < 3) throw Error("jaw hinge: fewer than 3 vertices move with the jaw");
   Eigen::Matrix3Xd from(3, n), to(3, n);
@@ -29,7 +30,8 @@ JawHinge fitJawHinge(const Eigen::Matrix3Xd& neutral, const Eigen::Matrix3Xd& op
   const Eigen::Vector3d translation = toCentre - rotation * fromCentre;
 
   const Eigen::AngleAxisd angleAxis(rotation);
-  if (angleAxis.angle() < 0.5 * std::numbers::pi / 180.0) throw Error("jaw hinge: the jaw-open shape does not rotate the jaw");
+  if (angleAxis.angle() < 0.5 * std::numbers::pi / 180.0)
+    throw Error("jaw hinge: the jaw-open shape does not rotate the jaw");
   JawHinge hinge;
   hinge.axis = angleAxis.axis();
   hinge.shapeAngle = angleAxis.angle();
@@ -43,7 +45,8 @@ JawHinge fitJawHinge(const Eigen::Matrix3Xd& neutral, const Eigen::Matrix3Xd& op
   hinge.pivot = onAxis + hinge.axis.dot(fromCentre - onAxis) * hinge.axis;
 
   double squared = 0.0;
-  for (Eigen::Index i = 0; i < n; ++i) squared += (hinge.rotate(from.col(i), hinge.shapeAngle) - to.col(i)).squaredNorm();
+  for (Eigen::Index i = 0; i < n; ++i)
+    squared += (hinge.rotate(from.col(i), hinge.shapeAngle) - to.col(i)).squaredNorm();
   hinge.rmsResidual = std::sqrt(squared / static_cast<double>(n));
   return hinge;
 }

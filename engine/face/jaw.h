@@ -18,11 +18,11 @@
 namespace th::face {
 
 struct JawHinge {
-  Eigen::Vector3d pivot = Eigen::Vector3d::Zero();   // a point on the axis, mesh units
-  Eigen::Vector3d axis = Eigen::Vector3d::UnitX();   // unit; a positive angle about it opens the jaw
-  double shapeAngle = 0.0;   // radians by which the fitted shape opens it
-  double slide = 0.0;        // |translation along the axis| in the fit, mesh units
-  double rmsResidual = 0.0;  // of the rigid fit over the teeth, mesh units
+  Eigen::Vector3d pivot = Eigen::Vector3d::Zero();  // a point on the axis, mesh units
+  Eigen::Vector3d axis = Eigen::Vector3d::UnitX();  // unit; a positive angle about it opens the jaw
+  double shapeAngle = 0.0;                          // radians by which the fitted shape opens it
+  double slide = 0.0;                               // |translation along the axis| in the fit, mesh units
+  double rmsResidual = 0.0;                         // of the rigid fit over the teeth, mesh units
 
   Eigen::Vector3d rotate(const Eigen::Vector3d& point, double angle) const {
     return pivot + Eigen::AngleAxisd(angle, axis) * (point - pivot);
@@ -32,7 +32,8 @@ struct JawHinge {
 // `rigidVertices`: vertices that move with the mandible (the lower teeth); at least 3, not collinear, and
 // moved by the shape. The fit's angle is positive, so a positive angle about `axis` opens as the shape does.
 // Throws th::Error if the shape does not rotate them (angle < 0.5°).
-JawHinge fitJawHinge(const Eigen::Matrix3Xd& neutral, const Eigen::Matrix3Xd& open, const std::vector<int>& rigidVertices);
+JawHinge fitJawHinge(const Eigen::Matrix3Xd& neutral, const Eigen::Matrix3Xd& open,
+                     const std::vector<int>& rigidVertices);
 
 // The vertices of `candidates` that the shape moves by more than `fraction` of the largest move among them:
 // of the teeth, the lower set (the upper teeth stay put when the jaw opens).

@@ -3,7 +3,6 @@
 #include <tiny_obj_loader.h>
 
 #include <Eigen/Geometry>
-
 #include <algorithm>
 #include <cmath>
 #include <system_error>
@@ -108,7 +107,8 @@ Eigen::Matrix3Xd vertexNormals(const Mesh& mesh, std::initializer_list<std::stri
   for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
     if (std::find(wanted.begin(), wanted.end(), mesh.triangleMaterial[t]) == wanted.end()) continue;
     const auto& [a, b, c] = mesh.triangles[t];
-    const Eigen::Vector3d n = (mesh.positions.col(b) - mesh.positions.col(a)).cross(mesh.positions.col(c) - mesh.positions.col(a));
+    const Eigen::Vector3d n =
+        (mesh.positions.col(b) - mesh.positions.col(a)).cross(mesh.positions.col(c) - mesh.positions.col(a));
     for (int v : mesh.triangles[t]) normals.col(v) += n;
   }
   for (Eigen::Index v = 0; v < normals.cols(); ++v)

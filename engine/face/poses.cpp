@@ -5,7 +5,9 @@
 namespace th::face {
 namespace {
 
-double degrees(double d) { return d * std::numbers::pi / 180.0 / kAngleUnit; }
+double degrees(double d) {
+  return d * std::numbers::pi / 180.0 / kAngleUnit;
+}
 
 Pose pose(std::string name, std::string title, std::initializer_list<std::pair<int, double>> values) {
   Pose result{std::move(name), std::move(title), {}};

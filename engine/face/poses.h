@@ -14,8 +14,8 @@
 namespace th::face {
 
 struct Pose {
-  std::string name;  // file-name friendly: "neutral", "jaw_open", ...
-  std::string title; // for people: "jaw open (FAP 3 = 600)"
+  std::string name;   // file-name friendly: "neutral", "jaw_open", ...
+  std::string title;  // for people: "jaw open (FAP 3 = 600)"
   FapFrame faps{};
 };
 

@@ -28,7 +28,7 @@ struct BrowGeometry {
   // The brow raisers (31–36): each side's inner, middle and outer brow points, in that order (x grows outwards
   // on the left, the face's +x, and shrinks on the right).
   std::array<std::array<Eigen::Vector3d, 3>, 2> lines;
-  double innerX = 0.0;  // the nearer inner brow point's (4.1, 4.2) distance from the mid-line
+  double innerX = 0.0;    // the nearer inner brow point's (4.1, 4.2) distance from the mid-line
   double eyeLevel = 0.0;  // the pupils' (3.5, 3.6) mean height
   // The highest control points that may move (the row below the lattice's top surface, which must stay).
   double topRow = 0.0;

@@ -14,8 +14,8 @@ namespace {
 // the head) and its feature points.
 struct Ear {
   std::vector<std::pair<int, double>> weights;  // vertex, share of the ear's motion (> 0)
-  int top = -1;     // 10.1/10.2: the highest vertex of the auricle
-  int outer = -1;   // 10.3/10.4: the auricle's outermost vertex (the back of the helix's rim)
+  int top = -1;                                 // 10.1/10.2: the highest vertex of the auricle
+  int outer = -1;  // 10.3/10.4: the auricle's outermost vertex (the back of the helix's rim)
 };
 
 // `side` +1 for the face's left (+x), −1 for its right. `low`, `high`: the heights between which the ear is
@@ -74,8 +74,7 @@ Ear findEar(const Eigen::Matrix3Xd& rest, const std::vector<int>& skin, double s
   centre /= count;
   for (int v : disk) {
     const double across = std::hypot(rest(1, v) - centre.x(), rest(2, v) - centre.y());
-    const double w =
-        smoothstep(0.02 * es, 0.12 * es, protrusion(v)) * (1.0 - smoothstep(0.45 * es, 0.6 * es, across));
+    const double w = smoothstep(0.02 * es, 0.12 * es, protrusion(v)) * (1.0 - smoothstep(0.45 * es, 0.6 * es, across));
     if (w <= 1e-6) continue;
     ear.weights.emplace_back(v, w);
     if (w >= 1.0 && (ear.top < 0 || rest(1, v) > rest(1, ear.top))) ear.top = v;

@@ -77,6 +77,8 @@ std::array<EyeRig, 2> rigEyes(const NeutralFace& neutral, const FeaturePointMap&
   return eyes;
 }
 
-double pupilRadius(const NeutralFace& neutral) { return 0.25 * neutral.irisd; }
+double pupilRadius(const NeutralFace& neutral) {
+  return 0.25 * neutral.irisd;
+}
 
 }  // namespace th::face::rig

@@ -30,8 +30,8 @@ std::vector<std::vector<int>> neighboursIn(const Mesh& mesh, std::string_view ma
 // from the top of the tongue.
 struct TongueBody {
   std::vector<int> vertices;
-  double level = 0.0;      // the height above which it is told apart from the floor of the mouth
-  double back = 0.0;       // z where it leaves the part of the mouth the jaw carries (its root)
+  double level = 0.0;  // the height above which it is told apart from the floor of the mouth
+  double back = 0.0;   // z where it leaves the part of the mouth the jaw carries (its root)
   int tip = -1, top = -1, leftBorder = -1, rightBorder = -1;  // 6.1, 6.2, 6.3, 6.4
 };
 
@@ -102,8 +102,8 @@ TongueBody findTongue(const Mesh& mesh, const Eigen::VectorXd& jawFollow, double
 // The tip's FAPs (43–45) move the front third whole and fade out over the middle; raise_tongue (46) lifts the
 // body and tip, fading out over the back 40 %. `length`: from the root to the tip; `fold`: the fade above the
 // fold.
-void addTongueFields(const NeutralFace& neutral, const FeaturePointMap& points, const TongueBody& tongue,
-                     double length, double fold, LinearFields& fields) {
+void addTongueFields(const NeutralFace& neutral, const FeaturePointMap& points, const TongueBody& tongue, double length,
+                     double fold, LinearFields& fields) {
   const Eigen::Matrix3Xd& rest = neutral.rest;
   const double tipZ = rest(2, tongue.tip);
   std::vector<std::pair<int, double>> tip, body;

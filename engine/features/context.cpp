@@ -38,7 +38,9 @@ void ContextStacker::acceptFrame(const Eigen::Ref<const Eigen::VectorXd>& frame)
   ++received_;
 }
 
-void ContextStacker::inputFinished() { finished_ = true; }
+void ContextStacker::inputFinished() {
+  finished_ = true;
+}
 
 bool ContextStacker::next(Eigen::VectorXd& stacked) {
   // Frame t's context reaches t + tc; at the end, the last frame stands in for those after it.

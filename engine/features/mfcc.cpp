@@ -7,7 +7,9 @@
 
 namespace th::features {
 namespace {
-double hzToMel(double hz) { return 1127.01048 * std::log(1.0 + hz / 700.0); }
+double hzToMel(double hz) {
+  return 1127.01048 * std::log(1.0 + hz / 700.0);
+}
 }  // namespace
 
 MfccComputer::MfccComputer(const MfccOptions& options, int sampleRateHz)
@@ -53,8 +55,7 @@ MfccComputer::MfccComputer(const MfccOptions& options, int sampleRateHz)
   for (int k = 0; k < numRows; ++k) {
     const double scale = std::sqrt(2.0 / numBands);
     for (int j = 0; j < numBands; ++j) {
-      dctBasis_[static_cast<size_t>(k * numBands + j)] =
-          scale * std::cos(std::numbers::pi * k * (j + 0.5) / numBands);
+      dctBasis_[static_cast<size_t>(k * numBands + j)] = scale * std::cos(std::numbers::pi * k * (j + 0.5) / numBands);
     }
   }
   lifterGain_.assign(static_cast<size_t>(numRows), 1.0);
@@ -95,7 +96,8 @@ void MfccComputer::compute(std::span<const float> window, std::span<float> coeff
 
   auto cepstrum = [&](int k) {
     double sum = 0.0;
-    for (int j = 0; j < numBands; ++j) sum += dctBasis_[static_cast<size_t>(k * numBands + j)] * bands_[static_cast<size_t>(j + 1)];
+    for (int j = 0; j < numBands; ++j)
+      sum += dctBasis_[static_cast<size_t>(k * numBands + j)] * bands_[static_cast<size_t>(j + 1)];
     return sum * lifterGain_[static_cast<size_t>(k)];
   };
   for (int k = 1; k <= options_.numCoefficients; ++k) {

@@ -33,14 +33,14 @@
 namespace th::features {
 
 struct MfccOptions {
-  int numCoefficients = 11;     // c1..c11, as the AV-HMM paper
-  bool includeC0 = false;       // if true, c0 (SPTK's scaling, see above) is appended after c1..cN
+  int numCoefficients = 11;  // c1..c11, as the AV-HMM paper
+  bool includeC0 = false;    // if true, c0 (SPTK's scaling, see above) is appended after c1..cN
   int numMelBands = 24;
   double windowMs = 25.0;
-  int fftSize = 512;            // at 16 kHz; must be >= the window length
+  int fftSize = 512;  // at 16 kHz; must be >= the window length
   double preEmphasis = 0.97;
-  int lifter = 22;              // 0 disables liftering
-  double filterbankFloor = 1.0; // in 16-bit-scale magnitude units
+  int lifter = 22;               // 0 disables liftering
+  double filterbankFloor = 1.0;  // in 16-bit-scale magnitude units
 };
 
 class MfccComputer {

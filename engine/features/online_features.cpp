@@ -46,7 +46,7 @@ OnlineFeatureExtractor::OnlineFeatureExtractor(const FeatureOptions& options)
   double sum = 0.0;
   for (size_t n = 0; n < window_.size(); ++n) {
     const double w = 0.54 - 0.46 * std::cos(2.0 * 3.14159265358979323846 * static_cast<double>(n) /
-                                               static_cast<double>(window_.size() - 1));
+                                            static_cast<double>(window_.size() - 1));
     energyWeights_[n] = static_cast<float>(w * w);
     sum += w * w;
   }
@@ -60,8 +60,9 @@ long long OnlineFeatureExtractor::frameCentreSample(long long frame) const {
 long long OnlineFeatureExtractor::totalFramesForSamples(long long numSamples) const {
   if (numSamples <= 0) return 0;
   // Frames whose time lies inside the signal: i / fps <= (n - 1) / fs.
-  return static_cast<long long>(std::floor(static_cast<double>(numSamples - 1) * options_.framesPerSecond /
-                                           kSampleRateHz + 1e-9)) + 1;
+  return static_cast<long long>(
+             std::floor(static_cast<double>(numSamples - 1) * options_.framesPerSecond / kSampleRateHz + 1e-9)) +
+         1;
 }
 
 int OnlineFeatureExtractor::pitchFrameFor(long long frame) const {
@@ -185,9 +186,13 @@ void OnlineFeatureExtractor::forgetBefore(int frame) {
   pitch_.forgetBefore(std::max(0, pitchFrameFor(static_cast<long long>(f0Hz_.size())) - 8));
 }
 
-float OnlineFeatureExtractor::getEnergy(int frame) const { return energy_[static_cast<size_t>(frame)]; }
+float OnlineFeatureExtractor::getEnergy(int frame) const {
+  return energy_[static_cast<size_t>(frame)];
+}
 
-float OnlineFeatureExtractor::getLevelDb(int frame) const { return energyDb_[static_cast<size_t>(frame)]; }
+float OnlineFeatureExtractor::getLevelDb(int frame) const {
+  return energyDb_[static_cast<size_t>(frame)];
+}
 
 void OnlineFeatureExtractor::getFrame(int frame, std::span<float> row) const {
   const int count = static_cast<int>(f0Hz_.size());

@@ -33,14 +33,14 @@ enum class EnergyNormalisation {
 };
 
 struct FeatureOptions {
-  double framesPerSecond = 30.0;   // 10 .. 200
+  double framesPerSecond = 30.0;  // 10 .. 200
   PitchOptions pitch;
-  MfccOptions mfcc;                // its window also frames the energy
-  int deltaHalfWidth = 2;          // regression deltas over +-2 frames
-  int contextFrames = 5;           // MFCC context stacking +-tc frames
+  MfccOptions mfcc;        // its window also frames the energy
+  int deltaHalfWidth = 2;  // regression deltas over +-2 frames
+  int contextFrames = 5;   // MFCC context stacking +-tc frames
   EnergyNormalisation energyNormalisation = EnergyNormalisation::kRunning;
   double runningNormSeconds = 3.0;
-  double energyRangeDb = 60.0;     // levels more than this below the loudest frame so far are raised to it
+  double energyRangeDb = 60.0;  // levels more than this below the loudest frame so far are raised to it
   // false: no F0 (rows say 0 Hz), and frames wait for nothing but their MFCC window. The live mouth uses
   // this: its MFCCs then come ~45 ms sooner than behind the pitch tracker's decision lag.
   bool trackPitch = true;
@@ -55,7 +55,7 @@ struct FeatureLayout {
   static constexpr int kDeltaF0 = 2;
   static constexpr int kDeltaEnergy = 3;
   static constexpr int kMfccBegin = 4;
-  int numMfcc = 11;             // MFCC values per frame: c1..cN, then c0 when hasC0
+  int numMfcc = 11;  // MFCC values per frame: c1..cN, then c0 when hasC0
   bool hasC0 = false;
   int contextFrames = 5;
 
@@ -72,8 +72,8 @@ struct FeatureLookahead {
   double mfccMs;
   double deltasMs;
   double contextMs;
-  double totalMs;        // what the extractor as a whole waits for
-  int totalFrames;       // the same, in output frames (rounded up)
+  double totalMs;   // what the extractor as a whole waits for
+  int totalFrames;  // the same, in output frames (rounded up)
 };
 
 class OnlineFeatureExtractor {

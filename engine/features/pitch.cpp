@@ -1,11 +1,10 @@
 #include "features/pitch.h"
 
+#include <Eigen/Core>
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <numbers>
-
-#include <Eigen/Core>
 
 #include "core/error.h"
 
@@ -67,8 +66,10 @@ OnlinePitchTracker::OnlinePitchTracker(const PitchOptions& options, int sampleRa
     } else {
       // What a stationary signal's windowed NCCF would be at this lag: dividing by it removes the window's bias.
       const double head = windowEnergyPrefix[static_cast<size_t>(windowLength_ - lag)];
-      const double tail = windowEnergyPrefix[static_cast<size_t>(windowLength_)] - windowEnergyPrefix[static_cast<size_t>(lag)];
-      windowAutocorrelation_[static_cast<size_t>(lag)] = static_cast<float>(time[lag] / time[0] * windowEnergyPrefix.back() / std::sqrt(head * tail));
+      const double tail =
+          windowEnergyPrefix[static_cast<size_t>(windowLength_)] - windowEnergyPrefix[static_cast<size_t>(lag)];
+      windowAutocorrelation_[static_cast<size_t>(lag)] =
+          static_cast<float>(time[lag] / time[0] * windowEnergyPrefix.back() / std::sqrt(head * tail));
     }
   }
   energyPrefix_.assign(static_cast<size_t>(windowLength_ + 1), 0.0f);
@@ -148,8 +149,7 @@ void OnlinePitchTracker::analyseFrame(long long frameIndex) {
     }
   }
   const double relativePeak = runningPeak_ > 0 ? levelPeak / runningPeak_ : 0.0;
-  const double unvoicedStrength =
-      vt + std::max(0.0, 2.0 - relativePeak / (options_.silenceThreshold / (1.0 + vt)));
+  const double unvoicedStrength = vt + std::max(0.0, 2.0 - relativePeak / (options_.silenceThreshold / (1.0 + vt)));
   frame.candidates.push_back({0.0f, 0.0f, unvoicedStrength});
 
   if (localPeak > 0.0) {
@@ -174,7 +174,8 @@ void OnlinePitchTracker::analyseFrame(long long frameIndex) {
         }
       } else {
         for (int lag = 1; lag <= maxLag_ + 1; ++lag) {
-          correlation_[static_cast<size_t>(lag)] = time[lag] / (energy * windowAutocorrelation_[static_cast<size_t>(lag)]);
+          correlation_[static_cast<size_t>(lag)] =
+              time[lag] / (energy * windowAutocorrelation_[static_cast<size_t>(lag)]);
         }
       }
       auto r = [&](int lag) { return correlation_[static_cast<size_t>(lag)]; };
@@ -192,10 +193,9 @@ void OnlinePitchTracker::analyseFrame(long long frameIndex) {
           const double period = lag + offset;
           const double f0 = sampleRateHz_ / period;
           if (f0 >= options_.minF0Hz && f0 <= options_.maxF0Hz) {
-            const double periodicity =
-                shortWindowLength_ > 0
-                    ? (1.0 - options_.shortWeight) * height + options_.shortWeight * shortCorrelation(period)
-                    : height;
+            const double periodicity = shortWindowLength_ > 0 ? (1.0 - options_.shortWeight) * height +
+                                                                    options_.shortWeight * shortCorrelation(period)
+                                                              : height;
             double strength = periodicity - options_.octaveCost * std::log2(options_.minF0Hz / f0);
             // A signal periodic in P is periodic in 2P too: if half this period correlates nearly as well,
             // this candidate is most likely a sub-octave, so it pays a penalty.
@@ -211,8 +211,9 @@ void OnlinePitchTracker::analyseFrame(long long frameIndex) {
               frame.candidates.push_back(candidate);
             } else {
               // Replace the weakest voiced candidate if this one is stronger.
-              auto weakest = std::min_element(frame.candidates.begin() + 1, frame.candidates.end(),
-                                              [](const Candidate& a, const Candidate& b) { return a.strength < b.strength; });
+              auto weakest =
+                  std::min_element(frame.candidates.begin() + 1, frame.candidates.end(),
+                                   [](const Candidate& a, const Candidate& b) { return a.strength < b.strength; });
               if (weakest->strength < strength) *weakest = candidate;
             }
           }

@@ -35,27 +35,27 @@ struct PitchOptions {
   double minF0Hz = 60.0;
   double maxF0Hz = 500.0;
   double hopMs = 5.0;
-  double windowMs = 30.0;          // analysis window (Hann); look-ahead is half of it plus the decision lag
-  int decisionLagFrames = 6;       // fixed-lag Viterbi: frames after a frame that are seen before deciding it
-  int maxCandidates = 6;           // voiced candidates per frame
-  double voicingThreshold = 0.5;   // autocorrelation strength a voiced frame needs
-  double silenceThreshold = 0.05;  // frame peak relative to the running peak below which a frame is silent
-  double octaveCost = 0.02;        // per octave: favours the higher of two candidates (against sub-octaves)
-  double octaveJumpCost = 0.35;    // per octave of change between consecutive voiced frames (at 10 ms)
-  double voicedUnvoicedCost = 0.2;   // per voicing change (at 10 ms)
+  double windowMs = 30.0;           // analysis window (Hann); look-ahead is half of it plus the decision lag
+  int decisionLagFrames = 6;        // fixed-lag Viterbi: frames after a frame that are seen before deciding it
+  int maxCandidates = 6;            // voiced candidates per frame
+  double voicingThreshold = 0.5;    // autocorrelation strength a voiced frame needs
+  double silenceThreshold = 0.05;   // frame peak relative to the running peak below which a frame is silent
+  double octaveCost = 0.02;         // per octave: favours the higher of two candidates (against sub-octaves)
+  double octaveJumpCost = 0.35;     // per octave of change between consecutive voiced frames (at 10 ms)
+  double voicedUnvoicedCost = 0.2;  // per voicing change (at 10 ms)
   // Time resolution at voicing boundaries: each candidate's periodicity is also measured by a normalised
   // cross-correlation over a short window centred on the frame (as RAPT's NCCF), and mixed into its strength.
-  double shortWindowMs = 10.0;     // 0 disables
-  double shortWeight = 0.5;        // weight of the short-window periodicity in a candidate's strength
+  double shortWindowMs = 10.0;      // 0 disables
+  double shortWeight = 0.5;         // weight of the short-window periodicity in a candidate's strength
   double subharmonicPenalty = 0.1;  // strength taken from a candidate whose half period correlates as well
   double subharmonicRatio = 0.9;    // "as well": at least this fraction of the candidate's correlation
   PitchNormalisation normalisation = PitchNormalisation::kNccf;
-  double levelWindowMs = 10.0;     // silence is judged on the peak within this window at the centre (0: whole)
+  double levelWindowMs = 10.0;  // silence is judged on the peak within this window at the centre (0: whole)
 };
 
 struct PitchFrame {
-  float f0Hz = 0.0f;        // 0 when unvoiced
-  float strength = 0.0f;    // best normalised autocorrelation in the frame, 0..1
+  float f0Hz = 0.0f;      // 0 when unvoiced
+  float strength = 0.0f;  // best normalised autocorrelation in the frame, 0..1
 };
 
 class OnlinePitchTracker {
@@ -111,7 +111,7 @@ class OnlinePitchTracker {
   std::vector<float> windowAutocorrelation_;  // normalised to 1 at lag 0
   std::vector<float> energyPrefix_;           // running sums of the windowed frame's squared samples
   std::vector<float> correlation_;            // the frame's normalised autocorrelation by lag
-  std::vector<float> segment_;   // the frame's samples, mean removed, unwindowed
+  std::vector<float> segment_;                // the frame's samples, mean removed, unwindowed
   double shortCorrelation(double lag) const;
 
   SampleHistory history_;
@@ -120,7 +120,7 @@ class OnlinePitchTracker {
   double runningPeak_ = 0.0;
   long long numAnalysed_ = 0;
   std::vector<AnalysedFrame> ring_;  // the last decisionLag + 2 analysed frames
-  FrameStore<PitchFrame> decided_;  // by frame number; forgetBefore() drops the old ones
+  FrameStore<PitchFrame> decided_;   // by frame number; forgetBefore() drops the old ones
 };
 
 // Whole-signal convenience: the same streaming object, fed once.

@@ -33,7 +33,11 @@ RealFft::~RealFft() {
   fftwf_free(spectrum_);
 }
 
-void RealFft::forward() { fftwf_execute(static_cast<fftwf_plan>(forwardPlan_)); }
-void RealFft::inverse() { fftwf_execute(static_cast<fftwf_plan>(inversePlan_)); }
+void RealFft::forward() {
+  fftwf_execute(static_cast<fftwf_plan>(forwardPlan_));
+}
+void RealFft::inverse() {
+  fftwf_execute(static_cast<fftwf_plan>(inversePlan_));
+}
 
 }  // namespace th::features

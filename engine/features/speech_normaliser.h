@@ -23,10 +23,10 @@
 namespace th::features {
 
 struct SpeechNormalisationOptions {
-  double meanSeconds = 10.0;           // the running cepstral mean's time constant
-  double priorSeconds = 3.0;           // the prior mean's weight at the start, in seconds of frames
-  double peakDecayDbPerSecond = 2.0;   // how fast the level's reference peak falls
-  double levelUnitDb = 10.0;           // the relative level's unit
+  double meanSeconds = 10.0;          // the running cepstral mean's time constant
+  double priorSeconds = 3.0;          // the prior mean's weight at the start, in seconds of frames
+  double peakDecayDbPerSecond = 2.0;  // how fast the level's reference peak falls
+  double levelUnitDb = 10.0;          // the relative level's unit
 
   void check() const;  // throws th::Error naming the bad option
 };

@@ -16,7 +16,8 @@ face::FapTrack AnimationFormat::read(std::string_view, const std::filesystem::pa
 }
 
 const std::vector<const AnimationFormat*>& animationFormats() {
-  static const std::vector<const AnimationFormat*> formats{&csvFormat(), &jsonFormat(), &fapStreamFormat(), &arkitFormat()};
+  static const std::vector<const AnimationFormat*> formats{&csvFormat(), &jsonFormat(), &fapStreamFormat(),
+                                                           &arkitFormat()};
   return formats;
 }
 
@@ -34,8 +35,9 @@ const AnimationFormat& animationFormatFor(const std::filesystem::path& path) {
   for (const AnimationFormat* format : animationFormats())
     if (format->readable() && format->extension() == extension) return *format;
   const std::string given = path.extension().string();
-  throw fileError(path, (given.empty() ? std::string("has no extension") : "has the extension '" + printable(given) + "'") +
-                            "; an animation file is .csv, .json or .fap");
+  throw fileError(path,
+                  (given.empty() ? std::string("has no extension") : "has the extension '" + printable(given) + "'") +
+                      "; an animation file is .csv, .json or .fap");
 }
 
 void checkTrack(const std::filesystem::path& path, const face::FapTrack& track) {
@@ -45,7 +47,8 @@ void checkTrack(const std::filesystem::path& path, const face::FapTrack& track) 
   const std::vector<int>& faps = track.faps;
   for (std::size_t r = 0; r < faps.size(); ++r) {
     if (faps[r] < 1 || faps[r] > face::kNumFaps)
-      throw fileError(path, "FAP number " + std::to_string(faps[r]) + " is outside 1.." + std::to_string(face::kNumFaps));
+      throw fileError(path,
+                      "FAP number " + std::to_string(faps[r]) + " is outside 1.." + std::to_string(face::kNumFaps));
     if (r > 0 && faps[r] <= faps[r - 1])
       throw fileError(path, "FAP " + std::to_string(faps[r]) + " follows FAP " + std::to_string(faps[r - 1]) +
                                 ": the FAP numbers must be ascending and unique");
@@ -58,8 +61,8 @@ void checkTrack(const std::filesystem::path& path, const face::FapTrack& track) 
     for (std::size_t r = 0; r < faps.size(); ++r) {
       const double value = track.values(static_cast<Eigen::Index>(r), f);
       if (!std::isfinite(value))
-        throw fileError(path, "frame " + std::to_string(f) + ", " + fapColumnName(faps[r]) + " is " + formatNumber(value) +
-                                  ": values must be finite");
+        throw fileError(path, "frame " + std::to_string(f) + ", " + fapColumnName(faps[r]) + " is " +
+                                  formatNumber(value) + ": values must be finite");
     }
 }
 

@@ -33,29 +33,36 @@ class FaceModel;
 namespace th::formats {
 
 inline constexpr std::array<std::string_view, 52> kArkitNames{
-    "eyeBlinkLeft",     "eyeLookDownLeft",   "eyeLookInLeft",     "eyeLookOutLeft",     "eyeLookUpLeft",
-    "eyeSquintLeft",    "eyeWideLeft",       "eyeBlinkRight",     "eyeLookDownRight",   "eyeLookInRight",
-    "eyeLookOutRight",  "eyeLookUpRight",    "eyeSquintRight",    "eyeWideRight",       "jawForward",
-    "jawLeft",          "jawRight",          "jawOpen",           "mouthClose",         "mouthFunnel",
-    "mouthPucker",      "mouthLeft",         "mouthRight",        "mouthSmileLeft",     "mouthSmileRight",
-    "mouthFrownLeft",   "mouthFrownRight",   "mouthDimpleLeft",   "mouthDimpleRight",   "mouthStretchLeft",
-    "mouthStretchRight", "mouthRollLower",   "mouthRollUpper",    "mouthShrugLower",    "mouthShrugUpper",
-    "mouthPressLeft",   "mouthPressRight",   "mouthLowerDownLeft", "mouthLowerDownRight", "mouthUpperUpLeft",
-    "mouthUpperUpRight", "browDownLeft",     "browDownRight",     "browInnerUp",        "browOuterUpLeft",
-    "browOuterUpRight", "cheekPuff",         "cheekSquintLeft",   "cheekSquintRight",   "noseSneerLeft",
-    "noseSneerRight",   "tongueOut"};
+    "eyeBlinkLeft",      "eyeLookDownLeft",    "eyeLookInLeft",
+    "eyeLookOutLeft",    "eyeLookUpLeft",      "eyeSquintLeft",
+    "eyeWideLeft",       "eyeBlinkRight",      "eyeLookDownRight",
+    "eyeLookInRight",    "eyeLookOutRight",    "eyeLookUpRight",
+    "eyeSquintRight",    "eyeWideRight",       "jawForward",
+    "jawLeft",           "jawRight",           "jawOpen",
+    "mouthClose",        "mouthFunnel",        "mouthPucker",
+    "mouthLeft",         "mouthRight",         "mouthSmileLeft",
+    "mouthSmileRight",   "mouthFrownLeft",     "mouthFrownRight",
+    "mouthDimpleLeft",   "mouthDimpleRight",   "mouthStretchLeft",
+    "mouthStretchRight", "mouthRollLower",     "mouthRollUpper",
+    "mouthShrugLower",   "mouthShrugUpper",    "mouthPressLeft",
+    "mouthPressRight",   "mouthLowerDownLeft", "mouthLowerDownRight",
+    "mouthUpperUpLeft",  "mouthUpperUpRight",  "browDownLeft",
+    "browDownRight",     "browInnerUp",        "browOuterUpLeft",
+    "browOuterUpRight",  "cheekPuff",          "cheekSquintLeft",
+    "cheekSquintRight",  "noseSneerLeft",      "noseSneerRight",
+    "tongueOut"};
 
 // The FAP values at which shapes are fully on.
 struct ArkitScale {
-  double jawOpen = 1200.0;      // FAP 3 (MNS); arkitScaleFor measures it on the face
-  double blink = 1024.0;        // FAPs 19–22 (IRISD)
+  double jawOpen = 1200.0;                                       // FAP 3 (MNS); arkitScaleFor measures it on the face
+  double blink = 1024.0;                                         // FAPs 19–22 (IRISD)
   double lookSideways = 30.0 * 3.14159265358979 / 180.0 / 1e-5;  // FAPs 23/24 (AU)
   double lookVertical = 25.0 * 3.14159265358979 / 180.0 / 1e-5;  // FAPs 25/26 (AU)
-  double lip = 300.0;           // lip FAPs (MNS, MW)
-  double jaw = 200.0;           // FAPs 14, 15
-  double brow = 250.0;          // FAPs 31–38 (ENS, ES)
-  double cheek = 250.0;         // FAPs 39–42
-  double nose = 250.0;          // FAPs 61–64
+  double lip = 300.0;                                            // lip FAPs (MNS, MW)
+  double jaw = 200.0;                                            // FAPs 14, 15
+  double brow = 250.0;                                           // FAPs 31–38 (ENS, ES)
+  double cheek = 250.0;                                          // FAPs 39–42
+  double nose = 250.0;                                           // FAPs 61–64
 };
 
 // The defaults with jawOpen measured on `face`: the FAP 3 value of its jawOpen shape's angle.

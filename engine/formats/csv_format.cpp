@@ -36,9 +36,9 @@ double frameRateOf(const std::vector<double>& times, const std::vector<int>& lin
   }
   const double measured = static_cast<double>(times.size() - 1) / span;
   if (!std::isfinite(measured)) failAt(path, lines.back(), "time_s steps are too short to give a frame rate");
-  for (const double nominal : {std::round(measured), std::round(measured * 1.001) * 1000.0 / 1001.0,
-                               std::round(measured * 10.0) / 10.0, std::round(measured * 100.0) / 100.0,
-                               std::round(measured * 1000.0) / 1000.0}) {
+  for (const double nominal :
+       {std::round(measured), std::round(measured * 1.001) * 1000.0 / 1001.0, std::round(measured * 10.0) / 10.0,
+        std::round(measured * 100.0) / 100.0, std::round(measured * 1000.0) / 1000.0}) {
     if (nominal > 0 && firstUnevenTime(times, nominal) == times.size()) return nominal;
   }
   if (const std::size_t i = firstUnevenTime(times, measured); i < times.size()) {

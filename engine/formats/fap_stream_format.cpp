@@ -72,7 +72,8 @@ class FapStreamFormat final : public AnimationFormat {
   face::FapTrack read(std::string_view text, const fs::path& path) const override {
     TextLines lines(text);
     std::string_view line;
-    if (!lines.nextContent(line, true)) throw fileError(path, "is empty (expected a header line `2.1 NAME FPS NFRAMES`)");
+    if (!lines.nextContent(line, true))
+      throw fileError(path, "is empty (expected a header line `2.1 NAME FPS NFRAMES`)");
     const int headerLine = lines.number();
     const Fields header = splitWhitespace(line, 4);
     if (header.count != 4) {
@@ -92,7 +93,8 @@ class FapStreamFormat final : public AnimationFormat {
     // Only compared with the frames read, never used to size anything: a forged header costs nothing.
     const auto announced = parseLong(header.items[3]);
     if (!announced || *announced < 0)
-      failAt(path, headerLine, "the frame count '" + printable(header.items[3]) + "' is not a whole number (0 or more)");
+      failAt(path, headerLine,
+             "the frame count '" + printable(header.items[3]) + "' is not a whole number (0 or more)");
 
     // Kept as sent (masks and the values they flag) and filled in at the end, once the FAPs are known.
     std::vector<std::bitset<face::kNumFaps>> masks;
@@ -108,7 +110,8 @@ class FapStreamFormat final : public AnimationFormat {
       }
       const Fields flags = splitWhitespace(line, face::kNumFaps);
       if (flags.count != face::kNumFaps)
-        failAt(path, maskLine, "the mask has " + std::to_string(flags.count) + " flags; expected 68 (a 0 or 1 per FAP)");
+        failAt(path, maskLine,
+               "the mask has " + std::to_string(flags.count) + " flags; expected 68 (a 0 or 1 per FAP)");
       std::bitset<face::kNumFaps> mask;
       for (std::size_t i = 0; i < flags.items.size(); ++i) {
         if (flags.items[i] == "1") {

@@ -40,7 +40,8 @@ class TrackReader : public JsonFields {
       fail("version", "is " + describe(version) + "; this program reads version " + std::to_string(kJsonVersion));
     face::FapTrack track;
     track.framesPerSecond = number(member(document, "fps", ""), "fps");
-    if (!(track.framesPerSecond > 0)) fail("fps", "is " + formatNumber(track.framesPerSecond) + "; it must be positive");
+    if (!(track.framesPerSecond > 0))
+      fail("fps", "is " + formatNumber(track.framesPerSecond) + "; it must be positive");
     if (const Json* name = find(document, "name")) track.name = string(*name, "name");
     readFaps(array(member(document, "faps", ""), "faps"), track.faps);
     const Json& frames = array(member(document, "frames", ""), "frames");
@@ -87,14 +88,15 @@ class TrackReader : public JsonFields {
       }
       // Name and unit are for people reading the file; if present they must agree with the number.
       const face::FapDefinition& definition = face::fapDefinition(number);
-      if (const Json* name = find(entry, "name"); name != nullptr && string(*name, field + ".name") != definition.name) {
+      if (const Json* name = find(entry, "name");
+          name != nullptr && string(*name, field + ".name") != definition.name) {
         fail(field + ".name", "is " + describe(*name) + ", but FAP " + std::to_string(number) + " is \"" +
                                   std::string(definition.name) + "\"");
       }
       const std::string_view unit = face::fapuName(definition.unit);
       if (const Json* given = find(entry, "unit"); given != nullptr && string(*given, field + ".unit") != unit) {
-        fail(field + ".unit", "is " + describe(*given) + ", but FAP " + std::to_string(number) + " is in \"" +
-                                  std::string(unit) + "\"");
+        fail(field + ".unit",
+             "is " + describe(*given) + ", but FAP " + std::to_string(number) + " is in \"" + std::string(unit) + "\"");
       }
       numbers.push_back(number);
     }
@@ -137,7 +139,8 @@ class JsonFormat final : public AnimationFormat {
     // a line of its own). A name that is not UTF-8 has its bad bytes replaced rather than failing the write.
     const auto json = [](const Json& value) { return value.dump(-1, ' ', false, Json::error_handler_t::replace); };
     out << "{\n  \"format\": " << json(std::string(kJsonFormatName)) << ",\n  \"version\": " << kJsonVersion
-        << ",\n  \"fps\": " << json(track.framesPerSecond) << ",\n  \"name\": " << json(track.name) << ",\n  \"faps\": [";
+        << ",\n  \"fps\": " << json(track.framesPerSecond) << ",\n  \"name\": " << json(track.name)
+        << ",\n  \"faps\": [";
     for (std::size_t r = 0; r < track.faps.size(); ++r) {
       const face::FapDefinition& definition = face::fapDefinition(track.faps[r]);
       const Json entry = {{"number", definition.number},
@@ -157,8 +160,8 @@ class JsonFormat final : public AnimationFormat {
   }
 
   face::FapTrack read(std::string_view text, const fs::path& path) const override {
-    const Json document = parseJson(text, path.string(),
-                                    {.maxDepth = kMaxJsonDepth, .depthNote = "an animation needs 3", .subject = ""});
+    const Json document =
+        parseJson(text, path.string(), {.maxDepth = kMaxJsonDepth, .depthNote = "an animation needs 3", .subject = ""});
     try {
       return TrackReader(path).read(document);
     } catch (const Json::exception& e) {

@@ -48,7 +48,7 @@ using ffmpeg::PacketHandle;
 const int kEndOfFile = AVERROR_EOF;
 const int kTryAgain = AVERROR(EAGAIN);
 
-constexpr int kMaxSide = 16384;            // H.264 level 6.2's widest picture is 8192; anything past this is a bug
+constexpr int kMaxSide = 16384;  // H.264 level 6.2's widest picture is 8192; anything past this is a bug
 constexpr double kMaxFramesPerSecond = 1000.0;
 constexpr int kMinInputRateHz = 1000;
 constexpr int kMaxInputRateHz = 768000;
@@ -56,7 +56,7 @@ constexpr int kRationalPrecision = 100000;  // av_d2q's largest numerator/denomi
 constexpr std::size_t kAudioBlock = 16384;  // input samples resampled at a time (bounds the buffers)
 constexpr int kHdHeight = 720;              // from this height on, BT.709; below it BT.601
 
-const char* const kX264Presets[] = {"ultrafast", "superfast", "veryfast", "faster", "fast",
+const char* const kX264Presets[] = {"ultrafast", "superfast", "veryfast", "faster",   "fast",
                                     "medium",    "slow",      "slower",   "veryslow", "placebo"};
 
 struct OutputCloser {
@@ -77,9 +77,13 @@ using ResamplerHandle = std::unique_ptr<SwrContext, ResamplerFreer>;
 
 using ffmpeg::Dictionary;
 
-AVRational frameRateOf(double framesPerSecond) { return av_d2q(framesPerSecond, kRationalPrecision); }
+AVRational frameRateOf(double framesPerSecond) {
+  return av_d2q(framesPerSecond, kRationalPrecision);
+}
 
-std::string errnoText(int code) { return std::error_code(code, std::generic_category()).message(); }
+std::string errnoText(int code) {
+  return std::error_code(code, std::generic_category()).message();
+}
 
 std::string number(double value) {
   char text[32];
@@ -170,8 +174,8 @@ class PendingFile {
 
   fs::path target_;
   fs::path folder_;
-  fs::path path_;          // /proc/self/fd/N of the unnamed file, or the hidden named file
-  int descriptor_ = -1;    // keeps the unnamed file alive
+  fs::path path_;        // /proc/self/fd/N of the unnamed file, or the hidden named file
+  int descriptor_ = -1;  // keeps the unnamed file alive
   bool named_ = false;
   bool committed_ = false;
 };
@@ -264,7 +268,7 @@ struct Mp4Writer::State {
   ResamplerHandle resampler;
   FrameHandle picture;
   PacketHandle packet;
-  std::vector<float> resampled;      // output-rate samples not yet encoded, from resampledStart on
+  std::vector<float> resampled;  // output-rate samples not yet encoded, from resampledStart on
   std::size_t resampledStart = 0;
   std::vector<float> resampleBuffer;
   std::int64_t framesIn = 0;
@@ -351,8 +355,7 @@ void Mp4Writer::State::openVideo(const AVCodec& encoder) {
   if ((output->oformat->flags & AVFMT_GLOBALHEADER) != 0) codec.flags |= AV_CODEC_FLAG_GLOBAL_HEADER;
   av_opt_set(codec.priv_data, "preset", options.preset.c_str(), 0);
   av_opt_set_double(codec.priv_data, "crf", options.crf, 0);
-  if (!options.x264Params.empty() &&
-      av_opt_set(codec.priv_data, "x264-params", options.x264Params.c_str(), 0) < 0)
+  if (!options.x264Params.empty() && av_opt_set(codec.priv_data, "x264-params", options.x264Params.c_str(), 0) < 0)
     throw failure("cannot pass the x264 settings \"" + options.x264Params + "\"");
   // Lossless coding (crf 0) needs the High 4:4:4 Predictive profile; everything else is plain High.
   if (options.crf > 0) av_opt_set(codec.priv_data, "profile", "high", 0);
@@ -412,8 +415,8 @@ void Mp4Writer::State::openAudio(const AVCodec& encoder) {
   SwrContext* raw = nullptr;
   AVChannelLayout mono{};
   av_channel_layout_default(&mono, 1);
-  result = swr_alloc_set_opts2(&raw, &mono, AV_SAMPLE_FMT_FLTP, options.outputAudioRateHz, &mono,
-                               AV_SAMPLE_FMT_FLT, options.audioSampleRateHz, 0, nullptr);
+  result = swr_alloc_set_opts2(&raw, &mono, AV_SAMPLE_FMT_FLTP, options.outputAudioRateHz, &mono, AV_SAMPLE_FMT_FLT,
+                               options.audioSampleRateHz, 0, nullptr);
   av_channel_layout_uninit(&mono);
   resampler.reset(raw);
   if (result < 0 || !resampler) throw failure("cannot set up the audio resampler", result);
@@ -510,11 +513,11 @@ void Mp4Writer::State::complete() {
   if (framesIn == 0) throw failure("no video frames were added");
   resample(nullptr, 0);  // the resampler's last samples
   // Audio shorter than the video: silence up to the video's end (frames / fps at the output rate).
-  const std::int64_t videoSamples =
-      av_rescale_rnd(framesIn, static_cast<std::int64_t>(options.outputAudioRateHz) * frameRate.den, frameRate.num,
-                     AV_ROUND_NEAR_INF);
+  const std::int64_t videoSamples = av_rescale_rnd(
+      framesIn, static_cast<std::int64_t>(options.outputAudioRateHz) * frameRate.den, frameRate.num, AV_ROUND_NEAR_INF);
   const std::int64_t haveSamples = audioSamplesOut + static_cast<std::int64_t>(resampled.size() - resampledStart);
-  if (haveSamples < videoSamples) resampled.resize(resampled.size() + static_cast<std::size_t>(videoSamples - haveSamples), 0.0F);
+  if (haveSamples < videoSamples)
+    resampled.resize(resampled.size() + static_cast<std::size_t>(videoSamples - haveSamples), 0.0F);
   encodeAudio(true);
   send(*audio, *audioStream, nullptr, "audio");
   send(*video, *videoStream, nullptr, "video");
@@ -541,8 +544,7 @@ void Mp4Writer::addVideoFrame(const std::uint8_t* rgb, int strideBytes) {
   const long long rowBytes = 3LL * s.options.width;
   if (std::llabs(static_cast<long long>(strideBytes)) < rowBytes) {
     throw s.failure("a video frame's rows are " + std::to_string(strideBytes) + " bytes apart, less than the " +
-                    std::to_string(rowBytes) + " bytes of a " + std::to_string(s.options.width) +
-                    "-pixel RGB row");
+                    std::to_string(rowBytes) + " bytes of a " + std::to_string(s.options.width) + "-pixel RGB row");
   }
   try {
     s.encodePicture(rgb, strideBytes);
@@ -570,18 +572,20 @@ void Mp4Writer::addVideoFrame(const Yuv420Planes& planes) {
   }
 }
 
-bool Mp4Writer::usesBt709() const { return state_->options.height >= kHdHeight; }
+bool Mp4Writer::usesBt709() const {
+  return state_->options.height >= kHdHeight;
+}
 
 void Mp4Writer::addVideoFrame(std::span<const std::uint8_t> rgb, int strideBytes) {
   const State& s = *state_;
   const std::size_t rowBytes = 3 * static_cast<std::size_t>(s.options.width);
   if (strideBytes > 0 && static_cast<std::size_t>(strideBytes) >= rowBytes) {
-    const std::size_t needed = static_cast<std::size_t>(strideBytes) * static_cast<std::size_t>(s.options.height - 1) + rowBytes;
+    const std::size_t needed =
+        static_cast<std::size_t>(strideBytes) * static_cast<std::size_t>(s.options.height - 1) + rowBytes;
     if (rgb.size() < needed) {
       throw s.failure("a video frame of " + std::to_string(rgb.size()) + " bytes is smaller than the " +
                       std::to_string(needed) + " bytes of " + std::to_string(s.options.width) + "x" +
-                      std::to_string(s.options.height) + " RGB rows " + std::to_string(strideBytes) +
-                      " bytes apart");
+                      std::to_string(s.options.height) + " RGB rows " + std::to_string(strideBytes) + " bytes apart");
     }
   } else if (strideBytes <= 0) {
     throw s.failure("a video frame given as a span needs a positive stride, not " + std::to_string(strideBytes));
@@ -625,7 +629,9 @@ void Mp4Writer::finish() {
   s.status = State::Status::kFinished;
 }
 
-int Mp4Writer::framesWritten() const { return static_cast<int>(state_->framesIn); }
+int Mp4Writer::framesWritten() const {
+  return static_cast<int>(state_->framesIn);
+}
 
 double Mp4Writer::videoSeconds() const {
   return static_cast<double>(state_->framesIn) / av_q2d(state_->frameRate);
@@ -635,6 +641,8 @@ double Mp4Writer::audioSeconds() const {
   return static_cast<double>(state_->audioSamplesIn) / state_->options.audioSampleRateHz;
 }
 
-const fs::path& Mp4Writer::target() const { return state_->target; }
+const fs::path& Mp4Writer::target() const {
+  return state_->target;
+}
 
 }  // namespace th::formats

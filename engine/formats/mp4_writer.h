@@ -43,20 +43,20 @@
 namespace th::formats {
 
 struct Mp4Options {
-  int width = 1280;                   // even and positive (yuv420p halves both for colour)
-  int height = 720;                   // even and positive
-  double framesPerSecond = 30.0;      // positive; taken as the nearest rational (29.97 -> 2997/100)
-  int audioSampleRateHz = 16000;      // rate of the mono float samples given to addAudio
-  int outputAudioRateHz = 48000;      // the AAC stream's rate (one AAC supports: 8000 ... 96000)
-  int audioBitRate = 96000;           // bits per second of AAC (mono)
-  int crf = 20;                       // x264 constant quality, 0 (lossless) ... 51; lower is better and larger
-  std::string preset = "veryfast";    // x264 speed/size trade-off: ultrafast ... placebo
+  int width = 1280;                 // even and positive (yuv420p halves both for colour)
+  int height = 720;                 // even and positive
+  double framesPerSecond = 30.0;    // positive; taken as the nearest rational (29.97 -> 2997/100)
+  int audioSampleRateHz = 16000;    // rate of the mono float samples given to addAudio
+  int outputAudioRateHz = 48000;    // the AAC stream's rate (one AAC supports: 8000 ... 96000)
+  int audioBitRate = 96000;         // bits per second of AAC (mono)
+  int crf = 20;                     // x264 constant quality, 0 (lossless) ... 51; lower is better and larger
+  std::string preset = "veryfast";  // x264 speed/size trade-off: ultrafast ... placebo
   // Further x264 settings over the preset, "key=value:key=value" (FFmpeg's x264-params). For the program's own
   // use: libx264 ignores a name it does not know.
   std::string x264Params;
-  int threads = 0;                    // x264 threads; 0: FFmpeg decides from the number of cores
+  int threads = 0;                       // x264 threads; 0: FFmpeg decides from the number of cores
   double keyframeIntervalSeconds = 5.0;  // longest gap between keyframes (seek points)
-  bool unnamedTemporaryFile = true;   // false: always the hidden named temporary file (see above)
+  bool unnamedTemporaryFile = true;      // false: always the hidden named temporary file (see above)
 };
 
 // A frame already in the video stream's own format, 8-bit Y'CbCr 4:2:0 in limited ("TV") range with the colour
@@ -101,8 +101,8 @@ class Mp4Writer {
   // The colour matrix of the stream (its tags, the RGB conversion, and what Yuv420Planes must hold): BT.709 for
   // heights of 720 and more, else BT.601.
   bool usesBt709() const;
-  double videoSeconds() const;    // framesWritten() / fps
-  double audioSeconds() const;    // of the samples given to addAudio so far
+  double videoSeconds() const;  // framesWritten() / fps
+  double audioSeconds() const;  // of the samples given to addAudio so far
   const std::filesystem::path& target() const;
 
  private:

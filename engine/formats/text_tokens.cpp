@@ -13,7 +13,9 @@ namespace {
 
 constexpr std::string_view kBlanks = " \t\r\v\f";
 
-bool isBlank(char c) { return kBlanks.find(c) != std::string_view::npos; }
+bool isBlank(char c) {
+  return kBlanks.find(c) != std::string_view::npos;
+}
 
 // The whole text as a number of that type, or nothing.
 template <typename Number>
@@ -49,15 +51,23 @@ std::string fixedNotation(double value, std::optional<int> decimals) {
   return std::string(first, result.ptr);
 }
 
-std::optional<double> parseNumber(std::string_view text) { return parseWhole<double>(text); }
-std::optional<int> parseInt(std::string_view text) { return parseWhole<int>(text); }
-std::optional<long long> parseLong(std::string_view text) { return parseWhole<long long>(text); }
+std::optional<double> parseNumber(std::string_view text) {
+  return parseWhole<double>(text);
+}
+std::optional<int> parseInt(std::string_view text) {
+  return parseWhole<int>(text);
+}
+std::optional<long long> parseLong(std::string_view text) {
+  return parseWhole<long long>(text);
+}
 
 std::string counted(std::size_t count, const std::string& noun) {
   return std::to_string(count) + " " + noun + (count == 1 ? "" : "s");
 }
 
-std::string fapColumnName(int fap) { return "fap" + std::to_string(fap); }
+std::string fapColumnName(int fap) {
+  return "fap" + std::to_string(fap);
+}
 
 void failAt(const std::filesystem::path& path, int line, const std::string& what) {
   throw fileError(path, "line " + std::to_string(line) + ": " + what);

@@ -25,7 +25,7 @@ std::string formatNumber(double value);  // short, with enough digits to tell va
 std::string shortest(double value);      // the shortest text that reads back as the same double
 // Fixed notation (no exponent): shortest round-trip, or with `decimals` digits after the point.
 std::string fixedNotation(double value, std::optional<int> decimals = std::nullopt);
-std::optional<double> parseNumber(std::string_view text);   // the whole text, or nothing
+std::optional<double> parseNumber(std::string_view text);  // the whole text, or nothing
 std::optional<int> parseInt(std::string_view text);
 std::optional<long long> parseLong(std::string_view text);
 std::string counted(std::size_t count, const std::string& noun);  // "1 value", "2 values"

@@ -40,13 +40,13 @@ AudioRetrainingResult retrainAudio(const HmmModel& jointModel, const std::vector
   }
   EstimationHooks fixedStructure;
   // π, A and the mixture weights stay as the joint model learnt them: only the densities move.
-  fixedStructure.multinomial = [](Multinomial, const Eigen::VectorXd&, const Eigen::VectorXd& previous, const MStepContext&) {
-    return previous;
-  };
+  fixedStructure.multinomial = [](Multinomial, const Eigen::VectorXd&, const Eigen::VectorXd& previous,
+                                  const MStepContext&) { return previous; };
   const Eigen::VectorXd floor = varianceFloorFor(audioSequences, options.varianceFloorFraction);
   AudioRetrainingResult result;
   for (int iteration = 0; iteration < options.iterations; ++iteration) {
-    result.logLikelihoods.push_back(baumWelchIteration(audioModel, audioSequences, floor, fixedStructure).logLikelihood);
+    result.logLikelihoods.push_back(
+        baumWelchIteration(audioModel, audioSequences, floor, fixedStructure).logLikelihood);
   }
 
   const ObservationBlock& audio = jointModel.block(options.audioBlock);

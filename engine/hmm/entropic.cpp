@@ -154,9 +154,9 @@ class ObservedRow {
  private:
   Eigen::Index size_;
   Eigen::Array<Eigen::Index, Eigen::Dynamic, 1> index_;  // position of each observed entry in the row
-  Eigen::ArrayXd ratio_;                                  // rᵢ = ωᵢ/|Z|
-  Eigen::ArrayXd logRatio_;                               // log rᵢ
-  Eigen::ArrayXd logRatioBelowMax_;                       // δᵢ = log r_max − log rᵢ ≥ 0
+  Eigen::ArrayXd ratio_;                                 // rᵢ = ωᵢ/|Z|
+  Eigen::ArrayXd logRatio_;                              // log rᵢ
+  Eigen::ArrayXd logRatioBelowMax_;                      // δᵢ = log r_max − log rᵢ ≥ 0
   Eigen::ArrayXd theta_;
 };
 
@@ -245,8 +245,8 @@ EntropicEstimate entropicMap(const Eigen::Ref<const Eigen::VectorXd>& counts, do
     // One observed entry: the face is a single vertex, θ = eₖ, and stationarity gives λ = −ωₖ − Z.
     Eigen::VectorXd probabilities = Eigen::VectorXd::Zero(numEntries);
     probabilities[row.index(0)] = 1.0;
-    return finish(std::move(probabilities), EntropicOutcome::kStationary, -counts[row.index(0)] - priorWeight,
-                  counts, priorWeight);
+    return finish(std::move(probabilities), EntropicOutcome::kStationary, -counts[row.index(0)] - priorWeight, counts,
+                  priorWeight);
   }
 
   const double numObserved = static_cast<double>(row.size());

@@ -24,7 +24,8 @@ void deleteState(HmmModel& model, int state) {
   Eigen::VectorXd initial(kept);
   for (Eigen::Index a = 0; a < kept; ++a) {
     initial[a] = model.initial[keep[static_cast<size_t>(a)]];
-    for (Eigen::Index b = 0; b < kept; ++b) transition(a, b) = model.transition(keep[static_cast<size_t>(a)], keep[static_cast<size_t>(b)]);
+    for (Eigen::Index b = 0; b < kept; ++b)
+      transition(a, b) = model.transition(keep[static_cast<size_t>(a)], keep[static_cast<size_t>(b)]);
   }
   for (Eigen::Index a = 0; a < kept; ++a) {
     const double sum = transition.row(a).sum();
@@ -36,7 +37,8 @@ void deleteState(HmmModel& model, int state) {
       transition(a, a) = 1.0;
     }
   }
-  initial = initial.sum() > 0.0 ? Eigen::VectorXd(initial / initial.sum()) : Eigen::VectorXd::Constant(kept, 1.0 / static_cast<double>(kept));
+  initial = initial.sum() > 0.0 ? Eigen::VectorXd(initial / initial.sum())
+                                : Eigen::VectorXd::Constant(kept, 1.0 / static_cast<double>(kept));
   model.initial = initial;
   model.transition = transition;
   model.states.erase(model.states.begin() + state);

@@ -56,7 +56,8 @@ void forwardPass(const HmmModel& model, const Eigen::Ref<const Eigen::MatrixXd>&
         scales[t] = alpha.col(t).sum();
       }
     }
-    if (!(scales[t] > 0.0)) throw Error("HMM: the sequence is impossible under the model at frame " + std::to_string(t));
+    if (!(scales[t] > 0.0))
+      throw Error("HMM: the sequence is impossible under the model at frame " + std::to_string(t));
     alpha.col(t) /= scales[t];
   }
 }
@@ -131,7 +132,8 @@ void FixedLagSmoother::acceptFrame(const Eigen::Ref<const Eigen::VectorXd>& logE
   if (!std::isfinite(offset)) throw Error("fixed-lag smoother: a frame has no finite emission likelihood");
   Eigen::VectorXd scaled = (logEmission.array() - offset).exp();
   const bool first = window_.empty() && posteriors_.empty();
-  const Eigen::VectorXd predicted = first ? model_.initial : Eigen::VectorXd(model_.transition.transpose() * lastAlpha());
+  const Eigen::VectorXd predicted =
+      first ? model_.initial : Eigen::VectorXd(model_.transition.transpose() * lastAlpha());
   Eigen::VectorXd alpha = predicted.cwiseProduct(scaled);
   double sum = alpha.sum();
   if (!(sum > 0.0)) {
@@ -154,7 +156,9 @@ void FixedLagSmoother::acceptFrame(const Eigen::Ref<const Eigen::VectorXd>& logE
   if (static_cast<int>(window_.size()) > lagFrames_) emitOldest(static_cast<Eigen::Index>(window_.size()));
 }
 
-const Eigen::VectorXd& FixedLagSmoother::lastAlpha() const { return window_.empty() ? lastEmittedAlpha_ : window_.back(); }
+const Eigen::VectorXd& FixedLagSmoother::lastAlpha() const {
+  return window_.empty() ? lastEmittedAlpha_ : window_.back();
+}
 
 void FixedLagSmoother::emitOldest(Eigen::Index windowFrames) {
   // Backward over the window from β = 1 at its newest frame, renormalised each step (only the shape matters).

@@ -63,11 +63,11 @@ class FixedLagSmoother {
 
   const HmmModel& model_;
   int lagFrames_;
-  std::vector<Eigen::VectorXd> window_;   // normalised α of the frames not yet emitted
+  std::vector<Eigen::VectorXd> window_;  // normalised α of the frames not yet emitted
 
   std::vector<Eigen::VectorXd> scaledEmissions_;
   std::vector<Eigen::VectorXd> posteriors_;
-  Eigen::VectorXd lastEmittedAlpha_;      // α of the newest emitted frame, when the window is empty
+  Eigen::VectorXd lastEmittedAlpha_;  // α of the newest emitted frame, when the window is empty
   bool finished_ = false;
 };
 

@@ -58,12 +58,14 @@ void Gaussian::logDensities(const Eigen::Ref<const Eigen::MatrixXd>& frames, Eig
 GaussianMixture::GaussianMixture(Eigen::VectorXd weights, std::vector<Gaussian> components)
     : weights_(std::move(weights)), components_(std::move(components)) {
   if (components_.empty()) throw Error("mixture: no components");
-  if (weights_.size() != static_cast<Eigen::Index>(components_.size())) throw Error("mixture: weights do not match components");
+  if (weights_.size() != static_cast<Eigen::Index>(components_.size()))
+    throw Error("mixture: weights do not match components");
   if (!weights_.allFinite() || (weights_.array() < 0.0).any() || std::abs(weights_.sum() - 1.0) > 1e-6) {
     throw Error("mixture: weights must be non-negative and sum to 1");
   }
   for (const auto& component : components_) {
-    if (component.dimension() != components_.front().dimension()) throw Error("mixture: components differ in dimension");
+    if (component.dimension() != components_.front().dimension())
+      throw Error("mixture: components differ in dimension");
   }
 }
 

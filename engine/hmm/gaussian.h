@@ -41,7 +41,7 @@ class Gaussian {
   Eigen::MatrixXd choleskyLower_;     // kFull: L with Σ = L Lᵀ
   Eigen::VectorXd inverseVariances_;  // kDiagonal
   double logDeterminant_ = 0.0;
-  double logNormaliser_ = 0.0;        // −½(d log 2π + log|Σ|)
+  double logNormaliser_ = 0.0;  // −½(d log 2π + log|Σ|)
 };
 
 // Σₘ wₘ N(x; μₘ, Σₘ). Weights are non-negative and sum to 1; zero-weight components are allowed (trimmed).

@@ -23,17 +23,17 @@ struct ObservationBlock {
 };
 
 struct HmmModel {
-  Eigen::VectorXd initial;                // π (N), sums to 1
-  Eigen::MatrixXd transition;             // A (N x N), rows sum to 1
-  std::vector<GaussianMixture> states;    // emission densities
-  std::vector<std::string> columnNames;   // what each observation dimension is (may be empty)
-  std::vector<ObservationBlock> blocks;   // partition of the dimensions (empty: one unnamed block)
+  Eigen::VectorXd initial;               // π (N), sums to 1
+  Eigen::MatrixXd transition;            // A (N x N), rows sum to 1
+  std::vector<GaussianMixture> states;   // emission densities
+  std::vector<std::string> columnNames;  // what each observation dimension is (may be empty)
+  std::vector<ObservationBlock> blocks;  // partition of the dimensions (empty: one unnamed block)
 
   int numStates() const { return static_cast<int>(states.size()); }
   int dimension() const { return states.empty() ? 0 : states.front().dimension(); }
   CovarianceType covarianceType() const {
     return states.empty() || states.front().components().empty() ? CovarianceType::kFull
-                                                                  : states.front().components().front().type();
+                                                                 : states.front().components().front().type();
   }
   // The block with this name; throws th::Error if there is none.
   const ObservationBlock& block(const std::string& name) const;

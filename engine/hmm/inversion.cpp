@@ -55,8 +55,8 @@ HmmInverter::HmmInverter(const HmmModel& jointModel, const InversionOptions& opt
       c.audioMean = g.mean().segment(audioBegin_, audioSize_);
       const Eigen::MatrixXd sigmaAudio = subBlock(sigma, audioBegin_, audioSize_, audioBegin_, audioSize_);
       if (type == CovarianceType::kFull) {
-        const Eigen::MatrixXd precision = Eigen::LLT<Eigen::MatrixXd>(sigma).solve(
-            Eigen::MatrixXd::Identity(sigma.rows(), sigma.cols()));
+        const Eigen::MatrixXd precision =
+            Eigen::LLT<Eigen::MatrixXd>(sigma).solve(Eigen::MatrixXd::Identity(sigma.rows(), sigma.cols()));
         c.visualPrecision = subBlock(precision, visualBegin_, visualSize_, visualBegin_, visualSize_);
         c.crossPrecision = subBlock(precision, visualBegin_, visualSize_, audioBegin_, audioSize_);
         const Eigen::MatrixXd sigmaAudioVisual = subBlock(sigma, audioBegin_, audioSize_, visualBegin_, visualSize_);
@@ -67,8 +67,7 @@ HmmInverter::HmmInverter(const HmmModel& jointModel, const InversionOptions& opt
         c.regression = Eigen::MatrixXd::Zero(visualSize_, audioSize_);
       }
       c.visualTarget = c.visualPrecision * c.visualMean + c.crossPrecision * c.audioMean;
-      c.conditionalCovariance =
-          c.visualPrecision.llt().solve(Eigen::MatrixXd::Identity(visualSize_, visualSize_));
+      c.conditionalCovariance = c.visualPrecision.llt().solve(Eigen::MatrixXd::Identity(visualSize_, visualSize_));
       audioComponents.emplace_back(c.audioMean, sigmaAudio, type);
 
       // The model's overall visual distribution (state occupancy taken as uniform): for the random start.
@@ -125,7 +124,8 @@ Eigen::MatrixXd HmmInverter::mmse(const Eigen::Ref<const Eigen::MatrixXd>& audio
   Eigen::VectorXd next;
   for (Eigen::Index start = 0; start < numFrames; start += window) {
     const Eigen::Index length = std::min(window, numFrames - start);
-    visual.middleCols(start, length) = mmseWindow(audio.middleCols(start, length), start > 0 ? &carried : nullptr, next);
+    visual.middleCols(start, length) =
+        mmseWindow(audio.middleCols(start, length), start > 0 ? &carried : nullptr, next);
     carried = next;
   }
   return visual;
@@ -141,7 +141,8 @@ Eigen::MatrixXd HmmInverter::mmseWindow(const Eigen::Ref<const Eigen::MatrixXd>&
   return visual;
 }
 
-HmmInverter::VisualDistribution HmmInverter::conditionalDistribution(const Eigen::Ref<const Eigen::MatrixXd>& audio) const {
+HmmInverter::VisualDistribution HmmInverter::conditionalDistribution(
+    const Eigen::Ref<const Eigen::MatrixXd>& audio) const {
   if (audio.rows() != audioSize_) throw Error("HMM inversion: audio has the wrong dimension");
   const Eigen::Index numFrames = audio.cols();
   VisualDistribution result{Eigen::MatrixXd::Zero(visualSize_, numFrames), {}};
@@ -153,7 +154,8 @@ HmmInverter::VisualDistribution HmmInverter::conditionalDistribution(const Eigen
     const Eigen::Index length = std::min(window, numFrames - start);
     const auto part = audio.middleCols(start, length);
     Eigen::VectorXd last;
-    const Eigen::MatrixXd gamma = componentPosteriors(audioModel_, part, start > 0 ? &carried : nullptr, nullptr, &last);
+    const Eigen::MatrixXd gamma =
+        componentPosteriors(audioModel_, part, start > 0 ? &carried : nullptr, nullptr, &last);
     carried = nextWindowStart(last);
     // E[v] = Σ γ m;  Cov[v] = Σ γ (S + m mᵀ) − E[v] E[v]ᵀ.
     for (size_t k = 0; k < components_.size(); ++k) {
@@ -180,9 +182,9 @@ Eigen::VectorXd HmmInverter::nextWindowStart(const Eigen::VectorXd& lastFrameDis
   return next / next.sum();
 }
 
-Eigen::MatrixXd HmmInverter::invertWindow(const Eigen::Ref<const Eigen::MatrixXd>& audio, const Eigen::VectorXd* carried,
-                                          Eigen::VectorXd& next, std::mt19937& random, int* iterations,
-                                          std::vector<double>* logLikelihoods) const {
+Eigen::MatrixXd HmmInverter::invertWindow(const Eigen::Ref<const Eigen::MatrixXd>& audio,
+                                          const Eigen::VectorXd* carried, Eigen::VectorXd& next, std::mt19937& random,
+                                          int* iterations, std::vector<double>* logLikelihoods) const {
   if (audio.rows() != audioSize_) throw Error("HMM inversion: audio has the wrong dimension");
   if (audio.cols() == 0) throw Error("HMM inversion: an empty window");
   Eigen::MatrixXd initial;
@@ -205,8 +207,8 @@ Eigen::MatrixXd HmmInverter::invertWindow(const Eigen::Ref<const Eigen::MatrixXd
 }
 
 Eigen::MatrixXd HmmInverter::runEm(const Eigen::Ref<const Eigen::MatrixXd>& audio, Eigen::MatrixXd visual,
-                                   const Eigen::VectorXd* carried, std::vector<double>& logLikelihoods,
-                                   int& iterations, Eigen::VectorXd* lastFrameDistribution) const {
+                                   const Eigen::VectorXd* carried, std::vector<double>& logLikelihoods, int& iterations,
+                                   Eigen::VectorXd* lastFrameDistribution) const {
   const Eigen::Index numFrames = audio.cols();
   Eigen::MatrixXd joint(jointModel_.dimension(), numFrames);
   joint.middleRows(audioBegin_, audioSize_) = audio;
@@ -217,7 +219,8 @@ Eigen::MatrixXd HmmInverter::runEm(const Eigen::Ref<const Eigen::MatrixXd>& audi
   for (int iteration = 0; iteration < options_.maxIterations; ++iteration) {
     joint.middleRows(visualBegin_, visualSize_) = visual;
     double logLikelihood = 0.0;
-    const Eigen::MatrixXd gamma = componentPosteriors(jointModel_, joint, carried, &logLikelihood, lastFrameDistribution);
+    const Eigen::MatrixXd gamma =
+        componentPosteriors(jointModel_, joint, carried, &logLikelihood, lastFrameDistribution);
     logLikelihoods.push_back(logLikelihood);
     if (logLikelihood - previous < options_.tolerance * static_cast<double>(numFrames)) break;
     previous = logLikelihood;
@@ -257,9 +260,8 @@ InversionResult HmmInverter::invert(const Eigen::Ref<const Eigen::MatrixXd>& aud
     const Eigen::Index length = std::min(window, numFrames - start);
     int iterations = 0;
     std::vector<double> logLikelihoods;
-    result.visual.middleCols(start, length) = invertWindow(audio.middleCols(start, length),
-                                                           start > 0 ? &carried : nullptr, next, random,
-                                                           &iterations, &logLikelihoods);
+    result.visual.middleCols(start, length) = invertWindow(
+        audio.middleCols(start, length), start > 0 ? &carried : nullptr, next, random, &iterations, &logLikelihoods);
     carried = next;
     if (start == 0 || options_.windowFrames <= 0) result.logLikelihoods = logLikelihoods;
     totalIterations += iterations;
@@ -271,7 +273,8 @@ InversionResult HmmInverter::invert(const Eigen::Ref<const Eigen::MatrixXd>& aud
 
 StreamingInverter::StreamingInverter(const HmmInverter& inverter, Method method, int windowFrames)
     : inverter_(inverter), method_(method), windowFrames_(windowFrames), random_(inverter.options().seed) {
-  if (windowFrames < 1) throw Error("streaming inversion: the window must be at least one frame, not " + std::to_string(windowFrames));
+  if (windowFrames < 1)
+    throw Error("streaming inversion: the window must be at least one frame, not " + std::to_string(windowFrames));
   window_.resize(inverter.audioDimension(), windowFrames);
 }
 

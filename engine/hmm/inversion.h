@@ -33,16 +33,16 @@ struct InversionOptions {
   std::string audioBlock = "audio";
   std::string visualBlock = "visual";
   int maxIterations = 100;
-  double tolerance = 1e-6;     // stop when the joint log-likelihood per frame rises by less than this
+  double tolerance = 1e-6;  // stop when the joint log-likelihood per frame rises by less than this
   InversionStart start = InversionStart::kConditionalMean;
-  unsigned seed = 1;           // for the random start
-  int windowFrames = 0;        // 0: the whole sequence at once; else EM on consecutive blocks of this many frames
+  unsigned seed = 1;     // for the random start
+  int windowFrames = 0;  // 0: the whole sequence at once; else EM on consecutive blocks of this many frames
 };
 
 struct InversionResult {
-  Eigen::MatrixXd visual;                // d_v x T
-  std::vector<double> logLikelihoods;    // joint log P(O_a, O'_v) after each iteration (batch: whole sequence)
-  int iterations = 0;                    // batch: EM iterations; windowed: the mean over windows (rounded)
+  Eigen::MatrixXd visual;              // d_v x T
+  std::vector<double> logLikelihoods;  // joint log P(O_a, O'_v) after each iteration (batch: whole sequence)
+  int iterations = 0;                  // batch: EM iterations; windowed: the mean over windows (rounded)
 };
 
 class HmmInverter {
@@ -59,7 +59,7 @@ class HmmInverter {
   // to one Gaussian (the mixture's mean and covariance). The means are mmse()'s; the covariances say how sure
   // each frame is, for trajectory generation. Windowed as mmse().
   struct VisualDistribution {
-    Eigen::MatrixXd mean;                   // d_v x T
+    Eigen::MatrixXd mean;                     // d_v x T
     std::vector<Eigen::MatrixXd> covariance;  // T of d_v x d_v
   };
   VisualDistribution conditionalDistribution(const Eigen::Ref<const Eigen::MatrixXd>& audio) const;
@@ -81,13 +81,13 @@ class HmmInverter {
 
  private:
   struct Component {
-    Eigen::MatrixXd visualPrecision;         // Φᵛ (d_v x d_v)
-    Eigen::MatrixXd crossPrecision;          // Φᵛᵃ (d_v x d_a)
-    Eigen::VectorXd visualTarget;            // Φᵛ μᵛ + Φᵛᵃ μᵃ: the update's constant part
-    Eigen::MatrixXd regression;              // Σᵛᵃ (Σᵃ)⁻¹ (d_v x d_a), for the conditional mean
-    Eigen::MatrixXd conditionalCovariance;   // (Φᵛ)⁻¹ = Σᵛ − Σᵛᵃ (Σᵃ)⁻¹ Σᵃᵛ
-    Eigen::VectorXd visualMean;              // μᵛ
-    Eigen::VectorXd audioMean;               // μᵃ
+    Eigen::MatrixXd visualPrecision;        // Φᵛ (d_v x d_v)
+    Eigen::MatrixXd crossPrecision;         // Φᵛᵃ (d_v x d_a)
+    Eigen::VectorXd visualTarget;           // Φᵛ μᵛ + Φᵛᵃ μᵃ: the update's constant part
+    Eigen::MatrixXd regression;             // Σᵛᵃ (Σᵃ)⁻¹ (d_v x d_a), for the conditional mean
+    Eigen::MatrixXd conditionalCovariance;  // (Φᵛ)⁻¹ = Σᵛ − Σᵛᵃ (Σᵃ)⁻¹ Σᵃᵛ
+    Eigen::VectorXd visualMean;             // μᵛ
+    Eigen::VectorXd audioMean;              // μᵃ
   };
 
   // One EM run over one stretch of audio; `carried` is the state distribution of its first frame (or null: π).
@@ -100,7 +100,8 @@ class HmmInverter {
                                       const Eigen::VectorXd* carried, double* logLikelihood,
                                       Eigen::VectorXd* lastFrameDistribution) const;
   Eigen::VectorXd nextWindowStart(const Eigen::VectorXd& lastFrameDistribution) const;
-  Eigen::MatrixXd conditionalMean(const Eigen::Ref<const Eigen::MatrixXd>& audio, const Eigen::MatrixXd& posteriors) const;
+  Eigen::MatrixXd conditionalMean(const Eigen::Ref<const Eigen::MatrixXd>& audio,
+                                  const Eigen::MatrixXd& posteriors) const;
 
   HmmModel jointModel_;
   HmmModel audioModel_;
@@ -111,7 +112,7 @@ class HmmInverter {
   int visualSize_ = 0;
   std::vector<Component> components_;  // index j * maxComponents + m
   int maxComponents_ = 0;
-  Eigen::VectorXd visualMean_;         // for the random start: the model's overall visual mean and spread
+  Eigen::VectorXd visualMean_;  // for the random start: the model's overall visual mean and spread
   Eigen::VectorXd visualSpread_;
 };
 
@@ -126,9 +127,9 @@ class StreamingInverter {
   StreamingInverter(const HmmInverter& inverter, Method method, int windowFrames);
 
   void accept(const Eigen::Ref<const Eigen::VectorXd>& audioFrame);  // d_a values
-  void finish();                        // decodes the last, partial window
-  bool next(Eigen::VectorXd& visual);   // the next visual frame (d_v), if one is ready
-  int lastIterations() const { return lastIterations_; }  // EM iterations of the last window decoded
+  void finish();                                                     // decodes the last, partial window
+  bool next(Eigen::VectorXd& visual);                                // the next visual frame (d_v), if one is ready
+  int lastIterations() const { return lastIterations_; }             // EM iterations of the last window decoded
   int windowFrames() const { return windowFrames_; }
 
  private:

@@ -58,8 +58,8 @@ class ModelReader : public JsonFields {
                           const std::string& why) const {
     array(value, field);
     if (value.size() != expected) {
-      fail(field, "has " + std::to_string(value.size()) + " values; expected " + std::to_string(expected) + " (" +
-                      why + ")");
+      fail(field,
+           "has " + std::to_string(value.size()) + " values; expected " + std::to_string(expected) + " (" + why + ")");
     }
     Eigen::VectorXd out(static_cast<Eigen::Index>(expected));
     for (std::size_t i = 0; i < expected; ++i) {
@@ -85,7 +85,8 @@ class ModelReader : public JsonFields {
   // Non-negative and summing to 1 (π, a row of A, mixture weights).
   void probabilities(const Eigen::VectorXd& values, const std::string& field) const {
     for (Eigen::Index i = 0; i < values.size(); ++i) {
-      if (values[i] < 0.0) fail(indexed(field, static_cast<std::size_t>(i)), "is negative (" + formatNumber(values[i]) + ")");
+      if (values[i] < 0.0)
+        fail(indexed(field, static_cast<std::size_t>(i)), "is negative (" + formatNumber(values[i]) + ")");
     }
     const double sum = values.sum();
     if (!(std::abs(sum - 1.0) <= kSumTolerance)) {
@@ -100,7 +101,8 @@ class ModelReader : public JsonFields {
       for (Eigen::Index k = 0; k < i; ++k) {
         const double a = covariance(i, k);
         const double b = covariance(k, i);
-        const double scale = std::max({std::abs(a), std::abs(b), std::sqrt(std::abs(covariance(i, i) * covariance(k, k)))});
+        const double scale =
+            std::max({std::abs(a), std::abs(b), std::sqrt(std::abs(covariance(i, i) * covariance(k, k)))});
         if (std::abs(a - b) > kSymmetryTolerance * scale) {
           fail(field, "is not symmetric ([" + std::to_string(k) + "][" + std::to_string(i) + "] is " + formatNumber(b) +
                           " but [" + std::to_string(i) + "][" + std::to_string(k) + "] is " + formatNumber(a) + ")");
@@ -140,15 +142,18 @@ class ModelReader : public JsonFields {
     const std::int64_t version = integer(member(document, "version", ""), "version");
     const std::string thisVersion = std::to_string(kModelFileVersion);
     if (version > kModelFileVersion) {
-      fail("version", "is " + std::to_string(version) + ": the file was written by a newer talkinghead (this one reads version " +
-                          thisVersion + ")");
+      fail("version", "is " + std::to_string(version) +
+                          ": the file was written by a newer talkinghead (this one reads version " + thisVersion + ")");
     }
     if (version < kModelFileVersion) {
-      fail("version", "is " + std::to_string(version) + ", which is not a version of this format (this talkinghead reads version " +
-                          thisVersion + ")");
+      fail("version", "is " + std::to_string(version) +
+                          ", which is not a version of this format (this talkinghead reads version " + thisVersion +
+                          ")");
     }
-    onlyKnownFields(document, {"format", "version", "covariance", "columns", "blocks", "initial", "transition", "states", "training"},
-                    "", "a version-1 model file");
+    onlyKnownFields(
+        document,
+        {"format", "version", "covariance", "columns", "blocks", "initial", "transition", "states", "training"}, "",
+        "a version-1 model file");
 
     const std::string& covarianceName = string(member(document, "covariance", ""), "covariance");
     if (covarianceName != "full" && covarianceName != "diagonal") {
@@ -190,7 +195,8 @@ class ModelReader : public JsonFields {
       fail("columns", "has " + std::to_string(columns.size()) + " names; expected " + std::to_string(dimension) +
                           " (one per dimension) or none");
     }
-    for (std::size_t i = 0; i < columns.size(); ++i) model.columnNames.push_back(string(columns[i], indexed("columns", i)));
+    for (std::size_t i = 0; i < columns.size(); ++i)
+      model.columnNames.push_back(string(columns[i], indexed("columns", i)));
 
     model.blocks = readBlocks(array(member(document, "blocks", ""), "blocks"), dimension);
 
@@ -262,8 +268,8 @@ class ModelReader : public JsonFields {
       const std::string covarianceField = field + ".covariance";
       const Json& rows = array(member(component, "covariance", field), covarianceField);
       if (rows.size() != dimension) {
-        fail(covarianceField, "has " + std::to_string(rows.size()) + " rows; expected " + std::to_string(dimension) +
-                                  " (" + why + ")");
+        fail(covarianceField,
+             "has " + std::to_string(rows.size()) + " rows; expected " + std::to_string(dimension) + " (" + why + ")");
       }
       for (std::size_t i = 0; i < dimension; ++i) {
         const std::string rowField = indexed(covarianceField, i);
@@ -313,8 +319,9 @@ class ModelReader : public JsonFields {
       }
       if (size <= 0) fail(field + ".size", "is " + std::to_string(size) + "; a block has at least one dimension");
       if (size > d - begin) {
-        fail(field + ".size", "is " + std::to_string(size) + ": the block would end past the last dimension (there are " +
-                                  std::to_string(d) + ")");
+        fail(field + ".size", "is " + std::to_string(size) +
+                                  ": the block would end past the last dimension (there are " + std::to_string(d) +
+                                  ")");
       }
       blocks.push_back({name, static_cast<int>(begin), static_cast<int>(size)});
       next = begin + size;
@@ -344,7 +351,8 @@ std::string layOut(const HmmModel& model, CovarianceType type, const Json* train
   text += std::string("  \"covariance\": ") + (type == CovarianceType::kFull ? "\"full\"" : "\"diagonal\"") + ",\n";
   text += "  \"columns\": " + Json(model.columnNames).dump() + ",\n";
   Json blocks = Json::array();
-  for (const auto& block : model.blocks) blocks.push_back({{"name", block.name}, {"begin", block.begin}, {"size", block.size}});
+  for (const auto& block : model.blocks)
+    blocks.push_back({{"name", block.name}, {"begin", block.begin}, {"size", block.size}});
   text += "  \"blocks\": " + blocks.dump() + ",\n";
   text += "  \"initial\": " + vectorJson(model.initial).dump() + ",\n";
   text += "  \"transition\": [\n";
@@ -393,20 +401,26 @@ std::string formatModel(const HmmModel& model, std::string_view trainingJson, co
     for (std::size_t m = 0; m < model.states[j].components().size(); ++m) {
       if (model.states[j].components()[m].type() != type) {
         throw fileError(nameForErrors, "cannot be written: states[" + std::to_string(j) + "].components[" +
-                                           std::to_string(m) + "] differs in covariance type from states[0].components[0]");
+                                           std::to_string(m) +
+                                           "] differs in covariance type from states[0].components[0]");
       }
     }
   }
   Json training;
   if (!trainingJson.empty()) {
-    training = parseJson(trainingJson, nameForErrors, {.maxDepth = kMaxNestingDepth, .depthNote = "a model needs 7", .subject = "the training metadata"});
-    if (!training.is_object()) throw fileError(nameForErrors, "the training metadata is " + JsonFields::kindOf(training) + ", not a JSON object");
+    training =
+        parseJson(trainingJson, nameForErrors,
+                  {.maxDepth = kMaxNestingDepth, .depthNote = "a model needs 7", .subject = "the training metadata"});
+    if (!training.is_object())
+      throw fileError(nameForErrors,
+                      "the training metadata is " + JsonFields::kindOf(training) + ", not a JSON object");
   }
   std::string text;
   try {
     text = layOut(model, type, trainingJson.empty() ? nullptr : &training);
   } catch (const Json::exception& e) {  // dump() refuses strings that are not UTF-8 (a Latin-1 column name)
-    throw fileError(nameForErrors, "cannot be written: a column or block name is not UTF-8 text (" + jsonReason(e.what()) + ")");
+    throw fileError(nameForErrors,
+                    "cannot be written: a column or block name is not UTF-8 text (" + jsonReason(e.what()) + ")");
   }
   // Read it back with the loader's checks, so that no file is written that loadModel would refuse (a magnitude
   // beyond its limits, a name that does not survive): the error comes now, naming the field, not at load time.
@@ -422,7 +436,8 @@ void saveModel(const std::filesystem::path& path, const HmmModel& model, std::st
 }
 
 HmmModel parseModel(std::string_view text, const std::string& nameForErrors, std::string* trainingJson) {
-  const Json document = parseJson(text, nameForErrors, {.maxDepth = kMaxNestingDepth, .depthNote = "a model needs 7", .subject = ""});
+  const Json document =
+      parseJson(text, nameForErrors, {.maxDepth = kMaxNestingDepth, .depthNote = "a model needs 7", .subject = ""});
   try {
     return ModelReader(nameForErrors).read(document, trainingJson);
   } catch (const Json::exception& e) {

@@ -15,8 +15,8 @@
 namespace th::hmm {
 
 struct Sample {
-  Eigen::MatrixXd frames;   // d x T
-  std::vector<int> states;  // the hidden state of every frame
+  Eigen::MatrixXd frames;       // d x T
+  std::vector<int> states;      // the hidden state of every frame
   std::vector<int> components;  // the mixture component that produced every frame
 };
 

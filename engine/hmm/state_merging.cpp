@@ -23,15 +23,20 @@ Moments momentsOf(const SufficientStatistics& statistics, int state, int compone
           statistics.secondMoments[j][static_cast<size_t>(component)]};
 }
 
-Moments pooled(const Moments& a, const Moments& b) { return {a.count + b.count, a.first + b.first, a.second + b.second}; }
+Moments pooled(const Moments& a, const Moments& b) {
+  return {a.count + b.count, a.first + b.first, a.second + b.second};
+}
 
 // Σ = (second − Γ μμᵀ) / (Γ + Z_Σ), floored.
-Eigen::MatrixXd covarianceOf(const Moments& moments, const Eigen::VectorXd& floor, CovarianceType type, double priorWeight) {
+Eigen::MatrixXd covarianceOf(const Moments& moments, const Eigen::VectorXd& floor, CovarianceType type,
+                             double priorWeight) {
   const Eigen::VectorXd mean = moments.first / moments.count;
   const double divisor = moments.count + priorWeight;
   Eigen::MatrixXd covariance;
   if (type == CovarianceType::kFull) {
-    covariance = (Eigen::MatrixXd(moments.second.selfadjointView<Eigen::Lower>()) - moments.count * mean * mean.transpose()) / divisor;
+    covariance =
+        (Eigen::MatrixXd(moments.second.selfadjointView<Eigen::Lower>()) - moments.count * mean * mean.transpose()) /
+        divisor;
   } else {
     covariance = ((moments.second.col(0) - moments.count * mean.cwiseAbs2()) / divisor).asDiagonal();
   }
@@ -86,7 +91,8 @@ std::vector<std::pair<int, int>> mergeCandidates(const HmmModel& model, const Su
   std::vector<std::pair<double, std::pair<int, int>>> scored;
   for (int a = 0; a < n; ++a) {
     for (int b = a + 1; b < n; ++b) {
-      if (model.states[static_cast<size_t>(a)].numComponents() != model.states[static_cast<size_t>(b)].numComponents()) continue;
+      if (model.states[static_cast<size_t>(a)].numComponents() != model.states[static_cast<size_t>(b)].numComponents())
+        continue;
       const std::vector<int> partner = pairComponents(model, a, b);
       double cost = 0.0;
       for (size_t m = 0; m < partner.size(); ++m) {
@@ -130,15 +136,18 @@ HmmModel mergeStates(const HmmModel& model, const SufficientStatistics& statisti
   Eigen::VectorXd weights(numComponents);
   std::vector<Gaussian> components;
   for (int m = 0; m < numComponents; ++m) {
-    const Moments moments = pooled(momentsOf(statistics, a, m), momentsOf(statistics, b, partner[static_cast<size_t>(m)]));
+    const Moments moments =
+        pooled(momentsOf(statistics, a, m), momentsOf(statistics, b, partner[static_cast<size_t>(m)]));
     weights[m] = moments.count;
     if (moments.count < 1e-8) {
       components.push_back(model.states[static_cast<size_t>(a)].components()[static_cast<size_t>(m)]);
       continue;
     }
-    components.emplace_back(moments.first / moments.count, covarianceOf(moments, varianceFloor, type, covariancePriorWeight), type);
+    components.emplace_back(moments.first / moments.count,
+                            covarianceOf(moments, varianceFloor, type, covariancePriorWeight), type);
   }
-  weights = weights.sum() > 0.0 ? Eigen::VectorXd(weights / weights.sum()) : model.states[static_cast<size_t>(a)].weights();
+  weights =
+      weights.sum() > 0.0 ? Eigen::VectorXd(weights / weights.sum()) : model.states[static_cast<size_t>(a)].weights();
   merged.states[static_cast<size_t>(a)] = GaussianMixture(weights, std::move(components));
 
   // Drop b (its row, column and entry of π); the column was folded into a, so rows still sum to 1.
@@ -151,7 +160,8 @@ HmmModel mergeStates(const HmmModel& model, const SufficientStatistics& statisti
   Eigen::VectorXd initial(kept);
   for (Eigen::Index r = 0; r < kept; ++r) {
     initial[r] = merged.initial[keep[static_cast<size_t>(r)]];
-    for (Eigen::Index c = 0; c < kept; ++c) transition(r, c) = merged.transition(keep[static_cast<size_t>(r)], keep[static_cast<size_t>(c)]);
+    for (Eigen::Index c = 0; c < kept; ++c)
+      transition(r, c) = merged.transition(keep[static_cast<size_t>(r)], keep[static_cast<size_t>(c)]);
   }
   merged.initial = initial;
   merged.transition = transition;

@@ -78,7 +78,9 @@ Gaussian fitGaussian(const Eigen::MatrixXd& points, const Eigen::VectorXd& floor
   return Gaussian(mean, applyCovarianceFloor(covariance, floor, type), type);
 }
 
-Eigen::VectorXd normalised(const Eigen::VectorXd& counts) { return counts / counts.sum(); }
+Eigen::VectorXd normalised(const Eigen::VectorXd& counts) {
+  return counts / counts.sum();
+}
 
 Eigen::VectorXd estimate(const EstimationHooks& hooks, Multinomial which, const Eigen::VectorXd& counts,
                          const Eigen::VectorXd& previous, const MStepContext& context) {
@@ -154,7 +156,8 @@ HmmModel initialiseWithKMeans(const std::vector<Eigen::MatrixXd>& sequences, con
       weights[0] = 1.0;
     } else {
       Eigen::MatrixXd subCentres;
-      const std::vector<int> componentOf = kMeans(points, options.numMixtures, options.kmeansIterations, random, subCentres);
+      const std::vector<int> componentOf =
+          kMeans(points, options.numMixtures, options.kmeansIterations, random, subCentres);
       for (int m = 0; m < options.numMixtures; ++m) {
         std::vector<Eigen::Index> inside;
         for (size_t i = 0; i < componentOf.size(); ++i) {
@@ -212,8 +215,8 @@ SufficientStatistics expectationStep(const HmmModel& model, const std::vector<Ei
     const int m = model.states[static_cast<size_t>(j)].numComponents();
     statistics.componentCounts[static_cast<size_t>(j)] = Eigen::VectorXd::Zero(m);
     statistics.firstMoments[static_cast<size_t>(j)] = Eigen::MatrixXd::Zero(d, m);
-    statistics.secondMoments[static_cast<size_t>(j)].assign(static_cast<size_t>(m),
-                                                            full ? Eigen::MatrixXd::Zero(d, d) : Eigen::MatrixXd::Zero(d, 1));
+    statistics.secondMoments[static_cast<size_t>(j)].assign(
+        static_cast<size_t>(m), full ? Eigen::MatrixXd::Zero(d, d) : Eigen::MatrixXd::Zero(d, 1));
   }
   std::vector<Eigen::MatrixXd> componentLog;
   for (const auto& frames : sequences) {
@@ -264,9 +267,10 @@ void maximisationStep(HmmModel& model, const SufficientStatistics& statistics, c
   const CovarianceType type = model.covarianceType();
   model.initial = estimate(hooks, Multinomial::kInitial, statistics.initialCounts, model.initial, context);
   for (int i = 0; i < n; ++i) {
-    model.transition.row(i) = estimate(hooks, Multinomial::kTransitionRow, statistics.transitionCounts.row(i).transpose(),
-                                       model.transition.row(i).transpose(), context)
-                                  .transpose();
+    model.transition.row(i) =
+        estimate(hooks, Multinomial::kTransitionRow, statistics.transitionCounts.row(i).transpose(),
+                 model.transition.row(i).transpose(), context)
+            .transpose();
   }
   for (int j = 0; j < n; ++j) {
     const GaussianMixture& old = model.states[static_cast<size_t>(j)];
@@ -285,7 +289,8 @@ void maximisationStep(HmmModel& model, const SufficientStatistics& statistics, c
       const double divisor = gamma + hooks.covariancePriorWeight;
       Eigen::MatrixXd covariance;
       if (type == CovarianceType::kFull) {
-        covariance = (Eigen::MatrixXd(second.selfadjointView<Eigen::Lower>()) - gamma * mean * mean.transpose()) / divisor;
+        covariance =
+            (Eigen::MatrixXd(second.selfadjointView<Eigen::Lower>()) - gamma * mean * mean.transpose()) / divisor;
       } else {
         covariance = ((second.col(0) - gamma * mean.cwiseAbs2()) / divisor).asDiagonal();
       }
@@ -334,7 +339,8 @@ TrainingResult trainHmm(const std::vector<Eigen::MatrixXd>& sequences, const Tra
     for (const double margin : kTrimMargins) {
       const bool mayTrim = margin > 0.0;
       candidate = model;
-      maximisationStep(candidate, statistics, floor, hooks, {.iteration = iteration, .mayTrim = mayTrim, .trimMargin = margin});
+      maximisationStep(candidate, statistics, floor, hooks,
+                       {.iteration = iteration, .mayTrim = mayTrim, .trimMargin = margin});
       candidateStatistics = expectationStep(candidate, sequences);
       after = posteriorOf(candidate, candidateStatistics.logLikelihood, hooks, iteration);
       if (!mayTrim || after >= before || structureOf(candidate) == structureOf(model)) break;

@@ -10,8 +10,8 @@
 // Brand's entropic MAP estimator can replace the ordinary normalisation; with it unset, training is maximum
 // likelihood. An M-step that changes the model's structure (trims parameters or states) is kept only if the next
 // E-step confirms that the log posterior, under the prior the step was taken with, did not fall; otherwise it is
-// taken again trimming more cautiously, and finally without trimming. So every step of the history is an improvement under its own prior.
-// Thread contract: pure function of its arguments (deterministic for a given seed).
+// taken again trimming more cautiously, and finally without trimming. So every step of the history is an improvement
+// under its own prior. Thread contract: pure function of its arguments (deterministic for a given seed).
 #pragma once
 
 #include <Eigen/Core>
@@ -27,15 +27,15 @@ struct TrainingOptions {
   int numMixtures = 1;
   CovarianceType covariance = CovarianceType::kFull;
   int maxIterations = 100;
-  double tolerance = 1e-6;        // stop when the log posterior per frame improves by less than this
+  double tolerance = 1e-6;  // stop when the log posterior per frame improves by less than this
   unsigned seed = 1;
   double varianceFloorFraction = 1e-3;  // variance floor: this fraction of the data's variance, per dimension
   int kmeansIterations = 20;
 };
 
 struct IterationRecord {
-  double logLikelihood = 0.0;   // Σ over sequences of log P(X | model), before this iteration's M-step
-  double logPrior = 0.0;        // of the model that produced it, under this iteration's prior (0 for ML)
+  double logLikelihood = 0.0;  // Σ over sequences of log P(X | model), before this iteration's M-step
+  double logPrior = 0.0;       // of the model that produced it, under this iteration's prior (0 for ML)
   int liveStates = 0;
   // Log posterior after this iteration's M-step minus before, both under this iteration's prior (with an
   // annealed prior the records' own log posteriors are under different priors and not comparable).
@@ -43,7 +43,7 @@ struct IterationRecord {
   // M-steps redone because their trimming lowered the log posterior (each retry trims more cautiously, the
   // last not at all).
   int trimRetries = 0;
-  int statesMerged = 0;         // merges kept after this iteration's M-step (their gain is in stepGain)
+  int statesMerged = 0;  // merges kept after this iteration's M-step (their gain is in stepGain)
   double logPosterior() const { return logLikelihood + logPrior; }
 };
 
@@ -65,8 +65,8 @@ struct MStepContext {
 
 // Statistics the M-step hands to a multinomial estimator: expected counts ω (computed at `previous`, the θ the
 // E-step used), returns the new θ on the simplex.
-using MultinomialEstimator = std::function<Eigen::VectorXd(Multinomial which, const Eigen::VectorXd& counts,
-                                                           const Eigen::VectorXd& previous, const MStepContext& context)>;
+using MultinomialEstimator = std::function<Eigen::VectorXd(
+    Multinomial which, const Eigen::VectorXd& counts, const Eigen::VectorXd& previous, const MStepContext& context)>;
 
 struct EstimationHooks {
   MultinomialEstimator multinomial;  // unset: θ = ω / Σω
@@ -89,11 +89,11 @@ struct EstimationHooks {
 // Expected sufficient statistics of one E-step over all sequences.
 struct SufficientStatistics {
   double logLikelihood = 0.0;
-  Eigen::VectorXd initialCounts;                          // N
-  Eigen::MatrixXd transitionCounts;                       // N x N
-  Eigen::VectorXd stateOccupancy;                         // N
-  std::vector<Eigen::VectorXd> componentCounts;           // per state: M
-  std::vector<Eigen::MatrixXd> firstMoments;              // per state: d x M
+  Eigen::VectorXd initialCounts;                            // N
+  Eigen::MatrixXd transitionCounts;                         // N x N
+  Eigen::VectorXd stateOccupancy;                           // N
+  std::vector<Eigen::VectorXd> componentCounts;             // per state: M
+  std::vector<Eigen::MatrixXd> firstMoments;                // per state: d x M
   std::vector<std::vector<Eigen::MatrixXd>> secondMoments;  // per state, component: d x d (lower) or d x 1 (diag)
 };
 

@@ -132,7 +132,8 @@ void OnlineViterbi::acceptFrame(const Eigen::Ref<const Eigen::VectorXd>& logEmis
     const long long forced = latest - options_.maxLagFrames;
     int state = argMax(score_);
     for (long long t = latest; t > forced; --t) {
-      state = backPointers_[static_cast<size_t>(t - static_cast<long long>(decided_.size()))][static_cast<size_t>(state)];
+      state =
+          backPointers_[static_cast<size_t>(t - static_cast<long long>(decided_.size()))][static_cast<size_t>(state)];
     }
     decideFrom(forced, state);
   }

@@ -20,7 +20,6 @@
 #include <vector>
 
 #include "core/frame_store.h"
-
 #include "hmm/hmm_model.h"
 
 namespace th::hmm {
@@ -61,7 +60,7 @@ class OnlineViterbi {
   Eigen::MatrixXd logTransition_;
   Eigen::VectorXd logInitial_;
   OnlineViterbiOptions options_;
-  Eigen::VectorXd score_;                    // δ for the latest frame
+  Eigen::VectorXd score_;                       // δ for the latest frame
   std::vector<std::vector<int>> backPointers_;  // [k]: frame firstUndecided + k → its best predecessor
   long long framesSeen_ = 0;
   FrameStore<int> decided_;

@@ -67,9 +67,13 @@ std::unique_ptr<FrameDecoder> LivePipeline::makeDecoder() {
   return std::make_unique<ResamplingDecoder>(std::move(decoder), rateHz_);
 }
 
-void LivePipeline::note(LiveEventKind kind, std::string text) { events_.push_back({kind, std::move(text)}); }
+void LivePipeline::note(LiveEventKind kind, std::string text) {
+  events_.push_back({kind, std::move(text)});
+}
 
-std::vector<LiveEvent> LivePipeline::events() { return std::exchange(events_, {}); }
+std::vector<LiveEvent> LivePipeline::events() {
+  return std::exchange(events_, {});
+}
 
 // A recording has no latency to save, only its sync: its sound is scheduled late enough for each instant's
 // frame to be there when it is heard. The decoder's look-ahead, plus 60 ms for the worker's cadence and
@@ -95,7 +99,8 @@ void LivePipeline::startPlayback() {
 }
 
 void LivePipeline::stopPlayback() {
-  if ((playback_ || outputSystem_) && !audio::closeInBackground(std::move(playback_), std::move(outputSystem_), kClosePatience))
+  if ((playback_ || outputSystem_) &&
+      !audio::closeInBackground(std::move(playback_), std::move(outputSystem_), kClosePatience))
     note(LiveEventKind::kCloseStuck, "the sound output: PortAudio has not closed it in 2 s; left closing");
 }
 
@@ -135,7 +140,8 @@ void LivePipeline::startSource() {
       // This pass's first sample is heard the pipeline's latency after the feeder starts.
       if (playback_) {
         passStartSample_ = playbackRing_->samplesWritten();
-        playback_->schedule(passStartSample_, steadyNanoseconds() + static_cast<std::int64_t>(playbackLatencyMs_ * 1e6));
+        playback_->schedule(passStartSample_,
+                            steadyNanoseconds() + static_cast<std::int64_t>(playbackLatencyMs_ * 1e6));
       }
       feeder_ = std::make_unique<FileFeeder>(*session_, source_.recording, options_.speed, options_.blockSamples,
                                              options_.repeatToSamples, playbackRing_.get());
@@ -198,8 +204,8 @@ void LivePipeline::supervise() {
   }
   if (capture_ && !capture_->active()) {
     ++sourcesLost_;
-    sourceError_ = sourceName_ + " went away; trying again every " + std::to_string(std::lround(options_.retrySeconds)) +
-                   " s";
+    sourceError_ =
+        sourceName_ + " went away; trying again every " + std::to_string(std::lround(options_.retrySeconds)) + " s";
     note(LiveEventKind::kSourceLost, sourceError_);
     reportedError_ = sourceError_;
     stopSource();
@@ -209,7 +215,9 @@ void LivePipeline::supervise() {
   if (feeder_ && options_.loop && session_->done()) startSource();  // the recording again from the start
 }
 
-bool LivePipeline::nextFrame(AnimationFrame& frame) { return session_ && session_->nextFrame(frame); }
+bool LivePipeline::nextFrame(AnimationFrame& frame) {
+  return session_ && session_->nextFrame(frame);
+}
 
 std::size_t LivePipeline::readMonitor(float* samples, std::size_t count) {
   return session_ ? session_->readMonitor(samples, count) : 0;

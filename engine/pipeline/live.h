@@ -42,8 +42,8 @@ namespace th::pipeline {
 // A recording (16 kHz mono) or, if it is empty, a sound input.
 struct LiveSource {
   std::vector<float> recording;
-  std::string name;            // the recording's, for messages
-  std::optional<int> device;   // the sound input: a PortAudio device number, or the default
+  std::string name;           // the recording's, for messages
+  std::optional<int> device;  // the sound input: a PortAudio device number, or the default
 };
 
 struct LivePipelineOptions {
@@ -60,13 +60,13 @@ struct LivePipelineOptions {
 };
 
 enum class LiveEventKind {
-  kStarted,         // the source started (a recording's first pass, or a sound input opened)
-  kSourceLost,      // the sound input went away
-  kSourceFailed,    // the source would not start (no device, it will not open) or the decoder stopped
-  kGaveUp,          // the sound input has been gone for giveUpSeconds
-  kPlaybackStarted, // the recording is played aloud
-  kPlaybackFailed,  // ... could not be, or its output went away
-  kCloseStuck,      // PortAudio did not close a stream in 2 s (left closing)
+  kStarted,          // the source started (a recording's first pass, or a sound input opened)
+  kSourceLost,       // the sound input went away
+  kSourceFailed,     // the source would not start (no device, it will not open) or the decoder stopped
+  kGaveUp,           // the sound input has been gone for giveUpSeconds
+  kPlaybackStarted,  // the recording is played aloud
+  kPlaybackFailed,   // ... could not be, or its output went away
+  kCloseStuck,       // PortAudio did not close a stream in 2 s (left closing)
 };
 
 struct LiveEvent {
@@ -102,7 +102,7 @@ class LivePipeline {
   const std::string& sourceName() const { return sourceName_; }
   const std::string& sourceError() const { return sourceError_; }  // empty while the source runs
   bool isRecording() const { return !source_.recording.empty(); }
-  bool running() const { return session_ != nullptr; }  // a session takes sound now
+  bool running() const { return session_ != nullptr; }                // a session takes sound now
   const std::vector<int>& fapNumbers() const { return fapNumbers_; }  // the FAPs the frames set
   double rateHz() const { return rateHz_; }
   const DecoderLookahead& lookahead() const { return lookahead_; }
@@ -114,7 +114,7 @@ class LivePipeline {
   int passes() const { return passes_; }  // a recording's passes begun
   // Sessions begun (a recording's passes, a sound input opened): each starts its frames from 0 again.
   std::uint64_t sessionsStarted() const { return sessionsStarted_; }
-  double deviceSeconds() const;           // how long sound inputs have been open
+  double deviceSeconds() const;  // how long sound inputs have been open
 
   // A recording played aloud (null otherwise): its device, and how long after going in a sample is heard.
   const audio::Playback* playback() const { return playback_.get(); }

@@ -5,10 +5,10 @@
 #include <string>
 #include <utility>
 
-#include "pipeline/offline.h"
 #include "animation/fap_mapping.h"
 #include "animation/prosody.h"
 #include "core/error.h"
+#include "pipeline/offline.h"
 
 namespace th::pipeline {
 
@@ -42,7 +42,8 @@ LiveDecoder::LiveDecoder(const animation::HeadModel* head, const animation::Mout
       prosody_(animation::kAnimationFramesPerSecond, {}) {
   if (head == nullptr && mouth == nullptr) throw Error("live decoder: neither a head nor a mouth model");
   if (mouth != nullptr && !animation::drivesFaps(*mouth))
-    throw Error("live decoder: the mouth model drives no FAPs (a sweep model?); make one with `talkinghead train mouth`");
+    throw Error(
+        "live decoder: the mouth model drives no FAPs (a sweep model?); make one with `talkinghead train mouth`");
   if (head != nullptr) {
     if (options.head.maxLagFrames < 0)
       throw Error("live decoder: the head decoder needs a bounded lag (maxLagFrames >= 0), not batch decoding");
@@ -94,7 +95,8 @@ void LiveDecoder::pull() {
   }
   if (headStream_)
     for (; headTaken_ < headStream_->numReady(); ++headTaken_)
-      prosodyFrames_[static_cast<std::size_t>(headTaken_ - prosodyBase_)].headDegrees = headStream_->rotation(headTaken_);
+      prosodyFrames_[static_cast<std::size_t>(headTaken_ - prosodyBase_)].headDegrees =
+          headStream_->rotation(headTaken_);
   if (mouthStream_) {
     Eigen::VectorXd mfcc(static_cast<Eigen::Index>(mfccRow_.size()));
     for (; mfccFrames_ < mouthExtractor_.numBaseFramesReady(); ++mfccFrames_) {
@@ -189,7 +191,8 @@ DecoderLookahead LiveDecoder::lookahead() const {
   result.headMs = result.featuresMs + result.headFrames * kFrameMs;
   result.mouthMs = mouthStream_ ? result.mouthFeaturesMs + result.mouthFrames * kFrameMs : 0.0;
   if (mouthStream_ && !options_.waitForHead) {
-    result.headDelayFrames = std::max(0, static_cast<int>(std::ceil((result.headMs - result.mouthMs) / kFrameMs - 1e-9)));
+    result.headDelayFrames =
+        std::max(0, static_cast<int>(std::ceil((result.headMs - result.mouthMs) / kFrameMs - 1e-9)));
     result.totalMs = std::max(result.mouthMs, result.headMs - result.headDelayFrames * kFrameMs);
   } else {
     result.totalMs = std::max(result.headMs, result.mouthMs);

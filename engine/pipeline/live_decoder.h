@@ -34,7 +34,8 @@ struct LiveDecoderOptions {
   // Online decoding: Viterbi with a bounded lag, then the smooth trajectory through the decided states.
   animation::HeadSynthesisOptions head{.variant = animation::HeadVariant::kTrajectory, .maxLagFrames = 6};
   // Inversion on short windows: the window is look-ahead (pipeline/live_presets.h: 1 in the default preset).
-  animation::MouthSynthesisOptions mouth{.method = animation::MouthMethod::kInversion, .windowFrames = 1, .maxIterations = 20};
+  animation::MouthSynthesisOptions mouth{
+      .method = animation::MouthMethod::kInversion, .windowFrames = 1, .maxIterations = 20};
   // false: frames out as soon as the mouth is decided, the head shown headDelayFrames late (lips need sync,
   // head motion tolerates a third of a second); true: each frame waits for its own head (file playback, where
   // the sound can be delayed to match).
@@ -58,8 +59,8 @@ struct DecoderLookahead {
 
 class LiveDecoder : public FrameDecoder {
  public:
-  // Throws th::Error if both models are null, the mouth model drives no FAPs (no FAP map and no visual FAPs), or an option cannot stream
-  // (a batch head, maxLagFrames < 0, or a mouth window below 1).
+  // Throws th::Error if both models are null, the mouth model drives no FAPs (no FAP map and no visual FAPs), or an
+  // option cannot stream (a batch head, maxLagFrames < 0, or a mouth window below 1).
   LiveDecoder(const animation::HeadModel* head, const animation::MouthModel* mouth, const LiveDecoderOptions& options);
   ~LiveDecoder() override;
   LiveDecoder(const LiveDecoder&) = delete;

@@ -27,11 +27,17 @@ struct LivePreset {
 inline constexpr std::array<std::string_view, 3> kLivePresetNames{"default", "low-latency", "accurate"};
 
 inline constexpr std::array<LivePreset, 3> kLivePresets{{
-    {"default", "MFCC context +-1 frame, window 1, newest frame shown", "mouth_live.json",
+    {"default",
+     "MFCC context +-1 frame, window 1, newest frame shown",
+     "mouth_live.json",
      {{{"window", "1"}, {"interpolate", "false"}}}},
-    {"low-latency", "no MFCC context (the mouth waits only for its MFCC window)", "mouth_instant.json",
+    {"low-latency",
+     "no MFCC context (the mouth waits only for its MFCC window)",
+     "mouth_instant.json",
      {{{"window", "1"}, {"interpolate", "false"}}}},
-    {"accurate", "the offline model (context +-2), window 2, interpolated 60 Hz motion", "mouth.json",
+    {"accurate",
+     "the offline model (context +-2), window 2, interpolated 60 Hz motion",
+     "mouth.json",
      {{{"window", "2"}, {"interpolate", "true"}}}},
 }};
 

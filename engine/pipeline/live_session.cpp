@@ -11,7 +11,8 @@
 namespace th::pipeline {
 
 std::int64_t steadyNanoseconds() {
-  return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch()).count();
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch())
+      .count();
 }
 
 LiveSession::LiveSession(std::unique_ptr<FrameDecoder> decoder, const LiveSessionOptions& options)
@@ -28,9 +29,11 @@ LiveSession::LiveSession(std::unique_ptr<FrameDecoder> decoder, const LiveSessio
   const double alignSamples = options.alignSeconds * options.sampleRateHz;
   const double alignFrames = options.alignSeconds * options.framesPerSecond;
   if (!(alignSamples >= 1.0) || std::abs(alignSamples - std::round(alignSamples)) > 1e-6 || !(alignFrames >= 1.0) ||
-      std::abs(alignFrames - std::round(alignFrames)) > 1e-6 || history_.size() < static_cast<std::size_t>(2 * alignSamples))
-    throw Error("live session: the alignment step must be a whole number of samples and of frames, and the history "
-                "at least two steps");
+      std::abs(alignFrames - std::round(alignFrames)) > 1e-6 ||
+      history_.size() < static_cast<std::size_t>(2 * alignSamples))
+    throw Error(
+        "live session: the alignment step must be a whole number of samples and of frames, and the history "
+        "at least two steps");
   alignSamples_ = static_cast<std::size_t>(std::lround(alignSamples));
   alignFrames_ = static_cast<int>(std::lround(alignFrames));
 }
@@ -70,7 +73,9 @@ void LiveSession::start() {
   worker_ = std::thread([this] { run(); });
 }
 
-void LiveSession::endOfInput() { inputEnded_.store(true, std::memory_order_release); }
+void LiveSession::endOfInput() {
+  inputEnded_.store(true, std::memory_order_release);
+}
 
 void LiveSession::stop() {
   stopping_.store(true, std::memory_order_release);
@@ -127,7 +132,9 @@ void LiveSession::deliver(std::int64_t inputReadNs) {
   }
 }
 
-bool LiveSession::nextFrame(AnimationFrame& frame) { return frames_.pop(frame); }
+bool LiveSession::nextFrame(AnimationFrame& frame) {
+  return frames_.pop(frame);
+}
 
 bool LiveSession::done() const {
   return workerDone_.load(std::memory_order_acquire) && frames_.read_available() == 0;
@@ -184,7 +191,9 @@ FileFeeder::FileFeeder(LiveSession& session, std::vector<float> samples16k, doub
   });
 }
 
-FileFeeder::~FileFeeder() { stop(); }
+FileFeeder::~FileFeeder() {
+  stop();
+}
 
 void FileFeeder::stop() {
   stopping_.store(true, std::memory_order_release);

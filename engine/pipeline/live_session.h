@@ -16,9 +16,8 @@
 // stop and the counters from the owner's thread. The decoder belongs to the worker once started.
 #pragma once
 
-#include <boost/lockfree/spsc_queue.hpp>
-
 #include <atomic>
+#include <boost/lockfree/spsc_queue.hpp>
 #include <chrono>
 #include <cstdint>
 #include <exception>
@@ -26,15 +25,15 @@
 #include <thread>
 #include <vector>
 
-#include "pipeline/animation_frame.h"
 #include "core/audio_ring.h"
+#include "pipeline/animation_frame.h"
 
 namespace th::pipeline {
 
 struct LiveSessionOptions {
-  std::size_t ringSamples = 4 * 16000;  // four seconds at 16 kHz
-  std::size_t frameQueue = 64;          // frames waiting for the display: two seconds at 30 fps
-  std::size_t readBlock = 512;          // samples the worker takes at a time (32 ms at 16 kHz)
+  std::size_t ringSamples = 4 * 16000;   // four seconds at 16 kHz
+  std::size_t frameQueue = 64;           // frames waiting for the display: two seconds at 30 fps
+  std::size_t readBlock = 512;           // samples the worker takes at a time (32 ms at 16 kHz)
   std::chrono::microseconds poll{2000};  // the worker's sleep when the ring is empty
   // For replaceDecoder(): the ring's sample rate and the decoder's frame rate, the speech kept to warm a new
   // decoder up, and the step its start is aligned to (a whole number of samples and of frames).
@@ -42,15 +41,15 @@ struct LiveSessionOptions {
   double framesPerSecond = 30.0;
   double historySeconds = 3.0;
   double alignSeconds = 0.1;
-  std::size_t monitorSamples = 16000;   // samples kept for the display's waveform plot (lossy)
+  std::size_t monitorSamples = 16000;  // samples kept for the display's waveform plot (lossy)
 };
 
 struct SessionCounters {
   std::uint64_t samplesIn = 0;       // written into the ring
   std::uint64_t overrunSamples = 0;  // dropped: the ring was full
   std::uint64_t framesDecoded = 0;
-  std::uint64_t framesDropped = 0;   // dropped: the display's queue was full
-  double decodeSeconds = 0.0;        // the worker's time in the decoder, in all
+  std::uint64_t framesDropped = 0;  // dropped: the display's queue was full
+  double decodeSeconds = 0.0;       // the worker's time in the decoder, in all
 };
 
 class LiveSession {
@@ -75,7 +74,7 @@ class LiveSession {
   bool nextFrame(AnimationFrame& frame);  // display thread
   bool done() const;                      // the input ended, and every frame was decoded and taken
   bool workerFinished() const { return workerDone_.load(std::memory_order_acquire); }
-  void rethrowError() const;              // the worker's exception, if it stopped on one
+  void rethrowError() const;  // the worker's exception, if it stopped on one
   SessionCounters counters() const;
 
  private:
@@ -104,8 +103,8 @@ class LiveSession {
   std::uint64_t samplesRead_ = 0;  // worker's
   std::size_t alignSamples_ = 0;
   int alignFrames_ = 0;
-  int frameOffset_ = 0;            // the decoder's frame 0 is the stream's frame frameOffset_
-  int nextFrame_ = 0;              // the stream's next frame to deliver
+  int frameOffset_ = 0;  // the decoder's frame 0 is the stream's frame frameOffset_
+  int nextFrame_ = 0;    // the stream's next frame to deliver
   boost::lockfree::spsc_queue<float> monitor_;
 };
 

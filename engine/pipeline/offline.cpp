@@ -45,7 +45,8 @@ face::FapTrack animate(std::span<const float> samples16k, const animation::HeadM
   return track;
 }
 
-face::FapTrack animate(std::span<const float> samples16k, const AnimationModels& models, const AnimateOptions& options) {
+face::FapTrack animate(std::span<const float> samples16k, const AnimationModels& models,
+                       const AnimateOptions& options) {
   return animate(samples16k, models.head.get(), models.mouth.get(), options);
 }
 

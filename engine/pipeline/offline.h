@@ -40,7 +40,8 @@ struct AnimateOptions {
 // FAP map and no visual FAPs), or the recording is shorter than one frame.
 face::FapTrack animate(std::span<const float> samples16k, const animation::HeadModel* head,
                        const animation::MouthModel* mouth, const AnimateOptions& options = {});
-face::FapTrack animate(std::span<const float> samples16k, const AnimationModels& models, const AnimateOptions& options = {});
+face::FapTrack animate(std::span<const float> samples16k, const AnimationModels& models,
+                       const AnimateOptions& options = {});
 
 // A recording file (any that audio/media_audio.h reads, a video's sound track included) animated: the track
 // named after the file, errors naming it. `clip`, if given, receives the sound.

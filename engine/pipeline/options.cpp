@@ -9,8 +9,10 @@ void ModelOptions::visitOptions(OptionVisitor& v) {
                   .help = "Head motion: trajectory (smooth, ML with deltas), paper (Viterbi state means), posterior "
                           "(posterior-weighted means), none",
                   .choices = kHeadVariantNames});
-  v.option(mouth, {.name = "mouth", .help = "Mouth: inversion (HMM inversion), mmse, none", .choices = kMouthMethodNames});
-  v.option(headModel, {.name = "head-model", .help = "Head model file (default: the shipped models/head.json)", .panel = false});
+  v.option(mouth,
+           {.name = "mouth", .help = "Mouth: inversion (HMM inversion), mmse, none", .choices = kMouthMethodNames});
+  v.option(headModel,
+           {.name = "head-model", .help = "Head model file (default: the shipped models/head.json)", .panel = false});
   v.option(mouthModel,
            {.name = "mouth-model", .help = "Mouth model file (default: the shipped one in models/)", .panel = false});
 }
@@ -42,8 +44,11 @@ void IdleOptions::visitOptions(OptionVisitor& v) {
   v.option(idle, {.name = "idle", .help = "the idle behaviour: blinks, gaze shifts and the head at rest in silence"});
   v.option(blinksPerMinute,
            {.name = "blinks-per-minute", .help = "Idle: spontaneous blinks a minute at rest", .min = 1.0, .max = 60.0});
-  v.option(seed, {.name = "seed", .help = "Seed of the head's variation and of the idle behaviour", .min = 0.0,
-                  .max = 4294967295.0, .panel = false});
+  v.option(seed, {.name = "seed",
+                  .help = "Seed of the head's variation and of the idle behaviour",
+                  .min = 0.0,
+                  .max = 4294967295.0,
+                  .panel = false});
 }
 
 animation::IdleMotionOptions IdleOptions::motionOptions() const {
@@ -54,28 +59,48 @@ animation::IdleMotionOptions IdleOptions::motionOptions() const {
 }
 
 void StreamingOptions::visitOptions(OptionVisitor& v) {
-  v.option(lag, {.name = "lag", .help = "Head: online Viterbi's decision lag", .unit = "frames", .min = 0, .max = 300,
+  v.option(lag, {.name = "lag",
+                 .help = "Head: online Viterbi's decision lag",
+                 .unit = "frames",
+                 .min = 0,
+                 .max = 300,
                  .logarithmic = true});
-  v.option(window, {.name = "window", .help = "Mouth: inversion window (window - 1 frames of look-ahead)",
-                    .unit = "frames", .min = 1, .max = 300, .logarithmic = true});
+  v.option(window, {.name = "window",
+                    .help = "Mouth: inversion window (window - 1 frames of look-ahead)",
+                    .unit = "frames",
+                    .min = 1,
+                    .max = 300,
+                    .logarithmic = true});
 }
 
 void LiveOptions::visitOptions(OptionVisitor& v) {
   v.option(preset, {.name = "preset",
                     .help = "default (~85 ms), low-latency (~67 ms, less accurate), accurate (~200 ms, smooth)",
                     .choices = kLivePresetNames});
-  v.option(device, {.name = "device", .help = "Sound input: default, or a device number from --list-devices",
-                    .panel = false});
-  v.option(covariance, {.name = "covariance", .help = "The shipped mouth model's covariance: full, or its diagonal twin",
+  v.option(device,
+           {.name = "device", .help = "Sound input: default, or a device number from --list-devices", .panel = false});
+  v.option(covariance, {.name = "covariance",
+                        .help = "The shipped mouth model's covariance: full, or its diagonal twin",
                         .choices = kCovarianceNames});
-  v.option(iterations, {.name = "iterations", .help = "Mouth inversion: the most EM iterations a window", .min = 1,
-                        .max = 1000, .logarithmic = true});
+  v.option(iterations, {.name = "iterations",
+                        .help = "Mouth inversion: the most EM iterations a window",
+                        .min = 1,
+                        .max = 1000,
+                        .logarithmic = true});
   v.option(waitForHead, {.name = "wait-for-head",
                          .help = "Each frame waits for its own head (~400 ms) instead of showing the head late"});
-  v.option(minF0, {.name = "min-f0", .help = "Lowest F0 the prosody tracker searches", .unit = "Hz", .min = 20.0,
-                   .max = 1000.0, .logarithmic = true});
-  v.option(maxF0, {.name = "max-f0", .help = "Highest F0 the prosody tracker searches", .unit = "Hz", .min = 40.0,
-                   .max = 2000.0, .logarithmic = true});
+  v.option(minF0, {.name = "min-f0",
+                   .help = "Lowest F0 the prosody tracker searches",
+                   .unit = "Hz",
+                   .min = 20.0,
+                   .max = 1000.0,
+                   .logarithmic = true});
+  v.option(maxF0, {.name = "max-f0",
+                   .help = "Highest F0 the prosody tracker searches",
+                   .unit = "Hz",
+                   .min = 40.0,
+                   .max = 2000.0,
+                   .logarithmic = true});
   v.option(interpolate, {.name = "interpolate", .help = "Smooth 60 Hz motion between frames (+33 ms)"});
   v.option(blinks, {.name = "blinks", .help = "the idle behaviour's blinks"});
   v.option(gaze, {.name = "gaze", .help = "the idle behaviour's small gaze shifts"});
@@ -101,7 +126,9 @@ std::filesystem::path LiveSettings::mouthModelPath() const {
   return models.mouthModelPath(file);
 }
 
-LiveDecoderOptions LiveSettings::decoderOptions() const { return decoderOptionsOf(models, head, idle, streaming, live); }
+LiveDecoderOptions LiveSettings::decoderOptions() const {
+  return decoderOptionsOf(models, head, idle, streaming, live);
+}
 
 void applyLivePreset(LiveSettings& settings, std::string_view preset) {
   const LivePreset* found = findLivePreset(preset);

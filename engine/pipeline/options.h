@@ -66,16 +66,16 @@ struct StreamingOptions {
 
 // Live's own.
 struct LiveOptions {
-  std::string preset = "default";     // live_presets.h
-  std::string device = "default";     // the sound input: "default" or a device number
-  std::string covariance = "full";    // the shipped mouth model's, or its diagonal twin
-  int iterations = 20;                // mouth: the most EM iterations a window
-  bool waitForHead = false;           // frames wait for their own head (less head delay, ~300 ms more latency)
-  double minF0 = 60.0;                // the prosody tracker's F0 search range, Hz
+  std::string preset = "default";   // live_presets.h
+  std::string device = "default";   // the sound input: "default" or a device number
+  std::string covariance = "full";  // the shipped mouth model's, or its diagonal twin
+  int iterations = 20;              // mouth: the most EM iterations a window
+  bool waitForHead = false;         // frames wait for their own head (less head delay, ~300 ms more latency)
+  double minF0 = 60.0;              // the prosody tracker's F0 search range, Hz
   double maxF0 = 500.0;
-  bool interpolate = false;           // smooth 60 Hz motion between frames (+33 ms and the jitter margin)
-  bool blinks = true;                 // with idle: the blinks ...
-  bool gaze = true;                   // ... and the gaze shifts
+  bool interpolate = false;  // smooth 60 Hz motion between frames (+33 ms and the jitter margin)
+  bool blinks = true;        // with idle: the blinks ...
+  bool gaze = true;          // ... and the gaze shifts
   void visitOptions(OptionVisitor& v);
   // The device's number, or nothing for "default"; throws th::Error for other text.
   std::optional<int> deviceIndex() const;

@@ -18,7 +18,8 @@ std::int64_t streamNanoseconds(int frameIndex, double framesPerSecond) {
 Playout::Playout(const PlayoutOptions& options) : options_(options) {
   if (!(options.framesPerSecond > 0.0) || !(options.marginMs >= 0.0) || !(options.windowSeconds > 0.0) ||
       !(options.catchUpRate > 0.0 && options.catchUpRate < 1.0))
-    throw Error("playout: the frame rate and window must be positive, the margin not negative, the catch-up rate in (0, 1)");
+    throw Error(
+        "playout: the frame rate and window must be positive, the margin not negative, the catch-up rate in (0, 1)");
 }
 
 void Playout::reset() {
@@ -40,7 +41,8 @@ void Playout::push(const AnimationFrame& frame, std::int64_t arrivalNs) {
 
 std::int64_t Playout::targetOffsetNs() const {
   // Showing an instant between frames i and i+1 needs frame i+1 there: one frame interval more.
-  return lateness_.front().latenessNs + static_cast<std::int64_t>(std::llround(options_.marginMs * 1e6 + 1e9 / options_.framesPerSecond));
+  return lateness_.front().latenessNs +
+         static_cast<std::int64_t>(std::llround(options_.marginMs * 1e6 + 1e9 / options_.framesPerSecond));
 }
 
 bool Playout::sample(std::int64_t nowNs, PlayoutSample& out) {
@@ -68,7 +70,8 @@ bool Playout::sample(std::int64_t nowNs, PlayoutSample& out) {
     offsetNs_ = std::min(target, nowNs - lastStreamNs);  // hold the clock still rather than go back
   } else if (target < offsetNs_) {
     const double elapsed = static_cast<double>(nowNs - lastNowNs_);
-    offsetNs_ = std::max(target, offsetNs_ - static_cast<std::int64_t>(std::llround(options_.catchUpRate * std::max(elapsed, 0.0))));
+    offsetNs_ = std::max(
+        target, offsetNs_ - static_cast<std::int64_t>(std::llround(options_.catchUpRate * std::max(elapsed, 0.0))));
   }
   lastNowNs_ = nowNs;
   const double stream = static_cast<double>(std::max(nowNs - offsetNs_, lastStreamNs)) * 1e-9;
@@ -79,7 +82,7 @@ bool Playout::sample(std::int64_t nowNs, PlayoutSample& out) {
 
 bool Playout::sampleAt(double streamSeconds, PlayoutSample& out) {
   if (frames_.empty()) return false;
-  lateness_.clear();  // no clock of its own meanwhile
+  lateness_.clear();                                                  // no clock of its own meanwhile
   const double stream = std::max(streamSeconds, lastStreamSeconds_);  // never back
   lastStreamSeconds_ = stream;
   pick(stream, out);
@@ -110,7 +113,8 @@ void Playout::pick(double stream, PlayoutSample& out) {
   const AnimationFrame& after = frames_[1];
   const double w = std::clamp((stream - timeOf(before)) / (timeOf(after) - timeOf(before)), 0.0, 1.0);
   out.frame = w < 0.5 ? before : after;
-  for (std::size_t n = 0; n < before.faps.size(); ++n) out.frame.faps[n] = (1.0 - w) * before.faps[n] + w * after.faps[n];
+  for (std::size_t n = 0; n < before.faps.size(); ++n)
+    out.frame.faps[n] = (1.0 - w) * before.faps[n] + w * after.faps[n];
   out.frame.headDegrees = (1.0 - w) * before.headDegrees + w * after.headDegrees;
 }
 

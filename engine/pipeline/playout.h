@@ -27,19 +27,19 @@ namespace th::pipeline {
 
 struct PlayoutOptions {
   double framesPerSecond = 30.0;
-  double marginMs = 4.0;           // over the latest arrival: scheduling noise of the display thread
-  double windowSeconds = 3.0;      // how long a late frame keeps the delay up
-  double catchUpRate = 0.05;       // how much faster than real time the clock runs while the delay shrinks
+  double marginMs = 4.0;       // over the latest arrival: scheduling noise of the display thread
+  double windowSeconds = 3.0;  // how long a late frame keeps the delay up
+  double catchUpRate = 0.05;   // how much faster than real time the clock runs while the delay shrinks
   // false: no clock and no interpolation, the newest frame is shown as soon as it is there (30 steps a second,
   // as a 30 fps video plays; the lowest latency: no interpolation frame, no jitter margin).
   bool interpolate = true;
 };
 
 struct PlayoutSample {
-  AnimationFrame frame;      // FAPs, head and jaw interpolated at streamSeconds; the rest from the nearer frame
-  double streamSeconds = 0;  // the instant of speech shown
-  double behindNewestMs = 0; // how far the instant shown lags the newest frame received: the buffer's delay
-  bool starved = false;      // the clock ran past the newest frame, which is held
+  AnimationFrame frame;       // FAPs, head and jaw interpolated at streamSeconds; the rest from the nearer frame
+  double streamSeconds = 0;   // the instant of speech shown
+  double behindNewestMs = 0;  // how far the instant shown lags the newest frame received: the buffer's delay
+  bool starved = false;       // the clock ran past the newest frame, which is held
 };
 
 class Playout {
@@ -52,7 +52,7 @@ class Playout {
   // interpolation the frame nearest that instant; the newest frame if it has not come yet (counted as starved).
   // The instant never goes back. False until the first frame.
   bool sampleAt(double streamSeconds, PlayoutSample& out);
-  void reset();                                                    // a new stream (frame 0 again)
+  void reset();  // a new stream (frame 0 again)
 
   int framesBuffered() const { return static_cast<int>(frames_.size()); }
   std::uint64_t starvedSamples() const { return starved_; }
@@ -70,7 +70,7 @@ class Playout {
   };
   std::deque<Lateness> lateness_;
   bool started_ = false;
-  std::int64_t offsetNs_ = 0;    // wall = stream + offset, as the clock runs now
+  std::int64_t offsetNs_ = 0;  // wall = stream + offset, as the clock runs now
   std::int64_t lastNowNs_ = 0;
   double lastStreamSeconds_ = 0.0;
   std::uint64_t starved_ = 0;

@@ -45,16 +45,17 @@ int exportVideo(const face::FaceModel& face, const face::FapTrack& animation, st
                 const VideoExportHooks& hooks) {
   render::OffscreenContext context;
   // FXAA on one sample instead of 4x MSAA: a third of the CPU per frame on llvmpipe, nearly as smooth.
-  render::AnimatedFace animated(face, context, {.width = options.width, .height = options.height, .samples = 1, .fxaa = true});
+  render::AnimatedFace animated(face, context,
+                                {.width = options.width, .height = options.height, .samples = 1, .fxaa = true});
   render::FaceRenderer& renderer = animated.renderer();
   formats::Mp4Writer writer(output, {.width = options.width,
-                                   .height = options.height,
-                                   .framesPerSecond = options.framesPerSecond,
-                                   .audioSampleRateHz = sampleRateHz,
-                                   .crf = options.crf,
-                                   .preset = options.preset,
-                                   .x264Params = options.x264Params,
-                                   .threads = encoderThreadsFor(options)});
+                                     .height = options.height,
+                                     .framesPerSecond = options.framesPerSecond,
+                                     .audioSampleRateHz = sampleRateHz,
+                                     .crf = options.crf,
+                                     .preset = options.preset,
+                                     .x264Params = options.x264Params,
+                                     .threads = encoderThreadsFor(options)});
   const auto frames = static_cast<int>(formats::videoFramesFor(samples.size(), sampleRateHz, options.framesPerSecond));
   // The sound is encoded by the worker as the video reaches it (frame by frame), not all before the first
   // frame: then it costs no time of its own on two busy cores.

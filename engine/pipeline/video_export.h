@@ -30,8 +30,8 @@ struct VideoExportOptions {
   int width = 1280;
   int height = 720;
   double framesPerSecond = 30.0;
-  int crf = 20;                      // x264 quality (see formats::Mp4Options)
-  std::string preset = "veryfast";   // x264 speed/size trade-off
+  int crf = 20;                     // x264 quality (see formats::Mp4Options)
+  std::string preset = "veryfast";  // x264 speed/size trade-off
   // Over the preset: sub-pixel motion refinement 1 instead of veryfast's 2 takes about a tenth off the
   // export's CPU for files about 3 % larger at the same quality setting (measured with 10 s of speech at
   // 720p; superfast would save as much but make files 2.6 times larger).

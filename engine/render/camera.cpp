@@ -17,8 +17,7 @@ float radians(float degrees) {
 Eigen::Vector3f OrbitCamera::eye() const {
   const float yaw = radians(yawDegrees);
   const float pitch = radians(pitchDegrees);
-  const Eigen::Vector3f offset(std::sin(yaw) * std::cos(pitch), std::sin(pitch),
-                               std::cos(yaw) * std::cos(pitch));
+  const Eigen::Vector3f offset(std::sin(yaw) * std::cos(pitch), std::sin(pitch), std::cos(yaw) * std::cos(pitch));
   return target + distance * offset;
 }
 
@@ -71,8 +70,7 @@ OrbitCamera frameHead(const Eigen::Matrix3Xd& positions, double aspect) {
   const double halfHeight = 0.5 * (top - bottom);
   const double halfWidth = 0.5 * 1.15 * width;
   camera.target =
-      Eigen::Vector3d(0.5 * (low.x() + high.x()), 0.5 * (top + bottom), 0.5 * (low.z() + high.z()))
-          .cast<float>();
+      Eigen::Vector3d(0.5 * (low.x() + high.x()), 0.5 * (top + bottom), 0.5 * (low.z() + high.z())).cast<float>();
   camera.pitchDegrees = 8.0f;
   const double tanHalf = std::tan(radians(camera.fovYDegrees) / 2.0f);
   const double fit = std::max(halfHeight, halfWidth / std::max(aspect, 1e-3));

@@ -15,11 +15,10 @@ namespace th::render {
 
 struct OrbitCamera {
   Eigen::Vector3f target = Eigen::Vector3f::Zero();
-  float yawDegrees = 0.0f;  // about +y; 0 looks along -z (at the face), positive moves the camera towards +x
+  float yawDegrees = 0.0f;    // about +y; 0 looks along -z (at the face), positive moves the camera towards +x
   float pitchDegrees = 0.0f;  // positive lifts the camera above the target, looking down
   float distance = 60.0f;     // from the target, in mesh units
-  float fovYDegrees =
-      24.0f;  // vertical field of view; a long lens flatters a face (little perspective bulge)
+  float fovYDegrees = 24.0f;  // vertical field of view; a long lens flatters a face (little perspective bulge)
   float nearPlane = 1.0f;
   float farPlane = 1000.0f;
 

@@ -1,7 +1,6 @@
 #include "render/culling.h"
 
 #include <Eigen/Geometry>
-
 #include <algorithm>
 #include <cmath>
 #include <string>
@@ -19,8 +18,7 @@ Eigen::Map<const Eigen::Vector3f> positionOf(const float* vertexData, std::uint3
 }
 
 // A vertex in normalised device coordinates; false if it lies behind the camera.
-bool project(const float* vertexData, const Eigen::Matrix4f& viewProjection, std::uint32_t v,
-             Eigen::Array2f& ndc) {
+bool project(const float* vertexData, const Eigen::Matrix4f& viewProjection, std::uint32_t v, Eigen::Array2f& ndc) {
   const Eigen::Vector4f clip = viewProjection * positionOf(vertexData, v).homogeneous();
   if (clip.w() <= 1e-6f) return false;
   ndc = clip.head<2>().array() / clip.w();
@@ -30,7 +28,7 @@ bool project(const float* vertexData, const Eigen::Matrix4f& viewProjection, std
 // An opening's bounding rectangle, then ellipse, in normalised device coordinates.
 struct Opening {
   bool valid = false;
-  Eigen::Array2f low, high;  // the bounding rectangle
+  Eigen::Array2f low, high;             // the bounding rectangle
   Eigen::Array2f centre, inverseRadii;  // the ellipse
 };
 
@@ -78,8 +76,8 @@ Culling::Culling(const DrawList& list, int numVertices, bool onCpu)
 void Culling::checkVertices(const std::vector<int>& vertices, const char* what) const {
   for (int v : vertices)
     if (v < 0 || v >= numVertices_)
-      throw Error(std::string("FaceRenderer: ") + what + " vertex " + std::to_string(v) +
-                  " is not one of the mesh's " + std::to_string(numVertices_));
+      throw Error(std::string("FaceRenderer: ") + what + " vertex " + std::to_string(v) + " is not one of the mesh's " +
+                  std::to_string(numVertices_));
 }
 
 void Culling::setMouthOpening(std::vector<int> innerLipVertices) {
@@ -112,9 +110,7 @@ void Culling::select(const DrawList& list, const std::vector<float>& vertexData,
                      const Eigen::Matrix4f& viewProjection, int width, int height) {
   const float* vertex = vertexData.data();
   const auto at = [&](std::uint32_t v) { return positionOf(vertex, v); };
-  const auto inNdc = [&](std::uint32_t v, Eigen::Array2f& ndc) {
-    return project(vertex, viewProjection, v, ndc);
-  };
+  const auto inNdc = [&](std::uint32_t v, Eigen::Array2f& ndc) { return project(vertex, viewProjection, v, ndc); };
   // Each opening on screen: the mouth's, the left and the right eye's.
   std::array<Opening, 3> openings;
   for (std::size_t o = 0; o < openings_.size(); ++o)
@@ -183,9 +179,7 @@ PixelRegion headRegion(const std::vector<float>& vertexData, const Eigen::Matrix
   }
   constexpr int kMargin = 8;  // FXAA's reach: its edge pixels lie next to drawn ones, its samples 4.5 further
   // Normalised device coordinates to pixels, rows from the top; clamped first, so that the casts stay in range.
-  const auto toPixels = [](float ndc, float size) {
-    return std::clamp((ndc + 1.0f) * 0.5f * size, -1e6f, 1e6f);
-  };
+  const auto toPixels = [](float ndc, float size) { return std::clamp((ndc + 1.0f) * 0.5f * size, -1e6f, 1e6f); };
   const auto fw = static_cast<float>(width);
   const auto fh = static_cast<float>(height);
   const auto evenBelow = [](int v) { return v - (v % 2 + 2) % 2; };

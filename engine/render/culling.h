@@ -59,8 +59,8 @@ class Culling {
   int numVertices_ = 0;
   bool onCpu_ = true;
   std::array<std::vector<int>, 3> openings_;  // lines bounding the mouth's opening, the left and right eye's
-  std::vector<std::uint32_t> indices_;  // this frame's front-facing ones (per frame, no allocation)
-  std::vector<Span> spans_;             // per draw
+  std::vector<std::uint32_t> indices_;        // this frame's front-facing ones (per frame, no allocation)
+  std::vector<Span> spans_;                   // per draw
   std::size_t numIndices_ = 0;
   int numTriangles_ = 0;
 };

@@ -3,7 +3,6 @@
 #include <glad/gl.h>
 
 #include <Eigen/Geometry>
-
 #include <algorithm>
 #include <cmath>
 #include <string>
@@ -117,8 +116,7 @@ void FaceRenderer::createBuffers(const std::vector<float>& detail) {
   glGenBuffers(1, &g.dynamicBuffer);
   glBindBuffer(GL_ARRAY_BUFFER, g.dynamicBuffer);
   vertexData_.resize(static_cast<std::size_t>(numVertices_) * 6);
-  glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(vertexData_.size() * sizeof(float)), nullptr,
-               GL_STREAM_DRAW);
+  glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(vertexData_.size() * sizeof(float)), nullptr, GL_STREAM_DRAW);
   glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 6 * sizeof(float), nullptr);
   glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, 6 * sizeof(float),
                         reinterpret_cast<const void*>(3 * sizeof(float)));  // GL's offset-as-pointer idiom
@@ -126,8 +124,7 @@ void FaceRenderer::createBuffers(const std::vector<float>& detail) {
   glEnableVertexAttribArray(1);
   glGenBuffers(1, &g.staticBuffer);
   glBindBuffer(GL_ARRAY_BUFFER, g.staticBuffer);
-  glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(detail.size() * sizeof(float)), detail.data(),
-               GL_STATIC_DRAW);
+  glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(detail.size() * sizeof(float)), detail.data(), GL_STATIC_DRAW);
   glVertexAttribPointer(2, 2, GL_FLOAT, GL_FALSE, 2 * sizeof(float), nullptr);
   glEnableVertexAttribArray(2);
   glGenBuffers(1, &g.indexBuffer);
@@ -226,8 +223,7 @@ void FaceRenderer::setPositions(const Eigen::Matrix3Xd& positions) {
   }
   context_.makeCurrent();
   glBindBuffer(GL_ARRAY_BUFFER, gl_->dynamicBuffer);
-  glBufferSubData(GL_ARRAY_BUFFER, 0, static_cast<GLsizeiptr>(vertexData_.size() * sizeof(float)),
-                  vertexData_.data());
+  glBufferSubData(GL_ARRAY_BUFFER, 0, static_cast<GLsizeiptr>(vertexData_.size() * sizeof(float)), vertexData_.data());
 }
 
 void FaceRenderer::setMouthOpening(std::vector<int> innerLipVertices) {
@@ -361,9 +357,8 @@ void FaceRenderer::drawFace(const OrbitCamera& camera, bool withBackdrop) {
     const FaceProgram& f = g.face[static_cast<int>(programOf(draw.surface))];
     glUseProgram(f.id);
     setDrawUniforms(f, draw, drawList_->eyes, options_.appearance);
-    glDrawRangeElements(
-        GL_TRIANGLES, draw.lowest, draw.highest, visible.count, GL_UNSIGNED_INT,
-        reinterpret_cast<const void*>(visible.first * sizeof(std::uint32_t)));  // offset-as-pointer
+    glDrawRangeElements(GL_TRIANGLES, draw.lowest, draw.highest, visible.count, GL_UNSIGNED_INT,
+                        reinterpret_cast<const void*>(visible.first * sizeof(std::uint32_t)));  // offset-as-pointer
   }
   if (!backdropDrawn) drawBackdropBehind();
   glBindVertexArray(0);
@@ -377,8 +372,8 @@ void FaceRenderer::resolve() {
   if (g.resolved) return;
   glBindFramebuffer(GL_READ_FRAMEBUFFER, g.msaaFramebuffer);
   glBindFramebuffer(GL_DRAW_FRAMEBUFFER, g.resolveFramebuffer);
-  glBlitFramebuffer(0, 0, options_.width, options_.height, 0, 0, options_.width, options_.height,
-                    GL_COLOR_BUFFER_BIT, GL_NEAREST);
+  glBlitFramebuffer(0, 0, options_.width, options_.height, 0, 0, options_.width, options_.height, GL_COLOR_BUFFER_BIT,
+                    GL_NEAREST);
   g.resolved = true;
 }
 
@@ -411,11 +406,11 @@ void FaceRenderer::prepare(RawFrame& frame) const {
   const PixelRegion& r = frame.region;
   const std::size_t regionPixels = static_cast<std::size_t>(r.width) * static_cast<std::size_t>(r.height);
   const std::size_t pixels = static_cast<std::size_t>(options_.width) * static_cast<std::size_t>(options_.height);
-  if (frame.width != options_.width || frame.height != options_.height || r.left < 0 || r.top < 0 ||
-      r.width < 0 || r.height < 0 || r.left + r.width > frame.width || r.top + r.height > frame.height ||
+  if (frame.width != options_.width || frame.height != options_.height || r.left < 0 || r.top < 0 || r.width < 0 ||
+      r.height < 0 || r.left + r.width > frame.width || r.top + r.height > frame.height ||
       frame.rgba.size() != regionPixels * 4 || backdrop_.size() != pixels * 3)
-    throw Error("FaceRenderer::finish: the frame is not one of this renderer's (" + std::to_string(frame.width) +
-                "x" + std::to_string(frame.height) + ")");
+    throw Error("FaceRenderer::finish: the frame is not one of this renderer's (" + std::to_string(frame.width) + "x" +
+                std::to_string(frame.height) + ")");
   const bool fxaa = samples_ == 1 && options_.fxaa;
   if (fxaa) frame.fxaa.luma.resize(regionPixels);
   const std::size_t w = static_cast<std::size_t>(r.width);
@@ -424,7 +419,8 @@ void FaceRenderer::prepare(RawFrame& frame) const {
     std::uint8_t* row = frame.rgba.data() + static_cast<std::size_t>(y) * w * 4;
     const std::uint8_t* under =
         backdrop_.data() + (static_cast<std::size_t>(bottomRow + y) * static_cast<std::size_t>(frame.width) +
-                            static_cast<std::size_t>(r.left)) * 3;
+                            static_cast<std::size_t>(r.left)) *
+                               3;
     compositeUnder(row, under, w);
     if (fxaa) fxaaLuma(row, w, frame.fxaa.luma.data() + static_cast<std::size_t>(y) * w);
   }
@@ -476,8 +472,8 @@ void FaceRenderer::present(std::pair<int, int> framebufferSize, int left) {
   glBindFramebuffer(GL_READ_FRAMEBUFFER, gl_->resolveFramebuffer);
   glBindFramebuffer(GL_DRAW_FRAMEBUFFER, 0);
   const bool same = framebufferSize.first - left == options_.width && framebufferSize.second == options_.height;
-  glBlitFramebuffer(0, 0, options_.width, options_.height, left, 0, framebufferSize.first,
-                    framebufferSize.second, GL_COLOR_BUFFER_BIT, same ? GL_NEAREST : GL_LINEAR);
+  glBlitFramebuffer(0, 0, options_.width, options_.height, left, 0, framebufferSize.first, framebufferSize.second,
+                    GL_COLOR_BUFFER_BIT, same ? GL_NEAREST : GL_LINEAR);
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
 }
 

@@ -2,16 +2,17 @@
 // core into a multisampled framebuffer of its own, then reads it back (off-screen) or blits it to a window.
 //
 //   th::render::OffscreenContext context;
-//   const th::face::Mesh mesh = th::face::loadObjMesh(th::face::ictFaceDirectory() /
-//   "generic_neutral_mesh.obj"); th::render::FaceRenderer renderer(context, mesh, {.width = 1280, .height =
-//   720}); const th::render::OrbitCamera camera = th::render::frameHead(mesh.positions, 1280.0 / 720.0);
+//   const th::face::Mesh mesh = th::face::loadObjMesh(th::face::ictFaceDirectory() / "generic_neutral_mesh.obj");
+//   th::render::FaceRenderer renderer(context, mesh, {.width = 1280, .height = 720});
+//   const th::render::OrbitCamera camera = th::render::frameHead(mesh.positions, 1280.0 / 720.0);
 //   th::render::Image frame;
 //   for (const Eigen::Matrix3Xd& positions : animation) {   // 3 x V, the mesh's vertex order
 //     renderer.setPositions(positions);                      // normals recomputed, vertices uploaded
 //     renderer.render(camera);
-//     renderer.readPixels(frame);                            // RGB8, top row first; no allocation after the
-//     first
+//     renderer.readPixels(frame);                            // RGB8, top row first; no allocation after the first
 //   }
+//
+// (render/animated_face.h draws the face model's frames through one of these.)
 //
 // The constructor (about a second) uploads the topology and the materials, and measures per-vertex detail
 // once on the mesh as given, at rest: ambient occlusion (96 depth views on the GPU), the lips' weight, the
@@ -119,9 +120,9 @@ struct PixelRegion {
 // A frame as GL gives it back (premultiplied RGBA over a transparent background, bottom row first), before
 // the CPU finishes it: what a pipeline hands from the GL thread to another (see FaceRenderer::readRaw).
 struct RawFrame {
-  int width = 0;   // the whole frame's size
+  int width = 0;  // the whole frame's size
   int height = 0;
-  PixelRegion region;  // the part GL drew in (RenderOptions::cropToHead); the backdrop elsewhere
+  PixelRegion region;              // the part GL drew in (RenderOptions::cropToHead); the backdrop elsewhere
   std::vector<std::uint8_t> rgba;  // the region's pixels, 4 bytes each, bottom row first
   FxaaScratch fxaa;  // working space, kept with the frame: finishing allocates nothing after the first time
 };
@@ -176,8 +177,8 @@ class FaceRenderer {
 
   const RenderOptions& options() const { return options_; }
   int samples() const { return samples_; }                       // the MSAA sample count in use
-  int trianglesDrawn() const { return trianglesDrawn_; }          // given to GL by the last render()
-  const PixelRegion& drawnRegion() const { return drawn_; }       // where the last render() drew
+  int trianglesDrawn() const { return trianglesDrawn_; }         // given to GL by the last render()
+  const PixelRegion& drawnRegion() const { return drawn_; }      // where the last render() drew
   const Eigen::Matrix3Xf& normals() const { return normals_; }   // of the last positions set
   const Eigen::VectorXf& openness() const { return openness_; }  // per-vertex ambient openness, 0..1
   const Eigen::VectorXf& lipWeight() const { return lipWeight_; }
@@ -205,11 +206,11 @@ class FaceRenderer {
   Eigen::Matrix3Xf normals_;
   Eigen::VectorXf openness_;
   Eigen::VectorXf lipWeight_;
-  std::vector<float> vertexData_;   // interleaved position + normal, reused every frame
-  RawFrame raw_;  // readPixels()' own
-  std::vector<std::uint8_t> backdrop_;  // RGB, GL's row order, for the size in use
+  std::vector<float> vertexData_;           // interleaved position + normal, reused every frame
+  RawFrame raw_;                            // readPixels()' own
+  std::vector<std::uint8_t> backdrop_;      // RGB, GL's row order, for the size in use
   std::array<Yuv420Image, 2> backdropYuv_;  // the backdrop in Y'CbCr: [0] BT.601, [1] BT.709
-  PixelRegion drawn_;      // where the last render() drew
+  PixelRegion drawn_;                       // where the last render() drew
   int trianglesDrawn_ = 0;
   std::unique_ptr<DrawList> drawList_;  // the draws, their materials and eyes (render/materials.h)
   std::unique_ptr<Culling> culling_;    // this frame's triangles of each draw (render/culling.h)

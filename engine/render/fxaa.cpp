@@ -1,9 +1,9 @@
 #include "render/fxaa.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
-#include <array>
 #include <string>
 
 #include "core/error.h"
@@ -43,9 +43,7 @@ Rgb sample(const std::uint8_t* rgba, int width, int height, int x, int y, float 
   const int x1 = std::min(x0 + 1, width - 1);
   const int y1 = std::min(y0 + 1, height - 1);
   const auto at = [&](int px, int py) {
-    return rgba +
-           (static_cast<std::size_t>(py) * static_cast<std::size_t>(width) + static_cast<std::size_t>(px)) *
-               4;
+    return rgba + (static_cast<std::size_t>(py) * static_cast<std::size_t>(width) + static_cast<std::size_t>(px)) * 4;
   };
   const std::uint8_t* a = at(x0, y0);
   const std::uint8_t* b = at(x1, y0);
@@ -70,8 +68,7 @@ std::uint8_t toByte(float v) {
 void copyToImage(const std::uint8_t* rgba, int width, int height, Image& out) {
   if (out.width != width || out.height != height) out.resize(width, height);
   for (int y = 0; y < height; ++y) {
-    const std::uint8_t* in =
-        rgba + static_cast<std::size_t>(height - 1 - y) * static_cast<std::size_t>(width) * 4;
+    const std::uint8_t* in = rgba + static_cast<std::size_t>(height - 1 - y) * static_cast<std::size_t>(width) * 4;
     std::uint8_t* o = out.pixel(0, y);
     for (int x = 0; x < width; ++x, in += 4, o += 3) {
       o[0] = in[0];
@@ -120,7 +117,8 @@ void fxaaWithLuma(std::uint8_t* rgba, int width, int height, FxaaScratch& scratc
       const std::uint8_t high =
           std::max(std::max(row[x], up[x - 1]), std::max(std::max(up[x + 1], down[x - 1]), down[x + 1]));
       // 8 * range >= max(85, high)  <=>  range >= ceil(max(85, high) / 8) = max(11, ceil(high / 8)).
-      const std::uint8_t needed = std::max<std::uint8_t>(11, static_cast<std::uint8_t>((high >> 3) + ((high & 7) != 0)));
+      const std::uint8_t needed =
+          std::max<std::uint8_t>(11, static_cast<std::uint8_t>((high >> 3) + ((high & 7) != 0)));
       edge[x] = static_cast<std::uint8_t>(high - low) >= needed ? 1 : 0;
     }
     for (std::size_t x = 1; x + 1 < w; ++x) {
@@ -145,9 +143,7 @@ void fxaaWithLuma(std::uint8_t* rgba, int width, int height, FxaaScratch& scratc
       const float scale = 1.0f / (std::min(std::abs(dx), std::abs(dy)) + reduce);
       dx = std::clamp(dx * scale, -8.0f, 8.0f);
       dy = std::clamp(dy * scale, -8.0f, 8.0f);
-      const auto at = [&](float t) {
-        return sample(rgba, width, height, static_cast<int>(x), y, dx * t, dy * t);
-      };
+      const auto at = [&](float t) { return sample(rgba, width, height, static_cast<int>(x), y, dx * t, dy * t); };
       const Rgb a = at(1.0f / 3.0f - 0.5f);
       const Rgb b = at(2.0f / 3.0f - 0.5f);
       const Rgb near{0.5f * (a.r + b.r), 0.5f * (a.g + b.g), 0.5f * (a.b + b.b)};
@@ -162,7 +158,8 @@ void fxaaWithLuma(std::uint8_t* rgba, int width, int height, FxaaScratch& scratc
                                {toByte(result.r), toByte(result.g), toByte(result.b)}});
     }
   }
-  for (const auto& [index, colour] : scratch.fixes) std::copy(colour.begin(), colour.end(), rgba + 4 * std::size_t{index});
+  for (const auto& [index, colour] : scratch.fixes)
+    std::copy(colour.begin(), colour.end(), rgba + 4 * std::size_t{index});
 }
 
 }  // namespace th::render

@@ -24,8 +24,7 @@ void loadEntryPoints(int kind, GLADloadfunc loader, const char* what) {
   if (version == 0) throw Error(std::string(what) + ": could not load the OpenGL entry points");
   if (GLAD_VERSION_MAJOR(version) * 10 + GLAD_VERSION_MINOR(version) < 33)
     throw Error(std::string(what) + ": OpenGL 3.3 core is needed, the context has " +
-                std::to_string(GLAD_VERSION_MAJOR(version)) + "." +
-                std::to_string(GLAD_VERSION_MINOR(version)));
+                std::to_string(GLAD_VERSION_MAJOR(version)) + "." + std::to_string(GLAD_VERSION_MINOR(version)));
   loadedKind.store(kind);
 }
 
@@ -75,18 +74,11 @@ std::string GlContext::description() {
 // ---- OSMesa ----
 
 OffscreenContext::OffscreenContext() {
-  const int attributes[] = {OSMESA_FORMAT,
-                            OSMESA_RGBA,
-                            OSMESA_DEPTH_BITS,
+  const int attributes[] = {OSMESA_FORMAT, OSMESA_RGBA, OSMESA_DEPTH_BITS,
                             24,  // for renderToWindow() into the 16 x 16 default framebuffer (the renderer's
                                  // framebuffer objects have depth buffers of their own)
-                            OSMESA_PROFILE,
-                            OSMESA_CORE_PROFILE,
-                            OSMESA_CONTEXT_MAJOR_VERSION,
-                            3,
-                            OSMESA_CONTEXT_MINOR_VERSION,
-                            3,
-                            0};
+                            OSMESA_PROFILE, OSMESA_CORE_PROFILE, OSMESA_CONTEXT_MAJOR_VERSION, 3,
+                            OSMESA_CONTEXT_MINOR_VERSION, 3, 0};
   OSMesaContext context = OSMesaCreateContextAttribs(attributes, nullptr);
   if (context == nullptr) throw Error("OSMesa: could not create an OpenGL 3.3 core off-screen context");
   context_ = context;

@@ -58,8 +58,8 @@ struct WindowOptions {
   int height = 720;
   std::string title = "talkinghead";
   bool visible = true;
-  bool vsync = true;  // swapBuffers waits for the display's refresh
-  bool depth = false; // a depth buffer of its own (FaceRenderer::renderToWindow draws into the window)
+  bool vsync = true;   // swapBuffers waits for the display's refresh
+  bool depth = false;  // a depth buffer of its own (FaceRenderer::renderToWindow draws into the window)
 };
 
 // A GLFW window with a 3.3 core context (no multisampling of its own: the renderer resolves its own MSAA

@@ -26,8 +26,7 @@ void appendBytes(void* context, void* data, int size) {
 
 void writePng(const std::filesystem::path& path, const Image& image) {
   if (image.width <= 0 || image.height <= 0 ||
-      image.pixels.size() !=
-          static_cast<std::size_t>(image.width) * static_cast<std::size_t>(image.height) * 3)
+      image.pixels.size() != static_cast<std::size_t>(image.width) * static_cast<std::size_t>(image.height) * 3)
     throw fileError(path, "cannot write an empty or inconsistent image as PNG");
   checkOutputTarget(path);
   // Encode in memory first: stb writes through a callback, and the file is written in one go.
@@ -56,8 +55,7 @@ Image readPng(const std::filesystem::path& path) {
       stbi_load(path.c_str(), &width, &height, &channels, 3), &stbi_image_free);
   if (data == nullptr) {
     const char* reason = stbi_failure_reason();
-    throw fileError(path,
-                    std::string("not a readable PNG (") + (reason != nullptr ? reason : "unknown") + ")");
+    throw fileError(path, std::string("not a readable PNG (") + (reason != nullptr ? reason : "unknown") + ")");
   }
   Image image(width, height);
   std::copy(data.get(), data.get() + image.pixels.size(), image.pixels.begin());

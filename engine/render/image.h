@@ -20,8 +20,7 @@ struct Image {
   std::vector<std::uint8_t> pixels;  // width * height * 3 bytes, row by row from the top, RGB
 
   Image() = default;
-  Image(int w, int h)
-      : width(w), height(h), pixels(static_cast<std::size_t>(w) * static_cast<std::size_t>(h) * 3) {}
+  Image(int w, int h) : width(w), height(h), pixels(static_cast<std::size_t>(w) * static_cast<std::size_t>(h) * 3) {}
 
   // Keeps the allocation when the size does not change (the renderer's per-frame path).
   void resize(int w, int h) {

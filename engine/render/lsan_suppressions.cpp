@@ -21,4 +21,6 @@ extern "C" const char* __lsan_default_suppressions() {
 
 // Without this LSan lists the suppressions it used on stderr at exit, which would break the CLI's promise of
 // exactly one line of error output.
-extern "C" const char* __lsan_default_options() { return "print_suppressions=0"; }
+extern "C" const char* __lsan_default_options() {
+  return "print_suppressions=0";
+}

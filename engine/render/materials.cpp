@@ -123,8 +123,7 @@ void assignEyes(const face::Mesh& mesh, DrawList& list) {
     const Eigen::Vector3f centre = (mean / static_cast<double>(draw.count)).cast<float>();
     int best = 0;
     for (std::size_t e = 1; e < list.eyes.size(); ++e)
-      if ((list.eyes[e].centre - centre).norm() <
-          (list.eyes[static_cast<std::size_t>(best)].centre - centre).norm())
+      if ((list.eyes[e].centre - centre).norm() < (list.eyes[static_cast<std::size_t>(best)].centre - centre).norm())
         best = static_cast<int>(e);
     draw.eye = best;
   }
@@ -155,13 +154,11 @@ bool isTwoSided(Surface s) {
 
 Eigen::Vector3f srgbToLinear(const Eigen::Vector3f& c) {
   Eigen::Vector3f out;
-  for (int k = 0; k < 3; ++k)
-    out[k] = c[k] <= 0.04045f ? c[k] / 12.92f : std::pow((c[k] + 0.055f) / 1.055f, 2.4f);
+  for (int k = 0; k < 3; ++k) out[k] = c[k] <= 0.04045f ? c[k] / 12.92f : std::pow((c[k] + 0.055f) / 1.055f, 2.4f);
   return out;
 }
 
-DrawList buildDrawList(const face::Mesh& mesh, const SurfaceMap& map, const Appearance& look,
-                       bool simplifyEyeballs) {
+DrawList buildDrawList(const face::Mesh& mesh, const SurfaceMap& map, const Appearance& look, bool simplifyEyeballs) {
   DrawList list;
   // Triangles sorted into draw calls: by drawing rank, then material.
   std::vector<std::size_t> order(mesh.triangles.size());
@@ -208,17 +205,15 @@ DrawList buildDrawList(const face::Mesh& mesh, const SurfaceMap& map, const Appe
   return list;
 }
 
-VertexDetail measureVertexDetail(const face::Mesh& mesh, const SurfaceMap& map,
-                                 const Eigen::Matrix3Xf& normals) {
+VertexDetail measureVertexDetail(const face::Mesh& mesh, const SurfaceMap& map, const Eigen::Matrix3Xf& normals) {
   VertexDetail detail;
   std::vector<int> triangleGroup(mesh.triangles.size());
-  for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
-    triangleGroup[t] = static_cast<int>(map.ofTriangle[t]);
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) triangleGroup[t] = static_cast<int>(map.ofTriangle[t]);
   const auto numVertices = static_cast<std::size_t>(mesh.numVertices());
   std::vector<std::uint32_t> occludedBy(numVertices);
   for (std::size_t v = 0; v < occludedBy.size(); ++v) occludedBy[v] = occludersOf(map.ofVertex[v]);
-  detail.openness = computeOpennessCached(mesh.positions, normals, mesh.triangles, triangleGroup, occludedBy,
-                                          detailCacheFolder());
+  detail.openness =
+      computeOpennessCached(mesh.positions, normals, mesh.triangles, triangleGroup, occludedBy, detailCacheFolder());
   detail.lipWeight = lipWeight(mesh, map, detail.openness);
   darkenMouthInterior(mesh, map, detail.openness);
   const Eigen::VectorXf opacity = lashOpacity(mesh, map);
@@ -236,12 +231,12 @@ void linkFaceProgram(Program program, FaceProgram& f) {
   // Each variant: the #version line, its #define, the shared lighting code, then the stage's own source.
   const auto variant = [](const char* source, const char* define) {
     const std::string text = source;
-    return std::string("#version 330 core\n#define ") + define + " 1\n" + shaders::kLighting_glsl +
-           "#line 2\n" + text.substr(text.find('\n') + 1);
+    return std::string("#version 330 core\n#define ") + define + " 1\n" + shaders::kLighting_glsl + "#line 2\n" +
+           text.substr(text.find('\n') + 1);
   };
   const char* define = kProgramDefine[static_cast<int>(program)];
-  f.id = linkProgram(variant(shaders::kFace_vert, define).c_str(),
-                     variant(shaders::kFace_frag, define).c_str(), (std::string("face/") + define).c_str());
+  f.id = linkProgram(variant(shaders::kFace_vert, define).c_str(), variant(shaders::kFace_frag, define).c_str(),
+                     (std::string("face/") + define).c_str());
   const auto at = [&](const char* name) { return glGetUniformLocation(f.id, name); };
   f.viewProjection = at("uViewProjection");
   f.cameraPosition = at("uCameraPosition");
@@ -263,8 +258,8 @@ void linkFaceProgram(Program program, FaceProgram& f) {
 }
 
 void setFrameUniforms(std::span<const FaceProgram> programs, const Eigen::Matrix4f& view,
-                      const Eigen::Matrix4f& viewProjection, const Eigen::Vector3f& eyePosition,
-                      const Lighting& light, const Appearance& look) {
+                      const Eigen::Matrix4f& viewProjection, const Eigen::Vector3f& eyePosition, const Lighting& light,
+                      const Appearance& look) {
   // Lights are given in camera space: the view's inverse rotation turns them into world space.
   const Eigen::Matrix3f toWorld = view.topLeftCorner<3, 3>().transpose();
   const Light* lights[3] = {&light.key, &light.fill, &light.rim};
@@ -294,8 +289,7 @@ void setFrameUniforms(std::span<const FaceProgram> programs, const Eigen::Matrix
   }
 }
 
-void setDrawUniforms(const FaceProgram& f, const Draw& draw, const std::vector<Eye>& eyes,
-                     const Appearance& look) {
+void setDrawUniforms(const FaceProgram& f, const Draw& draw, const std::vector<Eye>& eyes, const Appearance& look) {
   setVector(f.albedo, draw.shading.albedo);
   setVector(f.specular, draw.shading.specular);
   glUniform1f(f.shininess, draw.shading.shininess);

@@ -80,8 +80,7 @@ struct DrawList {
 // The mesh's triangles sorted into draws: by drawing rank, then material. The thin eye layers are left out
 // unless `look` asks for them; `simplifyEyeballs`: the sclera and iris with fewer triangles
 // (RenderOptions::simplifyEyeballs).
-DrawList buildDrawList(const face::Mesh& mesh, const SurfaceMap& map, const Appearance& look,
-                       bool simplifyEyeballs);
+DrawList buildDrawList(const face::Mesh& mesh, const SurfaceMap& map, const Appearance& look, bool simplifyEyeballs);
 
 // Per-vertex detail from the mesh at rest (`normals`: its normals there).
 struct VertexDetail {
@@ -93,15 +92,13 @@ struct VertexDetail {
 };
 
 // Ambient openness is measured on the GPU (render/occlusion.h), or read from the detail cache.
-VertexDetail measureVertexDetail(const face::Mesh& mesh, const SurfaceMap& map,
-                                 const Eigen::Matrix3Xf& normals);
+VertexDetail measureVertexDetail(const face::Mesh& mesh, const SurfaceMap& map, const Eigen::Matrix3Xf& normals);
 
 // A variant of the face program, and where its uniforms are.
 struct FaceProgram {
   GLuint id = 0;
   GLint viewProjection, cameraPosition, lightDirection, lightColour, skyAmbient, groundAmbient, exposure;
-  GLint albedo, lipAlbedo, specular, shininess, opacity, eyeCentre, eyeAxis, eyeCosines, irisColour,
-      scleraColour;
+  GLint albedo, lipAlbedo, specular, shininess, opacity, eyeCentre, eyeAxis, eyeCosines, irisColour, scleraColour;
 };
 
 // Compiles and links `program` into `f` and finds its uniforms; throws th::Error with the driver's message
@@ -111,11 +108,10 @@ void linkFaceProgram(Program program, FaceProgram& f);
 // Per-frame uniforms, the same in every face program: the camera, the lights (fixed to the camera, see
 // Lighting) and the colours every variant shares.
 void setFrameUniforms(std::span<const FaceProgram> programs, const Eigen::Matrix4f& view,
-                      const Eigen::Matrix4f& viewProjection, const Eigen::Vector3f& eyePosition,
-                      const Lighting& light, const Appearance& look);
+                      const Eigen::Matrix4f& viewProjection, const Eigen::Vector3f& eyePosition, const Lighting& light,
+                      const Appearance& look);
 
 // A draw's material, into `f` (the program in use): its shading, and on the eyeballs its eye and pupil.
-void setDrawUniforms(const FaceProgram& f, const Draw& draw, const std::vector<Eye>& eyes,
-                     const Appearance& look);
+void setDrawUniforms(const FaceProgram& f, const Draw& draw, const std::vector<Eye>& eyes, const Appearance& look);
 
 }  // namespace th::render

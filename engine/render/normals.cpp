@@ -14,15 +14,13 @@ std::vector<int> findCoincidentVertices(const face::Mesh& mesh, double tolerance
   std::vector<int> material(static_cast<std::size_t>(n), -2);  // -2: on no triangle
   for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
     for (int v : mesh.triangles[t])
-      if (material[static_cast<std::size_t>(v)] == -2)
-        material[static_cast<std::size_t>(v)] = mesh.triangleMaterial[t];
+      if (material[static_cast<std::size_t>(v)] == -2) material[static_cast<std::size_t>(v)] = mesh.triangleMaterial[t];
   // Sort by x, then compare each vertex with the following ones while x stays within the tolerance: fast for
   // meshes, where few vertices share an x.
   std::vector<int> order(static_cast<std::size_t>(n));
   std::iota(order.begin(), order.end(), 0);
   std::sort(order.begin(), order.end(), [&](int a, int b) {
-    return mesh.positions(0, a) < mesh.positions(0, b) ||
-           (mesh.positions(0, a) == mesh.positions(0, b) && a < b);
+    return mesh.positions(0, a) < mesh.positions(0, b) || (mesh.positions(0, a) == mesh.positions(0, b) && a < b);
   });
   std::vector<int> weldTo(static_cast<std::size_t>(n));
   std::iota(weldTo.begin(), weldTo.end(), 0);
@@ -55,13 +53,11 @@ std::vector<int> findCoincidentVertices(const face::Mesh& mesh, double tolerance
 VertexNormals::VertexNormals(const face::Mesh& mesh, double tolerance)
     : VertexNormals(mesh.numVertices(), mesh.triangles, findCoincidentVertices(mesh, tolerance)) {}
 
-VertexNormals::VertexNormals(int numVertices, std::vector<std::array<int, 3>> triangles,
-                             std::vector<int> weldTo)
+VertexNormals::VertexNormals(int numVertices, std::vector<std::array<int, 3>> triangles, std::vector<int> weldTo)
     : numVertices_(numVertices), triangles_(std::move(triangles)) {
   for (const auto& t : triangles_)
     for (int v : t)
-      if (v < 0 || v >= numVertices_)
-        throw Error("VertexNormals: a triangle refers to a vertex that does not exist");
+      if (v < 0 || v >= numVertices_) throw Error("VertexNormals: a triangle refers to a vertex that does not exist");
   if (weldTo.empty()) return;
   if (static_cast<int>(weldTo.size()) != numVertices_)
     throw Error("VertexNormals: weldTo must have one entry per vertex");

@@ -51,10 +51,8 @@ Eigen::Matrix4f orthographic(float halfSize, float nearPlane, float farPlane) {
 }  // namespace
 
 Eigen::VectorXf computeOpenness(const Eigen::Matrix3Xd& positions, const Eigen::Matrix3Xf& normals,
-                                const std::vector<std::array<int, 3>>& triangles,
-                                const std::vector<int>& triangleGroup,
-                                const std::vector<std::uint32_t>& occludedBy,
-                                const OcclusionOptions& options) {
+                                const std::vector<std::array<int, 3>>& triangles, const std::vector<int>& triangleGroup,
+                                const std::vector<std::uint32_t>& occludedBy, const OcclusionOptions& options) {
   const Eigen::Index n = positions.cols();
   if (normals.cols() != n || static_cast<Eigen::Index>(occludedBy.size()) != n ||
       triangleGroup.size() != triangles.size())
@@ -78,8 +76,8 @@ Eigen::VectorXf computeOpenness(const Eigen::Matrix3Xd& positions, const Eigen::
   const Eigen::Matrix3Xf p = positions.cast<float>();
   glGenBuffers(1, &gl.vertexBuffer);
   glBindBuffer(GL_ARRAY_BUFFER, gl.vertexBuffer);
-  glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(p.size() * static_cast<Eigen::Index>(sizeof(float))),
-               p.data(), GL_STATIC_DRAW);
+  glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(p.size() * static_cast<Eigen::Index>(sizeof(float))), p.data(),
+               GL_STATIC_DRAW);
   glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 3 * sizeof(float), nullptr);
   glEnableVertexAttribArray(0);
   glGenBuffers(1, &gl.indexBuffer);
@@ -145,10 +143,8 @@ Eigen::VectorXf computeOpenness(const Eigen::Matrix3Xd& positions, const Eigen::
         const float cosine = normal.dot(d);
         if (cosine <= 0.0f) continue;
         const Eigen::Vector4f clip = viewProjection * p.col(v).homogeneous();
-        const int x =
-            std::clamp(static_cast<int>((clip.x() * 0.5f + 0.5f) * static_cast<float>(size)), 0, size - 1);
-        const int y =
-            std::clamp(static_cast<int>((clip.y() * 0.5f + 0.5f) * static_cast<float>(size)), 0, size - 1);
+        const int x = std::clamp(static_cast<int>((clip.x() * 0.5f + 0.5f) * static_cast<float>(size)), 0, size - 1);
+        const int y = std::clamp(static_cast<int>((clip.y() * 0.5f + 0.5f) * static_cast<float>(size)), 0, size - 1);
         const float own = clip.z() * 0.5f + 0.5f;
         // Slope-scaled: a surface seen at a grazing angle changes depth by up to texel * tan across a texel.
         const float tangent = std::min(std::sqrt(std::max(0.0f, 1.0f - cosine * cosine)) / cosine, 4.0f);
@@ -174,8 +170,7 @@ Eigen::VectorXf computeOpenness(const Eigen::Matrix3Xd& positions, const Eigen::
         for (int j = 0; j < 3; ++j) {
           const int a = t[static_cast<std::size_t>(i)];
           const int b = t[static_cast<std::size_t>(j)];
-          if (i == j || occludedBy[static_cast<std::size_t>(a)] != occludedBy[static_cast<std::size_t>(b)])
-            continue;
+          if (i == j || occludedBy[static_cast<std::size_t>(a)] != occludedBy[static_cast<std::size_t>(b)]) continue;
           sum[a] += open[b];
           count[a] += 1.0f;
         }
@@ -211,8 +206,8 @@ constexpr char kCacheMagic[8] = {'T', 'H', 'O', 'P', 'E', 'N', '0', '1'};  // fo
 Eigen::VectorXf computeOpennessCached(const Eigen::Matrix3Xd& positions, const Eigen::Matrix3Xf& normals,
                                       const std::vector<std::array<int, 3>>& triangles,
                                       const std::vector<int>& triangleGroup,
-                                      const std::vector<std::uint32_t>& occludedBy,
-                                      const std::filesystem::path& folder, const OcclusionOptions& options) {
+                                      const std::vector<std::uint32_t>& occludedBy, const std::filesystem::path& folder,
+                                      const OcclusionOptions& options) {
   if (folder.empty()) return computeOpenness(positions, normals, triangles, triangleGroup, occludedBy, options);
   Fnv1a hash;
   hash.add(kCacheMagic, sizeof kCacheMagic);

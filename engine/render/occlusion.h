@@ -3,9 +3,8 @@
 // direct light without shadows would leave lit. Internal to the renderer (public for its tests).
 //
 //   context.makeCurrent();
-//   Eigen::VectorXf open = th::render::computeOpenness(mesh.positions, normals, mesh.triangles,
-//   triangleGroup,
-//                                                      occludedBy, {});
+//   Eigen::VectorXf open =
+//       th::render::computeOpenness(mesh.positions, normals, mesh.triangles, triangleGroup, occludedBy, {});
 //
 // The mesh is drawn depth-only, orthographically, from `directions` directions spread evenly over the sphere
 // (on the GPU: llvmpipe does this far faster than rays on the CPU). A vertex counts as seen from a direction
@@ -32,10 +31,8 @@ struct OcclusionOptions {
 // 1 = open sky, 0 = enclosed. `triangleGroup` values are 0..31; `occludedBy[v]` has bit g set when triangles
 // of group g may block vertex v's view (0: the vertex is not measured and gets 1).
 Eigen::VectorXf computeOpenness(const Eigen::Matrix3Xd& positions, const Eigen::Matrix3Xf& normals,
-                                const std::vector<std::array<int, 3>>& triangles,
-                                const std::vector<int>& triangleGroup,
-                                const std::vector<std::uint32_t>& occludedBy,
-                                const OcclusionOptions& options = {});
+                                const std::vector<std::array<int, 3>>& triangles, const std::vector<int>& triangleGroup,
+                                const std::vector<std::uint32_t>& occludedBy, const OcclusionOptions& options = {});
 
 // The same, remembered on disk: the measurement takes about a second (two sets of 96 views of the whole head
 // on llvmpipe), and a mesh's openness never changes, so each program that draws the face would otherwise pay
@@ -46,8 +43,8 @@ Eigen::VectorXf computeOpenness(const Eigen::Matrix3Xd& positions, const Eigen::
 Eigen::VectorXf computeOpennessCached(const Eigen::Matrix3Xd& positions, const Eigen::Matrix3Xf& normals,
                                       const std::vector<std::array<int, 3>>& triangles,
                                       const std::vector<int>& triangleGroup,
-                                      const std::vector<std::uint32_t>& occludedBy,
-                                      const std::filesystem::path& folder, const OcclusionOptions& options = {});
+                                      const std::vector<std::uint32_t>& occludedBy, const std::filesystem::path& folder,
+                                      const OcclusionOptions& options = {});
 
 // Where computed per-mesh detail is kept: $TALKINGHEAD_CACHE if set (empty: nowhere), else
 // $XDG_CACHE_HOME/talkinghead, else ~/.cache/talkinghead; empty if none of these can be named.

@@ -11,7 +11,8 @@ namespace th::render {
 
 std::vector<std::uint32_t> simplifyTriangles(const std::vector<std::uint32_t>& triangles,
                                              const Eigen::Matrix3Xd& positions, const SimplifyOptions& options) {
-  if (triangles.size() % 3 != 0) throw Error("simplifyTriangles: " + std::to_string(triangles.size()) + " indices are not whole triangles");
+  if (triangles.size() % 3 != 0)
+    throw Error("simplifyTriangles: " + std::to_string(triangles.size()) + " indices are not whole triangles");
   // The surface's own vertices, compactly: meshoptimizer measures the error against the extent of the
   // vertices it is given, which must be this surface's, not the whole head's.
   std::unordered_map<std::uint32_t, std::uint32_t> local;

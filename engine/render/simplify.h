@@ -16,7 +16,7 @@
 namespace th::render {
 
 struct SimplifyOptions {
-  float keep = 0.3f;    // the share of the triangles to aim for
+  float keep = 0.3f;  // the share of the triangles to aim for
   // The largest deviation allowed, as a share of the surface's own extent; the result stops short of `keep`
   // rather than exceed it.
   float error = 0.01f;

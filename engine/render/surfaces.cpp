@@ -141,8 +141,7 @@ Eigen::VectorXf lashOpacity(const face::Mesh& mesh, const SurfaceMap& map) {
   std::iota(parent.begin(), parent.end(), 0);
   const auto root = [&](int v) {
     while (parent[static_cast<std::size_t>(v)] != v)
-      v = parent[static_cast<std::size_t>(v)] =
-          parent[static_cast<std::size_t>(parent[static_cast<std::size_t>(v)])];
+      v = parent[static_cast<std::size_t>(v)] = parent[static_cast<std::size_t>(parent[static_cast<std::size_t>(v)])];
     return v;
   };
   for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
@@ -199,8 +198,7 @@ Eigen::VectorXf lipWeight(const face::Mesh& mesh, const SurfaceMap& map, const E
   for (int v = 0; v < mesh.numVertices(); ++v) {
     if (map.ofVertex[static_cast<std::size_t>(v)] != Surface::kSkin) continue;
     const Eigen::Vector3d p = mesh.positions.col(v);
-    if (p.z() < high.z() - 0.3 || std::abs(p.x() - centreX) > 0.5 * teethWidth || p.y() < low.y() ||
-        p.y() > high.y())
+    if (p.z() < high.z() - 0.3 || std::abs(p.x() - centreX) > 0.5 * teethWidth || p.y() < low.y() || p.y() > high.y())
       continue;
     if (openness[v] < 0.3f) slit.push_back(v);
   }
@@ -263,8 +261,7 @@ Eigen::VectorXf lipWeight(const face::Mesh& mesh, const SurfaceMap& map, const E
 void darkenMouthInterior(const face::Mesh& mesh, const SurfaceMap& map, Eigen::VectorXf& openness) {
   double front = -1e300;
   for (int v = 0; v < mesh.numVertices(); ++v)
-    if (map.ofVertex[static_cast<std::size_t>(v)] == Surface::kTeeth)
-      front = std::max(front, mesh.positions(2, v));
+    if (map.ofVertex[static_cast<std::size_t>(v)] == Surface::kTeeth) front = std::max(front, mesh.positions(2, v));
   if (front == -1e300) return;
   for (int v = 0; v < mesh.numVertices(); ++v) {
     const Surface s = map.ofVertex[static_cast<std::size_t>(v)];

@@ -33,7 +33,9 @@ constexpr Coefficients coefficientsFor(double kr, double kb) {
 constexpr Coefficients kBt709 = coefficientsFor(0.2126, 0.0722);
 constexpr Coefficients kBt601 = coefficientsFor(0.299, 0.114);
 
-std::uint8_t clampByte(int v) { return static_cast<std::uint8_t>(std::clamp(v, 0, 255)); }
+std::uint8_t clampByte(int v) {
+  return static_cast<std::uint8_t>(std::clamp(v, 0, 255));
+}
 
 }  // namespace
 
@@ -49,11 +51,11 @@ void rgbaToYuv420(const std::uint8_t* rgba, int width, int height, bool bt709, Y
   rgbaToYuv420(rgba, width, height, bt709, out, 0, 0);
 }
 
-void rgbaToYuv420(const std::uint8_t* rgba, int width, int height, bool bt709, Yuv420Image& out, int left,
-                  int top) {
-  const bool endsWell = (left + width == out.width || width % 2 == 0) && (top + height == out.height || height % 2 == 0);
-  if (left < 0 || top < 0 || left % 2 != 0 || top % 2 != 0 || width < 0 || height < 0 ||
-      left + width > out.width || top + height > out.height || !endsWell)
+void rgbaToYuv420(const std::uint8_t* rgba, int width, int height, bool bt709, Yuv420Image& out, int left, int top) {
+  const bool endsWell =
+      (left + width == out.width || width % 2 == 0) && (top + height == out.height || height % 2 == 0);
+  if (left < 0 || top < 0 || left % 2 != 0 || top % 2 != 0 || width < 0 || height < 0 || left + width > out.width ||
+      top + height > out.height || !endsWell)
     throw Error("rgbaToYuv420: a " + std::to_string(width) + "x" + std::to_string(height) + " block at (" +
                 std::to_string(left) + ", " + std::to_string(top) + ") does not fit the 2x2 blocks of a " +
                 std::to_string(out.width) + "x" + std::to_string(out.height) + " image");
@@ -91,8 +93,10 @@ void rgbaToYuv420(const std::uint8_t* rgba, int width, int height, bool bt709, Y
       const int r = a[i] + a[i + 4] + b[i] + b[i + 4];
       const int g = a[i + 1] + a[i + 5] + b[i + 1] + b[i + 5];
       const int bl = a[i + 2] + a[i + 6] + b[i + 2] + b[i + 6];
-      cb[cx] = static_cast<std::uint8_t>(std::clamp(((k.ur * r + k.ug * g + k.ub * bl + (1 << 15)) >> 16) + 128, 0, 255));
-      cr[cx] = static_cast<std::uint8_t>(std::clamp(((k.vr * r + k.vg * g + k.vb * bl + (1 << 15)) >> 16) + 128, 0, 255));
+      cb[cx] =
+          static_cast<std::uint8_t>(std::clamp(((k.ur * r + k.ug * g + k.ub * bl + (1 << 15)) >> 16) + 128, 0, 255));
+      cr[cx] =
+          static_cast<std::uint8_t>(std::clamp(((k.vr * r + k.vg * g + k.vb * bl + (1 << 15)) >> 16) + 128, 0, 255));
     }
     if (width % 2 != 0) {
       const std::size_t i = 4 * static_cast<std::size_t>(width - 1);

@@ -36,7 +36,6 @@ void rgbaToYuv420(const std::uint8_t* rgba, int width, int height, bool bt709, Y
 // size and the rest of its planes, with its top-left pixel at (left, top) of the image. The block must cover
 // whole 2 x 2 chroma blocks: left and top even, width and height even unless the block ends at the image's
 // edge. Throws th::Error otherwise.
-void rgbaToYuv420(const std::uint8_t* rgba, int width, int height, bool bt709, Yuv420Image& out, int left,
-                  int top);
+void rgbaToYuv420(const std::uint8_t* rgba, int width, int height, bool bt709, Yuv420Image& out, int left, int top);
 
 }  // namespace th::render

@@ -19,7 +19,9 @@ DlibFaces::DlibFaces(const std::filesystem::path& shapePredictor) : models_(std:
 
 DlibFaces::~DlibFaces() = default;
 
-unsigned long DlibFaces::numParts() const { return models_->predictor.num_parts(); }
+unsigned long DlibFaces::numParts() const {
+  return models_->predictor.num_parts();
+}
 
 std::vector<cv::Rect> DlibFaces::detect(const cv::Mat& gray) const {
   const dlib::cv_image<unsigned char> image(gray);

@@ -21,7 +21,9 @@ std::vector<int> defaultLandmarks() {
   return used;
 }
 
-double eyeDistance(const Landmarks& points) { return (points.col(36) - points.col(45)).norm(); }
+double eyeDistance(const Landmarks& points) {
+  return (points.col(36) - points.col(45)).norm();
+}
 
 }  // namespace
 
@@ -87,9 +89,8 @@ Landmarks FaceFitter::project(const FaceFit& fit) const {
   for (int i = 0; i < kNumLandmarks; ++i) {
     const double share = shares_[static_cast<std::size_t>(i)];
     const Eigen::Vector3d p =
-        pivot + restRotation_ *
-                    ((share >= 1.0 ? turn : face::headRotation(share * pitch, share * yaw, share * roll)) *
-                     (model.col(i) - pivot));
+        pivot + restRotation_ * ((share >= 1.0 ? turn : face::headRotation(share * pitch, share * yaw, share * roll)) *
+                                 (model.col(i) - pivot));
     const double enlarge = distance > 0.0 ? distance / std::max(distance - p.z(), 1e-3 * distance) : 1.0;
     image(0, i) = fit.scale * (enlarge * (p.x() + offAxis.x()) - offAxis.x()) + fit.offset.x();
     image(1, i) = -fit.scale * (enlarge * (p.y() + offAxis.y()) - offAxis.y()) + fit.offset.y();
@@ -109,8 +110,8 @@ Eigen::VectorXd FaceFitter::residuals(const Landmarks& points, const Eigen::Vect
   // The prior, in pixels: a FAP at its typical range costs fapPrior (jawPrior) eye distances.
   const double perUnit = eyeDistance(points) / options_.typicalFapRange;
   for (Eigen::Index k = 0; k < numFaps; ++k)
-    r[2 * used + k] = (options_.faps[static_cast<std::size_t>(k)] == 3 ? options_.jawPrior : options_.fapPrior) * perUnit *
-                      parameters[kRigid + k];
+    r[2 * used + k] = (options_.faps[static_cast<std::size_t>(k)] == 3 ? options_.jawPrior : options_.fapPrior) *
+                      perUnit * parameters[kRigid + k];
   return r;
 }
 
@@ -141,8 +142,8 @@ FaceFit FaceFitter::fit(const Landmarks& points, const FaceFit* start) const {
   Eigen::VectorXd x = parametersOf(start ? *start : rigidStart(points));
   const Eigen::Index n = x.size();
   // Finite-difference steps: a thousandth of the scale, a tenth of a pixel, a milliradian, one FAP unit.
-  const std::array<double, kRigid> rigidStep{1e-3 * x[0], 0.1, 0.1, 1e-3 / face::kAngleUnit, 1e-3 / face::kAngleUnit,
-                                             1e-3 / face::kAngleUnit};
+  const std::array<double, kRigid> rigidStep{
+      1e-3 * x[0], 0.1, 0.1, 1e-3 / face::kAngleUnit, 1e-3 / face::kAngleUnit, 1e-3 / face::kAngleUnit};
   std::vector<Eigen::Index> free;  // the parameters that move: all of them
   for (Eigen::Index k = 0; k < n; ++k) free.push_back(k);
   const Eigen::Index m = static_cast<Eigen::Index>(free.size());
@@ -173,7 +174,9 @@ FaceFit FaceFitter::fit(const Landmarks& points, const FaceFit* start) const {
       // The jaw opens only (the model does not close it past rest): below 0 it would have no gradient to come
       // back by, so it stops at 0.
       for (std::size_t k = 0; k < options_.faps.size(); ++k)
-        if (options_.faps[k] == 3) candidate[kRigid + static_cast<Eigen::Index>(k)] = std::max(0.0, candidate[kRigid + static_cast<Eigen::Index>(k)]);
+        if (options_.faps[k] == 3)
+          candidate[kRigid + static_cast<Eigen::Index>(k)] =
+              std::max(0.0, candidate[kRigid + static_cast<Eigen::Index>(k)]);
       if (!(candidate[0] > 0.0)) {
         damping *= 10.0;
         continue;

@@ -13,15 +13,14 @@
 // (X, Y, Z) (model y up, image y down; the face's left, +X, is the image's right). Where the camera's focal
 // length f is known (FitOptions::focalLengthPixels), perspective about the model's origin: the camera is
 // D = f / s model units away, and a point nearer by Z is enlarged by D / (D − Z); a face away from the
-// camera's axis (FitOptions::principalPoint) is seen from the side by as much, as a lens sees it. Near cameras matter: seen
-// orthographically, a turn of the head moves the nose further than the model expects, and the fitted yaw
-// comes out about a quarter too large at a 24° field of view. Solved with Levenberg-Marquardt on numerical
-// derivatives (the model deforms only the landmark vertices: face::VertexSelection, tens of microseconds).
-// The FAPs are pulled towards 0 (FitOptions::jawPrior, fapPrior, in eye distances per typical range): lightly
-// the jaw, which the chin shows; more the lips, whose 20 FAPs would otherwise trade motion with the jaw and each
-// other (our rendered face, the head moving, before the rest orientation was fitted: the jaw's RMS error 101
-// MNS with the lips' pull as light as the jaw's, 59 with it ten times heavier; the jaw alone opened 0-400 came
-// back within 38).
+// camera's axis (FitOptions::principalPoint) is seen from the side by as much, as a lens sees it. Near cameras matter:
+// seen orthographically, a turn of the head moves the nose further than the model expects, and the fitted yaw comes out
+// about a quarter too large at a 24° field of view. Solved with Levenberg-Marquardt on numerical derivatives (the model
+// deforms only the landmark vertices: face::VertexSelection, tens of microseconds). The FAPs are pulled towards 0
+// (FitOptions::jawPrior, fapPrior, in eye distances per typical range): lightly the jaw, which the chin shows; more the
+// lips, whose 20 FAPs would otherwise trade motion with the jaw and each other (our rendered face, the head moving,
+// before the rest orientation was fitted: the jaw's RMS error 101 MNS with the lips' pull as light as the jaw's, 59
+// with it ten times heavier; the jaw alone opened 0-400 came back within 38).
 //
 // The jaw line's contour points (1-7, 9-15 and the ends 0, 16) slide over the cheek as the head turns and are
 // not fixed vertices: only the chin (8) is used from it by default.
@@ -66,10 +65,10 @@ struct FitOptions {
 };
 
 struct FaceFit {
-  face::FapFrame faps{};          // the fitted FAPs (3, lips, and 48-50 the head's pitch, yaw, roll in AU)
-  double scale = 1.0;              // pixels per model unit
+  face::FapFrame faps{};             // the fitted FAPs (3, lips, and 48-50 the head's pitch, yaw, roll in AU)
+  double scale = 1.0;                // pixels per model unit
   Eigen::Vector2d offset{0.0, 0.0};  // pixels
-  double residualPixels = 0.0;     // root mean square distance of the fitted landmarks to the tracked ones
+  double residualPixels = 0.0;       // root mean square distance of the fitted landmarks to the tracked ones
   int iterations = 0;
 };
 
@@ -94,8 +93,8 @@ class FaceFitter {
   const face::FaceModel& face_;
   FitOptions options_;
   Eigen::Matrix3d restRotation_ = Eigen::Matrix3d::Identity();  // how the rest face faces the camera
-  face::VertexSelection selection_;        // the 68 landmark vertices
-  std::vector<double> shares_;             // each one's share of the head's turn
+  face::VertexSelection selection_;                             // the 68 landmark vertices
+  std::vector<double> shares_;                                  // each one's share of the head's turn
   Eigen::Matrix<double, 2, kNumLandmarks> calibration_ = Eigen::Matrix<double, 2, kNumLandmarks>::Zero();  // model X, Y
 };
 

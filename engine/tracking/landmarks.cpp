@@ -34,11 +34,11 @@ std::filesystem::path shapePredictorPath(const std::filesystem::path& given) {
 struct LandmarkDetector::Dlib {
   explicit Dlib(const std::filesystem::path& shapePredictor) : faces(shapePredictor) {}
   DlibFaces faces;
-  cv::Mat gray;     // the frame
-  cv::Mat scaled;   // the searched region, enlarged where the face is small
+  cv::Mat gray;    // the frame
+  cv::Mat scaled;  // the searched region, enlarged where the face is small
   bool haveFace = false;
   Box lastFace;
-  double lastScale = 1.0;  // the enlargement that found the last face
+  double lastScale = 1.0;     // the enlargement that found the last face
   int framesWithoutFace = 0;  // in a row, up to this frame
 
   // Searches `region` of `gray` enlarged `scale` times; picks the face nearest `near` (or the largest without
@@ -88,18 +88,20 @@ LandmarkDetector::LandmarkDetector(const LandmarkOptions& options) : options_(op
   const std::filesystem::path path = shapePredictorPath(options.shapePredictor);
   std::error_code error;
   if (!std::filesystem::is_regular_file(path, error))
-    throw fileError(path, "no such file (dlib's 68-landmark shape predictor: Debian's libdlib-data, or set "
-                          "TALKINGHEAD_SHAPE_PREDICTOR)");
+    throw fileError(path,
+                    "no such file (dlib's 68-landmark shape predictor: Debian's libdlib-data, or set "
+                    "TALKINGHEAD_SHAPE_PREDICTOR)");
   try {
     dlib_ = std::make_unique<Dlib>(path);
   } catch (const std::exception& e) {
     // dlib's message runs over several lines: its first says what went wrong.
     const std::string message = e.what();
-    throw fileError(path, "not a dlib shape predictor (" + message.substr(0, std::min<std::size_t>(message.find('\n'), 120)) + ")");
+    throw fileError(
+        path, "not a dlib shape predictor (" + message.substr(0, std::min<std::size_t>(message.find('\n'), 120)) + ")");
   }
   if (dlib_->faces.numParts() != static_cast<unsigned long>(kNumLandmarks))
-    throw fileError(path, "a shape predictor of " + std::to_string(dlib_->faces.numParts()) +
-                              " points, not the 68 iBUG landmarks");
+    throw fileError(
+        path, "a shape predictor of " + std::to_string(dlib_->faces.numParts()) + " points, not the 68 iBUG landmarks");
 }
 
 LandmarkDetector::~LandmarkDetector() = default;
@@ -118,10 +120,11 @@ bool LandmarkDetector::find(const cv::Mat& bgr, Landmarks& out) {
     const Box last = d.lastFace;
     const double marginX = options_.searchMargin * last.width();
     const double marginY = options_.searchMargin * last.height();
-    const cv::Rect region =
-        cv::Rect(cv::Point(static_cast<int>(std::floor(last.left - marginX)), static_cast<int>(std::floor(last.top - marginY))),
-                 cv::Point(static_cast<int>(std::ceil(last.right + marginX)), static_cast<int>(std::ceil(last.bottom + marginY)))) &
-        frame;
+    const cv::Rect region = cv::Rect(cv::Point(static_cast<int>(std::floor(last.left - marginX)),
+                                               static_cast<int>(std::floor(last.top - marginY))),
+                                     cv::Point(static_cast<int>(std::ceil(last.right + marginX)),
+                                               static_cast<int>(std::ceil(last.bottom + marginY)))) &
+                            frame;
     if (d.search(region, d.lastScale, &last, out)) return true;
   }
   ++fullSearches_;

@@ -70,7 +70,8 @@ Track trackVideo(const std::filesystem::path& video, const TrackOptions& options
     if (before < 0 || (next >= 0 && next - f < f - before)) nearest[i] = next;
   }
   for (std::size_t f = 0; f < n; ++f)
-    if (!track.frames[f].found) track.frames[f].landmarks = track.frames[static_cast<std::size_t>(nearest[f])].landmarks;
+    if (!track.frames[f].found)
+      track.frames[f].landmarks = track.frames[static_cast<std::size_t>(nearest[f])].landmarks;
   return track;
 }
 
@@ -183,7 +184,8 @@ Track readTrackCsv(const std::filesystem::path& path) {
       frame.fit.residualPixels = at(row, table.column("residual_px"));
     }
     if (!track.frames.empty() && !(frame.seconds > track.frames.back().seconds))
-      throw fileError(path, "times must increase from row to row (row " + std::to_string(track.frames.size() + 1) + ")");
+      throw fileError(path,
+                      "times must increase from row to row (row " + std::to_string(track.frames.size() + 1) + ")");
     track.frames.push_back(frame);
   }
   track.framesPerSecond = 1.0 / (track.frames[1].seconds - track.frames[0].seconds);

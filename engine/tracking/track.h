@@ -37,7 +37,7 @@ struct Track {
   int width = 0;
   int height = 0;
   std::vector<TrackedFrame> frames;
-  int fullSearches = 0;  // frames that searched the whole image for the face (the rest followed it)
+  int fullSearches = 0;         // frames that searched the whole image for the face (the rest followed it)
   std::vector<int> fittedFaps;  // the FAPs fitTrack fitted besides the head's (48-50); empty: not fitted
   int neutralFrame = -1;        // the frame fitTrack took as the speaker's rest face
   int framesFound() const;

@@ -3,10 +3,10 @@
 #include <algorithm>
 #include <cctype>
 #include <chrono>
-#include <sstream>
 #include <limits>
 #include <mutex>
 #include <optional>
+#include <sstream>
 #include <system_error>
 
 #include "audio/audio_file.h"
@@ -99,8 +99,7 @@ std::vector<std::filesystem::path> listVideos(const std::filesystem::path& folde
 }
 
 animation::MouthRecording mouthRecordingOf(const Track& fittedTrack, std::span<const float> samples16k,
-                                           double framesPerSecond, double soundLateSeconds,
-                                           Eigen::MatrixXd* lipShape) {
+                                           double framesPerSecond, double soundLateSeconds, Eigen::MatrixXd* lipShape) {
   if (fittedTrack.fittedFaps.empty()) throw fileError(fittedTrack.video, "the track has no fitted FAPs");
   const std::vector<int> faps = sorted(fittedTrack.fittedFaps);
   const std::vector<TrackedFrame>& frames = fittedTrack.frames;
@@ -111,7 +110,8 @@ animation::MouthRecording mouthRecordingOf(const Track& fittedTrack, std::span<c
   // frames end at the last frame's time (beyond either end of the picture, its first or last frame is held).
   const auto videoFrames =
       static_cast<Eigen::Index>(std::floor((frames.back().seconds + soundLateSeconds) * framesPerSecond + 1e-9)) + 1;
-  const Eigen::Index count = std::max<Eigen::Index>(0, std::min<Eigen::Index>(videoFrames, recording.speech.numFrames()));
+  const Eigen::Index count =
+      std::max<Eigen::Index>(0, std::min<Eigen::Index>(videoFrames, recording.speech.numFrames()));
   recording.speech = recording.speech.middleFrames(0, count);
   recording.visual.resize(static_cast<Eigen::Index>(faps.size()), count);
   if (lipShape != nullptr) lipShape->resize(2, count);
@@ -125,7 +125,8 @@ animation::MouthRecording mouthRecordingOf(const Track& fittedTrack, std::span<c
     const double w = span > 0.0 ? std::clamp((seconds - frames[lo].seconds) / span, 0.0, 1.0) : 0.0;
     for (std::size_t k = 0; k < faps.size(); ++k) {
       const auto n = static_cast<std::size_t>(faps[k]);
-      recording.visual(static_cast<Eigen::Index>(k), i) = (1.0 - w) * frames[lo].fit.faps[n] + w * frames[hi].fit.faps[n];
+      recording.visual(static_cast<Eigen::Index>(k), i) =
+          (1.0 - w) * frames[lo].fit.faps[n] + w * frames[hi].fit.faps[n];
     }
     if (lipShape != nullptr) {
       (*lipShape)(0, i) = (1.0 - w) * mouthOpening(frames[lo].landmarks) + w * mouthOpening(frames[hi].landmarks);
@@ -237,8 +238,9 @@ VideoCorpus loadVideoCorpus(const std::vector<std::filesystem::path>& videos, co
       if (options.synchronise) {
         const auto jaw = std::find(faps.begin(), faps.end(), 3);
         if (jaw == faps.end()) throw fileError(video, "cannot be synchronised without the jaw (FAP 3) fitted");
-        clip.soundOffset = estimateSoundOffset(clip.recording.speech.levelDb, clip.recording.visual.row(jaw - faps.begin()),
-                                               clip.lipShape.row(0), animation::kMouthFramesPerSecond, options.sync);
+        clip.soundOffset =
+            estimateSoundOffset(clip.recording.speech.levelDb, clip.recording.visual.row(jaw - faps.begin()),
+                                clip.lipShape.row(0), animation::kMouthFramesPerSecond, options.sync);
         if (clip.soundOffset.lateSeconds != 0.0)
           clip.recording = mouthRecordingOf(*track, sound.samples, animation::kMouthFramesPerSecond,
                                             clip.soundOffset.lateSeconds, &clip.lipShape);
@@ -255,7 +257,8 @@ VideoCorpus loadVideoCorpus(const std::vector<std::filesystem::path>& videos, co
       progress(++done, static_cast<int>(videos.size()));
     }
   });
-  if (!stampFile.empty() && !reuse && std::any_of(loaded.begin(), loaded.end(), [](const auto& clip) { return clip.has_value(); })) {
+  if (!stampFile.empty() && !reuse &&
+      std::any_of(loaded.begin(), loaded.end(), [](const auto& clip) { return clip.has_value(); })) {
     AtomicFile out(stampFile);
     out.stream() << stamp;
     out.commit();
@@ -263,11 +266,14 @@ VideoCorpus loadVideoCorpus(const std::vector<std::filesystem::path>& videos, co
   VideoCorpus corpus;
   corpus.faps = faps;
   for (std::size_t i = 0; i < videos.size(); ++i) {
-    if (loaded[i]) corpus.clips.push_back(std::move(*loaded[i]));
-    else corpus.skipped.push_back({videos[i], reasons[i]});
+    if (loaded[i])
+      corpus.clips.push_back(std::move(*loaded[i]));
+    else
+      corpus.skipped.push_back({videos[i], reasons[i]});
   }
   if (corpus.clips.empty())
-    throw Error("no clip could be used" + (corpus.skipped.empty() ? std::string() : "; the first: " + corpus.skipped.front().reason));
+    throw Error("no clip could be used" +
+                (corpus.skipped.empty() ? std::string() : "; the first: " + corpus.skipped.front().reason));
   corpus.trackingSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return corpus;
 }
@@ -276,8 +282,8 @@ animation::MouthModel trainVideoMouthModel(const std::vector<animation::MouthRec
                                            const std::vector<int>& faps, animation::MouthModelOptions options) {
   for (const animation::MouthRecording& recording : recordings)
     if (recording.visual.rows() != static_cast<Eigen::Index>(faps.size()))
-      throw Error("video mouth model: a recording has " + std::to_string(recording.visual.rows()) + " visual rows, not " +
-                  std::to_string(faps.size()) + " FAPs");
+      throw Error("video mouth model: a recording has " + std::to_string(recording.visual.rows()) +
+                  " visual rows, not " + std::to_string(faps.size()) + " FAPs");
   options.standardiseVisual = false;
   animation::MouthModel model = animation::trainMouthModel(recordings, options);
   model.visualFaps = faps;

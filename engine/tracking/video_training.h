@@ -9,10 +9,10 @@
 // A clip's sound is its own audio track, or, for a video without one, the WAV of the same name beside it (what
 // `talkinghead record` and `talkinghead track --audio` write). Tracks are kept in trackFolder (one CSV per
 // clip, trackFileName) and read back instead of tracking again while they are newer than their video and
-// were made by this tracker with the same options (the folder's tracker.txt says how). A clip that cannot be used (no face, no sound, unreadable) is left out with its
-// reason; the corpus fails only if no clip is left.
-// Thread contract: loadVideoCorpus tracks clips on `threads` threads of its own; the face model is shared
-// read-only; progress is called under a lock, from any of them.
+// were made by this tracker with the same options (the folder's tracker.txt says how). A clip that cannot be used (no
+// face, no sound, unreadable) is left out with its reason; the corpus fails only if no clip is left. Thread contract:
+// loadVideoCorpus tracks clips on `threads` threads of its own; the face model is shared read-only; progress is called
+// under a lock, from any of them.
 #pragma once
 
 #include <filesystem>
@@ -22,8 +22,8 @@
 #include <vector>
 
 #include "animation/mouth_data.h"
-#include "audio/audio_file.h"
 #include "animation/mouth_model.h"
+#include "audio/audio_file.h"
 #include "face/face_model.h"
 #include "tracking/face_fit.h"
 #include "tracking/track.h"
@@ -63,9 +63,9 @@ struct SoundSyncOptions {
 };
 
 struct SoundOffset {
-  double lateSeconds = 0.0;    // the sound's lag behind the picture (negative: ahead); 0 when not measured
-  double correlation = 0.0;    // of the changes at the peak
-  bool measured = false;       // false: the clip was too short
+  double lateSeconds = 0.0;  // the sound's lag behind the picture (negative: ahead); 0 when not measured
+  double correlation = 0.0;  // of the changes at the peak
+  bool measured = false;     // false: the clip was too short
 };
 
 // levelDb, jaw and lipOpening: the same frames at framesPerSecond, sound and picture taken as in sync.
@@ -89,7 +89,7 @@ struct SkippedClip {
 };
 
 struct VideoCorpus {
-  std::vector<int> faps;  // the visual rows of every recording
+  std::vector<int> faps;         // the visual rows of every recording
   std::vector<VideoClip> clips;  // in the order given, the skipped ones left out
   std::vector<SkippedClip> skipped;
   double trackingSeconds = 0.0;  // wall-clock time of the whole load
@@ -104,15 +104,14 @@ struct VideoCorpusOptions {
   std::filesystem::path trackFolder;  // empty: track every clip, keep nothing
   FitOptions fit{};
   TrackOptions track{};
-  unsigned threads = 0;  // 0: the machine's cores
+  unsigned threads = 0;      // 0: the machine's cores
   bool synchronise = false;  // estimate each clip's sound offset (estimateSoundOffset) and take it out
   SoundSyncOptions sync{};
 };
 
 // progress(clipsDone, clipsTotal) after each clip.
 VideoCorpus loadVideoCorpus(const std::vector<std::filesystem::path>& videos, const face::FaceModel& face,
-                            const VideoCorpusOptions& options = {},
-                            const std::function<void(int, int)>& progress = {});
+                            const VideoCorpusOptions& options = {}, const std::function<void(int, int)>& progress = {});
 
 // The mouth model on FAP recordings: FAPs share one unit (FAPU counts), so they are not standardised before
 // PCA (the lips' small, noisy FAPs would weigh as much as the jaw); the model's visualFaps name the rows.

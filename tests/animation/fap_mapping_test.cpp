@@ -1,11 +1,12 @@
 // From model outputs to MPEG-4 FAPs: head angles to FAPs 48–50, the jaw opening to FAP 3 and the lip FAPs.
+#include "animation/fap_mapping.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <nlohmann/json.hpp>
 #include <numbers>
 
-#include "animation/fap_mapping.h"
 #include "core/error.h"
 #include "face/fap.h"
 #include "face/jaw.h"
@@ -96,12 +97,12 @@ TEST(JawFollow, TheLowerTeethFollowFullyTheForeheadNotAtAllTheLipsInBetween) {
   const Eigen::VectorXd follow = th::face::jawFollowWeights(neutral, ict().jawOpen, hinge);
   for (int v : lowerTeeth) ASSERT_GT(follow[v], 0.98);
   const auto at = [&](const char* id) { return follow[ict().points.vertices(id).front()]; };
-  EXPECT_GT(at("2.3"), 0.8);   // lower lip
-  EXPECT_GT(at("2.1"), 0.75);  // chin
+  EXPECT_GT(at("2.3"), 0.8);          // lower lip
+  EXPECT_GT(at("2.1"), 0.75);         // chin
   EXPECT_NEAR(at("2.4"), 0.5, 0.15);  // corner
-  EXPECT_LT(at("2.2"), 0.15);  // upper lip
-  EXPECT_LT(at("4.1"), 0.02);  // eyebrow
-  EXPECT_LT(at("9.3"), 0.02);  // nose tip
+  EXPECT_LT(at("2.2"), 0.15);         // upper lip
+  EXPECT_LT(at("4.1"), 0.02);         // eyebrow
+  EXPECT_LT(at("9.3"), 0.02);         // nose tip
 }
 
 TEST(MouthFapMap, RoundTripsThroughJsonAndRejectsBrokenFields) {

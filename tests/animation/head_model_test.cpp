@@ -1,5 +1,7 @@
 // The head-motion path: prosody from feature rows, the paper's error and the other metrics, training a head
 // model on data with a known voice-motion link, its file, and the batch and online synthesis variants.
+#include "animation/head_model.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -8,12 +10,11 @@
 #include <string>
 #include <vector>
 
-#include "eval/head_corpus.h"
 #include "animation/head_data.h"
-#include "eval/head_evaluation.h"
-#include "animation/head_model.h"
 #include "core/error.h"
 #include "core/temporary_file.h"
+#include "eval/head_corpus.h"
+#include "eval/head_evaluation.h"
 #include "hmm/model_file.h"
 #include "hmm/sampling.h"
 
@@ -54,7 +55,8 @@ TEST(HeadEvaluation, ThePapersErrorAndItsReferencePoints) {
   const Eigen::MatrixXd unrelated = Eigen::MatrixXd::NullaryExpr(3, 4000, [&] { return normal(random); });
   EXPECT_EQ(th::eval::headError(truth, truth), 0.0);
   EXPECT_DOUBLE_EQ(th::eval::headError(Eigen::MatrixXd::Zero(3, 4000), truth), 1.0) << "the rest pose scores exactly 1";
-  EXPECT_NEAR(th::eval::headError(unrelated, truth), 1.0, 0.03) << "an unrelated motion of the same size scores about 1";
+  EXPECT_NEAR(th::eval::headError(unrelated, truth), 1.0, 0.03)
+      << "an unrelated motion of the same size scores about 1";
   EXPECT_NEAR(th::eval::headError(-truth, truth), 2.0, 1e-12) << "the mirror image scores 2";
   // One frame by hand: x^ = (1, 0, 0), x = (0, 1, 0): |x^ - x|^2 = 2, |x^|^2 + |x|^2 = 2.
   Eigen::MatrixXd a = Eigen::MatrixXd::Zero(3, 2);
@@ -83,8 +85,8 @@ HeadRecording synthetic(int frames, unsigned seed) {
     mean << poses[j][0], poses[j][1], poses[j][2], 3.0 * (j - 1), 0.8 * (j - 1), 0.0, 0.0;
     Eigen::VectorXd variances(7);
     variances << 1.0, 1.0, 1.0, 1.0, 0.1, 0.05, 0.05;
-    joint.states.emplace_back(Eigen::VectorXd::Ones(1),
-                              std::vector<hmm::Gaussian>{hmm::Gaussian(mean, variances.asDiagonal(), hmm::CovarianceType::kFull)});
+    joint.states.emplace_back(Eigen::VectorXd::Ones(1), std::vector<hmm::Gaussian>{hmm::Gaussian(
+                                                            mean, variances.asDiagonal(), hmm::CovarianceType::kFull)});
   }
   std::mt19937 random(seed);
   const hmm::Sample sample = hmm::sampleHmm(joint, frames, random);
@@ -97,16 +99,21 @@ HeadRecording synthetic(int frames, unsigned seed) {
 TEST(HeadModel, LearnsAVoiceThatDrivesTheHeadAndBeatsItsBaselines) {
   const HeadRecording train = synthetic(3000, 1);
   const HeadRecording test = synthetic(1000, 2);
-  const HeadModel model = trainHeadModel({train}, {.startStates = 8, .entropicWeightPerFrame = 0.05, .maxIterations = 60});
+  const HeadModel model =
+      trainHeadModel({train}, {.startStates = 8, .entropicWeightPerFrame = 0.05, .maxIterations = 60});
   EXPECT_LE(model.hmm.numStates(), 8);
   EXPECT_GE(model.hmm.numStates(), 3);
   const Eigen::MatrixXd truth = test.rotations.colwise() - model.meanPose;
-  const double paper = th::eval::headError(synthesiseHead(model, test.prosody, test.voiced, {.variant = HeadVariant::kStateMeans}), truth);
-  const double trajectory = th::eval::headError(synthesiseHead(model, test.prosody, test.voiced, {.variant = HeadVariant::kTrajectory}), truth);
-  const double posterior = th::eval::headError(synthesiseHead(model, test.prosody, test.voiced, {.variant = HeadVariant::kPosteriorMeans}), truth);
+  const double paper = th::eval::headError(
+      synthesiseHead(model, test.prosody, test.voiced, {.variant = HeadVariant::kStateMeans}), truth);
+  const double trajectory = th::eval::headError(
+      synthesiseHead(model, test.prosody, test.voiced, {.variant = HeadVariant::kTrajectory}), truth);
+  const double posterior = th::eval::headError(
+      synthesiseHead(model, test.prosody, test.voiced, {.variant = HeadVariant::kPosteriorMeans}), truth);
   const double walk = th::eval::headError(randomWalkHead(model, test.numFrames(), 4), truth);
-  std::printf("[ INFO     ] synthetic held-out E: paper %.3f, trajectory %.3f, posterior means %.3f, random walk %.3f\n",
-              paper, trajectory, posterior, walk);
+  std::printf(
+      "[ INFO     ] synthetic held-out E: paper %.3f, trajectory %.3f, posterior means %.3f, random walk %.3f\n", paper,
+      trajectory, posterior, walk);
   EXPECT_LT(paper, 0.2);
   EXPECT_LT(trajectory, 0.2);
   EXPECT_LT(posterior, 0.2);
@@ -119,14 +126,16 @@ TEST(HeadModel, OnlineVariantsMatchBatchWithALongLagAndRespectTheirLag) {
   const HeadRecording test = synthetic(600, 6);
   for (HeadVariant variant : {HeadVariant::kStateMeans, HeadVariant::kPosteriorMeans}) {
     const Eigen::MatrixXd batch = synthesiseHead(model, test.prosody, test.voiced, {.variant = variant});
-    const Eigen::MatrixXd online = synthesiseHead(model, test.prosody, test.voiced, {.variant = variant, .maxLagFrames = 600});
+    const Eigen::MatrixXd online =
+        synthesiseHead(model, test.prosody, test.voiced, {.variant = variant, .maxLagFrames = 600});
     EXPECT_LT((batch - online).cwiseAbs().maxCoeff(), 1e-9) << static_cast<int>(variant);
   }
   for (HeadVariant variant : {HeadVariant::kStateMeans, HeadVariant::kTrajectory, HeadVariant::kPosteriorMeans}) {
     HeadSynthesiser live(model, {.variant = variant, .maxLagFrames = 4});
     for (Eigen::Index t = 0; t < test.prosody.cols(); ++t) {
       live.acceptProsody(test.prosody.col(t), true);
-      ASSERT_GE(live.numReady(), static_cast<int>(t) + 1 - live.lookaheadFrames()) << "variant " << static_cast<int>(variant);
+      ASSERT_GE(live.numReady(), static_cast<int>(t) + 1 - live.lookaheadFrames())
+          << "variant " << static_cast<int>(variant);
     }
     live.finish();
     EXPECT_EQ(live.numReady(), test.prosody.cols());
@@ -152,13 +161,15 @@ TEST(HeadModel, NormalisesEachSpeakersAmplitude) {
     return Eigen::Vector3d(((x.colwise() - x.rowwise().mean()).cwiseAbs2().rowwise().mean()).cwiseSqrt());
   };
   const Eigen::Vector3d calmSpread = spread(calm.rotations);
-  for (int axis = 0; axis < 3; ++axis) EXPECT_NEAR(model.amplitude[axis], 2.0 * calmSpread[axis], 0.15 * calmSpread[axis]);
+  for (int axis = 0; axis < 3; ++axis)
+    EXPECT_NEAR(model.amplitude[axis], 2.0 * calmSpread[axis], 0.15 * calmSpread[axis]);
   const HeadRecording test = synthetic(1000, 13);
   const Eigen::MatrixXd out = synthesiseHead(model, test.prosody, test.voiced, {.variation = 0.0});
   const Eigen::MatrixXd truth = test.rotations.colwise() - test.rotations.rowwise().mean();
   EXPECT_LT(th::eval::headError(out / 2.0, truth), 0.25) << "the shapes at the calm speaker's size";
   // Without normalisation the lively speaker's offset mean pose and size dominate.
-  const HeadModel raw = trainHeadModel({calm, lively}, {.startStates = 8, .maxIterations = 40, .normaliseSpeakers = false});
+  const HeadModel raw =
+      trainHeadModel({calm, lively}, {.startStates = 8, .maxIterations = 40, .normaliseSpeakers = false});
   EXPECT_EQ(raw.amplitude, Eigen::Vector3d::Ones());
 }
 
@@ -170,14 +181,16 @@ TEST(HeadModel, UnvoicedFramesDoNotDriveTheStates) {
   test.voiced = Eigen::RowVectorXd::Ones(600);
   test.voiced.segment(200, 300).setZero();
   const Eigen::MatrixXd gated = synthesiseHead(model, test.prosody, test.voiced, {.variation = 0.0});
-  const Eigen::MatrixXd free = synthesiseHead(model, test.prosody, test.voiced, {.voicedOnly = false, .variation = 0.0});
+  const Eigen::MatrixXd free =
+      synthesiseHead(model, test.prosody, test.voiced, {.voicedOnly = false, .variation = 0.0});
   const auto travel = [](const Eigen::MatrixXd& x) {
     return (x.middleCols(231, 239) - x.middleCols(230, 239)).colwise().norm().sum();
   };
   EXPECT_LT(travel(gated), 1e-6) << "one state throughout the silence";
   EXPECT_GT(travel(free), 1.0);
   // The online decoder agrees.
-  const Eigen::MatrixXd online = synthesiseHead(model, test.prosody, test.voiced, {.maxLagFrames = 600, .variation = 0.0});
+  const Eigen::MatrixXd online =
+      synthesiseHead(model, test.prosody, test.voiced, {.maxLagFrames = 600, .variation = 0.0});
   EXPECT_LT(travel(online), 1e-3);
 }
 
@@ -230,7 +243,8 @@ TEST(HeadModel, FileRoundTripAndRefusals) {
     EXPECT_NE(std::string(error.what()).find(plain.path().string()), std::string::npos) << error.what();
   }
   // A head model whose training object lacks the mean pose, or names another kind with a number.
-  for (const std::string training : {R"({"kind": "head"})", R"({"kind": 5})", R"({"kind": "head", "mean_pose_deg": [1, "x", 3]})"}) {
+  for (const std::string training :
+       {R"({"kind": "head"})", R"({"kind": 5})", R"({"kind": "head", "mean_pose_deg": [1, "x", 3]})"}) {
     const TemporaryFile broken(".json");
     hmm::saveModel(broken.path(), model.hmm, training);
     try {
@@ -245,13 +259,15 @@ TEST(HeadModel, FileRoundTripAndRefusals) {
 // The viewer's measures: speed percentiles, pauses, the Fréchet distance and the matched random walk.
 TEST(HeadEvaluation, SpeedPausesFrechetAndTheMatchedWalk) {
   const int frames = 3000;
-  const Eigen::MatrixXd walk = th::eval::matchedRandomWalk(Eigen::Vector3d(2.0, 4.0, 1.0), Eigen::Vector3d(0.5, 0.5, 0.25), frames, 5);
+  const Eigen::MatrixXd walk =
+      th::eval::matchedRandomWalk(Eigen::Vector3d(2.0, 4.0, 1.0), Eigen::Vector3d(0.5, 0.5, 0.25), frames, 5);
   const th::eval::HeadMetrics self = th::eval::evaluateHead(walk, walk, 1e9);
   EXPECT_NEAR(self.poseStd[1], 4.0, 1.0);
   EXPECT_NEAR(self.velocityStd[0], 0.5, 0.05);
   EXPECT_NEAR(self.velocityStd[2], 0.25, 0.03);
   EXPECT_LT(th::eval::frechetDistance(walk, walk, 30.0), 1e-6);
-  const Eigen::MatrixXd other = th::eval::matchedRandomWalk(Eigen::Vector3d(2.0, 4.0, 1.0), Eigen::Vector3d(0.5, 0.5, 0.25), frames, 6);
+  const Eigen::MatrixXd other =
+      th::eval::matchedRandomWalk(Eigen::Vector3d(2.0, 4.0, 1.0), Eigen::Vector3d(0.5, 0.5, 0.25), frames, 6);
   const double sameKind = th::eval::frechetDistance(walk, other, 30.0);
   EXPECT_LT(sameKind, th::eval::frechetDistance(walk, 3.0 * other, 30.0));
   EXPECT_LT(sameKind, th::eval::frechetDistance(walk, Eigen::MatrixXd::Zero(3, frames), 30.0));

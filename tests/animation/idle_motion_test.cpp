@@ -1,4 +1,6 @@
 // IdleMotion: blinks at a human rate and shape, gaze shifts within bounds, the head at rest in silence.
+#include "animation/idle_motion.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -6,7 +8,6 @@
 #include <numbers>
 #include <vector>
 
-#include "animation/idle_motion.h"
 #include "core/error.h"
 #include "face/fap.h"
 
@@ -17,7 +18,9 @@ using th::animation::IdleSwitches;
 
 constexpr double kDisplayHz = 60.0;
 
-double degreesOf(double angleUnits) { return angleUnits * th::face::kAngleUnit * 180.0 / std::numbers::pi; }
+double degreesOf(double angleUnits) {
+  return angleUnits * th::face::kAngleUnit * 180.0 / std::numbers::pi;
+}
 
 // Ten minutes at 60 Hz in silence: 17 blinks a minute on average (the gamma intervals' spread allows about
 // ±25 % over ten minutes), each a short closure, never closer than a second; the gaze moves within ±4°.
@@ -119,8 +122,9 @@ TEST(IdleMotion, BlinksComeAtPhraseEndsMoreThanMidSpeech) {
   }
   const double quietRate = inQuiet / (seconds / 3.0);
   const double voiceRate = inVoice / (seconds * 2.0 / 3.0);
-  std::printf("[ INFO     ] blinks a minute: %.1f in the quiet, %.1f in the voice, %.1f in all; %d of %d at a phrase's end\n",
-              60.0 * quietRate, 60.0 * voiceRate, 60.0 * (inQuiet + inVoice) / seconds, idle.boundaryBlinks(), idle.blinks());
+  std::printf(
+      "[ INFO     ] blinks a minute: %.1f in the quiet, %.1f in the voice, %.1f in all; %d of %d at a phrase's end\n",
+      60.0 * quietRate, 60.0 * voiceRate, 60.0 * (inQuiet + inVoice) / seconds, idle.boundaryBlinks(), idle.blinks());
   EXPECT_GT(quietRate, 2.0 * voiceRate);
   EXPECT_GE(60.0 * (inQuiet + inVoice) / seconds, 8.0);
   EXPECT_LE(60.0 * (inQuiet + inVoice) / seconds, 30.0);

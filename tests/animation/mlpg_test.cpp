@@ -38,8 +38,12 @@ std::vector<MlpgFrame> framesWithRandomPrecisions(std::mt19937& rng, const Eigen
                                                   const Eigen::MatrixXd& deltaMeans) {
   std::vector<MlpgFrame> frames;
   for (Eigen::Index t = 0; t < staticMeans.cols(); ++t) {
-    frames.push_back({staticMeans.col(t), randomSpd(rng, staticMeans.rows()), deltaMeans.col(t),
-                      randomSpd(rng, staticMeans.rows()), {}, {}});
+    frames.push_back({staticMeans.col(t),
+                      randomSpd(rng, staticMeans.rows()),
+                      deltaMeans.col(t),
+                      randomSpd(rng, staticMeans.rows()),
+                      {},
+                      {}});
   }
   return frames;
 }
@@ -107,8 +111,7 @@ TEST(Mlpg, ZeroDeltaPrecisionGivesTheStaticMeans) {
   const Eigen::Index d = 3;
   for (const Eigen::Index numFrames : {Eigen::Index{1}, Eigen::Index{2}, Eigen::Index{25}}) {
     const Eigen::MatrixXd staticMeans = randomNormal(rng, d, numFrames);
-    std::vector<MlpgFrame> frames =
-        framesWithRandomPrecisions(rng, staticMeans, randomNormal(rng, d, numFrames));
+    std::vector<MlpgFrame> frames = framesWithRandomPrecisions(rng, staticMeans, randomNormal(rng, d, numFrames));
     for (MlpgFrame& frame : frames) frame.deltaPrecision.setZero();
     const Eigen::MatrixXd x = generateTrajectory(frames);
     ASSERT_EQ(x.rows(), d);
@@ -124,8 +127,7 @@ TEST(Mlpg, ReproducesACurveWhoseDeltasAreTheDeltaMeans) {
     Eigen::MatrixXd curve(d, numFrames);
     for (Eigen::Index i = 0; i < d; ++i) {
       for (Eigen::Index t = 0; t < numFrames; ++t) {
-        curve(i, t) =
-            std::sin(0.13 * static_cast<double>(t) + static_cast<double>(i)) + 0.2 * static_cast<double>(i);
+        curve(i, t) = std::sin(0.13 * static_cast<double>(t) + static_cast<double>(i)) + 0.2 * static_cast<double>(i);
       }
     }
     const std::vector<MlpgFrame> frames = framesWithRandomPrecisions(rng, curve, deltas(curve));
@@ -164,15 +166,13 @@ TEST(Mlpg, MaximisesTheObjective) {
       plus(i, t) += step;
       minus(i, t) -= step;
       const double numeric = (objective(frames, plus) - objective(frames, minus)) / (2.0 * step);
-      ASSERT_NEAR(numeric, analytic(i, t), 1e-6 * (1.0 + std::abs(analytic(i, t))))
-          << "i = " << i << ", t = " << t;
+      ASSERT_NEAR(numeric, analytic(i, t), 1e-6 * (1.0 + std::abs(analytic(i, t)))) << "i = " << i << ", t = " << t;
     }
   }
 
   // ...and at the result the two parts cancel: the gradient is ~0 relative to their size.
   const GradientParts atBest = gradientParts(frames, best);
-  const double scale =
-      std::max(atBest.fromStatic.cwiseAbs().maxCoeff(), atBest.fromDelta.cwiseAbs().maxCoeff());
+  const double scale = std::max(atBest.fromStatic.cwiseAbs().maxCoeff(), atBest.fromDelta.cwiseAbs().maxCoeff());
   EXPECT_GT(scale, 0.1);  // the static and delta models disagree, so this is a real trade-off
   EXPECT_LT((atBest.fromStatic + atBest.fromDelta).cwiseAbs().maxCoeff(), 1e-6 * scale);
 }
@@ -185,8 +185,12 @@ TEST(Mlpg, SmoothsAStepIntoAMonotoneRamp) {
   std::vector<MlpgFrame> frames;
   for (Eigen::Index t = 0; t < numFrames; ++t) {
     const double level = t < 50 ? 0.0 : 1.0;
-    frames.push_back({Eigen::VectorXd::Constant(1, level), Eigen::MatrixXd::Identity(1, 1),
-                      Eigen::VectorXd::Zero(1), Eigen::MatrixXd::Constant(1, 1, 10.0), {}, {}});
+    frames.push_back({Eigen::VectorXd::Constant(1, level),
+                      Eigen::MatrixXd::Identity(1, 1),
+                      Eigen::VectorXd::Zero(1),
+                      Eigen::MatrixXd::Constant(1, 1, 10.0),
+                      {},
+                      {}});
   }
   const Eigen::MatrixXd x = generateTrajectory(frames);
   ASSERT_EQ(x.cols(), numFrames);
@@ -205,8 +209,12 @@ TEST(Mlpg, AccelerationsRemoveThePlateaus) {
   std::vector<MlpgFrame> withAcceleration;
   for (Eigen::Index t = 0; t < numFrames; ++t) {
     const double level = t < 50 ? 0.0 : 1.0;
-    plain.push_back({Eigen::VectorXd::Constant(1, level), Eigen::MatrixXd::Identity(1, 1), Eigen::VectorXd::Zero(1),
-                     Eigen::MatrixXd::Constant(1, 1, 1.0), {}, {}});
+    plain.push_back({Eigen::VectorXd::Constant(1, level),
+                     Eigen::MatrixXd::Identity(1, 1),
+                     Eigen::VectorXd::Zero(1),
+                     Eigen::MatrixXd::Constant(1, 1, 1.0),
+                     {},
+                     {}});
     withAcceleration.push_back(plain.back());
     withAcceleration.back().accelerationMean = Eigen::VectorXd::Zero(1);
     withAcceleration.back().accelerationPrecision = Eigen::MatrixXd::Constant(1, 1, 10.0);
@@ -297,8 +305,7 @@ TEST(Mlpg, RejectsBadInputNamingTheFrame) {
     spoil(frames[index]);
     return frames;
   };
-  const auto wrongDeltaPrecision =
-      withFrame(7, [](MlpgFrame& f) { f.deltaPrecision = Eigen::MatrixXd::Ones(2, 3); });
+  const auto wrongDeltaPrecision = withFrame(7, [](MlpgFrame& f) { f.deltaPrecision = Eigen::MatrixXd::Ones(2, 3); });
   expectErrorContaining([&] { generateTrajectory(wrongDeltaPrecision); },
                         "MLPG: frame 7 has a delta precision of 2 x 3, expected 3 x 3");
   const auto wrongStaticMean = withFrame(4, [](MlpgFrame& f) { f.staticMean = Eigen::VectorXd::Zero(2); });

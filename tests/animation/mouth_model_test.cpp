@@ -1,5 +1,7 @@
 // The mouth path: the paper's ε and ρ at their reference points, and an AV-HMM that
 // learns a known audio-visual link and recovers the visual part from audio by inversion and MMSE.
+#include "animation/mouth_model.h"
+
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -7,12 +9,11 @@
 #include <random>
 #include <sstream>
 
-#include "eval/mouth_corpus.h"
 #include "animation/mouth_data.h"
-#include "eval/mouth_evaluation.h"
-#include "animation/mouth_model.h"
 #include "core/error.h"
 #include "core/temporary_file.h"
+#include "eval/mouth_corpus.h"
+#include "eval/mouth_evaluation.h"
 #include "hmm/model_file.h"
 #include "hmm/sampling.h"
 
@@ -47,8 +48,8 @@ MouthRecording synthetic(int frames, unsigned seed) {
     mean << 2.0 * (j - 1), 1.0 * (j == 1), -1.0 * (j == 2), 1.5 * (j - 1), 1.0 * (j == 0);
     // The visual sources vary little within a state, so the audio (through the state) can explain them.
     const Eigen::VectorXd variances = (Eigen::VectorXd(5) << 0.1, 0.1, 0.1, 0.01, 0.01).finished();
-    joint.states.emplace_back(Eigen::VectorXd::Ones(1),
-                              std::vector<hmm::Gaussian>{hmm::Gaussian(mean, variances.asDiagonal(), hmm::CovarianceType::kFull)});
+    joint.states.emplace_back(Eigen::VectorXd::Ones(1), std::vector<hmm::Gaussian>{hmm::Gaussian(
+                                                            mean, variances.asDiagonal(), hmm::CovarianceType::kFull)});
   }
   std::mt19937 random(seed);
   const hmm::Sample sample = hmm::sampleHmm(joint, frames, random);
@@ -187,7 +188,8 @@ TEST(MouthModel, AModelOfFapsDrivesThemAndItsFileSaysWhich) {
     const size_t at = text.find(good);
     ASSERT_NE(at, std::string::npos);
     const TemporaryFile damaged(".json");
-    std::ofstream(damaged.path()) << text.substr(0, at) << "\"visual_faps\":" << broken << text.substr(at + good.size());
+    std::ofstream(damaged.path()) << text.substr(0, at) << "\"visual_faps\":" << broken
+                                  << text.substr(at + good.size());
     try {
       loadMouthModel(damaged.path());
       FAIL() << broken << " was accepted";
@@ -211,8 +213,12 @@ std::vector<MouthRecording> syntheticSet(int count, int frames, unsigned seed) {
   return set;
 }
 
-const MouthModelOptions kNormalisedDeltas{.states = 3, .mixtures = 1, .contextFrames = 1, .normaliseSpeech = true,
-                                          .visualDeltas = true, .varianceValidationEvery = 3};
+const MouthModelOptions kNormalisedDeltas{.states = 3,
+                                          .mixtures = 1,
+                                          .contextFrames = 1,
+                                          .normaliseSpeech = true,
+                                          .visualDeltas = true,
+                                          .varianceValidationEvery = 3};
 
 TEST(MouthModel, NormalisedSpeechAndDeltasStreamAsTheirBatchAndSurviveTheirFile) {
   const MouthModel model = trainMouthModel(syntheticSet(6, 400, 30), kNormalisedDeltas);
@@ -256,13 +262,14 @@ TEST(MouthModel, NormalisedSpeechAndDeltasStreamAsTheirBatchAndSurviveTheirFile)
   std::ostringstream buffer;
   buffer << std::ifstream(file.path()).rdbuf();
   const std::string text = buffer.str();
-  for (const auto& [field, broken] : std::vector<std::pair<std::string, std::string>>{
-           {"\"level_unit_db\":", "\"level_unit_db\":-1,"},
-           {"\"variance_scale\":", "\"variance_scale\":[1.0],"},
-           {"\"visual_deltas\":", "\"visual_deltas\":false,"}}) {
+  for (const auto& [field, broken] :
+       std::vector<std::pair<std::string, std::string>>{{"\"level_unit_db\":", "\"level_unit_db\":-1,"},
+                                                        {"\"variance_scale\":", "\"variance_scale\":[1.0],"},
+                                                        {"\"visual_deltas\":", "\"visual_deltas\":false,"}}) {
     const size_t at = text.find(field);
     ASSERT_NE(at, std::string::npos) << field;
-    const size_t end = text[text.find_first_not_of(' ', at + field.size())] == '[' ? text.find(']', at) + 2 : text.find(',', at) + 1;
+    const size_t end =
+        text[text.find_first_not_of(' ', at + field.size())] == '[' ? text.find(']', at) + 2 : text.find(',', at) + 1;
     const TemporaryFile damaged(".json");
     std::ofstream(damaged.path()) << text.substr(0, at) << broken << text.substr(end);
     try {
@@ -331,8 +338,8 @@ TEST(MouthModel, TheTrajectoryIsSmootherAndVarianceCompensationRestoresTheSpread
   };
   const Eigen::VectorXd target = spreads(truth), before = spreads(trajectory), after = spreads(compensated);
   for (Eigen::Index k = 0; k < truth.rows(); ++k) {
-    std::printf("[ INFO     ] component %ld: spread %.3f -> %.3f, the truth's %.3f (factor %.2f)\n", static_cast<long>(k),
-                before[k], after[k], target[k], model.varianceScale[k]);
+    std::printf("[ INFO     ] component %ld: spread %.3f -> %.3f, the truth's %.3f (factor %.2f)\n",
+                static_cast<long>(k), before[k], after[k], target[k], model.varianceScale[k]);
     EXPECT_LE(std::abs(after[k] - target[k]), std::abs(before[k] - target[k]) + 1e-12);
   }
 }

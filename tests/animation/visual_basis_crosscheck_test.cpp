@@ -67,8 +67,7 @@ VisualData beat2Visual() {
   const NumericTable pose = readNumericCsv(sharedDataPath("beat2/2_scott_0_1_1_headpose_30fps.csv"));
   EXPECT_EQ(expression.rows.size(), pose.rows.size()) << "the two CSVs are the same take, frame for frame";
   const size_t jaw = static_cast<size_t>(pose.column("jaw_aa_x_deg"));
-  const Eigen::Index numFrames =
-      static_cast<Eigen::Index>(std::min(expression.rows.size(), pose.rows.size()));
+  const Eigen::Index numFrames = static_cast<Eigen::Index>(std::min(expression.rows.size(), pose.rows.size()));
   VisualData data;
   data.columns.push_back("jaw_aa_x_deg");
   data.columns.insert(data.columns.end(), expression.columns.begin(), expression.columns.end());
@@ -81,8 +80,7 @@ VisualData beat2Visual() {
   return data;
 }
 
-double correlation(const Eigen::Ref<const Eigen::RowVectorXd>& a,
-                   const Eigen::Ref<const Eigen::RowVectorXd>& b) {
+double correlation(const Eigen::Ref<const Eigen::RowVectorXd>& a, const Eigen::Ref<const Eigen::RowVectorXd>& b) {
   const Eigen::RowVectorXd ca = a.array() - a.mean();
   const Eigen::RowVectorXd cb = b.array() - b.mean();
   return ca.dot(cb) / std::sqrt(ca.squaredNorm() * cb.squaredNorm());
@@ -116,22 +114,19 @@ TEST(VisualBasisCrosscheck, ComponentsAgreeWithScikitLearnOnBeat2) {
   }
   writeNumericCsv(input, data.columns, rows);
 
-  const std::string printed =
-      runReference({referenceScript(), input.string(), output.string(), "--components", "2"});
+  const std::string printed = runReference({referenceScript(), input.string(), output.string(), "--components", "2"});
   const double sklearnExplained = lastNumber(printed);
   const NumericTable reference = readNumericCsv(output);
   ASSERT_EQ(reference.columns.size(), 2u);
   ASSERT_EQ(reference.rows.size(), static_cast<size_t>(numFrames));
   Eigen::MatrixXd theirs(2, numFrames);
   for (Eigen::Index t = 0; t < numFrames; ++t) {
-    for (Eigen::Index k = 0; k < 2; ++k)
-      theirs(k, t) = reference.rows[static_cast<size_t>(t)][static_cast<size_t>(k)];
+    for (Eigen::Index k = 0; k < 2; ++k) theirs(k, t) = reference.rows[static_cast<size_t>(t)][static_cast<size_t>(k)];
   }
 
   const VisualBasis basis = VisualBasis::fit(data.x, {.components = 2});
   const Eigen::MatrixXd ours = basis.transform(data.x);
-  EXPECT_NEAR(basis.explainedVariance(), sklearnExplained, 1e-9)
-      << "PCA: eigen-decomposition vs sklearn's SVD";
+  EXPECT_NEAR(basis.explainedVariance(), sklearnExplained, 1e-9) << "PCA: eigen-decomposition vs sklearn's SVD";
 
   // Match up to order and sign: the pairing with the larger total |correlation|.
   Eigen::Matrix2d c;

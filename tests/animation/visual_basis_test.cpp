@@ -21,8 +21,7 @@
 namespace th::animation {
 namespace {
 
-Eigen::MatrixXd randomNormal(std::mt19937& rng, Eigen::Index rows, Eigen::Index cols,
-                             double deviation = 1.0) {
+Eigen::MatrixXd randomNormal(std::mt19937& rng, Eigen::Index rows, Eigen::Index cols, double deviation = 1.0) {
   std::normal_distribution<double> normal(0.0, deviation);
   Eigen::MatrixXd m(rows, cols);
   for (Eigen::Index j = 0; j < cols; ++j) {
@@ -61,8 +60,7 @@ MixedData mixedData(unsigned seed, Eigen::Index d, Eigen::Index numFrames, doubl
   return data;
 }
 
-double correlation(const Eigen::Ref<const Eigen::RowVectorXd>& a,
-                   const Eigen::Ref<const Eigen::RowVectorXd>& b) {
+double correlation(const Eigen::Ref<const Eigen::RowVectorXd>& a, const Eigen::Ref<const Eigen::RowVectorXd>& b) {
   const Eigen::RowVectorXd ca = a.array() - a.mean();
   const Eigen::RowVectorXd cb = b.array() - b.mean();
   return ca.dot(cb) / std::sqrt(ca.squaredNorm() * cb.squaredNorm());
@@ -105,8 +103,7 @@ TEST(VisualBasis, RecoversTwoIndependentNonGaussianSourcesFromALinearMix) {
   const double second = straight ? c(1, 1) : c(1, 0);
   EXPECT_GT(first, 0.98) << "component 0 vs its source; all |correlations|:\n" << c;
   EXPECT_GT(second, 0.98) << "component 1 vs its source; all |correlations|:\n" << c;
-  EXPECT_GT(basis.explainedVariance(), 0.99)
-      << "two sources and a little noise: two components keep nearly all";
+  EXPECT_GT(basis.explainedVariance(), 0.99) << "two sources and a little noise: two components keep nearly all";
 }
 
 TEST(VisualBasis, OutputsHaveZeroMeanAndIdentityCovarianceOnTheTrainingData) {
@@ -175,8 +172,7 @@ TEST(VisualBasis, StandardisingMakesTheUnitsOfADimensionIrrelevant) {
   const VisualBasisOptions raw{.standardise = false};
   const VisualBasis rawBasis = VisualBasis::fit(rescaled, raw);
   EXPECT_EQ(rawBasis.scale(), Eigen::VectorXd::Ones(6));
-  EXPECT_GT(maxAbsDifference(VisualBasis::fit(data.x, raw).transform(data.x), rawBasis.transform(rescaled)),
-            0.1);
+  EXPECT_GT(maxAbsDifference(VisualBasis::fit(data.x, raw).transform(data.x), rawBasis.transform(rescaled)), 0.1);
 
   // A constant dimension gets scale 1 and changes nothing.
   Eigen::MatrixXd withConstant(7, data.x.cols());
@@ -190,8 +186,8 @@ TEST(VisualBasis, StandardisingMakesTheUnitsOfADimensionIrrelevant) {
 TEST(VisualBasis, FromPartsRoundTripsAndRejectsBadParts) {
   const MixedData data = mixedData(16, 6, 2000, 0.05);
   const VisualBasis basis = VisualBasis::fit(data.x);
-  const VisualBasis copy = VisualBasis::fromParts(basis.mean(), basis.scale(), basis.unmixing(),
-                                                  basis.mixing(), basis.explainedVariance());
+  const VisualBasis copy =
+      VisualBasis::fromParts(basis.mean(), basis.scale(), basis.unmixing(), basis.mixing(), basis.explainedVariance());
   EXPECT_EQ(copy.transform(data.x), basis.transform(data.x));
   EXPECT_EQ(copy.reconstruct(basis.transform(data.x)), basis.reconstruct(basis.transform(data.x)));
   EXPECT_EQ(copy.explainedVariance(), basis.explainedVariance());
@@ -225,13 +221,11 @@ TEST(VisualBasis, FromPartsRoundTripsAndRejectsBadParts) {
 
 TEST(VisualBasis, RejectsBadInputWithOneLineErrors) {
   const MixedData data = mixedData(17, 6, 2000, 0.05);
-  expectVisualBasisError([&] { VisualBasis::fit(data.x.leftCols(2), {.components = 2}); },
-                         "2 frames are too few");
+  expectVisualBasisError([&] { VisualBasis::fit(data.x.leftCols(2), {.components = 2}); }, "2 frames are too few");
   EXPECT_NO_THROW(VisualBasis::fit(data.x.leftCols(3), {.components = 2, .maxIterations = 100000}))
       << "K + 1 frames are enough";
   expectVisualBasisError([&] { VisualBasis::fit(data.x, {.components = 0}); }, "0 components");
-  expectVisualBasisError([&] { VisualBasis::fit(data.x, {.components = 7}); },
-                         "7 components asked of 6-dimensional");
+  expectVisualBasisError([&] { VisualBasis::fit(data.x, {.components = 7}); }, "7 components asked of 6-dimensional");
   Eigen::MatrixXd withNan = data.x;
   withNan(3, 1500) = std::numeric_limits<double>::quiet_NaN();
   expectVisualBasisError([&] { VisualBasis::fit(withNan); }, "NaN");
@@ -249,8 +243,7 @@ Eigen::MatrixXd beat2Visual() {
   EXPECT_EQ(expression.columns.size(), 100u);
   EXPECT_EQ(expression.rows.size(), pose.rows.size()) << "the two CSVs are the same take, frame for frame";
   const size_t jaw = static_cast<size_t>(pose.column("jaw_aa_x_deg"));
-  const Eigen::Index numFrames =
-      static_cast<Eigen::Index>(std::min(expression.rows.size(), pose.rows.size()));
+  const Eigen::Index numFrames = static_cast<Eigen::Index>(std::min(expression.rows.size(), pose.rows.size()));
   Eigen::MatrixXd x(1 + static_cast<Eigen::Index>(expression.columns.size()), numFrames);
   for (Eigen::Index t = 0; t < numFrames; ++t) {
     const auto& row = expression.rows[static_cast<size_t>(t)];
@@ -270,9 +263,8 @@ TEST(VisualBasis, FitsTheBeat2JawAndExpressionData) {
   EXPECT_LT(maxAbsDifference(covarianceOf(y), Eigen::Matrix2d::Identity()), 1e-6) << covarianceOf(y);
   EXPECT_GT(basis.explainedVariance(), 0.0);
   EXPECT_LT(basis.explainedVariance(), 1.0);
-  std::printf(
-      "[ INFO     ] BEAT2 101 x %d (jaw + 100 FLAME): K = 2 PCA keeps %.4f of the standardised variance\n",
-      static_cast<int>(x.cols()), basis.explainedVariance());
+  std::printf("[ INFO     ] BEAT2 101 x %d (jaw + 100 FLAME): K = 2 PCA keeps %.4f of the standardised variance\n",
+              static_cast<int>(x.cols()), basis.explainedVariance());
   for (Eigen::Index k = 0; k < 2; ++k) {
     std::printf("[ INFO     ] component %d: correlation with jaw opening %+.4f, |mixing column|^2 %.3f\n",
                 static_cast<int>(k), correlation(y.row(k), x.row(0)), basis.mixing().col(k).squaredNorm());

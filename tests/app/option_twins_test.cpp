@@ -8,8 +8,8 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
 #include <map>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -122,7 +122,8 @@ TEST(OptionTwins, EveryOptionHasItsSettingsKeyWithTheSameRange) {
     }
     if (option.kind == "bool" || option.kind == "string") continue;
     if (std::isfinite(option.spec.min)) {
-      EXPECT_NO_THROW(th::optionsFromJson(th::Json{{key, jsonValue(option.spec.min, option.kind)}}, settings, "live.json"));
+      EXPECT_NO_THROW(
+          th::optionsFromJson(th::Json{{key, jsonValue(option.spec.min, option.kind)}}, settings, "live.json"));
       try {
         th::optionsFromJson(th::Json{{key, jsonValue(option.spec.min - 1.0, option.kind)}}, settings, "live.json");
         ADD_FAILURE() << "below the range was taken";
@@ -132,8 +133,11 @@ TEST(OptionTwins, EveryOptionHasItsSettingsKeyWithTheSameRange) {
       }
     }
     if (std::isfinite(option.spec.max)) {
-      EXPECT_NO_THROW(th::optionsFromJson(th::Json{{key, jsonValue(option.spec.max, option.kind)}}, settings, "live.json"));
-      EXPECT_THROW(th::optionsFromJson(th::Json{{key, jsonValue(option.spec.max + 1.0, option.kind)}}, settings, "live.json"), th::Error);
+      EXPECT_NO_THROW(
+          th::optionsFromJson(th::Json{{key, jsonValue(option.spec.max, option.kind)}}, settings, "live.json"));
+      EXPECT_THROW(
+          th::optionsFromJson(th::Json{{key, jsonValue(option.spec.max + 1.0, option.kind)}}, settings, "live.json"),
+          th::Error);
     }
   }
 }
@@ -156,7 +160,8 @@ TEST(OptionTwins, EveryPanelWidgetHasTheOptionsRangeOrChoices) {
   ImGui::DestroyContext();
 
   std::map<std::string, th::app::WidgetRecord> byName;
-  for (const th::app::WidgetRecord& widget : widgets) EXPECT_TRUE(byName.emplace(widget.name, widget).second) << widget.name;
+  for (const th::app::WidgetRecord& widget : widgets)
+    EXPECT_TRUE(byName.emplace(widget.name, widget).second) << widget.name;
   std::size_t offered = 0;
   for (const Declared& option : liveOptions()) {
     const std::string name(option.spec.name);

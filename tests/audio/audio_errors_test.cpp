@@ -61,8 +61,7 @@ TEST_P(BadAudioBytesTest, DecodingTheBytesFromMemoryThrowsTheSame) {
   ASSERT_TRUE(input_.hasBytes);
   const std::vector<char> bytes = th::test::readBytes(input_.path);
   const std::string name = "memory:" + input_.name;
-  const std::string message =
-      errorMessage([&] { return th::audio::decodeAudio(bytes.data(), bytes.size(), name); });
+  const std::string message = errorMessage([&] { return th::audio::decodeAudio(bytes.data(), bytes.size(), name); });
   expectOneLineNaming(message, name, input_.reason);
 }
 
@@ -73,8 +72,7 @@ INSTANTIATE_TEST_SUITE_P(Inputs, BadAudioTest,
                          [](const auto& testInfo) { return testInfo.param; });
 INSTANTIATE_TEST_SUITE_P(Inputs, BadAudioBytesTest,
                          ::testing::Values("text_renamed_wav", "mp3_like", "zero_bytes", "zero_frames", "truncated",
-                                           "float_nan", "float_inf", "float_huge", "rate_2khz",
-                                           "rate_192khz"),
+                                           "float_nan", "float_inf", "float_huge", "rate_2khz", "rate_192khz"),
                          [](const auto& testInfo) { return testInfo.param; });
 
 // The truncated file is a real recording cut in half: the first half decodes fine, so only the header's
@@ -96,10 +94,8 @@ TEST_P(TruncatedAudioTest, HalfARealRecordingIsNotMistakenForAShortOne) {
   ASSERT_NO_THROW(th::audio::decodeAudio(bytes.data(), bytes.size(), "whole"));
   for (size_t keep : {bytes.size() / 2, bytes.size() - 2}) {
     const std::vector<char> cut(bytes.begin(), bytes.begin() + static_cast<long>(keep));
-    const std::string message =
-        errorMessage([&] { return th::audio::decodeAudio(cut.data(), cut.size(), "cut"); });
-    EXPECT_EQ(message.rfind("cut: truncated", 0), 0u)
-        << keep << " of " << bytes.size() << " bytes: " << message;
+    const std::string message = errorMessage([&] { return th::audio::decodeAudio(cut.data(), cut.size(), "cut"); });
+    EXPECT_EQ(message.rfind("cut: truncated", 0), 0u) << keep << " of " << bytes.size() << " bytes: " << message;
   }
 }
 
@@ -124,8 +120,7 @@ TEST(TruncatedAudio, OggWithoutItsFinalPageIsTruncated) {
   th::test::writeSoundFile(path, arctic.samples, arctic.sampleRateHz, 1, SF_FORMAT_OGG | SF_FORMAT_VORBIS);
   std::vector<char> bytes = th::test::readBytes(path);
   bytes.resize(bytes.size() / 2);
-  const std::string message =
-      errorMessage([&] { return th::audio::decodeAudio(bytes.data(), bytes.size(), "cut"); });
+  const std::string message = errorMessage([&] { return th::audio::decodeAudio(bytes.data(), bytes.size(), "cut"); });
   EXPECT_EQ(message.rfind("cut: truncated", 0), 0u) << message;
 }
 

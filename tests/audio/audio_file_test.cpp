@@ -26,8 +26,7 @@ double rms(const std::vector<float>& x, size_t begin, size_t end) {
 }
 
 // Normalised correlation of x[begin, end) with y[begin + lag, end + lag).
-double correlation(const std::vector<float>& x, const std::vector<float>& y, size_t begin, size_t end,
-                   long lag = 0) {
+double correlation(const std::vector<float>& x, const std::vector<float>& y, size_t begin, size_t end, long lag = 0) {
   double xy = 0.0, xx = 0.0, yy = 0.0;
   for (size_t n = begin; n < end; ++n) {
     const double a = x[n];
@@ -40,8 +39,8 @@ double correlation(const std::vector<float>& x, const std::vector<float>& y, siz
 }
 
 size_t expectedLength(size_t inputSamples, int inputRateHz) {
-  return static_cast<size_t>(std::llround(static_cast<double>(inputSamples) * kEngineSampleRateHz /
-                                          static_cast<double>(inputRateHz)));
+  return static_cast<size_t>(
+      std::llround(static_cast<double>(inputSamples) * kEngineSampleRateHz / static_cast<double>(inputRateHz)));
 }
 
 // ---- containers: the same real recording as 16-bit WAV, FLAC and Ogg Vorbis ----
@@ -97,9 +96,8 @@ TEST_F(ContainerTest, OggVorbisIsLossyButAlignedAndClose) {
   // No codec delay: lag 0 beats a sample either side.
   EXPECT_GT(atZero, correlation(reference_.samples, clip.samples, 16, end, -1));
   EXPECT_GT(atZero, correlation(reference_.samples, clip.samples, 16, end, 1));
-  EXPECT_NEAR(
-      rms(clip.samples, 0, clip.samples.size()) / rms(reference_.samples, 0, reference_.samples.size()), 1.0,
-      0.05);
+  EXPECT_NEAR(rms(clip.samples, 0, clip.samples.size()) / rms(reference_.samples, 0, reference_.samples.size()), 1.0,
+              0.05);
 }
 
 // ---- rates and channel counts: a 440 Hz sine written at every rate, read back as a 440 Hz sine at 16 kHz
@@ -129,16 +127,14 @@ TEST_P(RateChannelTest, SineComesBackAt16kMonoAlignedAndAtTheMeanLevel) {
       interleaved[n * static_cast<size_t>(channels) + static_cast<size_t>(c)] = channel[n];
   }
   th::test::TemporaryFolder folder;
-  const auto path =
-      folder.path() / ("sine_" + std::to_string(rateHz) + "_" + std::to_string(channels) + ".wav");
+  const auto path = folder.path() / ("sine_" + std::to_string(rateHz) + "_" + std::to_string(channels) + ".wav");
   th::test::writeSoundFile(path, interleaved, rateHz, channels, SF_FORMAT_WAV | SF_FORMAT_PCM_16);
 
   const AudioClip clip = th::audio::readAudioFile(path);
   EXPECT_EQ(clip.sampleRateHz, kEngineSampleRateHz);
   EXPECT_EQ(clip.sourceRateHz, rateHz);
   EXPECT_EQ(clip.sourceChannels, channels);
-  ASSERT_NEAR(static_cast<double>(clip.samples.size()),
-              static_cast<double>(expectedLength(numFrames, rateHz)), 1.0);
+  ASSERT_NEAR(static_cast<double>(clip.samples.size()), static_cast<double>(expectedLength(numFrames, rateHz)), 1.0);
 
   // The ideal: the same sine, same phase, sampled at 16 kHz. Ends are skipped: the written sine starts and
   // stops abruptly, which rings through any band-limiting filter for a few milliseconds.

@@ -24,8 +24,8 @@ struct SndfileCloser {
 using SndfileHandle = std::unique_ptr<SNDFILE, SndfileCloser>;
 }  // namespace
 
-void writeSoundFile(const fs::path& path, const std::vector<float>& interleaved, int sampleRateHz,
-                    int channels, int format) {
+void writeSoundFile(const fs::path& path, const std::vector<float>& interleaved, int sampleRateHz, int channels,
+                    int format) {
   SF_INFO info{};
   info.samplerate = sampleRateHz;
   info.channels = channels;
@@ -46,8 +46,7 @@ void writeSoundFile(const fs::path& path, const std::vector<float>& interleaved,
   } else {
     written = sf_writef_float(file.get(), interleaved.data(), frames);
   }
-  if (written != frames)
-    throw std::runtime_error(path.string() + ": short write: " + sf_strerror(file.get()));
+  if (written != frames) throw std::runtime_error(path.string() + ": short write: " + sf_strerror(file.get()));
 }
 
 RawRecording readArcticPrompt() {
@@ -55,8 +54,7 @@ RawRecording readArcticPrompt() {
   recording.path = sharedDataPath("speech/arctic/arctic_a0001.wav");
   SF_INFO info{};
   SndfileHandle file(sf_open(recording.path.c_str(), SFM_READ, &info));
-  if (!file || info.channels != 1)
-    throw std::runtime_error(recording.path.string() + ": cannot read as mono");
+  if (!file || info.channels != 1) throw std::runtime_error(recording.path.string() + ": cannot read as mono");
   recording.sampleRateHz = info.samplerate;
   recording.samples.resize(static_cast<size_t>(info.frames));
   if (sf_readf_float(file.get(), recording.samples.data(), info.frames) != info.frames) {
@@ -142,8 +140,7 @@ std::vector<BadInput> makeBadInputs(const fs::path& folder) {
   writeSoundFile(inputs.back().path, sine(220.0, 0.5, 2000, 2000), 2000, 1, SF_FORMAT_WAV | SF_FORMAT_PCM_16);
 
   inputs.push_back({"rate_192khz", folder / "rate_192000.wav", true, "sample rate 192000 Hz"});
-  writeSoundFile(inputs.back().path, sine(220.0, 0.5, 192000, 19200), 192000, 1,
-                 SF_FORMAT_WAV | SF_FORMAT_PCM_16);
+  writeSoundFile(inputs.back().path, sine(220.0, 0.5, 192000, 19200), 192000, 1, SF_FORMAT_WAV | SF_FORMAT_PCM_16);
   return inputs;
 }
 

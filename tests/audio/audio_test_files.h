@@ -22,8 +22,8 @@ using TemporaryFolder = th::TemporaryFolder;
 
 // Writes interleaved float samples with libsndfile; `format` is SF_FORMAT_* (container | encoding).
 // Throws std::runtime_error if libsndfile refuses.
-void writeSoundFile(const std::filesystem::path& path, const std::vector<float>& interleaved,
-                    int sampleRateHz, int channels, int format);
+void writeSoundFile(const std::filesystem::path& path, const std::vector<float>& interleaved, int sampleRateHz,
+                    int channels, int format);
 
 // A real recording as libsndfile decodes it (no resampling): the CMU ARCTIC prompt, 24 kHz mono 16-bit.
 struct RawRecording {

@@ -47,8 +47,7 @@ std::string errorMessage(Read read) {
   return "";
 }
 
-void expectOneLineNaming(const std::string& message, const std::filesystem::path& path,
-                         const std::string& reason) {
+void expectOneLineNaming(const std::string& message, const std::filesystem::path& path, const std::string& reason) {
   EXPECT_EQ(message.rfind(path.string() + ": ", 0), 0u) << "does not start with the path: " << message;
   EXPECT_NE(message.find(reason), std::string::npos) << "does not say \"" << reason << "\": " << message;
   EXPECT_EQ(message.find('\n'), std::string::npos) << "more than one line: " << message;
@@ -57,9 +56,9 @@ void expectOneLineNaming(const std::string& message, const std::filesystem::path
 TEST(MediaAudio, GridClipIsThreeSecondsOf16kHzMonoSpeech) {
   const auto path = th::sharedDataPath("grid/s1/bbal7s.mpg");
   const AudioClip clip = readMediaAudio(path);
-  std::printf("  %s: %zu samples at %d Hz (source %d Hz, %d channel(s)), %.3f s, RMS %.4f\n",
-              path.filename().c_str(), clip.samples.size(), clip.sampleRateHz, clip.sourceRateHz,
-              clip.sourceChannels, clip.durationSeconds(), rms(clip.samples));
+  std::printf("  %s: %zu samples at %d Hz (source %d Hz, %d channel(s)), %.3f s, RMS %.4f\n", path.filename().c_str(),
+              clip.samples.size(), clip.sampleRateHz, clip.sourceRateHz, clip.sourceChannels, clip.durationSeconds(),
+              rms(clip.samples));
   EXPECT_EQ(clip.sampleRateHz, kEngineSampleRateHz);
   EXPECT_EQ(clip.sourceRateHz, 44100);
   EXPECT_GE(clip.sourceChannels, 1);
@@ -92,8 +91,7 @@ TEST(MediaAudio, FloatWavEqualsLibsndfileSampleForSample) {
   for (size_t n = 0; n < viaSndfile.samples.size(); ++n) {
     worst = std::max(worst, std::abs(viaFfmpeg.samples[n] - viaSndfile.samples[n]));
   }
-  std::printf("  %zu samples, largest difference %g\n", viaSndfile.samples.size(),
-              static_cast<double>(worst));
+  std::printf("  %zu samples, largest difference %g\n", viaSndfile.samples.size(), static_cast<double>(worst));
   EXPECT_LE(worst, 1e-4f);
   EXPECT_GT(rms(viaSndfile.samples), 0.001);  // not a comparison of two silences
 }
@@ -167,8 +165,8 @@ TEST(MediaAudio, EveryGridSampleDecodes) {
     SCOPED_TRACE(path.string());
     AudioClip clip;
     ASSERT_NO_THROW(clip = readMediaAudio(path));
-    std::printf("  %-22s %.3f s, source %d Hz x %d, RMS %.4f\n", path.filename().c_str(),
-                clip.durationSeconds(), clip.sourceRateHz, clip.sourceChannels, rms(clip.samples));
+    std::printf("  %-22s %.3f s, source %d Hz x %d, RMS %.4f\n", path.filename().c_str(), clip.durationSeconds(),
+                clip.sourceRateHz, clip.sourceChannels, rms(clip.samples));
     EXPECT_EQ(clip.sampleRateHz, kEngineSampleRateHz);
     EXPECT_GE(clip.durationSeconds(), 1.0);
     EXPECT_TRUE(allFinite(clip.samples));
@@ -180,8 +178,7 @@ TEST(MediaAudio, MissingFileDirectoryEmptyAndTextAreOneLineErrors) {
   th::test::TemporaryFolder folder;
   const auto missing = folder.path() / "missing.mpg";
   expectOneLineNaming(errorMessage([&] { return readMediaAudio(missing); }), missing, "no such file");
-  expectOneLineNaming(errorMessage([&] { return readMediaAudio(folder.path()); }), folder.path(),
-                      "directory");
+  expectOneLineNaming(errorMessage([&] { return readMediaAudio(folder.path()); }), folder.path(), "directory");
 
   const auto empty = folder.path() / "empty.mpg";
   std::ofstream(empty).close();

@@ -43,10 +43,9 @@ TEST_P(ResamplerChunkTest, ChunkedEqualsWholeBuffer) {
   const auto [inputRateHz, chunkSize] = GetParam();
   // Real speech at its own rate (24 kHz), resampled to the input rate under test first.
   const auto arctic = th::test::readArcticPrompt();
-  const std::vector<float> input =
-      inputRateHz == arctic.sampleRateHz
-          ? arctic.samples
-          : th::audio::resample(arctic.samples, arctic.sampleRateHz, inputRateHz);
+  const std::vector<float> input = inputRateHz == arctic.sampleRateHz
+                                       ? arctic.samples
+                                       : th::audio::resample(arctic.samples, arctic.sampleRateHz, inputRateHz);
   const std::vector<float> whole = th::audio::resample(input, inputRateHz, 16000);
   const std::vector<float> chunked = resampleInChunks(input, inputRateHz, 16000, chunkSize);
   // The whole-buffer helper trims soxr's rounding surplus; the stream may end up to one sample longer.
@@ -105,9 +104,8 @@ TEST_P(ResamplerAlignmentTest, ClickStaysAtItsTime) {
 // Clicks at times that fall on a 16 kHz sample: a parabola through a sampled sinc peak is biased (by up to
 // 0.1 sample) when the true peak lies between samples, so sub-sample delay is checked with sines below.
 INSTANTIATE_TEST_SUITE_P(Clicks, ResamplerAlignmentTest,
-                         ::testing::Values(ClickCase{44100, 22050}, ClickCase{48000, 24000},
-                                           ClickCase{48000, 24003}, ClickCase{8000, 4000},
-                                           ClickCase{8000, 4001}, ClickCase{22050, 11025},
+                         ::testing::Values(ClickCase{44100, 22050}, ClickCase{48000, 24000}, ClickCase{48000, 24003},
+                                           ClickCase{8000, 4000}, ClickCase{8000, 4001}, ClickCase{22050, 11025},
                                            ClickCase{96000, 48006}, ClickCase{11025, 2205}),
                          [](const auto& testInfo) {
                            return std::to_string(testInfo.param.inputRateHz) + "Hz_at" +
@@ -119,8 +117,7 @@ INSTANTIATE_TEST_SUITE_P(Clicks, ResamplerAlignmentTest,
 TEST(Resampler, SinePhaseShowsNoDelay) {
   for (int inputRateHz : {8000, 11025, 22050, 24000, 44100, 48000, 96000}) {
     for (double frequencyHz : {150.0, 1000.0, 3000.0}) {
-      const std::vector<float> input =
-          th::test::sine(frequencyHz, 0.5, inputRateHz, static_cast<size_t>(inputRateHz));
+      const std::vector<float> input = th::test::sine(frequencyHz, 0.5, inputRateHz, static_cast<size_t>(inputRateHz));
       for (size_t chunkSize : {size_t{7}, input.size()}) {
         const std::vector<float> output = resampleInChunks(input, inputRateHz, 16000, chunkSize);
         double sinPart = 0.0, cosPart = 0.0;
@@ -131,8 +128,7 @@ TEST(Resampler, SinePhaseShowsNoDelay) {
         }
         // output ~ A sin(w (t - delay)) = A (sin wt cos wd - cos wt sin wd). Measured: below 1e-6 samples at
         // every rate and frequency here (soxr removes its linear-phase filter's delay exactly).
-        const double delaySamples =
-            std::atan2(-cosPart, sinPart) / (2.0 * std::numbers::pi * frequencyHz) * 16000.0;
+        const double delaySamples = std::atan2(-cosPart, sinPart) / (2.0 * std::numbers::pi * frequencyHz) * 16000.0;
         EXPECT_NEAR(delaySamples, 0.0, 1e-3)
             << inputRateHz << " Hz in, " << frequencyHz << " Hz sine, chunks of " << chunkSize;
       }

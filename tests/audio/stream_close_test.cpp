@@ -16,9 +16,15 @@
 // unload them when it shuts down; what their constructors allocated is left behind, in code no longer mapped
 // (the reports name no module). Allocations made while a library is being loaded (_dl_init) are never ours;
 // the plugins have no frame pointers, so only the slow unwinder reaches _dl_init in their stacks.
-extern "C" const char* __lsan_default_suppressions() { return "leak:_dl_init\n"; }
-extern "C" const char* __asan_default_options() { return "fast_unwind_on_malloc=0"; }
-extern "C" const char* __lsan_default_options() { return "print_suppressions=0"; }
+extern "C" const char* __lsan_default_suppressions() {
+  return "leak:_dl_init\n";
+}
+extern "C" const char* __asan_default_options() {
+  return "fast_unwind_on_malloc=0";
+}
+extern "C" const char* __lsan_default_options() {
+  return "print_suppressions=0";
+}
 
 namespace {
 
@@ -64,7 +70,8 @@ TEST(CloseInBackground, ShutsPortAudioDownOnAnotherThreadWhileTheOwnerStartsItAg
     inTime.push_back(th::audio::closeInBackground(std::unique_ptr<th::audio::Capture>(), std::move(system), 0ms));
   }
   const auto deadline = std::chrono::steady_clock::now() + 20s;
-  while (th::audio::closesUnfinished() > 0 && std::chrono::steady_clock::now() < deadline) std::this_thread::sleep_for(5ms);
+  while (th::audio::closesUnfinished() > 0 && std::chrono::steady_clock::now() < deadline)
+    std::this_thread::sleep_for(5ms);
   EXPECT_EQ(th::audio::closesUnfinished(), 0);
   // Given time, a close that does not block says so.
   EXPECT_TRUE(th::audio::closeInBackground(std::unique_ptr<th::audio::Playback>(),

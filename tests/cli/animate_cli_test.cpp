@@ -38,7 +38,8 @@ std::vector<double> frameLevels(const fs::path& wav, int frames) {
     const int centre = i * hop;
     double sum = 0.0;
     int count = 0;
-    for (int n = std::max(0, centre - hop / 2); n < std::min<int>(static_cast<int>(clip.samples.size()), centre + hop / 2); ++n, ++count)
+    for (int n = std::max(0, centre - hop / 2);
+         n < std::min<int>(static_cast<int>(clip.samples.size()), centre + hop / 2); ++n, ++count)
       sum += clip.samples[static_cast<std::size_t>(n)] * clip.samples[static_cast<std::size_t>(n)];
     levels.push_back(count > 0 ? std::sqrt(sum / count) : 0.0);
   }
@@ -89,7 +90,9 @@ TEST_F(AnimateCliTest, TheJawOpensWhenTheSpeakerIsLoudAndTheThreeFormatsAgree) {
     ASSERT_EQ(back.faps, anim.faps) << name;
     ASSERT_EQ(back.numFrames(), anim.numFrames()) << name;
     // CSV prints 6 significant digits; the FAP stream rounds to whole units.
-    EXPECT_LT((back.values - anim.values).cwiseAbs().maxCoeff(), std::string(name).ends_with(".fap") ? 0.5 + 1e-3 : 0.05) << name;
+    EXPECT_LT((back.values - anim.values).cwiseAbs().maxCoeff(),
+              std::string(name).ends_with(".fap") ? 0.5 + 1e-3 : 0.05)
+        << name;
   }
   const std::string fap = th::test::readText(out() / "speech.fap");
   EXPECT_EQ(fap.rfind("2.1 2_scott_0_2_2 30 " + std::to_string(anim.numFrames()) + "\n", 0), 0u) << fap.substr(0, 40);
@@ -98,11 +101,14 @@ TEST_F(AnimateCliTest, TheJawOpensWhenTheSpeakerIsLoudAndTheThreeFormatsAgree) {
 // On BEAT2's held-out part (the last quarter, which no model trained on), FAP 3 follows the true jaw.
 TEST_F(AnimateCliTest, OnHeldOutSpeechTheJawFollowsTheTruth) {
   const fs::path csv = out() / "beat2.csv";
-  ASSERT_EQ(runCli({"animate", th::sharedDataPath("beat2/2_scott_0_1_1.wav").string(), "-o", csv.string()}, logs()).exitCode, 0);
+  ASSERT_EQ(
+      runCli({"animate", th::sharedDataPath("beat2/2_scott_0_1_1.wav").string(), "-o", csv.string()}, logs()).exitCode,
+      0);
   const th::face::FapTrack anim = th::formats::readAnimation(csv);
   const th::NumericTable pose = th::readNumericCsv(th::sharedDataPath("beat2/2_scott_0_1_1_headpose_30fps.csv"));
   std::vector<double> truth;
-  for (const std::vector<double>& row : pose.rows) truth.push_back(row[static_cast<std::size_t>(pose.column("jaw_aa_x_deg"))]);
+  for (const std::vector<double>& row : pose.rows)
+    truth.push_back(row[static_cast<std::size_t>(pose.column("jaw_aa_x_deg"))]);
   const int frames = std::min<int>(anim.numFrames(), static_cast<int>(truth.size()));
   const int begin = frames * 3 / 4;
   Eigen::RowVectorXd predicted = anim.values.row(anim.rowOf(3)).segment(begin, frames - begin).transpose();
@@ -119,9 +125,14 @@ TEST_F(AnimateCliTest, VariantsAndPartsAreSelectable) {
   const fs::path unbounded = out() / "unbounded.csv";
   const std::string input = speech().string();
   ASSERT_EQ(runCli({"animate", input, "-o", batch.string(), "--head", "paper", "--mouth", "mmse"}, logs()).exitCode, 0);
-  ASSERT_EQ(runCli({"animate", input, "-o", online.string(), "--head", "paper", "--mouth", "mmse", "--online"}, logs()).exitCode, 0);
-  ASSERT_EQ(runCli({"animate", input, "-o", unbounded.string(), "--head", "paper", "--mouth", "mmse", "--online", "--lag", "300"},
-                   logs()).exitCode, 0);
+  ASSERT_EQ(runCli({"animate", input, "-o", online.string(), "--head", "paper", "--mouth", "mmse", "--online"}, logs())
+                .exitCode,
+            0);
+  ASSERT_EQ(runCli({"animate", input, "-o", unbounded.string(), "--head", "paper", "--mouth", "mmse", "--online",
+                    "--lag", "300"},
+                   logs())
+                .exitCode,
+            0);
   const th::face::FapTrack a = th::formats::readAnimation(batch);
   const th::face::FapTrack b = th::formats::readAnimation(online);
   const th::face::FapTrack c = th::formats::readAnimation(unbounded);
@@ -140,7 +151,8 @@ TEST_F(AnimateCliTest, VariantsAndPartsAreSelectable) {
     largestDifference = std::max(largestDifference, std::abs(jawBatch[t] - jawOnline[t]));
   EXPECT_GT(largestDifference, 1e-3);
   const auto centred = [](const Eigen::RowVectorXd& v) { return Eigen::RowVectorXd(v.array() - v.mean()); };
-  const double correlation = centred(jawBatch).dot(centred(jawOnline)) / (centred(jawBatch).norm() * centred(jawOnline).norm());
+  const double correlation =
+      centred(jawBatch).dot(centred(jawOnline)) / (centred(jawBatch).norm() * centred(jawOnline).norm());
   std::printf("[ INFO     ] online (30-frame windows) against batch MMSE jaw: correlation %.4f\n", correlation);
   EXPECT_GT(correlation, 0.9);
 
@@ -148,21 +160,33 @@ TEST_F(AnimateCliTest, VariantsAndPartsAreSelectable) {
   ASSERT_EQ(runCli({"animate", speech().string(), "-o", headOnly.string(), "--mouth", "none"}, logs()).exitCode, 0);
   EXPECT_EQ(th::formats::readAnimation(headOnly).faps, (std::vector<int>{19, 20, 23, 24, 25, 26, 48, 49, 50}));
   const fs::path noIdle = out() / "head_no_idle.csv";
-  ASSERT_EQ(runCli({"animate", speech().string(), "-o", noIdle.string(), "--mouth", "none", "--no-idle"}, logs()).exitCode, 0);
+  ASSERT_EQ(
+      runCli({"animate", speech().string(), "-o", noIdle.string(), "--mouth", "none", "--no-idle"}, logs()).exitCode,
+      0);
   EXPECT_EQ(th::formats::readAnimation(noIdle).faps, (std::vector<int>{48, 49, 50}));
   // The head's controls: amplitude scales it, a larger smoothing slows it.
   const fs::path twice = out() / "head_twice.csv";
   ASSERT_EQ(runCli({"animate", speech().string(), "-o", twice.string(), "--mouth", "none", "--no-idle",
-                    "--head-amplitude", "2"}, logs()).exitCode, 0);
+                    "--head-amplitude", "2"},
+                   logs())
+                .exitCode,
+            0);
   const th::face::FapTrack one = th::formats::readAnimation(noIdle);
   const th::face::FapTrack two = th::formats::readAnimation(twice);
-  EXPECT_NEAR((two.values - 2.0 * one.values).cwiseAbs().maxCoeff(), 0.0, 1e-3 * one.values.cwiseAbs().maxCoeff() + 1.0);
+  EXPECT_NEAR((two.values - 2.0 * one.values).cwiseAbs().maxCoeff(), 0.0,
+              1e-3 * one.values.cwiseAbs().maxCoeff() + 1.0);
   const fs::path smooth = out() / "head_smooth.csv";
   ASSERT_EQ(runCli({"animate", speech().string(), "-o", smooth.string(), "--mouth", "none", "--no-idle",
-                    "--head-smoothing", "8", "--head-variation", "0"}, logs()).exitCode, 0);
+                    "--head-smoothing", "8", "--head-variation", "0"},
+                   logs())
+                .exitCode,
+            0);
   const fs::path plain = out() / "head_plain.csv";
   ASSERT_EQ(runCli({"animate", speech().string(), "-o", plain.string(), "--mouth", "none", "--no-idle",
-                    "--head-variation", "0"}, logs()).exitCode, 0);
+                    "--head-variation", "0"},
+                   logs())
+                .exitCode,
+            0);
   const auto roughness = [](const th::face::FapTrack& animation) {
     const Eigen::MatrixXd& v = animation.values;
     return (v.rightCols(v.cols() - 1) - v.leftCols(v.cols() - 1)).norm();
@@ -172,9 +196,10 @@ TEST_F(AnimateCliTest, VariantsAndPartsAreSelectable) {
   const fs::path mouthOnly = out() / "mouth.csv";
   ASSERT_EQ(runCli({"animate", speech().string(), "-o", mouthOnly.string(), "--head", "none"}, logs()).exitCode, 0);
   EXPECT_EQ(th::formats::readAnimation(mouthOnly).rowOf(48), -1);
-  expectOneLineFailure(runCli({"animate", speech().string(), "-o", (out() / "x.csv").string(), "--head", "none",
-                               "--mouth", "none"}, logs()),
-                       "animate", "nothing to animate");
+  expectOneLineFailure(
+      runCli({"animate", speech().string(), "-o", (out() / "x.csv").string(), "--head", "none", "--mouth", "none"},
+             logs()),
+      "animate", "nothing to animate");
 }
 
 TEST_F(AnimateCliTest, BadInputsAndOutputsFailInOneLineAndLeaveNothing) {
@@ -186,8 +211,8 @@ TEST_F(AnimateCliTest, BadInputsAndOutputsFailInOneLineAndLeaveNothing) {
   expectOneLineFailure(runCli({"animate", text.string(), "-o", good}, logs()), "text.wav", "not a readable audio file");
   expectOneLineFailure(runCli({"animate", speech().string(), "-o", (out() / "a.txt").string()}, logs()), "a.txt",
                        "an animation file is .csv, .json or .fap");
-  expectOneLineFailure(runCli({"animate", speech().string(), "-o", (out() / "no" / "a.csv").string()}, logs()),
-                       "a.csv", "folder does not exist");
+  expectOneLineFailure(runCli({"animate", speech().string(), "-o", (out() / "no" / "a.csv").string()}, logs()), "a.csv",
+                       "folder does not exist");
   expectOneLineFailure(runCli({"animate", speech().string(), "-o", good, "--mouth-model", text.string()}, logs()),
                        "text.wav", "not valid JSON");
   const std::string mouthModel = (fs::path(TALKINGHEAD_SOURCE_DIR) / "models" / "mouth.json").string();

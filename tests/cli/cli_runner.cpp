@@ -1,14 +1,14 @@
 #include "cli_runner.h"
 
 #include <fcntl.h>
-#include <signal.h>
 #include <gtest/gtest.h>
+#include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
-#include <functional>
 #include <fstream>
+#include <functional>
 #include <sstream>
 
 namespace th::test {
@@ -79,8 +79,7 @@ void expectOneLineFailure(const CliResult& result, const std::string& path, cons
   EXPECT_EQ(std::count(result.err.begin(), result.err.end(), '\n'), 1) << "stderr: " << result.err;
   EXPECT_TRUE(!result.err.empty() && result.err.back() == '\n') << "stderr: " << result.err;
   EXPECT_NE(result.err.find(path), std::string::npos) << "does not name " << path << ": " << result.err;
-  EXPECT_NE(result.err.find(reason), std::string::npos)
-      << "does not say \"" << reason << "\": " << result.err;
+  EXPECT_NE(result.err.find(reason), std::string::npos) << "does not say \"" << reason << "\": " << result.err;
 }
 
 }  // namespace th::test

@@ -14,7 +14,6 @@
 #include <vector>
 
 #include "core/temporary_file.h"
-
 #include "support/files.h"  // readText, listFolder, expectFileError
 
 namespace th::test {

@@ -16,8 +16,8 @@ extern "C" {
 #include "audio_test_files.h"
 #include "cli_runner.h"
 #include "core/data_path.h"
-#include "render/image.h"
 #include "formats/animation_format.h"
+#include "render/image.h"
 
 namespace {
 
@@ -66,7 +66,8 @@ TEST_F(FaceCliTest, RenderWritesOnePngPerFrame) {
   anim.values = Eigen::MatrixXd::Zero(2, 10);
   for (int t = 0; t < 10; ++t) anim.values(0, t) = 60.0 * t, anim.values(1, t) = 1000.0 * t;
   th::formats::writeAnimation(out() / "a.csv", anim);
-  const CliResult result = runCli({"render", (out() / "a.csv").string(), "-o", (out() / "frames").string(), "--size", "96x64"}, logs());
+  const CliResult result =
+      runCli({"render", (out() / "a.csv").string(), "-o", (out() / "frames").string(), "--size", "96x64"}, logs());
   ASSERT_EQ(result.exitCode, 0) << result.err;
   int count = 0;
   for (const auto& entry : fs::directory_iterator(out() / "frames")) {
@@ -77,7 +78,8 @@ TEST_F(FaceCliTest, RenderWritesOnePngPerFrame) {
   }
   EXPECT_EQ(count, 10);
   // The face moves between the first and the last frame.
-  EXPECT_FALSE(th::render::readPng(out() / "frames" / "frame_000000.png") == th::render::readPng(out() / "frames" / "frame_000009.png"));
+  EXPECT_FALSE(th::render::readPng(out() / "frames" / "frame_000000.png") ==
+               th::render::readPng(out() / "frames" / "frame_000009.png"));
   expectOneLineFailure(runCli({"render", (out() / "missing.csv").string(), "-o", (out() / "f").string()}, logs()),
                        "missing.csv", "");
 }
@@ -108,7 +110,8 @@ TEST_F(FaceCliTest, ExportWritesAnMp4WhoseVideoLastsAsLongAsItsSound) {
   EXPECT_EQ(p.height, 120);
   EXPECT_GT(p.audioSeconds, 1.0);
   EXPECT_NEAR(p.videoSeconds, p.audioSeconds, 1.0 / 25 + 1e-3);
-  EXPECT_EQ(th::formats::readAnimation(out() / "speech.fap").faps, th::formats::readAnimation(out() / "speech.json").faps);
+  EXPECT_EQ(th::formats::readAnimation(out() / "speech.fap").faps,
+            th::formats::readAnimation(out() / "speech.json").faps);
   std::ifstream arkit(out() / "arkit.csv");
   std::string header;
   std::getline(arkit, header);
@@ -123,15 +126,18 @@ TEST_F(FaceCliTest, ExportsBlinkAtAHumanRate) {
   const std::string speech = th::sharedDataPath("beat2/audio_only/2_scott_0_2_2.wav").string();
   const fs::path saved = out() / "minute.csv";
   ASSERT_EQ(runCli({"export", speech, "-o", (out() / "minute.mp4").string(), "--size", "64x48", "--fps", "5",
-                    "--save-anim", saved.string()}, logs()).exitCode, 0);
+                    "--save-anim", saved.string()},
+                   logs())
+                .exitCode,
+            0);
   const th::face::FapTrack animation = th::formats::readAnimation(saved);
   ASSERT_GE(animation.rowOf(19), 0);
   const Eigen::RowVectorXd lid = animation.values.row(animation.rowOf(19));
   int blinks = 0;
   for (Eigen::Index t = 1; t < lid.size(); ++t) blinks += lid[t] > 512.0 && lid[t - 1] <= 512.0;
   const double perMinute = blinks / (animation.numFrames() / animation.framesPerSecond / 60.0);
-  std::printf("[ INFO     ] %d blinks in %.1f s: %.1f a minute\n", blinks, animation.numFrames() / animation.framesPerSecond,
-              perMinute);
+  std::printf("[ INFO     ] %d blinks in %.1f s: %.1f a minute\n", blinks,
+              animation.numFrames() / animation.framesPerSecond, perMinute);
   EXPECT_GE(perMinute, 8.0);
   EXPECT_LE(perMinute, 30.0);
 
@@ -139,12 +145,18 @@ TEST_F(FaceCliTest, ExportsBlinkAtAHumanRate) {
   ASSERT_EQ(runCli({"animate", speech, "-o", lidless.string(), "--no-idle"}, logs()).exitCode, 0);
   EXPECT_EQ(th::formats::readAnimation(lidless).rowOf(19), -1);
   const fs::path replayed = out() / "replayed.csv";
-  ASSERT_EQ(runCli({"export", speech, "-o", (out() / "replayed.mp4").string(), "--size", "64x48", "--fps", "5", "--anim",
-                    lidless.string(), "--save-anim", replayed.string()}, logs()).exitCode, 0);
+  ASSERT_EQ(runCli({"export", speech, "-o", (out() / "replayed.mp4").string(), "--size", "64x48", "--fps", "5",
+                    "--anim", lidless.string(), "--save-anim", replayed.string()},
+                   logs())
+                .exitCode,
+            0);
   EXPECT_GE(th::formats::readAnimation(replayed).rowOf(19), 0) << "blinks added to a file without lids";
   const fs::path still = out() / "still.csv";
   ASSERT_EQ(runCli({"export", speech, "-o", (out() / "still.mp4").string(), "--size", "64x48", "--fps", "5", "--anim",
-                    lidless.string(), "--save-anim", still.string(), "--no-idle"}, logs()).exitCode, 0);
+                    lidless.string(), "--save-anim", still.string(), "--no-idle"},
+                   logs())
+                .exitCode,
+            0);
   EXPECT_EQ(th::formats::readAnimation(still).rowOf(19), -1);
 }
 
@@ -154,14 +166,16 @@ TEST_F(FaceCliTest, ExportRefusesBadInputAndBadSizesInOneLine) {
   const fs::path text = folder_.path() / "text.wav";
   std::ofstream(text) << "not audio";
   expectOneLineFailure(runCli({"export", text.string(), "-o", video}, logs()), "text.wav", "not a readable audio file");
-  expectOneLineFailure(runCli({"export", input.string(), "-o", video, "--size", "big"}, logs()), "--size big", "WIDTHxHEIGHT");
+  expectOneLineFailure(runCli({"export", input.string(), "-o", video, "--size", "big"}, logs()), "--size big",
+                       "WIDTHxHEIGHT");
   expectOneLineFailure(runCli({"export", input.string(), "-o", video, "--size", "161x120"}, logs()), "161x120", "even");
   expectOneLineFailure(runCli({"export", input.string(), "-o", (out() / "v.avi").string()}, logs()), "v.avi", ".mp4");
   expectOneLineFailure(runCli({"export", input.string(), "-o", (out() / "no" / "v.mp4").string()}, logs()), "v.mp4",
                        "folder does not exist");
   const fs::path empty = folder_.path() / "empty.csv";
   std::ofstream(empty) << "";
-  expectOneLineFailure(runCli({"export", input.string(), "-o", video, "--anim", empty.string()}, logs()), "empty.csv", "");
+  expectOneLineFailure(runCli({"export", input.string(), "-o", video, "--anim", empty.string()}, logs()), "empty.csv",
+                       "");
   EXPECT_TRUE(fs::is_empty(out()));
 }
 
@@ -184,8 +198,9 @@ TEST_F(FaceCliTest, ShowDrawsTheFaceAndItsPanelInAWindow) {
   // In sanitizer builds leak checking is off for this one process: Mesa's GLX driver is unloaded at exit, so
   // its per-display records show up as leaks from an "<unknown module>" that no suppression can name. Memory
   // errors are still caught.
-  const std::string command = "ASAN_OPTIONS=detect_leaks=0 xvfb-run -a -s '-screen 0 1280x800x24' " + std::string(TALKINGHEAD_CLI) +
-                              " show --screenshot " + shot.string() + " --frames 3 > " + (logs() / "show.txt").string() + " 2>&1";
+  const std::string command = "ASAN_OPTIONS=detect_leaks=0 xvfb-run -a -s '-screen 0 1280x800x24' " +
+                              std::string(TALKINGHEAD_CLI) + " show --screenshot " + shot.string() + " --frames 3 > " +
+                              (logs() / "show.txt").string() + " 2>&1";
   ASSERT_EQ(std::system(command.c_str()), 0) << th::test::readText(logs() / "show.txt");
   const th::render::Image image = th::render::readPng(shot);
   ASSERT_EQ(image.width, 1280);

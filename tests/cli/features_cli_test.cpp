@@ -39,8 +39,7 @@ class BadInputCliTest : public FeaturesCliTest, public ::testing::WithParamInter
 
 TEST_P(BadInputCliTest, OneLineNonZeroExitNoOutputFile) {
   const auto inputs = th::test::makeBadInputs(folder_.path());
-  const auto bad =
-      std::find_if(inputs.begin(), inputs.end(), [&](const auto& b) { return b.name == GetParam(); });
+  const auto bad = std::find_if(inputs.begin(), inputs.end(), [&](const auto& b) { return b.name == GetParam(); });
   ASSERT_NE(bad, inputs.end());
   const fs::path output = out() / "features.csv";
   const CliResult result = runCli({"features", bad->path.string(), "-o", output.string()}, logs());
@@ -154,8 +153,7 @@ TEST_F(GoodRunCliTest, CsvHasOneRowPerFrameAt30Fps) {
     EXPECT_NEAR(table.rows[i][0], static_cast<double>(i) / 30.0, 1e-6) << "row " << i;
   }
   // Speech: some frames voiced, F0 in a human range.
-  const auto voiced =
-      std::count_if(table.rows.begin(), table.rows.end(), [](const auto& r) { return r[1] > 0; });
+  const auto voiced = std::count_if(table.rows.begin(), table.rows.end(), [](const auto& r) { return r[1] > 0; });
   EXPECT_GT(voiced, static_cast<long>(table.rows.size() / 4));
   EXPECT_TRUE(std::all_of(table.rows.begin(), table.rows.end(),
                           [](const auto& r) { return r[1] == 0 || (r[1] > 50 && r[1] < 500); }));
@@ -174,8 +172,7 @@ TEST_F(GoodRunCliTest, FpsOptionSetsTheRowRate) {
 TEST_F(GoodRunCliTest, JsonHoldsTheSameFramesAsCsv) {
   const Table csv = run({}, "features.csv");
   const fs::path jsonPath = out() / "features.out";
-  const CliResult result =
-      runCli({"features", input_.string(), "-o", jsonPath.string(), "--format", "json"}, logs());
+  const CliResult result = runCli({"features", input_.string(), "-o", jsonPath.string(), "--format", "json"}, logs());
   ASSERT_TRUE(result.exited && result.exitCode == 0) << result.err;
   nlohmann::json document;
   ASSERT_NO_THROW(document = nlohmann::json::parse(readText(jsonPath))) << "not valid JSON";
@@ -189,8 +186,7 @@ TEST_F(GoodRunCliTest, JsonHoldsTheSameFramesAsCsv) {
     for (size_t k = 0; k < csv.rows[i].size(); ++k) {
       // The CSV prints 7 significant digits; JSON keeps the float.
       const double fromJson = frames[i][k].get<double>();
-      EXPECT_NEAR(fromJson, csv.rows[i][k], 1e-6 * std::max(1.0, std::abs(fromJson)))
-          << "frame " << i << " " << k;
+      EXPECT_NEAR(fromJson, csv.rows[i][k], 1e-6 * std::max(1.0, std::abs(fromJson))) << "frame " << i << " " << k;
     }
   }
 }
@@ -218,7 +214,9 @@ void writeTrainingCsv(const fs::path& path, int framesPerSequence) {
   }
 }
 
-int countLines(const std::string& text) { return static_cast<int>(std::count(text.begin(), text.end(), '\n')); }
+int countLines(const std::string& text) {
+  return static_cast<int>(std::count(text.begin(), text.end(), '\n'));
+}
 
 }  // namespace hmmcli
 
@@ -231,20 +229,23 @@ TEST_F(FeaturesCliTest, TrainHeadThenEvaluateItBesideItsBaselines) {
   ASSERT_TRUE(fs::exists(model));
   EXPECT_NE(result.err.find("4 speakers"), std::string::npos) << result.err;
   result = runCli({"eval", "head", "--start-states", "8", "--iterations", "20", "--residual-from-training", "--model",
-                   model.string(), "--lag", "4"}, logs());
+                   model.string(), "--lag", "4"},
+                  logs());
   ASSERT_EQ(result.exitCode, 0) << result.err;
-  for (const std::string expected : {"scott left out", "Obama left out", "KristiNoem left out", "andrew left out",
-                                     "trajectory (the default)", "Viterbi state means (paper)", "online (live, lag 4)",
-                                     "the mean pose", "another clip's real motion", "random walk, matched statistics",
-                                     "FD", "on BEAT2's held-out part", "Blinks"}) {
+  for (const std::string expected :
+       {"scott left out", "Obama left out", "KristiNoem left out", "andrew left out", "trajectory (the default)",
+        "Viterbi state means (paper)", "online (live, lag 4)", "the mean pose", "another clip's real motion",
+        "random walk, matched statistics", "FD", "on BEAT2's held-out part", "Blinks"}) {
     EXPECT_NE(result.out.find(expected), std::string::npos) << expected;
   }
   // A model file that is not a head model: one line naming it.
   const fs::path plain = folder_.path() / "data.csv";
   hmmcli::writeTrainingCsv(plain, 100);
   const fs::path hmmFile = out() / "plain.json";
-  ASSERT_EQ(runCli({"hmm", "train", "--data", plain.string(), "--states", "2", "-o", hmmFile.string()}, logs()).exitCode, 0);
-  expectOneLineFailure(runCli({"eval", "head", "--model", hmmFile.string()}, logs()), hmmFile.string(), "not a head model");
+  ASSERT_EQ(
+      runCli({"hmm", "train", "--data", plain.string(), "--states", "2", "-o", hmmFile.string()}, logs()).exitCode, 0);
+  expectOneLineFailure(runCli({"eval", "head", "--model", hmmFile.string()}, logs()), hmmFile.string(),
+                       "not a head model");
 }
 
 TEST_F(FeaturesCliTest, EvalMouthReportsThePapersMeasuresAndTheSweepWritesPlots) {
@@ -255,7 +256,8 @@ TEST_F(FeaturesCliTest, EvalMouthReportsThePapersMeasuresAndTheSweepWritesPlots)
     EXPECT_NE(result.out.find(expected), std::string::npos) << expected;
   }
   const fs::path model = out() / "mouth.json";
-  result = runCli({"train", "mouth", "--beat2", "--beat2-states", "3", "--beat2-mixtures", "1", "-o", model.string()}, logs());
+  result = runCli({"train", "mouth", "--beat2", "--beat2-states", "3", "--beat2-mixtures", "1", "-o", model.string()},
+                  logs());
   ASSERT_EQ(result.exitCode, 0) << result.err;
   result = runCli({"eval", "mouth", "--beat2", "--model", model.string()}, logs());
   ASSERT_EQ(result.exitCode, 0) << result.err;
@@ -272,8 +274,9 @@ TEST_F(FeaturesCliTest, EvalMouthReportsThePapersMeasuresAndTheSweepWritesPlots)
     ASSERT_GT(bytes.size(), 1000u) << png;
     EXPECT_EQ(bytes.substr(1, 3), "PNG") << png;
   }
-  expectOneLineFailure(runCli({"eval", "mouth", "--beat2", "--sweep", "--states", "3,x", "--output", folder.string()}, logs()),
-                       "--states", "not a positive integer");
+  expectOneLineFailure(
+      runCli({"eval", "mouth", "--beat2", "--sweep", "--states", "3,x", "--output", folder.string()}, logs()),
+      "--states", "not a positive integer");
 }
 
 TEST_F(FeaturesCliTest, HmmTrainWithTheEntropicPriorPrunesAndRecordsEveryStep) {
@@ -300,9 +303,9 @@ TEST_F(FeaturesCliTest, HmmTrainInfoDecodeInvert) {
   const fs::path data = folder_.path() / "data.csv";
   hmmcli::writeTrainingCsv(data, 400);
   const fs::path model = out() / "model.json";
-  CliResult result = runCli({"hmm", "train", "--data", data.string(), "--states", "3", "--visual-columns", "v1",
-                             "-o", model.string()},
-                            logs());
+  CliResult result =
+      runCli({"hmm", "train", "--data", data.string(), "--states", "3", "--visual-columns", "v1", "-o", model.string()},
+             logs());
   ASSERT_EQ(result.exitCode, 0) << result.err;
   ASSERT_TRUE(fs::exists(model));
 
@@ -322,9 +325,9 @@ TEST_F(FeaturesCliTest, HmmTrainInfoDecodeInvert) {
   EXPECT_EQ(decoded.substr(0, 6), "state\n");
   EXPECT_EQ(hmmcli::countLines(decoded), 801);
 
-  result = runCli({"hmm", "decode", model.string(), "--data", data.string(), "--online", "--max-lag", "3", "-o",
-                   states.string()},
-                  logs());
+  result = runCli(
+      {"hmm", "decode", model.string(), "--data", data.string(), "--online", "--max-lag", "3", "-o", states.string()},
+      logs());
   ASSERT_EQ(result.exitCode, 0) << result.err;
   std::istringstream online(readText(states));
   std::string line;
@@ -334,9 +337,8 @@ TEST_F(FeaturesCliTest, HmmTrainInfoDecodeInvert) {
 
   for (const std::string method : {"inversion", "mmse"}) {
     const fs::path visual = out() / ("visual-" + method + ".csv");
-    result = runCli({"hmm", "invert", model.string(), "--data", data.string(), "--method", method, "-o",
-                     visual.string()},
-                    logs());
+    result = runCli(
+        {"hmm", "invert", model.string(), "--data", data.string(), "--method", method, "-o", visual.string()}, logs());
     ASSERT_EQ(result.exitCode, 0) << result.err;
     std::istringstream rows(readText(visual));
     std::getline(rows, line);
@@ -359,8 +361,9 @@ TEST_F(FeaturesCliTest, HmmBadInputsGiveOneLine) {
   const fs::path ragged = folder_.path() / "ragged.csv";
   std::ofstream(ragged) << "a,b\n1,2\n3\n";
   const fs::path model = out() / "m.json";
-  expectOneLineFailure(runCli({"hmm", "train", "--data", ragged.string(), "--states", "2", "-o", model.string()}, logs()),
-                       ragged.string(), "line 3 has 1 values");
+  expectOneLineFailure(
+      runCli({"hmm", "train", "--data", ragged.string(), "--states", "2", "-o", model.string()}, logs()),
+      ragged.string(), "line 3 has 1 values");
   EXPECT_TRUE(outFolderIsEmpty());
 
   const fs::path text = folder_.path() / "text.csv";
@@ -375,9 +378,11 @@ TEST_F(FeaturesCliTest, HmmBadInputsGiveOneLine) {
   // A model without audio/visual blocks cannot be inverted.
   const fs::path data = folder_.path() / "data.csv";
   hmmcli::writeTrainingCsv(data, 200);
-  ASSERT_EQ(runCli({"hmm", "train", "--data", data.string(), "--states", "2", "-o", model.string()}, logs()).exitCode, 0);
+  ASSERT_EQ(runCli({"hmm", "train", "--data", data.string(), "--states", "2", "-o", model.string()}, logs()).exitCode,
+            0);
   const fs::path visual = out() / "v.csv";
-  expectOneLineFailure(runCli({"hmm", "invert", model.string(), "--data", data.string(), "-o", visual.string()}, logs()),
-                       model.string(), "no audio and visual blocks");
+  expectOneLineFailure(
+      runCli({"hmm", "invert", model.string(), "--data", data.string(), "-o", visual.string()}, logs()), model.string(),
+      "no audio and visual blocks");
   EXPECT_FALSE(fs::exists(visual));
 }

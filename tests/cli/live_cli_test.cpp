@@ -4,15 +4,15 @@
 // and keeps its settings.
 #include <gtest/gtest.h>
 
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <cstdlib>
 #include <string>
 
 #include "cli_runner.h"
 #include "core/data_path.h"
-#include "render/image.h"
 #include "formats/animation_format.h"
+#include "render/image.h"
 
 namespace {
 
@@ -29,9 +29,9 @@ class LiveCliTest : public th::test::CliTest {
 TEST_F(LiveCliTest, HeadlessGivesTheOnlineAnimationThroughTheThreads) {
   const fs::path live = out() / "live.csv";
   // 8 s at 4x real time: the display loop runs at its own pace while the file plays.
-  CliResult result = runCli({"live", "--headless", "--input", speech().string(), "--duration", "8", "--speed", "4",
-                             "--dump", live.string()},
-                            logs());
+  CliResult result = runCli(
+      {"live", "--headless", "--input", speech().string(), "--duration", "8", "--speed", "4", "--dump", live.string()},
+      logs());
   ASSERT_EQ(result.exitCode, 0) << result.err;
   EXPECT_NE(result.out.find("240 decoded, 240 shown, 0 dropped"), std::string::npos) << result.out;
   EXPECT_NE(result.out.find("0 overrun"), std::string::npos) << result.out;
@@ -68,16 +68,18 @@ TEST_F(LiveCliTest, UnderCpuOverloadNoSampleIsLost) {
 
 TEST_F(LiveCliTest, BadInputFailsInOneLineAndLeavesNoDump) {
   const fs::path dump = out() / "dump.csv";
-  expectOneLineFailure(runCli({"live", "--headless", "--input", (out() / "missing.wav").string(), "--dump", dump.string()}, logs()),
-                       "missing.wav", "no such file");
+  expectOneLineFailure(
+      runCli({"live", "--headless", "--input", (out() / "missing.wav").string(), "--dump", dump.string()}, logs()),
+      "missing.wav", "no such file");
   EXPECT_FALSE(fs::exists(dump));
   const fs::path text = out() / "text.wav";
   std::ofstream(text) << "not audio at all";
   const CliResult notAudio = runCli({"live", "--headless", "--input", text.string(), "--dump", dump.string()}, logs());
   EXPECT_NE(notAudio.exitCode, 0);
   EXPECT_FALSE(fs::exists(dump));
-  expectOneLineFailure(runCli({"live", "--headless", "--input", speech().string(), "--dump", (out() / "x.txt").string()}, logs()),
-                       "x.txt", "");
+  expectOneLineFailure(
+      runCli({"live", "--headless", "--input", speech().string(), "--dump", (out() / "x.txt").string()}, logs()),
+      "x.txt", "");
   expectOneLineFailure(runCli({"live", "--headless"}, logs()), "--input", "");
   expectOneLineFailure(runCli({"live", "--headless", "--input", speech().string(), "--device", "default"}, logs()),
                        "not both", "");
@@ -136,8 +138,8 @@ TEST_F(LiveCliTest, TheWindowDrawsTheFaceAndThePanelAndKeepsItsSettings) {
   EXPECT_GT(plotted, 200);
   ASSERT_TRUE(fs::exists(settings));
   const std::string saved = th::test::readText(settings);
-  for (const std::string expected : {"\"window\": 3", "\"head_amplitude\": 1.5", "\"head_smoothing\": 2.0",
-                                     "\"idle\": false", "\"seed\": 4"})
+  for (const std::string expected :
+       {"\"window\": 3", "\"head_amplitude\": 1.5", "\"head_smoothing\": 2.0", "\"idle\": false", "\"seed\": 4"})
     EXPECT_NE(saved.find(expected), std::string::npos) << expected << " in " << saved;
   // The next time, without the options: the saved settings. (And without the loop's cap: frames as fast as
   // they can be drawn.)

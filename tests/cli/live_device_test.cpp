@@ -18,15 +18,17 @@
 #include "audio/audio_file.h"
 #include "audio/media_audio.h"
 #include "cli_runner.h"
-#include "support/files.h"
 #include "core/data_path.h"
 #include "formats/animation_format.h"
+#include "support/files.h"
 
 namespace {
 
 namespace fs = std::filesystem;
 
-int shell(const std::string& command) { return std::system(command.c_str()); }
+int shell(const std::string& command) {
+  return std::system(command.c_str());
+}
 
 // The recording's RMS level per 1/framesPerSecond s.
 std::vector<double> levels(const std::vector<float>& samples, int rateHz, int framesPerSecond = 30) {
@@ -97,7 +99,8 @@ bool startPulseAudioWithTheNullSink(const fs::path& script) {
                            "set-default-sink talkinghead_test\n"
                            "set-default-source talkinghead_test.monitor\n"
                            "load-module module-native-protocol-unix\n";
-  if (shell("pulseaudio -n -F " + script.string() + " --daemonize --exit-idle-time=-1 > /dev/null 2>&1") != 0) return false;
+  if (shell("pulseaudio -n -F " + script.string() + " --daemonize --exit-idle-time=-1 > /dev/null 2>&1") != 0)
+    return false;
   for (int i = 0; i < 50 && shell("pactl info > /dev/null 2>&1") != 0; ++i)
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
   return shell("pactl info > /dev/null 2>&1") == 0;
@@ -125,7 +128,8 @@ struct InputCounters {
 InputCounters inputCountersIn(const std::string& said) {
   InputCounters counters;
   const std::size_t at = said.find("sound inputs: ");
-  if (at != std::string::npos) std::sscanf(said.c_str() + at, "sound inputs: %d opened, %d lost", &counters.opened, &counters.lost);
+  if (at != std::string::npos)
+    std::sscanf(said.c_str() + at, "sound inputs: %d opened, %d lost", &counters.opened, &counters.lost);
   return counters;
 }
 
@@ -138,7 +142,8 @@ struct Excerpt {
 Excerpt writeExcerpt(int from, int to, const fs::path& path) {
   const th::audio::AudioClip clip = th::audio::readRecording(th::sharedDataPath("beat2/audio_only/2_scott_0_2_2.wav"));
   Excerpt excerpt{{clip.samples.begin() + from * clip.sampleRateHz, clip.samples.begin() + to * clip.sampleRateHz},
-                  clip.sampleRateHz, path};
+                  clip.sampleRateHz,
+                  path};
   th::audio::writeWav16(path, excerpt.samples, clip.sampleRateHz);
   return excerpt;
 }
@@ -148,9 +153,10 @@ Excerpt writeExcerpt(int from, int to, const fs::path& path) {
 // ALSA thread for the lost stream can spin printing "Expression ... failed" for as long as the process lives
 // (the window leaves it closing on a thread of its own); those lines are dropped, and must not fill the disk.
 std::string listeningWindow(int seconds, const fs::path& log) {
-  return "( ASAN_OPTIONS=detect_leaks=0 timeout 90 xvfb-run -a -s '-screen 0 1280x800x24' " + std::string(TALKINGHEAD_CLI) +
-         " live --device default --no-settings --duration " + std::to_string(seconds) +
-         "; echo \"exit status $?\" ) 2>&1 | grep -av 'Expression .* failed in\\|^ostapi' | tail -c 65536 > " + log.string();
+  return "( ASAN_OPTIONS=detect_leaks=0 timeout 90 xvfb-run -a -s '-screen 0 1280x800x24' " +
+         std::string(TALKINGHEAD_CLI) + " live --device default --no-settings --duration " + std::to_string(seconds) +
+         "; echo \"exit status $?\" ) 2>&1 | grep -av 'Expression .* failed in\\|^ostapi' | tail -c 65536 > " +
+         log.string();
 }
 
 TEST_F(LiveDeviceTest, CapturesANullSinksMonitorAndTheJawFollowsTheLoudness) {
@@ -169,10 +175,9 @@ TEST_F(LiveDeviceTest, CapturesANullSinksMonitorAndTheJawFollowsTheLoudness) {
     shell("paplay -d talkinghead_test " + excerpt.string());
   });
   const fs::path dump = out() / "heard.csv";
-  const th::test::CliResult result =
-      th::test::runCli({"live", "--headless", "--device", "default", "--duration", "13", "--dump", dump.string(),
-                        "--preset", "accurate"},
-                       logs());
+  const th::test::CliResult result = th::test::runCli({"live", "--headless", "--device", "default", "--duration", "13",
+                                                       "--dump", dump.string(), "--preset", "accurate"},
+                                                      logs());
   player.join();
   shell("pactl unload-module $(cat " + (out() / "module").string() + ")");
   ASSERT_EQ(result.exitCode, 0) << result.err;
@@ -189,8 +194,8 @@ TEST_F(LiveDeviceTest, CapturesANullSinksMonitorAndTheJawFollowsTheLoudness) {
   // The same excerpt decoded from the file: the captured jaw holds it, at some offset (where in the capture
   // the excerpt landed is not known to the frame), nearly unchanged by the trip through PulseAudio.
   const fs::path fromFile = out() / "file.csv";
-  ASSERT_EQ(th::test::runCli({"live", "--headless", "--input", excerpt.string(), "--speed", "0", "--dump", fromFile.string(),
-                              "--preset", "accurate"},
+  ASSERT_EQ(th::test::runCli({"live", "--headless", "--input", excerpt.string(), "--speed", "0", "--dump",
+                              fromFile.string(), "--preset", "accurate"},
                              logs())
                 .exitCode,
             0);
@@ -219,9 +224,10 @@ TEST_F(LiveDeviceTest, CapturesANullSinksMonitorAndTheJawFollowsTheLoudness) {
     quiet += jaw[order[i] + offset] / static_cast<double>(quarter);
     loud += jaw[order[order.size() - 1 - i] + offset] / static_cast<double>(quarter);
   }
-  std::printf("[ INFO     ] captured jaw against the file's: r = %.3f at %.2f s into the capture (the file's reversed in "
-              "time: %.3f); against the loudness: r = %.3f; jaw (FAP 3) in the quietest quarter %.1f, loudest %.1f\n",
-              best, static_cast<double>(offset) / 30.0, bestReversed, followsLoudness, quiet, loud);
+  std::printf(
+      "[ INFO     ] captured jaw against the file's: r = %.3f at %.2f s into the capture (the file's reversed in "
+      "time: %.3f); against the loudness: r = %.3f; jaw (FAP 3) in the quietest quarter %.1f, loudest %.1f\n",
+      best, static_cast<double>(offset) / 30.0, bestReversed, followsLoudness, quiet, loud);
   // Not equal: PulseAudio resamples (16 -> 44.1 -> 16 kHz) and the capture's frames fall at other instants of
   // the sound, which moves every MFCC a little (0.58-0.61 in runs here, 0.77 on 10 s, with the accurate preset's
   // model; the default preset's, with no inversion window to smooth over, gave 0.33 in one ASan run).
@@ -253,7 +259,8 @@ TEST_F(LiveDeviceTest, TheWindowSurvivesTheSoundServerDyingAndListensAgainWhenIt
   std::printf("%s", said.c_str());
   EXPECT_NE(said.find("exit status 0"), std::string::npos) << said;
   const InputCounters inputs = inputCountersIn(said);
-  EXPECT_EQ(inputs.lost, 1) << "lost once; the new stream hears (one that got no block in 4 s would count as lost again)";
+  EXPECT_EQ(inputs.lost, 1)
+      << "lost once; the new stream hears (one that got no block in 4 s would count as lost again)";
   EXPECT_GE(inputs.opened, 2) << "listening again after the loss";
 }
 
@@ -283,8 +290,8 @@ TEST_F(LiveDeviceTest, HeadlessFailsWhenItsInputIsGoneForGood) {
   const fs::path dump = out() / "gone.csv";
   th::test::CliResult result;
   std::thread run([&] {
-    result = th::test::runCli({"live", "--headless", "--device", "default", "--duration", "30", "--reconnect-seconds", "3",
-                               "--dump", dump.string()},
+    result = th::test::runCli({"live", "--headless", "--device", "default", "--duration", "30", "--reconnect-seconds",
+                               "3", "--dump", dump.string()},
                               logs());
   });
   EXPECT_TRUE(waitUntilSomethingListens(std::chrono::seconds(60))) << "the run never opened its input";
@@ -311,8 +318,7 @@ TEST_F(LiveDeviceTest, TheWindowPlaysARecordingAloud) {
   const int rateHz = speech.rateHz;
   const fs::path heard = out() / "heard.raw";
   shell("parec -d talkinghead_test.monitor --rate=16000 --channels=1 --format=float32le --raw --latency-msec=10 > " +
-        heard.string() +
-        " 2>/dev/null & echo $! > " + (out() / "parec.pid").string());
+        heard.string() + " 2>/dev/null & echo $! > " + (out() / "parec.pid").string());
   const std::string command = "( ASAN_OPTIONS=detect_leaks=0 timeout 60 xvfb-run -a -s '-screen 0 1280x800x24' " +
                               std::string(TALKINGHEAD_CLI) + " live --input " + excerpt.string() +
                               " --no-settings --duration 8; echo \"exit status $?\" ) 2>&1 | tail -c 65536 > " +
@@ -358,13 +364,14 @@ TEST_F(LiveDeviceTest, TheWindowPlaysARecordingAloud) {
   const Alignment fine = align(levels(part, rateHz, 100), levels(captured, 16000, 100));  // 10 ms steps
   const double monitorSeconds =
       parecEndSeconds - static_cast<double>(captured.size()) / 16000.0 + static_cast<double>(fine.offset) * 0.01;
-  std::printf("[ INFO     ] the recording's start: heard at %.3f s by the window's reckoning, at %.3f s in the "
-              "monitor (r = %.3f, parec's end known to %.1f ms): %+.1f ms apart; the face shows each instant %+.1f ms "
-              "after it is heard\n",
-              heardSeconds, monitorSeconds, fine.r, killUncertainty * 1000.0, (monitorSeconds - heardSeconds) * 1000.0,
-              lateMs);
+  std::printf(
+      "[ INFO     ] the recording's start: heard at %.3f s by the window's reckoning, at %.3f s in the "
+      "monitor (r = %.3f, parec's end known to %.1f ms): %+.1f ms apart; the face shows each instant %+.1f ms "
+      "after it is heard\n",
+      heardSeconds, monitorSeconds, fine.r, killUncertainty * 1000.0, (monitorSeconds - heardSeconds) * 1000.0, lateMs);
   EXPECT_GT(fine.r, 0.8);
-  EXPECT_LT(std::abs(monitorSeconds - heardSeconds), 0.040 + killUncertainty) << "the window's reckoning of the sound's time";
+  EXPECT_LT(std::abs(monitorSeconds - heardSeconds), 0.040 + killUncertainty)
+      << "the window's reckoning of the sound's time";
   // Within what viewers cannot detect (ITU-R BT.1359: sound no more than 45 ms before the picture, 125 ms
   // after), given a display that keeps up with the 30 fps animation; a slower one (a sanitizer's build on a
   // loaded machine) shows each frame for longer, and may be late by its period beyond a 30 fps one's.

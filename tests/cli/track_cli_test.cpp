@@ -1,10 +1,11 @@
 // `talkinghead track` as a user meets it: a GRID clip gives a landmark track (smoothed, or as dlib gave it) and its
-// sound (its own, or a silent video's WAV beside it); a video without a face, without sound, or not a video at all fails in one line and leaves nothing behind.
+// sound (its own, or a silent video's WAV beside it); a video without a face, without sound, or not a video at all
+// fails in one line and leaves nothing behind.
 #include <gtest/gtest.h>
 
-#include <filesystem>
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <string>
 
@@ -49,8 +50,8 @@ TEST_F(TrackCliTest, AGridClipGivesItsLandmarksAndItsSound) {
   EXPECT_NEAR(static_cast<double>(sound.samples.size()) / sound.sampleRateHz, 3.0, 0.05);
   // --audio puts it elsewhere; --no-smooth writes dlib's landmarks as each frame gave them, which jitter more
   // from frame to frame than the smoothed ones (the sum of the second differences of every landmark's path).
-  ASSERT_EQ(runCli({"track", clip().string(), "-o", (out() / "b.csv").string(), "--audio", (out() / "sound.wav").string(),
-                    "--no-smooth"},
+  ASSERT_EQ(runCli({"track", clip().string(), "-o", (out() / "b.csv").string(), "--audio",
+                    (out() / "sound.wav").string(), "--no-smooth"},
                    logs())
                 .exitCode,
             0);
@@ -62,7 +63,8 @@ TEST_F(TrackCliTest, AGridClipGivesItsLandmarksAndItsSound) {
       for (const char* axis : {"x", "y"}) {
         const auto column = static_cast<std::size_t>(landmarks.column(axis + std::to_string(point)));
         for (std::size_t f = 1; f + 1 < landmarks.rows.size(); ++f)
-          sum += std::abs(landmarks.rows[f + 1][column] - 2 * landmarks.rows[f][column] + landmarks.rows[f - 1][column]);
+          sum +=
+              std::abs(landmarks.rows[f + 1][column] - 2 * landmarks.rows[f][column] + landmarks.rows[f - 1][column]);
       }
     return sum;
   };

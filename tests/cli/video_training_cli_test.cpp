@@ -11,11 +11,11 @@
 #include "audio/media_audio.h"
 #include "cli_runner.h"
 #include "core/data_path.h"
+#include "formats/animation_format.h"
 #include "render/image.h"
 #include "tracking/video_reader.h"
 #include "tracking/video_training.h"
 #include "tracking_test_support.h"
-#include "formats/animation_format.h"
 
 namespace {
 
@@ -40,20 +40,23 @@ class VideoTrainingCliTest : public th::test::CliTest {
 TEST_F(VideoTrainingCliTest, TrainsAModelThatTheOtherCommandsPlay) {
   const fs::path clips = clipFolder();
   const fs::path model = out() / "speaker.json";
-  const std::vector<std::string> train{"train", "--video", clips.string(), "-o", model.string(), "--hold-out", "2",
-                                       "--states", "3", "--mixtures", "1", "--components", "2", "--threads", "2"};
+  const std::vector<std::string> train{
+      "train",      "--video", clips.string(), "-o", model.string(), "--hold-out", "2", "--states", "3",
+      "--mixtures", "1",       "--components", "2",  "--threads",    "2"};
   CliResult result = runCli(train, logs());
   ASSERT_EQ(result.exitCode, 0) << result.err;
   EXPECT_NE(result.out.find("4 clips from"), std::string::npos) << result.out;
   EXPECT_NE(result.out.find("4 tracked now"), std::string::npos) << result.out;
-  EXPECT_NE(result.out.find("left out: " + (clips / "zz_faceless.mp4").string() + ": no face"), std::string::npos) << result.out;
+  EXPECT_NE(result.out.find("left out: " + (clips / "zz_faceless.mp4").string() + ": no face"), std::string::npos)
+      << result.out;
   EXPECT_NE(result.out.find("trained on 2 clips"), std::string::npos) << result.out;
-  for (const char* row : {"this model, inversion", "this model, MMSE", "--compare mouth.json", "baseline: the training mean",
-                          "baseline: this model on the next held-out clip's audio"})
+  for (const char* row : {"this model, inversion", "this model, MMSE", "--compare mouth.json",
+                          "baseline: the training mean", "baseline: this model on the next held-out clip's audio"})
     EXPECT_NE(result.out.find(row), std::string::npos) << row << '\n' << result.out;
   // The tracks are kept beside the model and read back the next time.
   std::size_t tracks = 0;
-  for (const auto& entry : fs::directory_iterator(out() / "speaker_tracks")) tracks += entry.path().extension() == ".csv";
+  for (const auto& entry : fs::directory_iterator(out() / "speaker_tracks"))
+    tracks += entry.path().extension() == ".csv";
   EXPECT_EQ(tracks, 4u);
   EXPECT_TRUE(fs::exists(out() / "speaker_tracks" / "tracker.txt"));  // how they were made
   fs::remove(model);
@@ -64,8 +67,11 @@ TEST_F(VideoTrainingCliTest, TrainsAModelThatTheOtherCommandsPlay) {
   // animate and live play it: the jaw and the 20 lip FAPs it learnt.
   const std::string speech = th::sharedDataPath("beat2/2_scott_0_1_1.wav").string();
   const fs::path csv = out() / "a.csv";
-  ASSERT_EQ(runCli({"animate", speech, "-o", csv.string(), "--mouth-model", model.string(), "--head", "none", "--no-idle"},
-                   logs()).exitCode, 0);
+  ASSERT_EQ(
+      runCli({"animate", speech, "-o", csv.string(), "--mouth-model", model.string(), "--head", "none", "--no-idle"},
+             logs())
+          .exitCode,
+      0);
   const th::face::FapTrack animation = th::formats::readAnimation(csv);
   EXPECT_EQ(animation.faps.size(), 21u);
   EXPECT_GT(animation.values.row(0).maxCoeff(), animation.values.row(0).minCoeff());  // FAP 3 moves
@@ -92,23 +98,25 @@ TEST_F(VideoTrainingCliTest, TrainMouthOnAFolderThenFilmStripsOfItsMouth) {
   // `train mouth` as the shipped models are made, on a folder of one's own (the shipped ones: the shared corpora).
   const fs::path clips = clipFolder();
   const fs::path model = out() / "mouth.json";
-  CliResult result = runCli({"train", "mouth", "--corpus", clips.string() + "=me", "--tracks", (folder_.path() / "tracks").string(),
-                             "--states", "3", "--mixtures", "1", "--components", "2", "-o", model.string()},
-                            logs());
+  CliResult result =
+      runCli({"train", "mouth", "--corpus", clips.string() + "=me", "--tracks", (folder_.path() / "tracks").string(),
+              "--states", "3", "--mixtures", "1", "--components", "2", "-o", model.string()},
+             logs());
   ASSERT_EQ(result.exitCode, 0) << result.err;
   EXPECT_NE(result.err.find("trained on 4 clips"), std::string::npos) << result.err;
   EXPECT_NE(result.err.find("normalised speech"), std::string::npos) << result.err;
   // animate plays it; strip draws a stretch of it; sidebyside draws a clip's mouth above ours.
   const fs::path csv = out() / "a.csv";
-  ASSERT_EQ(runCli({"animate", th::sharedDataPath("beat2/2_scott_0_1_1.wav").string(), "-o", csv.string(), "--mouth-model",
-                    model.string(), "--head", "none"},
+  ASSERT_EQ(runCli({"animate", th::sharedDataPath("beat2/2_scott_0_1_1.wav").string(), "-o", csv.string(),
+                    "--mouth-model", model.string(), "--head", "none"},
                    logs())
                 .exitCode,
             0);
   const fs::path strip = out() / "strip.png";
-  result = runCli({"strip", csv.string(), "-o", strip.string(), "--from", "1", "--seconds", "1", "--every", "3", "--columns",
-                   "5", "--tile", "96", "--phones", th::sharedDataPath("beat2/2_scott_0_1_1.TextGrid").string()},
-                  logs());
+  result =
+      runCli({"strip", csv.string(), "-o", strip.string(), "--from", "1", "--seconds", "1", "--every", "3", "--columns",
+              "5", "--tile", "96", "--phones", th::sharedDataPath("beat2/2_scott_0_1_1.TextGrid").string()},
+             logs());
   ASSERT_EQ(result.exitCode, 0) << result.err;
   const th::render::Image sheet = th::render::readPng(strip);
   EXPECT_EQ(sheet.width, 5 * 96) << "ten frames, five a row";
@@ -122,8 +130,8 @@ TEST_F(VideoTrainingCliTest, TrainMouthOnAFolderThenFilmStripsOfItsMouth) {
   const th::render::Image side = th::render::readPng(pairs);
   EXPECT_EQ(side.width, 10 * 64) << "0.8 s of 25 fps, every second frame";
   EXPECT_EQ(side.height, 2 * 64 + 20);
-  expectOneLineFailure(runCli({"strip", csv.string(), "-o", (out() / "s.png").string(), "--from", "100"}, logs()), "a.csv",
-                       "ends before the strip does");
+  expectOneLineFailure(runCli({"strip", csv.string(), "-o", (out() / "s.png").string(), "--from", "100"}, logs()),
+                       "a.csv", "ends before the strip does");
   expectOneLineFailure(runCli({"strip", csv.string(), "-o", (out() / "s.jpg").string()}, logs()), "s.jpg", ".png");
 }
 
@@ -131,7 +139,8 @@ TEST_F(VideoTrainingCliTest, BadInputFailsInOneLineAndLeavesNothing) {
   const std::string model = (out() / "m.json").string();
   expectOneLineFailure(runCli({"train", "--video", (out() / "missing").string(), "-o", model}, logs()), "missing",
                        "is not a folder");
-  expectOneLineFailure(runCli({"train", "--video", out().string(), "-o", model}, logs()), out().string(), "holds no videos");
+  expectOneLineFailure(runCli({"train", "--video", out().string(), "-o", model}, logs()), out().string(),
+                       "holds no videos");
   const CliResult noOutput = runCli({"train", "--video", out().string()}, logs());
   EXPECT_NE(noOutput.exitCode, 0);
   EXPECT_NE(noOutput.err.find("-o MODEL.json"), std::string::npos) << noOutput.err;

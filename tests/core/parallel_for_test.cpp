@@ -16,7 +16,8 @@ TEST(ParallelFor, RunsEveryIndexExactlyOnce) {
   for (unsigned threads : {0u, 1u, 2u, 4u, 16u}) {
     std::vector<int> visits(1000, 0);
     th::parallelFor(visits.size(), threads, [&](std::size_t i) { visits[i] += static_cast<int>(i) + 1; });
-    for (std::size_t i = 0; i < visits.size(); ++i) ASSERT_EQ(visits[i], static_cast<int>(i) + 1) << "threads " << threads;
+    for (std::size_t i = 0; i < visits.size(); ++i)
+      ASSERT_EQ(visits[i], static_cast<int>(i) + 1) << "threads " << threads;
   }
 }
 

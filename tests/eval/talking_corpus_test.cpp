@@ -1,6 +1,8 @@
 // Talking corpora for the mouth: the labels the shared corpora ship (GRID's words, StyleTalk's per-frame phones,
 // BEAT2's TextGrid) read and classed, broken label files refused naming them, a sound put in late found again,
 // speakers named, and the scores and baselines the evaluation prints.
+#include "eval/talking_corpus.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -9,12 +11,11 @@
 #include <random>
 
 #include "core/data_path.h"
-#include "features/speech_normaliser.h"
 #include "core/error.h"
 #include "core/temporary_file.h"
-#include "face/face_model.h"
 #include "eval/mouth_scores.h"
-#include "eval/talking_corpus.h"
+#include "face/face_model.h"
+#include "features/speech_normaliser.h"
 
 namespace {
 
@@ -41,7 +42,8 @@ TEST(TalkingCorpus, ReadsGridWordsStyleTalkPhonesAndBeat2PhonesFromTheSharedData
   for (const LabelInterval& phone : phones) bilabials += th::eval::phoneClassOf(phone.label) == PhoneClass::kBilabial;
   EXPECT_GE(bilabials, 8);
 
-  const std::vector<LabelInterval> beat2 = th::eval::readTextGridPhones(th::sharedDataPath("beat2/2_scott_0_1_1.TextGrid"));
+  const std::vector<LabelInterval> beat2 =
+      th::eval::readTextGridPhones(th::sharedDataPath("beat2/2_scott_0_1_1.TextGrid"));
   EXPECT_GT(beat2.size(), 300u);
   for (const LabelInterval& phone : beat2) {
     EXPECT_LE(phone.startSeconds, phone.endSeconds);
@@ -136,12 +138,14 @@ TEST(SoundOffset, FindsASoundPutInLateOrEarlyToAFractionOfAFrame) {
   }
   // The lips' natural lead is not taken for a late sound.
   const SyntheticClip inSync = syntheticClip(900, 0.3, 8);
-  EXPECT_NEAR(th::tracking::estimateSoundOffset(inSync.level, inSync.jaw, inSync.lips, 30.0, {.naturalLeadSeconds = 0.3 / 30.0})
-                  .lateSeconds,
-              0.0, 0.25 / 30.0);
+  EXPECT_NEAR(
+      th::tracking::estimateSoundOffset(inSync.level, inSync.jaw, inSync.lips, 30.0, {.naturalLeadSeconds = 0.3 / 30.0})
+          .lateSeconds,
+      0.0, 0.25 / 30.0);
   // A 3 s clip is too short to say.
   const SyntheticClip shortClip = syntheticClip(90, 4.0, 9);
-  const th::tracking::SoundOffset none = th::tracking::estimateSoundOffset(shortClip.level, shortClip.jaw, shortClip.lips, 30.0);
+  const th::tracking::SoundOffset none =
+      th::tracking::estimateSoundOffset(shortClip.level, shortClip.jaw, shortClip.lips, 30.0);
   EXPECT_FALSE(none.measured);
   EXPECT_EQ(none.lateSeconds, 0.0);
 }

@@ -1,10 +1,11 @@
 // Piecewise Bézier volumes: exact embedding by Newton inversion, a linear deformation, no cracks.
+#include "face/bezier_volume.h"
+
 #include <gtest/gtest.h>
 
 #include <random>
 
 #include "core/error.h"
-#include "face/bezier_volume.h"
 #include "face/feature_points.h"
 
 namespace {
@@ -22,12 +23,14 @@ const FaceLattice& faceLattice() {
     const th::face::Mesh mesh = th::face::loadObjMesh(th::face::ictFaceDirectory() / "generic_neutral_mesh.obj");
     const std::vector<int> skin = mesh.verticesOf("M_Face");
     FaceLattice result{Eigen::Matrix3Xd(3, static_cast<Eigen::Index>(skin.size())), {}, 0.0};
-    for (std::size_t i = 0; i < skin.size(); ++i) result.face.col(static_cast<Eigen::Index>(i)) = mesh.positions.col(skin[i]);
+    for (std::size_t i = 0; i < skin.size(); ++i)
+      result.face.col(static_cast<Eigen::Index>(i)) = mesh.positions.col(skin[i]);
     const Eigen::Vector3d low = result.face.rowwise().minCoeff();
     const Eigen::Vector3d high = result.face.rowwise().maxCoeff();
     result.size = (high - low).norm();
     // The bent grid starts 6 units further back at the sides, so the box reaches further back there.
-    result.lattice = BezierLattice::around(low - Eigen::Vector3d(0.5, 0.5, 0.5), high + Eigen::Vector3d(0.5, 0.5, 8.0), {});
+    result.lattice =
+        BezierLattice::around(low - Eigen::Vector3d(0.5, 0.5, 0.5), high + Eigen::Vector3d(0.5, 0.5, 8.0), {});
     return result;
   }();
   return built;
@@ -40,7 +43,8 @@ TEST(BezierLattice, TheUndeformedLatticeReproducesTheFaceMesh) {
   const Eigen::MatrixX3d rebuilt = embedded.basis * f.lattice.controlPoints();
   double worst = 0.0;
   for (std::size_t i = 0; i < embedded.points.size(); ++i)
-    worst = std::max(worst, (rebuilt.row(static_cast<Eigen::Index>(i)).transpose() - f.face.col(embedded.points[i])).norm());
+    worst = std::max(worst,
+                     (rebuilt.row(static_cast<Eigen::Index>(i)).transpose() - f.face.col(embedded.points[i])).norm());
   EXPECT_LT(worst, 1e-5 * f.size);
   // Each row of B is a partition of unity over (n + 1)³ = 64 control points.
   for (Eigen::Index r = 0; r < embedded.basis.rows(); r += 97) {
@@ -54,8 +58,8 @@ TEST(BezierLattice, BendingTheGridMakesNewtonNecessary) {
   const th::face::Embedding embedded = f.lattice.embed(f.face);
   // The affine guess of the unbent grid is off: the bent lattice is not an affine map. Newton finds the points.
   Eigen::Vector3d low = f.face.rowwise().minCoeff(), high = f.face.rowwise().maxCoeff();
-  const BezierLattice straight = BezierLattice::around(low - Eigen::Vector3d(0.5, 0.5, 0.5), high + Eigen::Vector3d(0.5, 0.5, 8.0),
-                                                       {.bend = 0.0});
+  const BezierLattice straight =
+      BezierLattice::around(low - Eigen::Vector3d(0.5, 0.5, 0.5), high + Eigen::Vector3d(0.5, 0.5, 8.0), {.bend = 0.0});
   const th::face::Embedding affine = straight.embed(f.face);
   ASSERT_EQ(affine.points.size(), embedded.points.size());
   double largestShift = 0.0;
@@ -79,7 +83,8 @@ TEST(BezierLattice, DeformationIsLinearInTheControlPoints) {
   EXPECT_LT((combined - separate).cwiseAbs().maxCoeff(), 1e-9);
   // B agrees with evaluating the volumes directly at the embedded coordinates.
   for (std::size_t i = 0; i < embedded.points.size(); i += 211) {
-    const Eigen::Vector3d direct = f.lattice.evaluate(embedded.volume[i], embedded.parameters.col(static_cast<Eigen::Index>(i)), rest + d1);
+    const Eigen::Vector3d direct =
+        f.lattice.evaluate(embedded.volume[i], embedded.parameters.col(static_cast<Eigen::Index>(i)), rest + d1);
     const Eigen::Vector3d viaB = (embedded.basis.row(static_cast<Eigen::Index>(i)) * (rest + d1)).transpose();
     EXPECT_LT((direct - viaB).norm(), 1e-9);
   }
@@ -102,13 +107,16 @@ TEST(BezierLattice, NeighbouringVolumesAgreeOnTheirSharedFaceUnderAnyDeformation
           const double s = unit(random), t = unit(random);
           if (a + 1 < nx)
             worst = std::max(worst, (f.lattice.evaluate(volume, {1.0, s, t}, moved) -
-                                     f.lattice.evaluate(volume + 1, {0.0, s, t}, moved)).norm());
+                                     f.lattice.evaluate(volume + 1, {0.0, s, t}, moved))
+                                        .norm());
           if (b + 1 < ny)
             worst = std::max(worst, (f.lattice.evaluate(volume, {s, 1.0, t}, moved) -
-                                     f.lattice.evaluate(volume + nx, {s, 0.0, t}, moved)).norm());
+                                     f.lattice.evaluate(volume + nx, {s, 0.0, t}, moved))
+                                        .norm());
           if (c + 1 < nz)
             worst = std::max(worst, (f.lattice.evaluate(volume, {s, t, 1.0}, moved) -
-                                     f.lattice.evaluate(volume + nx * ny, {s, t, 0.0}, moved)).norm());
+                                     f.lattice.evaluate(volume + nx * ny, {s, t, 0.0}, moved))
+                                        .norm());
         }
       }
   EXPECT_LT(worst, 1e-12 * f.size);

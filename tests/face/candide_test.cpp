@@ -1,5 +1,7 @@
 // Candide-3 as an independent reference for the FAP table: its per-FAP displacements point the way our table
 // says each FAP moves, and its FAPU tags agree with our units.
+#include "face/candide.h"
+
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
@@ -7,7 +9,6 @@
 
 #include "core/error.h"
 #include "core/temporary_file.h"
-#include "face/candide.h"
 #include "face/fap.h"
 
 namespace {

@@ -26,7 +26,7 @@ TEST(FapTable, NamesUnitsAndDirectionsFollowTheStandard) {
   EXPECT_EQ(th::face::fapDefinition(3).unit, th::face::Fapu::kMns);
   EXPECT_FALSE(th::face::fapDefinition(3).bidirectional);
   EXPECT_EQ(th::face::fapDefinition(3).direction[1], -1.0);
-  EXPECT_EQ(th::face::fapDefinition(6).direction[0], 1.0);    // stretch_l_cornerlip: to the face's left
+  EXPECT_EQ(th::face::fapDefinition(6).direction[0], 1.0);  // stretch_l_cornerlip: to the face's left
   EXPECT_EQ(th::face::fapDefinition(7).direction[0], -1.0);
   EXPECT_EQ(th::face::fapDefinition(37).direction[0], -1.0);  // squeeze_l_eyebrow: towards the middle
   EXPECT_EQ(th::face::fapDefinition(48).unit, th::face::Fapu::kAngle);
@@ -38,8 +38,10 @@ TEST(FapTable, NamesUnitsAndDirectionsFollowTheStandard) {
   for (int n = 3; n <= th::face::kNumFaps; ++n) {
     const auto& fap = th::face::fapDefinition(n);
     const double length = std::hypot(fap.direction[0], fap.direction[1], fap.direction[2]);
-    if (n == 29 || n == 30 || n == 47) EXPECT_EQ(length, 0.0) << n;  // pupil size, tongue roll: no direction
-    else EXPECT_DOUBLE_EQ(length, 1.0) << n;
+    if (n == 29 || n == 30 || n == 47)
+      EXPECT_EQ(length, 0.0) << n;  // pupil size, tongue roll: no direction
+    else
+      EXPECT_DOUBLE_EQ(length, 1.0) << n;
   }
 }
 
@@ -74,8 +76,8 @@ TEST(JawHinge, TheLowerTeethOfTheJawOpenShapeTurnRigidlyAboutAHingeInFrontOfTheE
   ASSERT_GT(lower.size(), 100u);
   EXPECT_LT(lower.size(), teeth.size());  // the upper teeth stay
   const th::face::JawHinge hinge = th::face::fitJawHinge(neutral, ict().jawOpen, lower);
-  EXPECT_LT(hinge.rmsResidual, 0.05);          // rigid to half a millimetre
-  EXPECT_GT(std::abs(hinge.axis.x()), 0.95);   // a left-right axis
+  EXPECT_LT(hinge.rmsResidual, 0.05);         // rigid to half a millimetre
+  EXPECT_GT(std::abs(hinge.axis.x()), 0.95);  // a left-right axis
   const Eigen::Vector3d chin = ict().points.position(neutral, "2.1");
   EXPECT_GT(hinge.pivot.y(), chin.y() + 4.0);  // above and behind the chin, towards the ear
   EXPECT_LT(hinge.pivot.z(), chin.z() - 4.0);

@@ -1,6 +1,8 @@
 // The animated face: every FAP the mesh can show (every low-level one, tongue and ears included) moves its
 // feature point by value × FAPU in the standard's direction and leaves the far face alone; the jaw, lids,
 // eyeballs, tongue and head turn as they should.
+#include "face/face_model.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -13,7 +15,6 @@
 
 #include "core/error.h"
 #include "face/fap.h"
-#include "face/face_model.h"
 
 namespace {
 
@@ -25,9 +26,13 @@ const FaceModel& face() {
   return model;
 }
 
-Eigen::Vector3d pointIn(const Eigen::Matrix3Xd& positions, const char* id) { return face().points().position(positions, id); }
+Eigen::Vector3d pointIn(const Eigen::Matrix3Xd& positions, const char* id) {
+  return face().points().position(positions, id);
+}
 
-double degrees(double d) { return d * std::numbers::pi / 180.0 / th::face::kAngleUnit; }
+double degrees(double d) {
+  return d * std::numbers::pi / 180.0 / th::face::kAngleUnit;
+}
 
 TEST(FaceModel, AllZeroFapsLeaveTheNeutralFace) {
   const Eigen::Matrix3Xd positions = face().deform(FapFrame{});
@@ -44,12 +49,12 @@ TEST(FaceModel, ASelectionOfVerticesMovesAsTheWholeMeshDoes) {
     for (int v : face().points().vertices(tip)) vertices.push_back(v);
   const th::face::VertexSelection selection = face().select(vertices);
   FapFrame faps{};
-  faps[3] = 300;   // jaw
-  faps[5] = -80;   // lower lip
-  faps[12] = 60;   // a lip corner
-  faps[19] = 400;  // an eyelid
-  faps[31] = 50;   // a brow
-  faps[43] = 120;  // the tongue
+  faps[3] = 300;     // jaw
+  faps[5] = -80;     // lower lip
+  faps[12] = 60;     // a lip corner
+  faps[19] = 400;    // an eyelid
+  faps[31] = 50;     // a brow
+  faps[43] = 120;    // the tongue
   faps[47] = 20000;  // its roll
   faps[48] = degrees(6.0);
   faps[49] = degrees(-9.0);
@@ -58,7 +63,8 @@ TEST(FaceModel, ASelectionOfVerticesMovesAsTheWholeMeshDoes) {
   const Eigen::Matrix3Xd some = face().deform(faps, selection);
   ASSERT_EQ(some.cols(), static_cast<Eigen::Index>(vertices.size()));
   for (std::size_t c = 0; c < vertices.size(); ++c)
-    EXPECT_LT((some.col(static_cast<Eigen::Index>(c)) - whole.col(vertices[c])).norm(), 1e-9) << "vertex " << vertices[c];
+    EXPECT_LT((some.col(static_cast<Eigen::Index>(c)) - whole.col(vertices[c])).norm(), 1e-9)
+        << "vertex " << vertices[c];
   EXPECT_THROW(face().select({-1}), th::Error);
 }
 
@@ -128,7 +134,9 @@ TEST(FaceModel, RaisingTheWholeBrowMovesEachBrowPointByTheValue) {
 }
 
 // Outward vertex normals of the skin (face and back of the head), from its triangles.
-Eigen::Matrix3Xd skinNormals() { return th::face::vertexNormals(face().mesh(), {"M_Face", "M_BackHead"}); }
+Eigen::Matrix3Xd skinNormals() {
+  return th::face::vertexNormals(face().mesh(), {"M_Face", "M_BackHead"});
+}
 
 TEST(FaceModel, ARaisedBrowSlidesTheForeheadOverItsSurfaceInsteadOfBulgingOut) {
   // The upper forehead (from one brow fall-off radius, 0.25 ES, above the highest brow point up; across the
@@ -145,7 +153,8 @@ TEST(FaceModel, ARaisedBrowSlidesTheForeheadOverItsSurfaceInsteadOfBulgingOut) {
     browTop = std::max(browTop, pointIn(rest, id).y()), browSide = std::max(browSide, std::abs(pointIn(rest, id).x()));
   std::vector<int> forehead;
   for (int v : mesh.verticesOf("M_Face"))
-    if (rest(1, v) > browTop + 0.25 * 1024 * face().units().es && std::abs(rest(0, v)) < browSide && normals(2, v) > 0.0)
+    if (rest(1, v) > browTop + 0.25 * 1024 * face().units().es && std::abs(rest(0, v)) < browSide &&
+        normals(2, v) > 0.0)
       forehead.push_back(v);
   ASSERT_GT(forehead.size(), 100u);
   for (double value : {300.0, 400.0}) {
@@ -190,8 +199,8 @@ TEST(FaceModel, OpenJawDropsTheChinAndCarriesLowerLipTeethAndTongueTogether) {
     return count > 0 ? sum / count : 0.0;
   };
   const std::vector<int> teeth = face().mesh().verticesOf("M_Teeth");
-  EXPECT_GT(meanDrop(teeth, true), 0.4 * drop);                  // the lower teeth went down
-  EXPECT_LT(std::abs(meanDrop(teeth, false)), 0.05 * drop);      // the upper teeth did not
+  EXPECT_GT(meanDrop(teeth, true), 0.4 * drop);              // the lower teeth went down
+  EXPECT_LT(std::abs(meanDrop(teeth, false)), 0.05 * drop);  // the upper teeth did not
   EXPECT_GT(meanDrop(face().mesh().verticesOf("M_GumsTongue"), true), 0.3 * drop);
   EXPECT_LT((pointIn(moved, "9.3") - pointIn(rest, "9.3")).norm(), 0.02 * drop);
 }
@@ -202,7 +211,8 @@ TEST(FaceModel, ThrustAndShiftMoveTheChinStraight) {
     faps[static_cast<std::size_t>(fap)] = 100.0;
     const th::face::FapDefinition& definition = th::face::fapDefinition(fap);
     const Eigen::Vector3d shift = pointIn(face().deform(faps), "2.1") - pointIn(face().mesh().positions, "2.1");
-    const double expected = 100.0 * face().units().of(definition.unit) * definition.direction[static_cast<std::size_t>(axis)];
+    const double expected =
+        100.0 * face().units().of(definition.unit) * definition.direction[static_cast<std::size_t>(axis)];
     EXPECT_NEAR(shift[axis], expected, 0.02 * std::abs(expected)) << fap;
   }
 }
@@ -280,7 +290,8 @@ TEST(FaceModel, EarFapsMoveTheWholeAuricleAndNothingOfTheFaceOrTheOtherEar) {
       EXPECT_NEAR(shift[axis], expected, 0.02 * std::abs(expected)) << definition.name << " at " << id;
     }
     // The face: nose, mouth, chin, eyes and brows stay exactly.
-    for (const char* id : {"9.3", "9.15", "8.3", "8.4", "2.1", "2.2", "3.5", "3.6", "3.7", "3.8", "4.5", "4.6", "5.3", "5.4"})
+    for (const char* id :
+         {"9.3", "9.15", "8.3", "8.4", "2.1", "2.2", "3.5", "3.6", "3.7", "3.8", "4.5", "4.6", "5.3", "5.4"})
       EXPECT_EQ((pointIn(moved, id) - pointIn(rest, id)).norm(), 0.0) << definition.name << " moved " << id;
     // The other side of the head, its ear included, does not move at all; on this side only the ear moves
     // (nothing farther from the moved ear's top than the auricle's size, 0.6 ES past its centre).
@@ -368,7 +379,8 @@ TEST(FaceModel, TongueRollCurlsBothSidesUpByTheAngle) {
   const double axisY = pointIn(rest, "6.2").y();
   for (const char* id : {"6.3", "6.4"}) {
     const Eigen::Vector3d before = pointIn(rest, id), after = pointIn(moved, id);
-    const double turned = std::atan2(after.y() - axisY, std::abs(after.x())) - std::atan2(before.y() - axisY, std::abs(before.x()));
+    const double turned =
+        std::atan2(after.y() - axisY, std::abs(after.x())) - std::atan2(before.y() - axisY, std::abs(before.x()));
     EXPECT_NEAR(turned * 180 / std::numbers::pi, 20.0, 0.02 * 20.0) << id;
     EXPECT_GT(after.y(), before.y()) << id;
     EXPECT_NEAR(after.z(), before.z(), 1e-9) << id;

@@ -1,11 +1,12 @@
 // Context stacking: the edges repeat, the stream gives the batch values, and a stream fed faster than it is
 // read refuses rather than stacking overwritten frames.
+#include "features/context.h"
+
 #include <gtest/gtest.h>
 
 #include <random>
 
 #include "core/error.h"
-#include "features/context.h"
 
 namespace th::features {
 namespace {

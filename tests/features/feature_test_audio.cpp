@@ -13,7 +13,8 @@ const std::vector<float>& beat2Speech(double seconds) {
   if (found != cache.end()) return found->second;
   static const audio::AudioClip clip = audio::readAudioFile(sharedDataPath("beat2/2_scott_0_1_1.wav"));
   const auto count = std::min(clip.samples.size(), static_cast<size_t>(seconds * clip.sampleRateHz));
-  return cache.emplace(seconds, std::vector<float>(clip.samples.begin(), clip.samples.begin() + static_cast<long>(count)))
+  return cache
+      .emplace(seconds, std::vector<float>(clip.samples.begin(), clip.samples.begin() + static_cast<long>(count)))
       .first->second;
 }
 

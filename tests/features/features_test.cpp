@@ -75,15 +75,16 @@ TEST(Features, DeltasAreHtkRegressionOverTwoFrames) {
   };
   for (int t = 0; t < matrix.numFrames(); ++t) {
     const double expected = (at(t + 1, FeatureLayout::kEnergy) - at(t - 1, FeatureLayout::kEnergy) +
-                             2.0 * (at(t + 2, FeatureLayout::kEnergy) - at(t - 2, FeatureLayout::kEnergy))) / 10.0;
+                             2.0 * (at(t + 2, FeatureLayout::kEnergy) - at(t - 2, FeatureLayout::kEnergy))) /
+                            10.0;
     EXPECT_NEAR(at(t, FeatureLayout::kDeltaEnergy), expected, 1e-5) << t;
     if (at(t, FeatureLayout::kF0Hz) == 0.0) {
       EXPECT_EQ(at(t, FeatureLayout::kDeltaF0), 0.0) << t;
     }
     // Inside a voiced stretch the F0 delta is the plain regression too.
     bool allVoiced = true;
-    for (int n = -2; n <= 2; ++n) allVoiced = allVoiced && at(t + n, FeatureLayout::kF0Hz) > 0.0 && t + n >= 0 &&
-                                              t + n < matrix.numFrames();
+    for (int n = -2; n <= 2; ++n)
+      allVoiced = allVoiced && at(t + n, FeatureLayout::kF0Hz) > 0.0 && t + n >= 0 && t + n < matrix.numFrames();
     if (allVoiced) {
       const double f0Delta = (at(t + 1, 0) - at(t - 1, 0) + 2.0 * (at(t + 2, 0) - at(t - 2, 0))) / 10.0;
       EXPECT_NEAR(at(t, FeatureLayout::kDeltaF0), f0Delta, 1e-3) << t;

@@ -14,8 +14,8 @@
 #include <vector>
 
 #include "audio/audio_file.h"
-#include "core/temporary_file.h"
 #include "core/data_path.h"
+#include "core/temporary_file.h"
 #include "features/mfcc.h"
 #include "features/online_features.h"
 
@@ -40,8 +40,8 @@ std::string quoted(const fs::path& path) {
 
 // What `sptk frame -l L -p P | sptk mfcc ...` prints for the options our MfccComputer is built with: c1..cN
 // and, with includeC0, c0 after them (SPTK's -0), as float32 rows.
-std::vector<std::vector<float>> runSptk(const std::vector<float>& samples, const MfccOptions& options,
-                                        int windowLength, const fs::path& folder) {
+std::vector<std::vector<float>> runSptk(const std::vector<float>& samples, const MfccOptions& options, int windowLength,
+                                        const fs::path& folder) {
   const fs::path input = folder / "input.f32";
   const fs::path output = folder / "mfcc.f32";
   {
@@ -53,14 +53,13 @@ std::vector<std::vector<float>> runSptk(const std::vector<float>& samples, const
     }
   }
   std::ostringstream command;
-  command << "sptk frame -l " << windowLength << " -p " << kHopSamples << " < " << quoted(input)
-          << " | sptk mfcc -l " << windowLength << " -L " << options.fftSize << " -m "
-          << options.numCoefficients << " -n " << options.numMelBands << " -s " << kSampleRateHz / 1000.0
-          << " -c " << options.lifter << " -a " << options.preEmphasis << " -e " << options.filterbankFloor
-          << (options.includeC0 ? " -0" : "") << " > " << quoted(output);
+  command << "sptk frame -l " << windowLength << " -p " << kHopSamples << " < " << quoted(input) << " | sptk mfcc -l "
+          << windowLength << " -L " << options.fftSize << " -m " << options.numCoefficients << " -n "
+          << options.numMelBands << " -s " << kSampleRateHz / 1000.0 << " -c " << options.lifter << " -a "
+          << options.preEmphasis << " -e " << options.filterbankFloor << (options.includeC0 ? " -0" : "") << " > "
+          << quoted(output);
   const int status = std::system(command.str().c_str());
-  if (status != 0)
-    throw std::runtime_error("failed (status " + std::to_string(status) + "): " + command.str());
+  if (status != 0) throw std::runtime_error("failed (status " + std::to_string(status) + "): " + command.str());
 
   const size_t rowSize = static_cast<size_t>(options.numCoefficients + (options.includeC0 ? 1 : 0));
   std::ifstream in(output, std::ios::binary);
@@ -70,8 +69,7 @@ std::vector<std::vector<float>> runSptk(const std::vector<float>& samples, const
   if (values.size() % rowSize != 0) throw std::runtime_error("SPTK output is not a whole number of frames");
   std::vector<std::vector<float>> rows;
   for (size_t start = 0; start < values.size(); start += rowSize) {
-    rows.emplace_back(values.begin() + static_cast<long>(start),
-                      values.begin() + static_cast<long>(start + rowSize));
+    rows.emplace_back(values.begin() + static_cast<long>(start), values.begin() + static_cast<long>(start + rowSize));
   }
   return rows;
 }
@@ -83,9 +81,8 @@ std::vector<float> ourFrame(MfccComputer& mfcc, const std::vector<float>& sample
   std::vector<float> window(static_cast<size_t>(length));
   for (long long n = 0; n < length; ++n) {
     const long long index = start + n;
-    window[static_cast<size_t>(n)] = index >= 0 && index < static_cast<long long>(samples.size())
-                                         ? samples[static_cast<size_t>(index)]
-                                         : 0.0f;
+    window[static_cast<size_t>(n)] =
+        index >= 0 && index < static_cast<long long>(samples.size()) ? samples[static_cast<size_t>(index)] : 0.0f;
   }
   std::vector<float> coefficients(static_cast<size_t>(mfcc.numOutputs()));
   mfcc.compute(window, coefficients);
@@ -98,8 +95,8 @@ struct Agreement {
   int failures = 0;
 };
 
-void compareRows(const std::vector<std::vector<float>>& sptk, const auto& ours, int numFrames,
-                 Agreement& agreement, const std::string& what) {
+void compareRows(const std::vector<std::vector<float>>& sptk, const auto& ours, int numFrames, Agreement& agreement,
+                 const std::string& what) {
   for (int frame = 0; frame < numFrames; ++frame) {
     const std::vector<float>& reference = sptk[static_cast<size_t>(frame)];
     const std::vector<float> mine = ours(frame);
@@ -107,12 +104,11 @@ void compareRows(const std::vector<std::vector<float>>& sptk, const auto& ours, 
     for (size_t k = 0; k < reference.size(); ++k) {
       const double error = std::abs(static_cast<double>(mine[k]) - reference[k]);
       agreement.maxAbsolute = std::max(agreement.maxAbsolute, error);
-      agreement.maxRelative =
-          std::max(agreement.maxRelative, error / std::max(1.0, std::abs(double{reference[k]})));
+      agreement.maxRelative = std::max(agreement.maxRelative, error / std::max(1.0, std::abs(double{reference[k]})));
       if (error > kTolerance * std::max(1.0, std::abs(double{reference[k]}))) {
         if (++agreement.failures <= 10) {
-          ADD_FAILURE() << what << ": frame " << frame << " coefficient " << k << ": ours " << mine[k]
-                        << ", SPTK " << reference[k];
+          ADD_FAILURE() << what << ": frame " << frame << " coefficient " << k << ": ours " << mine[k] << ", SPTK "
+                        << reference[k];
         }
       }
     }
@@ -158,11 +154,11 @@ TEST_P(MfccSptkTest, EveryCoefficientOfEveryFrameMatches) {
 
     Agreement agreement;
     compareRows(
-        sptk, [&](int frame) { return ourFrame(mfcc, samples, frame); }, static_cast<int>(sptk.size()),
-        agreement, std::string(GetParam().name) + (includeC0 ? " (with c0)" : ""));
+        sptk, [&](int frame) { return ourFrame(mfcc, samples, frame); }, static_cast<int>(sptk.size()), agreement,
+        std::string(GetParam().name) + (includeC0 ? " (with c0)" : ""));
     EXPECT_EQ(agreement.failures, 0);
-    std::printf("%s%s: %zu frames, max |error| %.3g, max relative %.3g\n", GetParam().name,
-                includeC0 ? " with c0" : "", sptk.size(), agreement.maxAbsolute, agreement.maxRelative);
+    std::printf("%s%s: %zu frames, max |error| %.3g, max relative %.3g\n", GetParam().name, includeC0 ? " with c0" : "",
+                sptk.size(), agreement.maxAbsolute, agreement.maxRelative);
   }
 }
 

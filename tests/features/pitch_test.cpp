@@ -1,4 +1,6 @@
 // The pitch tracker on signals whose F0 we know, and on inputs that must not confuse it.
+#include "features/pitch.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -6,7 +8,6 @@
 #include <random>
 
 #include "core/error.h"
-#include "features/pitch.h"
 
 namespace th::features {
 namespace {
@@ -119,7 +120,8 @@ TEST(Pitch, LookaheadIsHalfTheWindowPlusTheDecisionLag) {
   for (size_t fed = 1; fed <= tone.size(); ++fed) {
     tracker.acceptWaveform(std::span(tone).subspan(fed - 1, 1));
     const auto available = static_cast<long long>(fed);
-    const long long expected = available >= tracker.lookaheadSamples() ? (available - tracker.lookaheadSamples()) / 80 + 1 : 0;
+    const long long expected =
+        available >= tracker.lookaheadSamples() ? (available - tracker.lookaheadSamples()) / 80 + 1 : 0;
     ASSERT_EQ(tracker.numFramesReady(), expected) << "after " << fed << " samples";
   }
 }

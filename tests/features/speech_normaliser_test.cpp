@@ -1,6 +1,8 @@
 // The mouth's speech normalisation: real speech at −20 dB gives the same frames, a fixed spectral tilt (a
 // microphone, a voice) is taken out by the running cepstral mean, the prior weighs as stated, and bad options
 // are refused.
+#include "features/speech_normaliser.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -9,14 +11,15 @@
 #include "animation/mouth_data.h"
 #include "core/error.h"
 #include "feature_test_audio.h"
-#include "features/speech_normaliser.h"
 
 namespace {
 
 using th::features::OnlineSpeechNormaliser;
 using th::features::SpeechNormalisationOptions;
 
-Eigen::VectorXd priorOf(const th::animation::SpeechFrames& speech) { return speech.mfcc.rowwise().mean(); }
+Eigen::VectorXd priorOf(const th::animation::SpeechFrames& speech) {
+  return speech.mfcc.rowwise().mean();
+}
 
 TEST(SpeechNormaliser, TheSameSpeechTwentyDecibelsDownGivesTheSameFrames) {
   const std::vector<float>& loud = th::test::beat2Speech(20.0);
@@ -92,10 +95,12 @@ TEST(SpeechNormaliser, BadOptionsAndShapesAreRefused) {
   EXPECT_THROW(OnlineSpeechNormaliser({.peakDecayDbPerSecond = 0.0}, 30.0, prior), th::Error);
   EXPECT_THROW(OnlineSpeechNormaliser({.levelUnitDb = std::nan("")}, 30.0, prior), th::Error);
   EXPECT_THROW(OnlineSpeechNormaliser({}, 30.0, Eigen::VectorXd()), th::Error);
-  EXPECT_THROW(th::features::normaliseSpeech({}, 30.0, prior, Eigen::RowVectorXd::Zero(5), Eigen::MatrixXd::Zero(11, 6)),
-               th::Error);
-  EXPECT_THROW(th::features::normaliseSpeech({}, 30.0, prior, Eigen::RowVectorXd::Zero(6), Eigen::MatrixXd::Zero(10, 6)),
-               th::Error);
+  EXPECT_THROW(
+      th::features::normaliseSpeech({}, 30.0, prior, Eigen::RowVectorXd::Zero(5), Eigen::MatrixXd::Zero(11, 6)),
+      th::Error);
+  EXPECT_THROW(
+      th::features::normaliseSpeech({}, 30.0, prior, Eigen::RowVectorXd::Zero(6), Eigen::MatrixXd::Zero(10, 6)),
+      th::Error);
 }
 
 }  // namespace

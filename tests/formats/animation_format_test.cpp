@@ -25,8 +25,6 @@
 namespace th::formats {
 namespace {
 
-using th::test::listFolder;
-using th::test::readText;
 using th::test::expectFileError;
 using th::test::listFolder;
 using th::test::readText;
@@ -76,7 +74,6 @@ std::string writeError(const fs::path& path, const Animation& animation) {
   return "(no error)";
 }
 
-
 // ---- round trips ----
 
 class AnimationRoundTrip : public ::testing::TestWithParam<std::tuple<std::string, double>> {};
@@ -106,8 +103,7 @@ TEST_P(AnimationRoundTrip, ReadsBackWhatWasWritten) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Formats, AnimationRoundTrip,
-                         ::testing::Combine(::testing::Values(".csv", ".json", ".fap"),
-                                            ::testing::Values(25.0, 30.0)));
+                         ::testing::Combine(::testing::Values(".csv", ".json", ".fap"), ::testing::Values(25.0, 30.0)));
 
 TEST(AnimationFile, FractionalRatesRoundTrip) {
   TemporaryFolder folder;
@@ -158,8 +154,7 @@ TEST(AnimationFile, WritesFapStreamText) {
 TEST(AnimationFile, WritesCsvText) {
   TemporaryFolder folder;
   writeAnimation(folder.path() / "small.csv", smallAnimation());
-  EXPECT_EQ(readText(folder.path() / "small.csv"),
-            "time_s,fap3,fap48\n0.0000000,10.4,-2.5\n0.0400000,11.6,0\n");
+  EXPECT_EQ(readText(folder.path() / "small.csv"), "time_s,fap3,fap48\n0.0000000,10.4,-2.5\n0.0400000,11.6,0\n");
 }
 
 TEST(AnimationFile, WritesJsonDocument) {
@@ -170,10 +165,8 @@ TEST(AnimationFile, WritesJsonDocument) {
   EXPECT_EQ(document.at("version"), 1);
   EXPECT_EQ(document.at("fps"), 25.0);
   EXPECT_EQ(document.at("name"), "hello world");
-  EXPECT_EQ(document.at("faps").at(0),
-            (nlohmann::json{{"number", 3}, {"name", "open_jaw"}, {"unit", "MNS"}}));
-  EXPECT_EQ(document.at("faps").at(1),
-            (nlohmann::json{{"number", 48}, {"name", "head_pitch"}, {"unit", "AU"}}));
+  EXPECT_EQ(document.at("faps").at(0), (nlohmann::json{{"number", 3}, {"name", "open_jaw"}, {"unit", "MNS"}}));
+  EXPECT_EQ(document.at("faps").at(1), (nlohmann::json{{"number", 48}, {"name", "head_pitch"}, {"unit", "AU"}}));
   EXPECT_EQ(document.at("time_s"), (nlohmann::json{0.0, 0.04}));
   ASSERT_TRUE(document.at("frames").at(1).at(0).is_number());
   EXPECT_EQ(document.at("frames"), (nlohmann::json{{10.4, -2.5}, {11.6, 0.0}}));
@@ -277,43 +270,36 @@ std::vector<BadFile> badFiles() {
       {"CsvFirstColumnNotTime", ".csv", "time,fap3\n0,1\n0.04,2\n", "line 1: the first column is 'time'"},
       {"CsvFap69", ".csv", "time_s,fap69\n0,1\n0.04,2\n", "line 1: column 2 'fap69' is not a FAP column"},
       {"CsvFap0", ".csv", "time_s,fap0\n0,1\n0.04,2\n", "line 1: column 2 'fap0' is not a FAP column"},
-      {"CsvNotFap", ".csv", "time_s,fap3,jaw\n0,1,2\n0.04,2,3\n",
-       "line 1: column 3 'jaw' is not a FAP column"},
+      {"CsvNotFap", ".csv", "time_s,fap3,jaw\n0,1,2\n0.04,2,3\n", "line 1: column 3 'jaw' is not a FAP column"},
       {"CsvEmptyColumnName", ".csv", "time_s,\n0,1\n", "line 1: column 2 '' is not a FAP column"},
       {"CsvDuplicate", ".csv", "time_s,fap3,fap48,fap3\n0,1,2,3\n", "line 1: columns 2 and 4 are both fap3"},
-      {"CsvTooManyValues", ".csv", "time_s,fap3\n0,1\n0.04,1,2\n",
-       "line 3: 3 values, but the header has 2 columns"},
+      {"CsvTooManyValues", ".csv", "time_s,fap3\n0,1\n0.04,1,2\n", "line 3: 3 values, but the header has 2 columns"},
       {"CsvTooFewValues", ".csv", "time_s,fap3\n\n0\n", "line 3: 1 value, but the header has 2 columns"},
       {"CsvText", ".csv", "time_s,fap3\n0,1\n0.04,abc\n", "line 3: fap3 'abc' is not a finite number"},
       {"CsvNan", ".csv", "time_s,fap3\n0,nan\n0.04,1\n", "line 2: fap3 'nan' is not a finite number"},
       {"CsvInf", ".csv", "time_s,fap3\n0,1\n0.04,-inf\n", "line 3: fap3 '-inf' is not a finite number"},
-      {"CsvOverflow", ".csv", "time_s,fap3\n0,1\n0.04,1e999\n",
-       "line 3: fap3 '1e999' is not a finite number"},
+      {"CsvOverflow", ".csv", "time_s,fap3\n0,1\n0.04,1e999\n", "line 3: fap3 '1e999' is not a finite number"},
       {"CsvEmptyValue", ".csv", "time_s,fap3\n0,\n", "line 2: fap3 '' is not a finite number"},
       {"CsvTimeText", ".csv", "time_s,fap3\nzero,1\n", "line 2: time_s 'zero' is not a finite number"},
       {"CsvNoFrames", ".csv", "time_s,fap3\n", "line 1: no frames follow the header"},
-      {"CsvOneFrame", ".csv", "time_s,fap3\n0,1\n",
-       "line 2: one frame: the frame rate cannot be derived from time_s"},
+      {"CsvOneFrame", ".csv", "time_s,fap3\n0,1\n", "line 2: one frame: the frame rate cannot be derived from time_s"},
       {"CsvUneven", ".csv", "time_s,fap3\n0,1\n0.04,1\n0.1,1\n0.12,1\n",
        "line 4: time_s 0.1 breaks the even spacing of frames"},
       {"CsvJustOutsideTolerance", ".csv", "time_s,fap3\n0,1\n0.040005,1\n0.08,1\n",
        "line 3: time_s 0.040005 breaks the even spacing"},
       {"CsvSameTimes", ".csv", "time_s,fap3\n0,1\n0,1\n", "line 3: time_s 0 is not after the first row's 0"},
-      {"CsvDecreasing", ".csv", "time_s,fap3\n1,1\n0.5,1\n0,1\n",
-       "line 4: time_s 0 is not after the first row's 1"},
+      {"CsvDecreasing", ".csv", "time_s,fap3\n1,1\n0.5,1\n0,1\n", "line 4: time_s 0 is not after the first row's 1"},
       // .fap
       {"FapEmpty", ".fap", "", "is empty"},
       {"FapOnlyComments", ".fap", "# nothing\n\n", "is empty"},
       {"FapNoHeader", ".fap", m3 + "\n0 1\n", "line 1: the header `2.1 NAME FPS NFRAMES` is missing"},
       {"FapShortHeader", ".fap", "2.1 name 25\n", "line 1: the header `2.1 NAME FPS NFRAMES` is missing"},
       {"FapVersion", ".fap", "2.0 name 25 1\n" + m3 + "\n0 1\n", "line 1: version '2.0' is not 2.1"},
-      {"FapZeroFps", ".fap", "2.1 name 0 1\n" + m3 + "\n0 1\n",
-       "line 1: the frame rate '0' is not a positive"},
+      {"FapZeroFps", ".fap", "2.1 name 0 1\n" + m3 + "\n0 1\n", "line 1: the frame rate '0' is not a positive"},
       {"FapNegativeFps", ".fap", "2.1 name -25 1\n" + m3 + "\n0 1\n", "line 1: the frame rate '-25' is not"},
       {"FapNanFps", ".fap", "2.1 name nan 1\n" + m3 + "\n0 1\n", "line 1: the frame rate 'nan' is not"},
       {"FapTextFps", ".fap", "2.1 name fast 1\n" + m3 + "\n0 1\n", "line 1: the frame rate 'fast' is not"},
-      {"FapNegativeCount", ".fap", "2.1 name 25 -1\n" + m3 + "\n0 1\n",
-       "line 1: the frame count '-1' is not"},
+      {"FapNegativeCount", ".fap", "2.1 name 25 -1\n" + m3 + "\n0 1\n", "line 1: the frame count '-1' is not"},
       {"FapCountBeyondInt64", ".fap", "2.1 name 25 99999999999999999999999\n" + m3 + "\n0 1\n",
        "line 1: the frame count '99999999999999999999999' is not a whole number"},
       {"FapHugeCount", ".fap", "2.1 name 25 999999999999999999\n" + m3 + "\n0 1\n",
@@ -324,8 +310,7 @@ std::vector<BadFile> badFiles() {
        "line 4: a frame beyond the 1 that the header on line 1 announces"},
       {"FapNoFrames", ".fap", "2.1 name 25 0\n", "line 1: no frames follow the header"},
       {"FapShortMask", ".fap", "2.1 name 25 1\n0 0 1\n0 1\n", "line 2: the mask has 3 flags; expected 68"},
-      {"FapLongMask", ".fap", "2.1 name 25 1\n" + m3 + " 0\n0 1\n",
-       "line 2: the mask has 69 flags; expected 68"},
+      {"FapLongMask", ".fap", "2.1 name 25 1\n" + m3 + " 0\n0 1\n", "line 2: the mask has 69 flags; expected 68"},
       {"FapFlagNotBinary", ".fap", "2.1 name 25 1\n" + std::string("0 0 2") + m3.substr(5) + "\n0 1\n",
        "line 2: mask flag 3 is '2'; expected 0 or 1"},
       {"FapFlagText", ".fap", "2.1 name 25 1\nx" + m3.substr(1) + "\n0 1\n",
@@ -338,8 +323,7 @@ std::vector<BadFile> badFiles() {
        "line 3: fap48 '2.5' is not a 32-bit integer"},
       {"FapValueBeyondInt32", ".fap", "2.1 name 25 1\n" + m3 + "\n0 2147483648\n",
        "line 3: fap3 '2147483648' is not a 32-bit integer"},
-      {"FapMissingValueLine", ".fap", "2.1 name 25 1\n" + m3 + "\n\n# gone\n",
-       "line 2: the file ends after this mask"},
+      {"FapMissingValueLine", ".fap", "2.1 name 25 1\n" + m3 + "\n\n# gone\n", "line 2: the file ends after this mask"},
       {"FapRepeatedFrameNumber", ".fap", "2.1 name 25 2\n" + m3 + "\n0 1\n" + m3 + "\n0 2\n",
        "line 5: frame number 0 follows 0: frame numbers must increase"},
       {"FapDecreasingFrameNumber", ".fap", "2.1 name 25 2\n" + m3 + "\n5 1\n" + m3 + "\n3 2\n",
@@ -351,16 +335,14 @@ std::vector<BadFile> badFiles() {
       {"JsonSyntax", ".json", "{\"format\": ", "is not valid JSON"},
       {"JsonArray", ".json", "[1, 2]", "holds an array, not an animation object"},
       {"JsonTooDeep", ".json", json + R"("faps": [], "frames": [[[[[[[[[[1]]]]]]]]]]})", "nests arrays"},
-      {"JsonMissingFormat", ".json", R"({"version": 1, "fps": 25, "faps": [], "frames": [[]]})",
-       "format is missing"},
+      {"JsonMissingFormat", ".json", R"({"version": 1, "fps": 25, "faps": [], "frames": [[]]})", "format is missing"},
       {"JsonWrongFormat", ".json", R"({"format": "talkinghead-hmm", "version": 1})",
        "format is \"talkinghead-hmm\", not \"talkinghead-animation\""},
       {"JsonVersion", ".json", R"({"format": "talkinghead-animation", "version": 2})",
        "version is 2; this program reads version 1"},
-      {"JsonFloatVersion", ".json", R"({"format": "talkinghead-animation", "version": 1.0})",
-       "version is 1.0"},
-      {"JsonMissingFps", ".json",
-       R"({"format": "talkinghead-animation", "version": 1, "faps": [], "frames": [[]]})", "fps is missing"},
+      {"JsonFloatVersion", ".json", R"({"format": "talkinghead-animation", "version": 1.0})", "version is 1.0"},
+      {"JsonMissingFps", ".json", R"({"format": "talkinghead-animation", "version": 1, "faps": [], "frames": [[]]})",
+       "fps is missing"},
       {"JsonFpsString", ".json", json.substr(0, json.find("25")) + R"("25", "faps": [], "frames": [[]]})",
        "fps is \"25\", not a number"},
       {"JsonZeroFps", ".json", json.substr(0, json.find("25")) + R"(0, "faps": [], "frames": [[]]})",
@@ -369,15 +351,13 @@ std::vector<BadFile> badFiles() {
        "fps is -30; it must be positive"},
       {"JsonMissingFaps", ".json", json + R"("frames": [[]]})", "faps is missing"},
       {"JsonMissingFrames", ".json", json + R"("faps": []})", "frames is missing"},
-      {"JsonFramesNotArray", ".json", json + R"("faps": [], "frames": {}})",
-       "frames is an object, not an array"},
+      {"JsonFramesNotArray", ".json", json + R"("faps": [], "frames": {}})", "frames is an object, not an array"},
       {"JsonNoFrames", ".json", json + R"("faps": [], "frames": []})", "frames is empty: no frames"},
       {"JsonUnknownField", ".json", json + R"("faps": [], "frames": [[]], "framez": 1})",
        "framez is not a known field"},
       {"JsonNameNotString", ".json", json + R"("name": 5, "faps": [], "frames": [[]]})",
        "name is an integer, not a string"},
-      {"JsonFapNotObject", ".json", json + R"("faps": [3], "frames": [[1]]})",
-       "faps[0] is an integer, not an object"},
+      {"JsonFapNotObject", ".json", json + R"("faps": [3], "frames": [[1]]})", "faps[0] is an integer, not an object"},
       {"JsonFapNumberMissing", ".json", json + R"("faps": [{"name": "open_jaw"}], "frames": [[1]]})",
        "faps[0].number is missing"},
       {"JsonUnknownFap", ".json", json + R"("faps": [{"number": 3}, {"number": 69}], "frames": [[1, 2]]})",
@@ -390,20 +370,17 @@ std::vector<BadFile> badFiles() {
        "faps[0].number is 3.0, not an integer"},
       {"JsonFapString", ".json", json + R"("faps": [{"number": "3"}], "frames": [[1]]})",
        "faps[0].number is \"3\", not a FAP number"},
-      {"JsonFapsDescending", ".json",
-       json + R"("faps": [{"number": 48}, {"number": 3}], "frames": [[1, 2]]})",
+      {"JsonFapsDescending", ".json", json + R"("faps": [{"number": 48}, {"number": 3}], "frames": [[1, 2]]})",
        "faps[1].number is 3, after 48: the FAP numbers must be ascending and unique"},
       {"JsonFapsDuplicate", ".json", json + R"("faps": [{"number": 3}, {"number": 3}], "frames": [[1, 2]]})",
        "faps[1].number is 3, after 3"},
-      {"JsonFapNameDisagrees", ".json",
-       json + R"("faps": [{"number": 3, "name": "head_yaw"}], "frames": [[1]]})",
+      {"JsonFapNameDisagrees", ".json", json + R"("faps": [{"number": 3, "name": "head_yaw"}], "frames": [[1]]})",
        "faps[0].name is \"head_yaw\", but FAP 3 is \"open_jaw\""},
       {"JsonFapUnitDisagrees", ".json", json + R"("faps": [{"number": 3, "unit": "AU"}], "frames": [[1]]})",
        "faps[0].unit is \"AU\", but FAP 3 is in \"MNS\""},
       {"JsonFapUnknownField", ".json", json + R"("faps": [{"number": 3, "scale": 2}], "frames": [[1]]})",
        "faps[0].scale is not a known field"},
-      {"JsonRowTooShort", ".json",
-       json + R"("faps": [{"number": 3}, {"number": 48}], "frames": [[1, 2], [3]]})",
+      {"JsonRowTooShort", ".json", json + R"("faps": [{"number": 3}, {"number": 48}], "frames": [[1, 2], [3]]})",
        "frames[1] has 1 value, but faps lists 2 FAPs"},
       {"JsonRowTooLong", ".json", json + R"("faps": [{"number": 3}], "frames": [[1, 2]]})",
        "frames[0] has 2 values, but faps lists 1 FAP"},
@@ -418,8 +395,7 @@ std::vector<BadFile> badFiles() {
       {"JsonNan", ".json", json + R"("faps": [{"number": 3}], "frames": [[NaN]]})", "is not valid JSON"},
       {"JsonTimesWrongLength", ".json", json + R"("faps": [], "time_s": [0], "frames": [[], []]})",
        "time_s has 1 time, but there are 2 frames"},
-      {"JsonTimesDisagree", ".json",
-       json + R"("faps": [], "time_s": [0, 0.04, 0.5], "frames": [[], [], []]})",
+      {"JsonTimesDisagree", ".json", json + R"("faps": [], "time_s": [0, 0.04, 0.5], "frames": [[], [], []]})",
        "time_s[2] is 0.5, but at 25 fps frame 2 is at 0.08"},
   };
 }
@@ -435,9 +411,7 @@ TEST_P(BadAnimationFile, IsRefusedWithOneLineNamingFileAndProblem) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Cases, BadAnimationFile, ::testing::ValuesIn(badFiles()),
-                         [](const ::testing::TestParamInfo<BadFile>& testInfo) {
-                           return testInfo.param.label;
-                         });
+                         [](const ::testing::TestParamInfo<BadFile>& testInfo) { return testInfo.param.label; });
 
 TEST(AnimationFile, DirectoryIsRefused) {
   TemporaryFolder folder;
@@ -458,8 +432,7 @@ TEST(AnimationFile, UnknownExtensionIsRefused) {
   TemporaryFolder folder;
   const fs::path text = folder.path() / "animation.txt";
   writeText(text, "time_s,fap3\n0,1\n0.04,2\n");
-  expectFileError(readError(text), text,
-                  "has the extension '.txt'; an animation file is .csv, .json or .fap");
+  expectFileError(readError(text), text, "has the extension '.txt'; an animation file is .csv, .json or .fap");
   const fs::path none = folder.path() / "animation";
   expectFileError(writeError(none, randomAnimation(25, 2, {3}, 1)), none, "has no extension");
   EXPECT_EQ(listFolder(folder.path()), std::vector<std::string>{"animation.txt"});
@@ -499,12 +472,10 @@ std::vector<BadAnimation> badAnimations() {
   const double nan = std::numeric_limits<double>::quiet_NaN();
   const double inf = std::numeric_limits<double>::infinity();
   return {
-      {"ZeroFps", ".fap", with([](Animation& a) { a.framesPerSecond = 0; }),
-       "the frame rate 0 fps is not positive"},
+      {"ZeroFps", ".fap", with([](Animation& a) { a.framesPerSecond = 0; }), "the frame rate 0 fps is not positive"},
       {"NegativeFps", ".csv", with([](Animation& a) { a.framesPerSecond = -25; }), "the frame rate -25 fps"},
       {"NanFps", ".json", with([&](Animation& a) { a.framesPerSecond = nan; }), "the frame rate nan fps"},
-      {"InfiniteFps", ".json", with([&](Animation& a) { a.framesPerSecond = inf; }),
-       "the frame rate inf fps"},
+      {"InfiniteFps", ".json", with([&](Animation& a) { a.framesPerSecond = inf; }), "the frame rate inf fps"},
       {"FapZero", ".fap", with([](Animation& a) {
          a.faps = {0, 48};
        }),
@@ -553,9 +524,7 @@ TEST_P(InvalidAnimationWrite, IsRefusedBeforeAnythingIsWritten) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Cases, InvalidAnimationWrite, ::testing::ValuesIn(badAnimations()),
-                         [](const ::testing::TestParamInfo<BadAnimation>& testInfo) {
-                           return testInfo.param.label;
-                         });
+                         [](const ::testing::TestParamInfo<BadAnimation>& testInfo) { return testInfo.param.label; });
 
 TEST(AnimationFile, OneFrameIsFineOutsideCsv) {
   TemporaryFolder folder;

@@ -1,4 +1,6 @@
 // ARKit blendshape weights from FAPs.
+#include "formats/arkit_format.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -9,7 +11,6 @@
 #include "core/error.h"
 #include "core/temporary_file.h"
 #include "face/face_model.h"
-#include "formats/arkit_format.h"
 
 namespace {
 
@@ -84,7 +85,8 @@ TEST(Arkit, CsvHasTimeAndTheFiftyTwoNames) {
   EXPECT_EQ(std::count(header.begin(), header.end(), ','), 52);
   EXPECT_EQ(first.rfind("0.000000,1.0000,", 0), 0u) << first;
   EXPECT_EQ(second.rfind("0.033333,0.0000,", 0), 0u) << second;
-  EXPECT_THROW(th::formats::writeAnimation(folder.path() / "missing" / "a.csv", anim, th::formats::arkitFormat()), th::Error);
+  EXPECT_THROW(th::formats::writeAnimation(folder.path() / "missing" / "a.csv", anim, th::formats::arkitFormat()),
+               th::Error);
 }
 
 }  // namespace

@@ -37,9 +37,9 @@ extern "C" {
 namespace th::formats {
 namespace {
 
+using th::test::expectFileError;
 using th::test::listFolder;
 using th::test::readText;
-using th::test::expectFileError;
 
 namespace fs = std::filesystem;
 
@@ -73,7 +73,9 @@ std::vector<std::uint8_t> greyFrame(int width, int height, std::uint8_t value) {
   return std::vector<std::uint8_t>(static_cast<std::size_t>(width) * static_cast<std::size_t>(height) * 3, value);
 }
 
-std::uint8_t greyOf(int frame) { return static_cast<std::uint8_t>(40 + (frame * 23) % 180); }
+std::uint8_t greyOf(int frame) {
+  return static_cast<std::uint8_t>(40 + (frame * 23) % 180);
+}
 
 // Silence with a 1 kHz tone burst from onsetSeconds on (to find where the sound lands in the file).
 std::vector<float> toneAfter(double seconds, double onsetSeconds, int rateHz) {
@@ -115,7 +117,7 @@ struct DecodedFile {
   StreamInfo video;
   StreamInfo audio;
   double durationSeconds = 0.0;
-  std::vector<double> frameTimes;  // decoded frames' timestamps, in display order
+  std::vector<double> frameTimes;               // decoded frames' timestamps, in display order
   std::vector<std::vector<std::uint8_t>> luma;  // Y plane of each decoded frame (width x height, packed)
   std::vector<std::vector<std::uint8_t>> chromaU;
   std::vector<std::vector<std::uint8_t>> chromaV;
@@ -137,8 +139,8 @@ void describe(const AVStream& stream, StreamInfo& info) {
   info.matrix = par.color_space;
   info.primaries = par.color_primaries;
   info.transfer = par.color_trc;
-  info.startSeconds = stream.start_time == kNoTimestamp ? -1.0
-                                                        : static_cast<double>(stream.start_time) * av_q2d(stream.time_base);
+  info.startSeconds =
+      stream.start_time == kNoTimestamp ? -1.0 : static_cast<double>(stream.start_time) * av_q2d(stream.time_base);
   info.durationSeconds =
       stream.duration == kNoTimestamp ? -1.0 : static_cast<double>(stream.duration) * av_q2d(stream.time_base);
 }
@@ -219,11 +221,13 @@ DecodedFile readBack(const fs::path& path) {
   while (av_read_frame(format.get(), packet.get()) >= 0) {
     if (packet->stream_index == videoIndex) {
       StreamInfo& info = file.video;
-      if (info.packets++ == 0) info.firstPacketPtsSeconds = static_cast<double>(packet->pts) * av_q2d(videoStream.time_base);
+      if (info.packets++ == 0)
+        info.firstPacketPtsSeconds = static_cast<double>(packet->pts) * av_q2d(videoStream.time_base);
       video.decode(packet.get(), takePicture);
     } else if (packet->stream_index == audioIndex) {
       StreamInfo& info = file.audio;
-      if (info.packets++ == 0) info.firstPacketPtsSeconds = static_cast<double>(packet->pts) * av_q2d(audioStream.time_base);
+      if (info.packets++ == 0)
+        info.firstPacketPtsSeconds = static_cast<double>(packet->pts) * av_q2d(audioStream.time_base);
       audio.decode(packet.get(), takeSound);
     }
     av_packet_unref(packet.get());
@@ -283,7 +287,7 @@ TEST(Mp4Writer, WritesH264AndAacThatStartTogetherAndEndTogether) {
   const auto frames = static_cast<int>(videoFramesFor(audio.size(), options.audioSampleRateHz, 30.0));
   ASSERT_EQ(frames, 38);  // ceil(1.234 * 30)
   writeClip(path, options, frames, audio);
-  EXPECT_EQ(listFolder(folder.path()), std::vector<std::string>{"talk.mp4"});  // no temporary file left
+  EXPECT_EQ(listFolder(folder.path()), std::vector<std::string>{"talk.mp4"});                  // no temporary file left
   EXPECT_EQ(topLevelBoxes(path), (std::vector<std::string>{"ftyp", "moov", "free", "mdat"}));  // faststart
 
   const DecodedFile file = readBack(path);
@@ -339,7 +343,8 @@ void checkColours(int width, int height, AVColorSpace matrix, double redLuma) {
   std::vector<std::uint8_t> rgb(static_cast<std::size_t>(width) * static_cast<std::size_t>(height) * 3);
   for (int y = 0; y < height; ++y) {
     for (int x = 0; x < width; ++x) {
-      std::uint8_t* pixel = &rgb[(static_cast<std::size_t>(y) * static_cast<std::size_t>(width) + static_cast<std::size_t>(x)) * 3];
+      std::uint8_t* pixel =
+          &rgb[(static_cast<std::size_t>(y) * static_cast<std::size_t>(width) + static_cast<std::size_t>(x)) * 3];
       const int band = x * 3 / width;
       pixel[0] = band == 1 ? 0 : 255;
       pixel[1] = band == 0 ? 255 : 0;
@@ -359,7 +364,8 @@ void checkColours(int width, int height, AVColorSpace matrix, double redLuma) {
   EXPECT_EQ(file.video.transfer, AVCOL_TRC_BT709);
   ASSERT_EQ(file.luma.size(), 2u);
   const auto at = [&](const std::vector<std::uint8_t>& plane, int planeWidth, int x, int y) {
-    return static_cast<double>(plane[static_cast<std::size_t>(y) * static_cast<std::size_t>(planeWidth) + static_cast<std::size_t>(x)]);
+    return static_cast<double>(
+        plane[static_cast<std::size_t>(y) * static_cast<std::size_t>(planeWidth) + static_cast<std::size_t>(x)]);
   };
   const int y = height / 2;
   EXPECT_NEAR(at(file.luma[0], width, width / 6, y), 235.0, 2.0) << "white";
@@ -487,7 +493,8 @@ TEST(Mp4Writer, AudioShorterThanTheVideoIsPaddedWithSilence) {
   const auto afterEnd = static_cast<std::size_t>(0.21 * 48000);
   ASSERT_GT(file.audioSamples.size(), afterEnd);
   float loudest = 0.0F;
-  for (std::size_t n = afterEnd; n < file.audioSamples.size(); ++n) loudest = std::max(loudest, std::abs(file.audioSamples[n]));
+  for (std::size_t n = afterEnd; n < file.audioSamples.size(); ++n)
+    loudest = std::max(loudest, std::abs(file.audioSamples[n]));
   EXPECT_LT(loudest, 0.02F);
 }
 
@@ -508,7 +515,8 @@ TEST(Mp4Writer, AllAudioFirstOrLastGivesTheSameTiming) {
   options.audioSampleRateHz = 22050;
   options.outputAudioRateHz = 44100;
   const std::vector<float> audio = toneAfter(0.8, 0.3, options.audioSampleRateHz);
-  const auto frames = static_cast<int>(videoFramesFor(audio.size(), options.audioSampleRateHz, options.framesPerSecond));
+  const auto frames =
+      static_cast<int>(videoFramesFor(audio.size(), options.audioSampleRateHz, options.framesPerSecond));
   for (const bool audioFirst : {true, false}) {
     const fs::path path = folder.path() / (audioFirst ? "first.mp4" : "last.mp4");
     {
@@ -565,7 +573,8 @@ TEST(Mp4Writer, X264SettingsApplyOverThePreset) {
   const auto write = [&](const fs::path& path) {
     Mp4Writer writer(path, options);
     for (int f = 0; f < 5; ++f) {
-      for (std::size_t i = 0; i < rgb.size(); ++i) rgb[i] = static_cast<std::uint8_t>((i * 2654435761U + f * 97U) >> 24);
+      for (std::size_t i = 0; i < rgb.size(); ++i)
+        rgb[i] = static_cast<std::uint8_t>((i * 2654435761U + f * 97U) >> 24);
       writer.addVideoFrame(rgb.data(), options.width * 3);
     }
     writer.finish();
@@ -663,9 +672,7 @@ TEST_P(Mp4WriterTemporaryFile, AFailedFinishLeavesTheOldTarget) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Kinds, Mp4WriterTemporaryFile, ::testing::Values(true, false),
-                         [](const ::testing::TestParamInfo<bool>& kind) {
-                           return kind.param ? "Unnamed" : "Named";
-                         });
+                         [](const ::testing::TestParamInfo<bool>& kind) { return kind.param ? "Unnamed" : "Named"; });
 
 // With the unnamed temporary file (the default), even a killed process leaves nothing behind.
 TEST(Mp4Writer, KilledProcessLeavesNothing) {
@@ -700,7 +707,6 @@ std::string errorOf(const std::function<void()>& act) {
   }
   return "(no error)";
 }
-
 
 TEST(Mp4Writer, RefusesBadOptionsBeforeWritingAnything) {
   TemporaryFolder folder;

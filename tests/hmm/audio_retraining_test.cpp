@@ -1,10 +1,11 @@
 // Audio re-training keeps the visual side and the structure, learns the new audio, and repairs covariances.
+#include "hmm/audio_retraining.h"
+
 #include <gtest/gtest.h>
 
 #include <Eigen/Cholesky>
 #include <random>
 
-#include "hmm/audio_retraining.h"
 #include "hmm/sampling.h"
 #include "hmm_test_models.h"
 

@@ -174,9 +174,15 @@ TEST(EntropicMap, ScoresHigherThanRandomAndNearbyPointsOfTheSimplex) {
       for (int sample = 0; sample < 10000; ++sample) {
         Eigen::VectorXd alpha;
         switch (sample % 3) {
-          case 0: alpha = Eigen::VectorXd::Ones(size); break;
-          case 1: alpha = Eigen::VectorXd::Constant(size, 0.2); break;
-          default: alpha = 1000.0 * best.array() + 1e-3; break;
+          case 0:
+            alpha = Eigen::VectorXd::Ones(size);
+            break;
+          case 1:
+            alpha = Eigen::VectorXd::Constant(size, 0.2);
+            break;
+          default:
+            alpha = 1000.0 * best.array() + 1e-3;
+            break;
         }
         const Eigen::VectorXd theta = dirichletSample(rng, alpha);
         if ((theta.array() <= 0.0).any()) continue;  // a gamma draw underflowed: F = −∞ there anyway
@@ -204,8 +210,8 @@ TEST(EntropicMap, BeatsAFineGridOnSmallRows) {
     std::vector<double> counts;
     double z;
   };
-  const std::vector<Case> cases = {{{10.0, 10.0}, 15.0}, {{30.0, 1.0}, 20.0},  {{3.0, 7.0}, 1.0},
-                                   {{3.0, 7.0}, -5.0},   {{500.0, 2.0}, 1.0}, {{5.0, 2.0, 1.0}, 3.0},
+  const std::vector<Case> cases = {{{10.0, 10.0}, 15.0},   {{30.0, 1.0}, 20.0}, {{3.0, 7.0}, 1.0},
+                                   {{3.0, 7.0}, -5.0},     {{500.0, 2.0}, 1.0}, {{5.0, 2.0, 1.0}, 3.0},
                                    {{5.0, 2.0, 1.0}, -3.0}};
   for (const Case& c : cases) {
     const Eigen::VectorXd counts = Eigen::Map<const Eigen::VectorXd>(c.counts.data(), Eigen::Index(c.counts.size()));
@@ -412,9 +418,9 @@ TEST(EntropicTrimming, RemovesExactlyTheEntriesThatMeetTheCriterion) {
       EXPECT_EQ(theta, before);  // untouched, bit for bit
       continue;
     }
-    const double keptMass = (before.array() * (1.0 - Eigen::ArrayXd::NullaryExpr(size, [&](Eigen::Index i) {
-                                                 return double(expected[i]);
-                                               }))).sum();
+    const double keptMass = (before.array() * (1.0 - Eigen::ArrayXd::NullaryExpr(
+                                                         size, [&](Eigen::Index i) { return double(expected[i]); })))
+                                .sum();
     for (int i = 0; i < size; ++i) {
       if (expected[i]) {
         EXPECT_EQ(theta[i], 0.0);

@@ -1,9 +1,10 @@
 // The entropic training hooks: Z = 0 is maximum likelihood exactly, and state deletion keeps the model valid.
+#include "hmm/entropic_training.h"
+
 #include <gtest/gtest.h>
 
 #include <random>
 
-#include "hmm/entropic_training.h"
 #include "hmm/sampling.h"
 #include "hmm_test_models.h"
 
@@ -18,7 +19,8 @@ TEST(EntropicTraining, ZeroWeightReproducesMaximumLikelihoodExactly) {
   options.numStates = 4;
   options.maxIterations = 15;
   const TrainingResult ml = trainHmm(sequences, options);
-  const TrainingResult zero = trainHmm(sequences, options, entropicHooks({.multinomialWeight = 0.0, .covarianceWeight = 0.0}));
+  const TrainingResult zero =
+      trainHmm(sequences, options, entropicHooks({.multinomialWeight = 0.0, .covarianceWeight = 0.0}));
   ASSERT_EQ(ml.history.size(), zero.history.size());
   for (size_t i = 0; i < ml.history.size(); ++i) EXPECT_EQ(ml.history[i].logLikelihood, zero.history[i].logLikelihood);
   EXPECT_EQ(ml.model.transition, zero.model.transition);
@@ -36,7 +38,9 @@ TEST(EntropicTraining, CovariancePriorShrinksByOccupancy) {
   options.maxIterations = 2;
   const double ml = trainHmm({frames}, options).model.states[0].components()[0].covariance()(0, 0);
   const double map = trainHmm({frames}, options, entropicHooks({.multinomialWeight = 0.0, .covarianceWeight = 500.0}))
-                         .model.states[0].components()[0].covariance()(0, 0);
+                         .model.states[0]
+                         .components()[0]
+                         .covariance()(0, 0);
   EXPECT_NEAR(map, ml * 2000.0 / 2500.0, 1e-9 * ml);
 }
 

@@ -51,7 +51,8 @@ TEST(Gaussian, RejectsCovariancesThatAreNotPositiveDefinite) {
   EXPECT_THROW(Gaussian(Eigen::Vector2d::Zero(), singular, CovarianceType::kFull), Error);
   EXPECT_THROW(Gaussian(Eigen::Vector2d::Zero(), -Eigen::Matrix2d::Identity(), CovarianceType::kDiagonal), Error);
   // The floor repairs a singular covariance.
-  const Eigen::MatrixXd repaired = applyCovarianceFloor(singular, Eigen::Vector2d::Constant(1e-3), CovarianceType::kFull);
+  const Eigen::MatrixXd repaired =
+      applyCovarianceFloor(singular, Eigen::Vector2d::Constant(1e-3), CovarianceType::kFull);
   EXPECT_NO_THROW(Gaussian(Eigen::Vector2d::Zero(), repaired, CovarianceType::kFull));
 }
 
@@ -83,7 +84,8 @@ TEST(Gaussian, CovarianceFloorIsTheConstrainedMaximumLikelihoodEstimate) {
       EXPECT_LE(objective(feasible, scatter), best + 1e-12);
     }
     for (double c : {0.0, 0.5, 0.9, 1.1, 2.0}) {  // towards and away from the bound: D + c(Σ − D)
-      const Eigen::MatrixXd feasible = Eigen::MatrixXd(floor.asDiagonal()) + c * (floored - Eigen::MatrixXd(floor.asDiagonal()));
+      const Eigen::MatrixXd feasible =
+          Eigen::MatrixXd(floor.asDiagonal()) + c * (floored - Eigen::MatrixXd(floor.asDiagonal()));
       EXPECT_LE(objective(feasible, scatter), best + 1e-12) << c;
     }
   }
@@ -140,8 +142,10 @@ TEST(ForwardBackward, EqualsEnumerationOfEveryPath) {
     EXPECT_LT((posteriors.stateGivenAll - truth.gamma).cwiseAbs().maxCoeff(), 1e-10);
     // Expected transitions: T - 1 of them in all, and γ's marginals agree with ξ's.
     EXPECT_NEAR(posteriors.transitionCounts.sum(), 6.0, 1e-10);
-    EXPECT_LT((posteriors.transitionCounts.rowwise().sum() -
-               posteriors.stateGivenAll.leftCols(6).rowwise().sum()).cwiseAbs().maxCoeff(), 1e-10);
+    EXPECT_LT((posteriors.transitionCounts.rowwise().sum() - posteriors.stateGivenAll.leftCols(6).rowwise().sum())
+                  .cwiseAbs()
+                  .maxCoeff(),
+              1e-10);
     EXPECT_EQ(viterbi(model, logB).states, truth.bestPath);
   }
 }
@@ -240,8 +244,8 @@ TEST(OnlineViterbi, MaximumLagIsNeverExceededAndAgreementGrowsWithIt) {
       lagSum += online.decisionLag(t);
     }
     const double agreement = agree / 5000.0;
-    std::printf("[ INFO     ] max lag %3d: agreement with batch %.4f, mean actual lag %.2f frames\n", maxLag,
-                agreement, lagSum / 5000.0);
+    std::printf("[ INFO     ] max lag %3d: agreement with batch %.4f, mean actual lag %.2f frames\n", maxLag, agreement,
+                lagSum / 5000.0);
     EXPECT_GE(agreement, previousAgreement - 0.01) << "lag " << maxLag;
     previousAgreement = agreement;
   }
@@ -267,7 +271,8 @@ TEST(BaumWelch, LikelihoodNeverDecreasesAndRecoversTheMeans) {
     std::vector<double> means;
     for (const auto& state : result.model.states) {
       double mean = 0.0;
-      for (int m = 0; m < state.numComponents(); ++m) mean += state.weights()[m] * state.components()[static_cast<size_t>(m)].mean()[0];
+      for (int m = 0; m < state.numComponents(); ++m)
+        mean += state.weights()[m] * state.components()[static_cast<size_t>(m)].mean()[0];
       means.push_back(mean);
     }
     std::sort(means.begin(), means.end());

@@ -10,10 +10,10 @@ hmm::HmmModel stickyModel1d(int numStates, double stay) {
   model.transition = Eigen::MatrixXd::Constant(numStates, numStates, (1.0 - stay) / (numStates - 1));
   model.transition.diagonal().setConstant(stay);
   for (int j = 0; j < numStates; ++j) {
-    model.states.emplace_back(Eigen::VectorXd::Ones(1),
-                              std::vector<hmm::Gaussian>{hmm::Gaussian(Eigen::VectorXd::Constant(1, 3.0 * j),
-                                                                       Eigen::MatrixXd::Identity(1, 1),
-                                                                       hmm::CovarianceType::kFull)});
+    model.states.emplace_back(
+        Eigen::VectorXd::Ones(1),
+        std::vector<hmm::Gaussian>{hmm::Gaussian(Eigen::VectorXd::Constant(1, 3.0 * j), Eigen::MatrixXd::Identity(1, 1),
+                                                 hmm::CovarianceType::kFull)});
   }
   return model;
 }
@@ -33,7 +33,8 @@ hmm::HmmModel randomModel(int numStates, int numMixtures, int dimension, hmm::Co
     weights /= weights.sum();
     for (int m = 0; m < numMixtures; ++m) {
       const Eigen::VectorXd mean = Eigen::VectorXd::NullaryExpr(dimension, [&] { return 3.0 * gaussian(random); });
-      const Eigen::MatrixXd a = Eigen::MatrixXd::NullaryExpr(dimension, dimension, [&] { return 0.5 * gaussian(random); });
+      const Eigen::MatrixXd a =
+          Eigen::MatrixXd::NullaryExpr(dimension, dimension, [&] { return 0.5 * gaussian(random); });
       const Eigen::MatrixXd covariance = a * a.transpose() + 0.3 * Eigen::MatrixXd::Identity(dimension, dimension);
       components.emplace_back(mean, covariance, type);
     }

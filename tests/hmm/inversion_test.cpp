@@ -1,5 +1,7 @@
 // HMM inversion against answers we know: the Gaussian conditional mean for one component, the oracle
 // (conditional expectation under the true model) for sampled data, a monotone likelihood, and windowed → batch.
+#include "hmm/inversion.h"
+
 #include <gtest/gtest.h>
 
 #include <Eigen/Cholesky>
@@ -10,7 +12,6 @@
 #include <random>
 
 #include "core/error.h"
-#include "hmm/inversion.h"
 #include "hmm/sampling.h"
 #include "hmm_test_models.h"
 
@@ -74,7 +75,8 @@ HmmModel audioVisualModel(CovarianceType type, unsigned seed, int kAudio) {
       Eigen::VectorXd mean(kAudio + kVisual);
       for (int k = 0; k < kAudio; ++k) mean[k] = 2.0 * gaussian(random);
       for (int k = kAudio; k < kAudio + kVisual; ++k) mean[k] = 2.0 * gaussian(random);
-      const Eigen::MatrixXd gain = Eigen::MatrixXd::NullaryExpr(kVisual, kAudio, [&] { return 0.7 * gaussian(random); });
+      const Eigen::MatrixXd gain =
+          Eigen::MatrixXd::NullaryExpr(kVisual, kAudio, [&] { return 0.7 * gaussian(random); });
       const Eigen::MatrixXd audioCovariance = 0.5 * Eigen::MatrixXd::Identity(kAudio, kAudio);
       Eigen::MatrixXd covariance(kAudio + kVisual, kAudio + kVisual);
       covariance.topLeftCorner(kAudio, kAudio) = audioCovariance;
@@ -103,7 +105,8 @@ TEST_P(InversionOnSampledData, ReachesTheOracleAndItsLikelihoodNeverFalls) {
   const HmmInverter inverter(model, {});
   // The oracle: E[o_v | all the audio] under the model (the true one, for full covariance).
   const double oracle = correlation(inverter.mmse(audio), truth);
-  std::printf("[ INFO     ] %s: oracle correlation %.4f\n", GetParam() == CovarianceType::kFull ? "full" : "diagonal", oracle);
+  std::printf("[ INFO     ] %s: oracle correlation %.4f\n", GetParam() == CovarianceType::kFull ? "full" : "diagonal",
+              oracle);
   for (InversionStart start : {InversionStart::kConditionalMean, InversionStart::kRandom}) {
     const InversionResult result = HmmInverter(model, {.start = start}).invert(audio);
     const double reached = correlation(result.visual, truth);
@@ -197,8 +200,9 @@ TEST_P(InversionOnSampledData, StreamingGivesTheWindowedValuesFrameByFrame) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Covariances, InversionOnSampledData,
-                         ::testing::Values(CovarianceType::kFull, CovarianceType::kDiagonal),
-                         [](const auto& testInfo) { return testInfo.param == CovarianceType::kFull ? "full" : "diagonal"; });
+                         ::testing::Values(CovarianceType::kFull, CovarianceType::kDiagonal), [](const auto& testInfo) {
+                           return testInfo.param == CovarianceType::kFull ? "full" : "diagonal";
+                         });
 
 TEST(Inversion, TheConditionalDistributionHasTheMmseMeansAndTheComponentsSpread) {
   const HmmModel model = audioVisualModel(CovarianceType::kFull, 23, 4);

@@ -1,14 +1,16 @@
 // Model files: save → load is bit-exact (parameters and log-likelihoods); every bad file is refused with one line
 // naming the file and the field at fault; a failed save leaves the previous file (or nothing) and no temporary.
+#include "hmm/model_file.h"
+
 #include <gtest/gtest.h>
 #include <sys/resource.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
-#include <csignal>
-#include <cstdlib>
 #include <algorithm>
 #include <cmath>
+#include <csignal>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -21,10 +23,9 @@
 #include <string>
 #include <vector>
 
-#include "core/temporary_file.h"
 #include "core/error.h"
+#include "core/temporary_file.h"
 #include "hmm/forward_backward.h"
-#include "hmm/model_file.h"
 #include "hmm/sampling.h"
 #include "hmm_test_models.h"
 #include "support/files.h"
@@ -69,7 +70,8 @@ void expectIdentical(const HmmModel& a, const HmmModel& b) {
       EXPECT_EQ(ga.type(), gb.type());
       EXPECT_TRUE(sameBits(ga.mean(), gb.mean())) << "state " << j << " component " << m;
       EXPECT_TRUE(sameBits(ga.covariance(), gb.covariance())) << "state " << j << " component " << m;
-      EXPECT_TRUE(sameBits(Eigen::VectorXd::Constant(1, ga.logDeterminant()), Eigen::VectorXd::Constant(1, gb.logDeterminant())));
+      EXPECT_TRUE(sameBits(Eigen::VectorXd::Constant(1, ga.logDeterminant()),
+                           Eigen::VectorXd::Constant(1, gb.logDeterminant())));
     }
   }
   EXPECT_EQ(a.columnNames, b.columnNames);
@@ -166,7 +168,7 @@ TEST(ModelFile, TheFileHasTheDocumentedShape) {
   std::vector<std::string> keys;
   for (auto it = document.begin(); it != document.end(); ++it) keys.push_back(it.key());
   EXPECT_EQ(keys, (std::vector<std::string>{"format", "version", "covariance", "columns", "blocks", "initial",
-                                             "transition", "states", "training"}));
+                                            "transition", "states", "training"}));
   EXPECT_EQ(document["format"], "talkinghead-hmm");
   EXPECT_EQ(document["version"], 1);
   EXPECT_EQ(document["covariance"], "full");
@@ -228,7 +230,9 @@ Json validDocument(bool diagonal) {
   return Json::parse(formatModel(model, R"({"iterations": 2})"));
 }
 
-Json& component(Json& document, int state, int m) { return document["states"][state]["components"][m]; }
+Json& component(Json& document, int state, int m) {
+  return document["states"][state]["components"][m];
+}
 
 std::vector<BadCase> badCases() {
   auto full = [](std::string name, std::function<void(Json&)> change, std::string expected) {
@@ -239,115 +243,280 @@ std::vector<BadCase> badCases() {
   };
   return {
       // What the file is.
-      full("topLevelArray", [](Json& j) { j = Json::array({1, 2}); }, "not a talkinghead HMM model (the top level is an array"),
-      full("missingFormat", [](Json& j) { j.erase("format"); }, "not a talkinghead HMM model (it has no \"format\" field)"),
-      full("otherFormat", [](Json& j) { j["format"] = "some-other-hmm"; }, "format is \"some-other-hmm\", not \"talkinghead-hmm\""),
-      full("formatNotString", [](Json& j) { j["format"] = 3; }, "format is 3, not \"talkinghead-hmm\""),
-      full("missingVersion", [](Json& j) { j.erase("version"); }, "version is missing"),
-      full("newerVersion", [](Json& j) { j["version"] = 2; }, "version is 2: the file was written by a newer talkinghead (this one reads version 1)"),
+      full(
+          "topLevelArray",
+          [](Json& j) {
+            j = Json::array({1, 2});
+          },
+          "not a talkinghead HMM model (the top level is an array"),
+      full(
+          "missingFormat", [](Json& j) { j.erase("format"); },
+          "not a talkinghead HMM model (it has no \"format\" field)"),
+      full(
+          "otherFormat", [](Json& j) { j["format"] = "some-other-hmm"; },
+          "format is \"some-other-hmm\", not \"talkinghead-hmm\""),
+      full(
+          "formatNotString", [](Json& j) { j["format"] = 3; }, "format is 3, not \"talkinghead-hmm\""),
+      full(
+          "missingVersion", [](Json& j) { j.erase("version"); }, "version is missing"),
+      full(
+          "newerVersion", [](Json& j) { j["version"] = 2; },
+          "version is 2: the file was written by a newer talkinghead (this one reads version 1)"),
       // A newer file may have fields this version does not know: the version is what to report, not the field.
-      full("newerVersionWithNewField", [](Json& j) { j["version"] = 3; j["cholesky"] = Json::array(); }, "version is 3: the file was written by a newer"),
-      full("olderVersion", [](Json& j) { j["version"] = 0; }, "version is 0, which is not a version of this format"),
-      full("negativeVersion", [](Json& j) { j["version"] = -1; }, "version is -1, which is not a version"),
-      full("versionString", [](Json& j) { j["version"] = "1"; }, "version is \"1\", not an integer"),
-      full("versionFraction", [](Json& j) { j["version"] = 1.5; }, "version is 1.5, not an integer"),
-      full("unknownField", [](Json& j) { j["comment"] = "hi"; }, "comment is not a field of a version-1 model file"),
-      full("missingCovariance", [](Json& j) { j.erase("covariance"); }, "covariance is missing"),
-      full("unknownCovariance", [](Json& j) { j["covariance"] = "spherical"; }, "covariance is \"spherical\"; expected \"full\" or \"diagonal\""),
-      full("covarianceSaysDiagonal", [](Json& j) { j["covariance"] = "diagonal"; },
-           "states[0].components[0].covariance is not a field of a diagonal-covariance component"),
+      full(
+          "newerVersionWithNewField",
+          [](Json& j) {
+            j["version"] = 3;
+            j["cholesky"] = Json::array();
+          },
+          "version is 3: the file was written by a newer"),
+      full(
+          "olderVersion", [](Json& j) { j["version"] = 0; }, "version is 0, which is not a version of this format"),
+      full(
+          "negativeVersion", [](Json& j) { j["version"] = -1; }, "version is -1, which is not a version"),
+      full(
+          "versionString", [](Json& j) { j["version"] = "1"; }, "version is \"1\", not an integer"),
+      full(
+          "versionFraction", [](Json& j) { j["version"] = 1.5; }, "version is 1.5, not an integer"),
+      full(
+          "unknownField", [](Json& j) { j["comment"] = "hi"; }, "comment is not a field of a version-1 model file"),
+      full(
+          "missingCovariance", [](Json& j) { j.erase("covariance"); }, "covariance is missing"),
+      full(
+          "unknownCovariance", [](Json& j) { j["covariance"] = "spherical"; },
+          "covariance is \"spherical\"; expected \"full\" or \"diagonal\""),
+      full(
+          "covarianceSaysDiagonal", [](Json& j) { j["covariance"] = "diagonal"; },
+          "states[0].components[0].covariance is not a field of a diagonal-covariance component"),
       // Sizes.
-      full("missingStates", [](Json& j) { j.erase("states"); }, "states is missing"),
-      full("statesNotArray", [](Json& j) { j["states"] = Json::object(); }, "states is an object, not an array"),
-      full("noStates", [](Json& j) { j["states"] = Json::array(); }, "states is empty (a model needs at least one state)"),
-      full("tooManyStates", [](Json& j) { j["states"] = Json(std::vector<Json>(10001)); }, "states has 10001 states; at most 10000"),
-      full("tooManyComponents", [](Json& j) { j["states"][0]["weights"] = Json(std::vector<double>(1001, 0.0)); },
-           "states[0].weights has 1001 values; at most 1000 components per state"),
-      full("noComponents", [](Json& j) { j["states"][1]["weights"] = Json::array(); j["states"][1]["components"] = Json::array(); },
-           "states[1].weights is empty (a state needs at least one component)"),
-      full("moreWeightsThanComponents", [](Json& j) { j["states"][1]["weights"].push_back(0.0); },
-           "states[1].components has 2 components but states[1].weights has 3 weights"),
-      full("zeroDimension", [](Json& j) { component(j, 0, 0)["mean"] = Json::array(); }, "states[0].components[0].mean is empty"),
-      full("tooManyDimensions", [](Json& j) { component(j, 0, 0)["mean"] = Json(std::vector<double>(10001, 0.0)); },
-           "states[0].components[0].mean has 10001 values; at most 10000 dimensions"),
+      full(
+          "missingStates", [](Json& j) { j.erase("states"); }, "states is missing"),
+      full(
+          "statesNotArray", [](Json& j) { j["states"] = Json::object(); }, "states is an object, not an array"),
+      full(
+          "noStates", [](Json& j) { j["states"] = Json::array(); },
+          "states is empty (a model needs at least one state)"),
+      full(
+          "tooManyStates", [](Json& j) { j["states"] = Json(std::vector<Json>(10001)); },
+          "states has 10001 states; at most 10000"),
+      full(
+          "tooManyComponents", [](Json& j) { j["states"][0]["weights"] = Json(std::vector<double>(1001, 0.0)); },
+          "states[0].weights has 1001 values; at most 1000 components per state"),
+      full(
+          "noComponents",
+          [](Json& j) {
+            j["states"][1]["weights"] = Json::array();
+            j["states"][1]["components"] = Json::array();
+          },
+          "states[1].weights is empty (a state needs at least one component)"),
+      full(
+          "moreWeightsThanComponents", [](Json& j) { j["states"][1]["weights"].push_back(0.0); },
+          "states[1].components has 2 components but states[1].weights has 3 weights"),
+      full(
+          "zeroDimension", [](Json& j) { component(j, 0, 0)["mean"] = Json::array(); },
+          "states[0].components[0].mean is empty"),
+      full(
+          "tooManyDimensions", [](Json& j) { component(j, 0, 0)["mean"] = Json(std::vector<double>(10001, 0.0)); },
+          "states[0].components[0].mean has 10001 values; at most 10000 dimensions"),
       // π and A.
-      full("missingInitial", [](Json& j) { j.erase("initial"); }, "initial is missing"),
-      full("initialTooShort", [](Json& j) { j["initial"] = Json::array({0.5, 0.5}); }, "initial has 2 values; expected 3 (one per state)"),
-      full("initialNotNumber", [](Json& j) { j["initial"][1] = "0.3"; }, "initial[1] is a string, not a number"),
-      full("initialNull", [](Json& j) { j["initial"][2] = nullptr; }, "initial[2] is null, not a number"),
-      full("initialNegative", [](Json& j) { j["initial"] = Json::array({-0.25, 0.75, 0.5}); }, "initial[0] is negative (-0.25)"),
-      full("initialSum", [](Json& j) { j["initial"] = Json::array({0.5, 0.5, 0.5}); }, "initial sums to 1.5, not 1"),
-      full("transitionNotArray", [](Json& j) { j["transition"] = "identity"; }, "transition is a string, not an array"),
-      full("transitionTooFewRows", [](Json& j) { j["transition"].erase(2); }, "transition has 2 rows; expected 3 (one per state)"),
-      full("transitionShortRow", [](Json& j) { j["transition"][1].erase(0); }, "transition[1] has 2 values; expected 3"),
-      full("transitionRowNotArray", [](Json& j) { j["transition"][1] = 1.0; }, "transition[1] is a number, not an array"),
-      full("transitionRowSum", [](Json& j) { j["transition"][2] = Json::array({0.5, 0.5, 2e-6}); }, "transition[2] sums to 1.000002, not 1 (the tolerance is 1e-6)"),
-      full("transitionNegative", [](Json& j) { j["transition"][0] = Json::array({1.5, -0.5, 0.0}); }, "transition[0][1] is negative (-0.5)"),
+      full(
+          "missingInitial", [](Json& j) { j.erase("initial"); }, "initial is missing"),
+      full(
+          "initialTooShort",
+          [](Json& j) {
+            j["initial"] = Json::array({0.5, 0.5});
+          },
+          "initial has 2 values; expected 3 (one per state)"),
+      full(
+          "initialNotNumber", [](Json& j) { j["initial"][1] = "0.3"; }, "initial[1] is a string, not a number"),
+      full(
+          "initialNull", [](Json& j) { j["initial"][2] = nullptr; }, "initial[2] is null, not a number"),
+      full(
+          "initialNegative",
+          [](Json& j) {
+            j["initial"] = Json::array({-0.25, 0.75, 0.5});
+          },
+          "initial[0] is negative (-0.25)"),
+      full(
+          "initialSum",
+          [](Json& j) {
+            j["initial"] = Json::array({0.5, 0.5, 0.5});
+          },
+          "initial sums to 1.5, not 1"),
+      full(
+          "transitionNotArray", [](Json& j) { j["transition"] = "identity"; }, "transition is a string, not an array"),
+      full(
+          "transitionTooFewRows", [](Json& j) { j["transition"].erase(2); },
+          "transition has 2 rows; expected 3 (one per state)"),
+      full(
+          "transitionShortRow", [](Json& j) { j["transition"][1].erase(0); }, "transition[1] has 2 values; expected 3"),
+      full(
+          "transitionRowNotArray", [](Json& j) { j["transition"][1] = 1.0; },
+          "transition[1] is a number, not an array"),
+      full(
+          "transitionRowSum",
+          [](Json& j) {
+            j["transition"][2] = Json::array({0.5, 0.5, 2e-6});
+          },
+          "transition[2] sums to 1.000002, not 1 (the tolerance is 1e-6)"),
+      full(
+          "transitionNegative",
+          [](Json& j) {
+            j["transition"][0] = Json::array({1.5, -0.5, 0.0});
+          },
+          "transition[0][1] is negative (-0.5)"),
       // Mixtures.
-      full("stateNotObject", [](Json& j) { j["states"][1] = Json::array(); }, "states[1] is an array, not an object"),
-      full("stateUnknownField", [](Json& j) { j["states"][1]["name"] = "s1"; }, "states[1].name is not a field of a state"),
-      full("weightsMissing", [](Json& j) { j["states"][2].erase("weights"); }, "states[2].weights is missing"),
-      full("weightsSum", [](Json& j) { j["states"][1]["weights"] = Json::array({0.5, 0.4}); }, "states[1].weights sums to 0.9, not 1"),
-      full("weightNegative", [](Json& j) { j["states"][1]["weights"] = Json::array({1.5, -0.5}); }, "states[1].weights[1] is negative"),
+      full(
+          "stateNotObject", [](Json& j) { j["states"][1] = Json::array(); }, "states[1] is an array, not an object"),
+      full(
+          "stateUnknownField", [](Json& j) { j["states"][1]["name"] = "s1"; },
+          "states[1].name is not a field of a state"),
+      full(
+          "weightsMissing", [](Json& j) { j["states"][2].erase("weights"); }, "states[2].weights is missing"),
+      full(
+          "weightsSum",
+          [](Json& j) {
+            j["states"][1]["weights"] = Json::array({0.5, 0.4});
+          },
+          "states[1].weights sums to 0.9, not 1"),
+      full(
+          "weightNegative",
+          [](Json& j) {
+            j["states"][1]["weights"] = Json::array({1.5, -0.5});
+          },
+          "states[1].weights[1] is negative"),
       // Components, full.
-      full("componentNotObject", [](Json& j) { component(j, 2, 1) = 4; }, "states[2].components[1] is an integer, not an object"),
-      full("componentMisspeltField", [](Json& j) { component(j, 0, 1)["covarience"] = component(j, 0, 1)["covariance"]; },
-           "states[0].components[1].covarience is not a field of a full-covariance component"),
-      full("meanMissing", [](Json& j) { component(j, 1, 0).erase("mean"); }, "states[1].components[0].mean is missing"),
-      full("meanWrongDimension", [](Json& j) { component(j, 2, 1)["mean"].erase(0); },
-           "states[2].components[1].mean has 2 values; expected 3 (the dimension, set by states[0].components[0].mean)"),
-      full("meanNotNumber", [](Json& j) { component(j, 1, 1)["mean"][2] = Json::array(); }, "states[1].components[1].mean[2] is an array, not a number"),
-      full("meanHuge", [](Json& j) { component(j, 1, 1)["mean"][0] = -1e200; },
-           "states[1].components[1].mean[0] is -1e+200; magnitudes above 1e150 are not supported"),
-      full("covarianceMissing", [](Json& j) { component(j, 1, 0).erase("covariance"); }, "states[1].components[0].covariance is missing"),
-      full("covarianceTooFewRows", [](Json& j) { component(j, 1, 0)["covariance"].erase(1); },
-           "states[1].components[0].covariance has 2 rows; expected 3"),
-      full("covarianceShortRow", [](Json& j) { component(j, 1, 0)["covariance"][1].erase(1); },
-           "states[1].components[0].covariance[1] has 2 values; expected 3"),
-      full("covarianceHuge", [](Json& j) { component(j, 1, 0)["covariance"][2][2] = 1e151; },
-           "states[1].components[0].covariance[2][2] is 1e+151; magnitudes above 1e150"),
-      full("covarianceAsymmetric", [](Json& j) { component(j, 2, 0)["covariance"][0][2] = 0.123; component(j, 2, 0)["covariance"][2][0] = 0.124; },
-           "states[2].components[0].covariance is not symmetric ([0][2] is 0.123 but [2][0] is 0.124)"),
-      full("covarianceIndefinite", [](Json& j) { component(j, 2, 1)["covariance"] = Json::parse("[[1, 2, 0], [2, 1, 0], [0, 0, 1]]"); },
-           "states[2].components[1].covariance is not positive definite"),
-      full("covarianceNegative", [](Json& j) { component(j, 0, 0)["covariance"] = Json::parse("[[-1, 0, 0], [0, 1, 0], [0, 0, 1]]"); },
-           "states[0].components[0].covariance is not positive definite"),
-      full("covarianceZero", [](Json& j) { component(j, 0, 0)["covariance"] = Json::parse("[[0, 0, 0], [0, 0, 0], [0, 0, 0]]"); },
-           "states[0].components[0].covariance is not positive definite"),
-      full("covarianceNearlySingular", [](Json& j) { component(j, 0, 1)["covariance"] = Json::parse("[[1, 0, 0], [0, 1e-160, 0], [0, 0, 1]]"); },
-           "states[0].components[1].covariance is nearly singular"),
+      full(
+          "componentNotObject", [](Json& j) { component(j, 2, 1) = 4; },
+          "states[2].components[1] is an integer, not an object"),
+      full(
+          "componentMisspeltField",
+          [](Json& j) { component(j, 0, 1)["covarience"] = component(j, 0, 1)["covariance"]; },
+          "states[0].components[1].covarience is not a field of a full-covariance component"),
+      full(
+          "meanMissing", [](Json& j) { component(j, 1, 0).erase("mean"); }, "states[1].components[0].mean is missing"),
+      full(
+          "meanWrongDimension", [](Json& j) { component(j, 2, 1)["mean"].erase(0); },
+          "states[2].components[1].mean has 2 values; expected 3 (the dimension, set by states[0].components[0].mean)"),
+      full(
+          "meanNotNumber", [](Json& j) { component(j, 1, 1)["mean"][2] = Json::array(); },
+          "states[1].components[1].mean[2] is an array, not a number"),
+      full(
+          "meanHuge", [](Json& j) { component(j, 1, 1)["mean"][0] = -1e200; },
+          "states[1].components[1].mean[0] is -1e+200; magnitudes above 1e150 are not supported"),
+      full(
+          "covarianceMissing", [](Json& j) { component(j, 1, 0).erase("covariance"); },
+          "states[1].components[0].covariance is missing"),
+      full(
+          "covarianceTooFewRows", [](Json& j) { component(j, 1, 0)["covariance"].erase(1); },
+          "states[1].components[0].covariance has 2 rows; expected 3"),
+      full(
+          "covarianceShortRow", [](Json& j) { component(j, 1, 0)["covariance"][1].erase(1); },
+          "states[1].components[0].covariance[1] has 2 values; expected 3"),
+      full(
+          "covarianceHuge", [](Json& j) { component(j, 1, 0)["covariance"][2][2] = 1e151; },
+          "states[1].components[0].covariance[2][2] is 1e+151; magnitudes above 1e150"),
+      full(
+          "covarianceAsymmetric",
+          [](Json& j) {
+            component(j, 2, 0)["covariance"][0][2] = 0.123;
+            component(j, 2, 0)["covariance"][2][0] = 0.124;
+          },
+          "states[2].components[0].covariance is not symmetric ([0][2] is 0.123 but [2][0] is 0.124)"),
+      full(
+          "covarianceIndefinite",
+          [](Json& j) { component(j, 2, 1)["covariance"] = Json::parse("[[1, 2, 0], [2, 1, 0], [0, 0, 1]]"); },
+          "states[2].components[1].covariance is not positive definite"),
+      full(
+          "covarianceNegative",
+          [](Json& j) { component(j, 0, 0)["covariance"] = Json::parse("[[-1, 0, 0], [0, 1, 0], [0, 0, 1]]"); },
+          "states[0].components[0].covariance is not positive definite"),
+      full(
+          "covarianceZero",
+          [](Json& j) { component(j, 0, 0)["covariance"] = Json::parse("[[0, 0, 0], [0, 0, 0], [0, 0, 0]]"); },
+          "states[0].components[0].covariance is not positive definite"),
+      full(
+          "covarianceNearlySingular",
+          [](Json& j) { component(j, 0, 1)["covariance"] = Json::parse("[[1, 0, 0], [0, 1e-160, 0], [0, 0, 1]]"); },
+          "states[0].components[1].covariance is nearly singular"),
       // Components, diagonal.
-      diag("variancesMissing", [](Json& j) { component(j, 1, 1).erase("variances"); }, "states[1].components[1].variances is missing"),
-      diag("diagonalWithMatrix", [](Json& j) { component(j, 1, 1)["covariance"] = Json::array(); },
-           "states[1].components[1].covariance is not a field of a diagonal-covariance component"),
-      diag("variancesWrongLength", [](Json& j) { component(j, 2, 0)["variances"].push_back(1.0); }, "states[2].components[0].variances has 4 values; expected 3"),
-      diag("varianceZero", [](Json& j) { component(j, 0, 1)["variances"][1] = 0.0; }, "states[0].components[1].variances[1] is not positive (0)"),
-      diag("varianceNegative", [](Json& j) { component(j, 0, 1)["variances"][2] = -2.5; }, "states[0].components[1].variances[2] is not positive (-2.5)"),
-      diag("varianceTiny", [](Json& j) { component(j, 0, 1)["variances"][0] = 1e-200; }, "states[0].components[1].variances[0] is 1e-200; variances below 1e-150"),
-      diag("varianceHuge", [](Json& j) { component(j, 0, 1)["variances"][0] = 1e300; }, "states[0].components[1].variances[0] is 1e+300; magnitudes above 1e150"),
-      diag("diagonalMeanWrongDimension", [](Json& j) { component(j, 1, 0)["mean"].push_back(0.0); }, "states[1].components[0].mean has 4 values; expected 3"),
+      diag(
+          "variancesMissing", [](Json& j) { component(j, 1, 1).erase("variances"); },
+          "states[1].components[1].variances is missing"),
+      diag(
+          "diagonalWithMatrix", [](Json& j) { component(j, 1, 1)["covariance"] = Json::array(); },
+          "states[1].components[1].covariance is not a field of a diagonal-covariance component"),
+      diag(
+          "variancesWrongLength", [](Json& j) { component(j, 2, 0)["variances"].push_back(1.0); },
+          "states[2].components[0].variances has 4 values; expected 3"),
+      diag(
+          "varianceZero", [](Json& j) { component(j, 0, 1)["variances"][1] = 0.0; },
+          "states[0].components[1].variances[1] is not positive (0)"),
+      diag(
+          "varianceNegative", [](Json& j) { component(j, 0, 1)["variances"][2] = -2.5; },
+          "states[0].components[1].variances[2] is not positive (-2.5)"),
+      diag(
+          "varianceTiny", [](Json& j) { component(j, 0, 1)["variances"][0] = 1e-200; },
+          "states[0].components[1].variances[0] is 1e-200; variances below 1e-150"),
+      diag(
+          "varianceHuge", [](Json& j) { component(j, 0, 1)["variances"][0] = 1e300; },
+          "states[0].components[1].variances[0] is 1e+300; magnitudes above 1e150"),
+      diag(
+          "diagonalMeanWrongDimension", [](Json& j) { component(j, 1, 0)["mean"].push_back(0.0); },
+          "states[1].components[0].mean has 4 values; expected 3"),
       // Names.
-      full("columnsMissing", [](Json& j) { j.erase("columns"); }, "columns is missing"),
-      full("columnsWrongCount", [](Json& j) { j["columns"] = Json::array({"a", "b"}); }, "columns has 2 names; expected 3 (one per dimension) or none"),
-      full("columnNotString", [](Json& j) { j["columns"][1] = 7; }, "columns[1] is an integer, not a string"),
-      full("blocksMissing", [](Json& j) { j.erase("blocks"); }, "blocks is missing"),
-      full("blocksNotArray", [](Json& j) { j["blocks"] = "audio"; }, "blocks is a string, not an array"),
-      full("blockGap", [](Json& j) { j["blocks"][1]["begin"] = 3; }, "blocks[1].begin is 3; expected 2 (blocks tile the dimensions in order"),
-      full("blockOverlap", [](Json& j) { j["blocks"][1]["begin"] = 1; }, "blocks[1].begin is 1; expected 2"),
-      full("blockNotFromZero", [](Json& j) { j["blocks"][0]["begin"] = 1; }, "blocks[0].begin is 1; expected 0"),
-      full("blockEmpty", [](Json& j) { j["blocks"][0]["size"] = 0; }, "blocks[0].size is 0; a block has at least one dimension"),
-      full("blockNegativeSize", [](Json& j) { j["blocks"][0]["size"] = -2; }, "blocks[0].size is -2; a block has at least one dimension"),
-      full("blockPastTheEnd", [](Json& j) { j["blocks"][1]["size"] = 5; }, "blocks[1].size is 5: the block would end past the last dimension (there are 3)"),
-      full("blocksShort", [](Json& j) { j["blocks"].erase(1); }, "blocks cover dimensions 0 to 1 of 3; together they must cover every dimension"),
-      full("blockBeginFraction", [](Json& j) { j["blocks"][0]["begin"] = 0.5; }, "blocks[0].begin is 0.5, not an integer"),
-      full("blockSizeHuge", [](Json& j) { j["blocks"][1]["size"] = std::numeric_limits<std::uint64_t>::max(); },
-           "blocks[1].size is 18446744073709551615, out of range"),
-      full("blockNameMissing", [](Json& j) { j["blocks"][0].erase("name"); }, "blocks[0].name is missing"),
-      full("blockNameEmpty", [](Json& j) { j["blocks"][0]["name"] = ""; }, "blocks[0].name is empty"),
-      full("blockNameTwice", [](Json& j) { j["blocks"][1]["name"] = "audio"; }, "blocks[1].name \"audio\" is used by an earlier block"),
-      full("blockUnknownField", [](Json& j) { j["blocks"][1]["end"] = 3; }, "blocks[1].end is not a field of a block"),
+      full(
+          "columnsMissing", [](Json& j) { j.erase("columns"); }, "columns is missing"),
+      full(
+          "columnsWrongCount",
+          [](Json& j) {
+            j["columns"] = Json::array({"a", "b"});
+          },
+          "columns has 2 names; expected 3 (one per dimension) or none"),
+      full(
+          "columnNotString", [](Json& j) { j["columns"][1] = 7; }, "columns[1] is an integer, not a string"),
+      full(
+          "blocksMissing", [](Json& j) { j.erase("blocks"); }, "blocks is missing"),
+      full(
+          "blocksNotArray", [](Json& j) { j["blocks"] = "audio"; }, "blocks is a string, not an array"),
+      full(
+          "blockGap", [](Json& j) { j["blocks"][1]["begin"] = 3; },
+          "blocks[1].begin is 3; expected 2 (blocks tile the dimensions in order"),
+      full(
+          "blockOverlap", [](Json& j) { j["blocks"][1]["begin"] = 1; }, "blocks[1].begin is 1; expected 2"),
+      full(
+          "blockNotFromZero", [](Json& j) { j["blocks"][0]["begin"] = 1; }, "blocks[0].begin is 1; expected 0"),
+      full(
+          "blockEmpty", [](Json& j) { j["blocks"][0]["size"] = 0; },
+          "blocks[0].size is 0; a block has at least one dimension"),
+      full(
+          "blockNegativeSize", [](Json& j) { j["blocks"][0]["size"] = -2; },
+          "blocks[0].size is -2; a block has at least one dimension"),
+      full(
+          "blockPastTheEnd", [](Json& j) { j["blocks"][1]["size"] = 5; },
+          "blocks[1].size is 5: the block would end past the last dimension (there are 3)"),
+      full(
+          "blocksShort", [](Json& j) { j["blocks"].erase(1); },
+          "blocks cover dimensions 0 to 1 of 3; together they must cover every dimension"),
+      full(
+          "blockBeginFraction", [](Json& j) { j["blocks"][0]["begin"] = 0.5; },
+          "blocks[0].begin is 0.5, not an integer"),
+      full(
+          "blockSizeHuge", [](Json& j) { j["blocks"][1]["size"] = std::numeric_limits<std::uint64_t>::max(); },
+          "blocks[1].size is 18446744073709551615, out of range"),
+      full(
+          "blockNameMissing", [](Json& j) { j["blocks"][0].erase("name"); }, "blocks[0].name is missing"),
+      full(
+          "blockNameEmpty", [](Json& j) { j["blocks"][0]["name"] = ""; }, "blocks[0].name is empty"),
+      full(
+          "blockNameTwice", [](Json& j) { j["blocks"][1]["name"] = "audio"; },
+          "blocks[1].name \"audio\" is used by an earlier block"),
+      full(
+          "blockUnknownField", [](Json& j) { j["blocks"][1]["end"] = 3; }, "blocks[1].end is not a field of a block"),
       // Free-form metadata still has to be an object.
-      full("trainingNotObject", [](Json& j) { j["training"] = Json::array({1}); }, "training is an array, not an object"),
+      full(
+          "trainingNotObject", [](Json& j) { j["training"] = Json::array({1}); },
+          "training is an array, not an object"),
   };
 }
 
@@ -467,23 +636,28 @@ TEST(ModelFile, SaveRefusesAModelTheLoaderWouldRefuseAndWritesNothing) {
 
   // Gaussian accepts a mean of 1e200; the loader does not (squared distances would overflow).
   HmmModel huge = test::stickyModel1d(2, 0.8);
-  huge.states[1] = GaussianMixture(Eigen::VectorXd::Ones(1),
-                                   {Gaussian(Eigen::VectorXd::Constant(1, 1e200), Eigen::MatrixXd::Identity(1, 1),
-                                             CovarianceType::kFull)});
+  huge.states[1] = GaussianMixture(
+      Eigen::VectorXd::Ones(1),
+      {Gaussian(Eigen::VectorXd::Constant(1, 1e200), Eigen::MatrixXd::Identity(1, 1), CovarianceType::kFull)});
   expectOneLineError([&] { saveModel(path, huge); }, path.string(), "states[1].components[0].mean[0] is 1e+200");
 
   HmmModel mixed = test::stickyModel1d(2, 0.8);
-  mixed.states[1] = GaussianMixture(Eigen::VectorXd::Ones(1), {Gaussian(Eigen::VectorXd::Zero(1), Eigen::MatrixXd::Identity(1, 1),
-                                                                        CovarianceType::kDiagonal)});
-  expectOneLineError([&] { saveModel(path, mixed); }, path.string(), "states[1].components[0] differs in covariance type");
+  mixed.states[1] =
+      GaussianMixture(Eigen::VectorXd::Ones(1),
+                      {Gaussian(Eigen::VectorXd::Zero(1), Eigen::MatrixXd::Identity(1, 1), CovarianceType::kDiagonal)});
+  expectOneLineError([&] { saveModel(path, mixed); }, path.string(),
+                     "states[1].components[0] differs in covariance type");
 
   HmmModel latin1 = test::stickyModel1d(2, 0.8);
   latin1.columnNames = {"f0_\xe9"};
-  expectOneLineError([&] { saveModel(path, latin1); }, path.string(), "cannot be written: a column or block name is not UTF-8 text");
+  expectOneLineError([&] { saveModel(path, latin1); }, path.string(),
+                     "cannot be written: a column or block name is not UTF-8 text");
 
   const HmmModel good = test::stickyModel1d(2, 0.8);
-  expectOneLineError([&] { saveModel(path, good, "iterations: 3"); }, path.string(), "the training metadata is not valid JSON");
-  expectOneLineError([&] { saveModel(path, good, "[1, 2]"); }, path.string(), "the training metadata is an array, not a JSON object");
+  expectOneLineError([&] { saveModel(path, good, "iterations: 3"); }, path.string(),
+                     "the training metadata is not valid JSON");
+  expectOneLineError([&] { saveModel(path, good, "[1, 2]"); }, path.string(),
+                     "the training metadata is an array, not a JSON object");
 
   EXPECT_TRUE(listFolder(folder.path()).empty());
 }

@@ -36,7 +36,9 @@ namespace {
 constexpr const char* kPython = "/usr/bin/python3";
 constexpr double kRelativeTolerance = 1e-6;
 
-std::string referenceScript() { return std::string(TALKINGHEAD_SOURCE_DIR) + "/tools/hmm_reference.py"; }
+std::string referenceScript() {
+  return std::string(TALKINGHEAD_SOURCE_DIR) + "/tools/hmm_reference.py";
+}
 
 std::string shellQuote(const std::string& argument) {
   std::string quoted = "'";
@@ -89,8 +91,8 @@ struct FeatureSet {
   int begin;  // first column in the feature row
   int size;
 };
-constexpr FeatureSet kProsody{"prosody", features::FeatureLayout::kF0Hz, 4};   // f0_hz, energy, d_f0, d_energy
-constexpr FeatureSet kMfcc{"mfcc", features::FeatureLayout::kMfccBegin, 11};    // mfcc1 .. mfcc11
+constexpr FeatureSet kProsody{"prosody", features::FeatureLayout::kF0Hz, 4};  // f0_hz, energy, d_f0, d_energy
+constexpr FeatureSet kMfcc{"mfcc", features::FeatureLayout::kMfccBegin, 11};  // mfcc1 .. mfcc11
 
 struct FeatureData {
   std::vector<std::string> columns;
@@ -185,7 +187,9 @@ std::string caseName(const testing::TestParamInfo<TrainedCase>& info) {
          std::to_string(c.numStates) + "_M" + std::to_string(c.numMixtures);
 }
 
-void PrintTo(const TrainedCase& c, std::ostream* out) { *out << caseName({c, 0}); }
+void PrintTo(const TrainedCase& c, std::ostream* out) {
+  *out << caseName({c, 0});
+}
 
 class TrainedModelCheck : public testing::TestWithParam<TrainedCase> {
  protected:
@@ -212,8 +216,8 @@ TEST_P(TrainedModelCheck, LogLikelihoodAgreesWithTheNumpyReference) {
   saveModel(modelFile.path(), trained.model);
 
   const double ours = ourLogLikelihood(trained.model, data);
-  const ProcessResult result = runReference({referenceScript(), "loglik", modelFile.path().string(),
-                                             csv.path().string(), "--seq"});
+  const ProcessResult result =
+      runReference({referenceScript(), "loglik", modelFile.path().string(), csv.path().string(), "--seq"});
   ASSERT_EQ(result.exitCode, 0) << result.output;
   const double reference = lastNumber(result);
   std::printf("%-24s frames %d  ours %.10f  numpy %.10f  relative difference %.2e\n", caseName({c, 0}).c_str(),
@@ -262,8 +266,8 @@ TEST(ReferenceCheck, OneBaumWelchIterationGivesTheSameParameters) {
     // A floor far below any variance here, so that it never acts (the reference has none).
     const Eigen::VectorXd floor = Eigen::VectorXd::Constant(ours.dimension(), 1e-12);
     const IterationRecord record = baumWelchIteration(ours, data.sequences, floor, {});
-    const ProcessResult result = runReference({referenceScript(), "bw-iteration", before.path().string(),
-                                               csv.path().string(), "-o", after.path().string()});
+    const ProcessResult result = runReference(
+        {referenceScript(), "bw-iteration", before.path().string(), csv.path().string(), "-o", after.path().string()});
     ASSERT_EQ(result.exitCode, 0) << result.output;
     const HmmModel reference = loadModel(after.path());
     ASSERT_EQ(reference.numStates(), ours.numStates());
@@ -285,10 +289,11 @@ TEST(ReferenceCheck, OneBaumWelchIterationGivesTheSameParameters) {
         worstCovariance = std::max(worstCovariance, worstRelative(ga.covariance(), gb.covariance()));
       }
     }
-    std::printf("one EM iteration (%s): worst relative difference pi %.1e, A %.1e, weights %.1e, means %.1e, "
-                "covariances %.1e; log P(X) before: ours %.10f\n",
-                covariance == CovarianceType::kFull ? "full" : "diagonal", worstInitial, worstTransition,
-                worstWeight, worstMean, worstCovariance, record.logLikelihood);
+    std::printf(
+        "one EM iteration (%s): worst relative difference pi %.1e, A %.1e, weights %.1e, means %.1e, "
+        "covariances %.1e; log P(X) before: ours %.10f\n",
+        covariance == CovarianceType::kFull ? "full" : "diagonal", worstInitial, worstTransition, worstWeight,
+        worstMean, worstCovariance, record.logLikelihood);
     EXPECT_LE(worstInitial, kRelativeTolerance);
     EXPECT_LE(worstTransition, kRelativeTolerance);
     EXPECT_LE(worstWeight, kRelativeTolerance);
@@ -313,7 +318,9 @@ std::string sklearnCaseName(const testing::TestParamInfo<SklearnCase>& info) {
          std::to_string(info.param.numComponents);
 }
 
-void PrintTo(const SklearnCase& c, std::ostream* out) { *out << sklearnCaseName({c, 0}); }
+void PrintTo(const SklearnCase& c, std::ostream* out) {
+  *out << sklearnCaseName({c, 0});
+}
 
 class SklearnCheck : public testing::TestWithParam<SklearnCase> {};
 
@@ -340,7 +347,8 @@ TEST_P(SklearnCheck, OurLogLikelihoodOfItsFitEqualsItsScore) {
   std::printf("sklearn GaussianMixture %-16s frames %d  ours %.10f  sklearn %.10f  relative difference %.2e\n",
               sklearnCaseName({c, 0}).c_str(), data.numFrames(), ours, sklearnScore,
               relativeDifference(ours, sklearnScore));
-  EXPECT_LE(relativeDifference(ours, sklearnScore), kRelativeTolerance) << "ours " << ours << ", sklearn " << sklearnScore;
+  EXPECT_LE(relativeDifference(ours, sklearnScore), kRelativeTolerance)
+      << "ours " << ours << ", sklearn " << sklearnScore;
 }
 
 INSTANTIATE_TEST_SUITE_P(RealFeatures, SklearnCheck,

@@ -1,5 +1,7 @@
 // State merging: the two copies of a split state are the pair the statistics point to first, and merging them
 // gives back the model they were split from; a merge never leaves a row that does not sum to 1.
+#include "hmm/state_merging.h"
+
 #include <gtest/gtest.h>
 
 #include <random>
@@ -7,7 +9,6 @@
 #include "core/error.h"
 #include "hmm/forward_backward.h"
 #include "hmm/sampling.h"
-#include "hmm/state_merging.h"
 #include "hmm_test_models.h"
 
 namespace th::hmm {

@@ -7,14 +7,14 @@
 #include <cstdio>
 #include <random>
 
+#include "audio/audio_file.h"
+#include "core/data_path.h"
 #include "features/online_features.h"
 #include "hmm/entropic_training.h"
 #include "hmm/forward_backward.h"
 #include "hmm/sampling.h"
 #include "hmm/viterbi.h"
 #include "structure_report.h"
-#include "audio/audio_file.h"
-#include "core/data_path.h"
 
 namespace th::hmm {
 namespace {
@@ -49,21 +49,23 @@ TEST(StructureDiscovery, EntropicPriorFindsTheSparseModelThatMaximumLikelihoodMi
   mlOptions.maxIterations = 60;
   const TrainingResult ml = trainHmm({sample.frames}, mlOptions);
   const StructureReport mlReport = compareStructure(truth, ml.model, sample);
-  std::printf("[ INFO     ] maximum likelihood: %d live states, %d transitions, %d of 9 true edges, %d spurious, "
-              "state agreement %.3f, %zu iterations\n",
-              mlReport.liveStates, mlReport.transitions, mlReport.recoveredEdges, mlReport.spuriousEdges,
-              mlReport.stateAgreement, ml.history.size() - 1);
+  std::printf(
+      "[ INFO     ] maximum likelihood: %d live states, %d transitions, %d of 9 true edges, %d spurious, "
+      "state agreement %.3f, %zu iterations\n",
+      mlReport.liveStates, mlReport.transitions, mlReport.recoveredEdges, mlReport.spuriousEdges,
+      mlReport.stateAgreement, ml.history.size() - 1);
   EXPECT_EQ(mlReport.liveStates, 20);
   EXPECT_GT(mlReport.transitions, 100) << "maximum likelihood keeps the rows dense (the truth has 15 edges)";
 
   const double z = 0.1 * static_cast<double>(sample.frames.cols());
-  const TrainingResult map = trainHmm({sample.frames}, options,
-                                      entropicHooks({.multinomialWeight = z, .warmupIterations = 10, .rampIterations = 20}));
+  const TrainingResult map = trainHmm(
+      {sample.frames}, options, entropicHooks({.multinomialWeight = z, .warmupIterations = 10, .rampIterations = 20}));
   const StructureReport mapReport = compareStructure(truth, map.model, sample);
-  std::printf("[ INFO     ] entropic Z = %.0f: %d live states, %d transitions, %d of 9 true edges, %d spurious, "
-              "state agreement %.3f, %zu iterations\n",
-              z, mapReport.liveStates, mapReport.transitions, mapReport.recoveredEdges, mapReport.spuriousEdges,
-              mapReport.stateAgreement, map.history.size() - 1);
+  std::printf(
+      "[ INFO     ] entropic Z = %.0f: %d live states, %d transitions, %d of 9 true edges, %d spurious, "
+      "state agreement %.3f, %zu iterations\n",
+      z, mapReport.liveStates, mapReport.transitions, mapReport.recoveredEdges, mapReport.spuriousEdges,
+      mapReport.stateAgreement, map.history.size() - 1);
   int merges = 0;
   for (const auto& record : map.history) merges += record.statesMerged;
   EXPECT_LE(mapReport.liveStates, 8);
@@ -86,9 +88,9 @@ TEST(StructureDiscovery, LogPosteriorNeverFallsOnSyntheticData) {
   options.maxIterations = 40;
   for (double z : {0.0, 1.0, 250.0}) {
     for (bool trim : {false, true}) {
-      expectPosteriorNeverFalls(
-          trainHmm({sample.frames}, options, entropicHooks({.multinomialWeight = z, .covarianceWeight = z, .trim = trim})),
-          true);
+      expectPosteriorNeverFalls(trainHmm({sample.frames}, options,
+                                         entropicHooks({.multinomialWeight = z, .covarianceWeight = z, .trim = trim})),
+                                true);
     }
   }
 }
@@ -122,18 +124,20 @@ TEST(StructureDiscovery, LogPosteriorNeverFallsOnRealProsody) {
   // With a fixed prior, with and without trimming and merging.
   for (double z : {0.0, 1.0, 0.02 * numFrames, 0.1 * numFrames}) {
     for (bool trim : {false, true}) {
-      const TrainingResult result = trainHmm(
-          sequences, options, entropicHooks({.multinomialWeight = z, .covarianceWeight = z > 1.0 ? 5.0 : 0.0, .trim = trim}));
+      const TrainingResult result =
+          trainHmm(sequences, options,
+                   entropicHooks({.multinomialWeight = z, .covarianceWeight = z > 1.0 ? 5.0 : 0.0, .trim = trim}));
       int undone = 0;
       int merges = 0;
       for (const auto& record : result.history) {
         undone += record.trimRetries;
         merges += record.statesMerged;
       }
-      std::printf("[ INFO     ] real prosody, Z = %.1f, trim %d: %d live states, %d transitions, log posterior per frame "
-                  "%.4f, %d trimming retries, %d merges\n",
-                  z, trim, result.model.numStates(), countTransitions(result.model, 0.0),
-                  result.history.back().logPosterior() / numFrames, undone, merges);
+      std::printf(
+          "[ INFO     ] real prosody, Z = %.1f, trim %d: %d live states, %d transitions, log posterior per frame "
+          "%.4f, %d trimming retries, %d merges\n",
+          z, trim, result.model.numStates(), countTransitions(result.model, 0.0),
+          result.history.back().logPosterior() / numFrames, undone, merges);
       expectPosteriorNeverFalls(result, true);
     }
   }
@@ -149,7 +153,8 @@ TEST(StructureDiscovery, OnlineViterbiLagSweepOnATrainedProsodyModel) {
   options.numStates = 16;
   options.maxIterations = 60;
   const HmmModel model =
-      trainHmm(sequences, options, entropicHooks({.multinomialWeight = 0.02 * numFrames, .covarianceWeight = 5.0})).model;
+      trainHmm(sequences, options, entropicHooks({.multinomialWeight = 0.02 * numFrames, .covarianceWeight = 5.0}))
+          .model;
   Eigen::MatrixXd all(4, static_cast<Eigen::Index>(numFrames));
   Eigen::Index column = 0;
   for (const auto& sequence : sequences) {
@@ -173,9 +178,10 @@ TEST(StructureDiscovery, OnlineViterbiLagSweepOnATrainedProsodyModel) {
       maxActual = std::max(maxActual, online.decisionLag(t));
     }
     const double agreement = agree / static_cast<double>(total);
-    std::printf("[ INFO     ] prosody model (%d states), max lag %3d: agreement with batch %.4f, mean actual lag %.2f "
-                "frames, longest %d\n",
-                model.numStates(), maxLag, agreement, lagSum / total, maxActual);
+    std::printf(
+        "[ INFO     ] prosody model (%d states), max lag %3d: agreement with batch %.4f, mean actual lag %.2f "
+        "frames, longest %d\n",
+        model.numStates(), maxLag, agreement, lagSum / total, maxActual);
     if (maxLag >= 0) {
       EXPECT_LE(maxActual, maxLag);
     }

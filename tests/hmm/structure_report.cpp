@@ -26,12 +26,12 @@ hmm::HmmModel sparseSixStateModel() {
     }
     const double angle = 2.0 * std::numbers::pi * i / n;
     Eigen::Vector2d mean(4.0 * std::cos(angle), 4.0 * std::sin(angle));
-    model.states.emplace_back(Eigen::VectorXd::Ones(1),
-                              std::vector<Gaussian>{Gaussian(mean, 0.5 * Eigen::Matrix2d::Identity(), CovarianceType::kFull)});
+    model.states.emplace_back(
+        Eigen::VectorXd::Ones(1),
+        std::vector<Gaussian>{Gaussian(mean, 0.5 * Eigen::Matrix2d::Identity(), CovarianceType::kFull)});
   }
   return model;
 }
-
 
 StructureReport compareStructure(const HmmModel& truth, const HmmModel& trained, const Sample& sample) {
   StructureReport report{trained.numStates(), countTransitions(trained, 1e-6), 0.0, 0, 0};

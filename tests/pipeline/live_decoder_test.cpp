@@ -1,4 +1,6 @@
 // LiveDecoder: the live pipeline's decoding, a stream in, FAP frames out, held to the batch animate().
+#include "pipeline/live_decoder.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -7,11 +9,10 @@
 #include <string>
 #include <vector>
 
-#include "pipeline/offline.h"
 #include "audio/media_audio.h"
 #include "core/data_path.h"
 #include "core/error.h"
-#include "pipeline/live_decoder.h"
+#include "pipeline/offline.h"
 
 namespace {
 
@@ -20,8 +21,10 @@ using th::pipeline::LiveDecoder;
 using th::pipeline::LiveDecoderOptions;
 
 struct Models {
-  th::animation::HeadModel head = th::animation::loadHeadModel(std::string(TALKINGHEAD_SOURCE_DIR) + "/models/head.json");
-  th::animation::MouthModel mouth = th::animation::loadMouthModel(std::string(TALKINGHEAD_SOURCE_DIR) + "/models/mouth.json");
+  th::animation::HeadModel head =
+      th::animation::loadHeadModel(std::string(TALKINGHEAD_SOURCE_DIR) + "/models/head.json");
+  th::animation::MouthModel mouth =
+      th::animation::loadMouthModel(std::string(TALKINGHEAD_SOURCE_DIR) + "/models/mouth.json");
 };
 
 const Models& models() {
@@ -65,7 +68,8 @@ TEST(LiveDecoder, GivesTheBatchAnimationFrameByFrameWhateverTheChunks) {
     if (mmse) options.mouth.method = th::animation::MouthMethod::kMmse;
     options.mouth.windowFrames = mmse ? 1 : 2;
     const th::face::FapTrack batch =
-        th::pipeline::animate(samples, &models().head, &models().mouth, {.head = options.head, .mouth = options.mouth, .idle = false, .idleOptions = {}});
+        th::pipeline::animate(samples, &models().head, &models().mouth,
+                              {.head = options.head, .mouth = options.mouth, .idle = false, .idleOptions = {}});
     LiveDecoder decoder(&models().head, &models().mouth, options);
     const th::pipeline::DecoderLookahead lookahead = decoder.lookahead();
     EXPECT_EQ(decoder.fapNumbers(), batch.faps);
@@ -99,7 +103,8 @@ TEST(LiveDecoder, ShowsTheMouthAtOnceAndTheHeadLate) {
   const LiveDecoderOptions options;
   ASSERT_FALSE(options.waitForHead);
   const th::face::FapTrack batch =
-      th::pipeline::animate(samples, &models().head, &models().mouth, {.head = options.head, .mouth = options.mouth, .idle = false, .idleOptions = {}});
+      th::pipeline::animate(samples, &models().head, &models().mouth,
+                            {.head = options.head, .mouth = options.mouth, .idle = false, .idleOptions = {}});
   LiveDecoder decoder(&models().head, &models().mouth, options);
   const th::pipeline::DecoderLookahead lookahead = decoder.lookahead();
   EXPECT_LT(lookahead.mouthFeaturesMs, 20.0) << "the mouth's MFCCs wait for neither the pitch tracker nor deltas";
@@ -148,10 +153,11 @@ TEST(LiveDecoder, ShowsTheMouthAtOnceAndTheHeadLate) {
     for (int k = 0; k < f.mouthStates; ++k) mouthSum += f.mouthPosterior[static_cast<std::size_t>(k)];
     EXPECT_NEAR(headSum, f.prosodyIndex >= 0 ? 1.0 : 0.0, 1e-4) << "no head before the head's delay";
     EXPECT_NEAR(mouthSum, 1.0, 1e-4);
-    headLikeliest.insert(static_cast<int>(std::max_element(f.headPosterior.begin(), f.headPosterior.begin() + f.headStates) -
-                                          f.headPosterior.begin()));
-    mouthLikeliest.insert(static_cast<int>(
-        std::max_element(f.mouthPosterior.begin(), f.mouthPosterior.begin() + f.mouthStates) - f.mouthPosterior.begin()));
+    headLikeliest.insert(static_cast<int>(
+        std::max_element(f.headPosterior.begin(), f.headPosterior.begin() + f.headStates) - f.headPosterior.begin()));
+    mouthLikeliest.insert(
+        static_cast<int>(std::max_element(f.mouthPosterior.begin(), f.mouthPosterior.begin() + f.mouthStates) -
+                         f.mouthPosterior.begin()));
   }
   EXPECT_GT(headLikeliest.size(), 3U);
   EXPECT_GT(mouthLikeliest.size(), 2U);
@@ -167,7 +173,8 @@ TEST(LiveDecoder, HoldsOnlyTheRecentFramesOnALongStream) {
   std::size_t heldAfterAMinute = 0;
   for (int pass = 0; pass < 15; ++pass) {
     for (std::size_t at = 0; at < samples.size(); at += 1600) {
-      decoder.acceptWaveform(std::span<const float>(samples).subspan(at, std::min<std::size_t>(1600, samples.size() - at)));
+      decoder.acceptWaveform(
+          std::span<const float>(samples).subspan(at, std::min<std::size_t>(1600, samples.size() - at)));
       while (decoder.next(frame)) ++frames;
     }
     if (pass == 4) heldAfterAMinute = decoder.framesHeld();

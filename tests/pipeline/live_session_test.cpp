@@ -1,6 +1,8 @@
 // LiveSession's threads with a stand-in decoder (so that the ThreadSanitizer part of scripts/test.sh builds
 // only the session, not the engine): every sample arrives once and in order, frames come out in order,
 // overruns and dropped frames are counted, a worker's error reaches the owner.
+#include "pipeline/live_session.h"
+
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -11,7 +13,6 @@
 #include <vector>
 
 #include "core/error.h"
-#include "pipeline/live_session.h"
 
 namespace th::pipeline {
 namespace {
@@ -198,10 +199,9 @@ TEST(LiveSession, FileFeederRepeatsTheRecordingToTheLengthAsked) {
 // the frame queue holds all of them, so a late display drops none.
 TEST(LiveSession, ReplacingTheDecoderKeepsTheFramesGoing) {
   const std::size_t total = 16000 * 3;
-  LiveSession session(std::make_unique<SummingDecoder>(), {.frameQueue = 1024,
-                                                           .readBlock = 256,
-                                                           .framesPerSecond = 16000.0 / SummingDecoder::kHop,
-                                                           .historySeconds = 0.5});
+  LiveSession session(
+      std::make_unique<SummingDecoder>(),
+      {.frameQueue = 1024, .readBlock = 256, .framesPerSecond = 16000.0 / SummingDecoder::kHop, .historySeconds = 0.5});
   session.start();
   FileFeeder feeder(session, ramp(total), 2.0);
   std::vector<AnimationFrame> frames;

@@ -1,19 +1,19 @@
 // animate(): a recording to FAP curves with the head and mouth models.
+#include "pipeline/offline.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
-
 #include <vector>
 
-#include "eval/mouth_corpus.h"
-#include "eval/head_corpus.h"
-#include "pipeline/offline.h"
 #include "animation/head_data.h"
 #include "animation/mouth_data.h"
 #include "audio/audio_file.h"
 #include "core/data_path.h"
 #include "core/error.h"
+#include "eval/head_corpus.h"
+#include "eval/mouth_corpus.h"
 #include "face/feature_points.h"
 
 namespace {
@@ -31,8 +31,10 @@ struct Models {
 const Models& models() {
   static const Models trained = [] {
     Models m;
-    m.head = trainHeadModel({splitByTime(th::eval::loadBeat2Head(), 0.75).first}, {.startStates = 8, .maxIterations = 30});
-    m.mouthWithoutFaps = trainMouthModel({splitByTime(th::eval::loadBeat2Mouth(), 0.75).first}, {.states = 3, .mixtures = 1});
+    m.head =
+        trainHeadModel({splitByTime(th::eval::loadBeat2Head(), 0.75).first}, {.startStates = 8, .maxIterations = 30});
+    m.mouthWithoutFaps =
+        trainMouthModel({splitByTime(th::eval::loadBeat2Mouth(), 0.75).first}, {.states = 3, .mixtures = 1});
     m.mouth = m.mouthWithoutFaps;
     m.mouth.fapMap = defineMouthFapMap(th::face::loadIctFace(th::face::ictFaceDirectory()));
     return m;
@@ -81,7 +83,8 @@ TEST(Animate, IdleBehaviourIsInTheFileAndFollowsTheSeed) {
   const Eigen::RowVectorXd lidA = a.values.row(a.rowOf(19));
   const Eigen::RowVectorXd lidC = c.values.row(c.rowOf(19));
   double largestDifference = 0.0;
-  for (Eigen::Index t = 0; t < lidA.size(); ++t) largestDifference = std::max(largestDifference, std::abs(lidA[t] - lidC[t]));
+  for (Eigen::Index t = 0; t < lidA.size(); ++t)
+    largestDifference = std::max(largestDifference, std::abs(lidA[t] - lidC[t]));
   EXPECT_GT(largestDifference, 100.0) << "another seed blinks at other times";
   int blinks = 0;
   for (Eigen::Index t = 1; t < lidA.size(); ++t) blinks += lidA[t] > 512.0 && lidA[t - 1] <= 512.0;

@@ -1,11 +1,12 @@
 // Playout: the display's jitter buffer and clock, driven with made-up arrival times.
+#include "pipeline/playout.h"
+
 #include <gtest/gtest.h>
 
 #include <cstdint>
 #include <random>
 
 #include "core/error.h"
-#include "pipeline/playout.h"
 
 namespace {
 
@@ -159,7 +160,7 @@ TEST(Playout, ShowsTheInstantAnotherClockGives) {
   EXPECT_NEAR(sample.frame.faps[3], 20.0, 1e-9);
   EXPECT_NEAR(sample.streamSeconds, 2.0 / 30.0, 1e-12);  // the instant that frame shows
   ASSERT_TRUE(steps.sampleAt(2.6 / 30.0, sample));
-  EXPECT_EQ(sample.frame.index, 3);  // the nearer frame
+  EXPECT_EQ(sample.frame.index, 3);                  // the nearer frame
   ASSERT_TRUE(smooth.sampleAt(1.0 / 30.0, sample));  // the clock went back: the instant holds
   EXPECT_NEAR(sample.frame.faps[3], 25.0, 1e-9);
   ASSERT_TRUE(smooth.sampleAt(20.0 / 30.0, sample));  // past the newest

@@ -9,11 +9,11 @@
 #include <string>
 #include <vector>
 
-#include "pipeline/offline.h"
 #include "animation/mouth_model.h"
 #include "audio/audio_file.h"
 #include "core/data_path.h"
 #include "face/feature_points.h"
+#include "pipeline/offline.h"
 
 namespace {
 
@@ -21,10 +21,13 @@ using namespace th::animation;
 using th::pipeline::animate;
 using th::pipeline::AnimateOptions;
 
-std::string modelFile(const std::string& name) { return std::string(TALKINGHEAD_SOURCE_DIR) + "/models/" + name; }
+std::string modelFile(const std::string& name) {
+  return std::string(TALKINGHEAD_SOURCE_DIR) + "/models/" + name;
+}
 
 const std::vector<float>& demoSpeech() {
-  static const std::vector<float> samples = th::audio::readAudioFile(th::sharedDataPath("beat2/2_scott_0_1_1.wav")).samples;
+  static const std::vector<float> samples =
+      th::audio::readAudioFile(th::sharedDataPath("beat2/2_scott_0_1_1.wav")).samples;
   return samples;
 }
 
@@ -79,8 +82,10 @@ TEST(ShippedMouth, TheSameSpeechTwentyDecibelsDownGivesTheSameCurves) {
         worst = std::max(worst, changes.back());
       }
     const double typical = percentile(changes, 0.99);
-    std::printf("[ INFO     ] %s: at -20 dB the FAPs move by %.3f units in 99 %% of the frames, %.1f at most (the "
-                "jaw's range %.0f)\n", name, typical, worst, range);
+    std::printf(
+        "[ INFO     ] %s: at -20 dB the FAPs move by %.3f units in 99 %% of the frames, %.1f at most (the "
+        "jaw's range %.0f)\n",
+        name, typical, worst, range);
     EXPECT_LT(typical, 0.005 * range) << name;
     EXPECT_LT(worst, 0.1 * range) << name;
   }

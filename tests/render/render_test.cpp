@@ -43,8 +43,7 @@ using th::render::Image;
 using th::render::OrbitCamera;
 
 const th::face::Mesh& neutral() {
-  static const th::face::Mesh mesh =
-      th::face::loadObjMesh(th::face::ictFaceDirectory() / "generic_neutral_mesh.obj");
+  static const th::face::Mesh mesh = th::face::loadObjMesh(th::face::ictFaceDirectory() / "generic_neutral_mesh.obj");
   return mesh;
 }
 
@@ -83,8 +82,8 @@ Coverage coverage(const Image& image) {
       const std::uint8_t* p = image.pixel(x, y);
       const int d = std::abs(p[0] - edge[0]) + std::abs(p[1] - edge[1]) + std::abs(p[2] - edge[2]);
       // The backdrop's pool of light brightens its middle by up to ~25 levels per channel and keeps it grey.
-      const bool grey = std::abs((p[0] - edge[0]) - (p[2] - edge[2])) < 6 &&
-                        std::abs((p[1] - edge[1]) - (p[2] - edge[2])) < 6;
+      const bool grey =
+          std::abs((p[0] - edge[0]) - (p[2] - edge[2])) < 6 && std::abs((p[1] - edge[1]) - (p[2] - edge[2])) < 6;
       if (d > 45 && !(grey && d < 80)) {
         ++count;
         c.centreX += x;
@@ -186,9 +185,8 @@ TEST(FaceRenderer, NeutralHeadFillsTheFrameWithSkinAndLivelyEyes) {
 TEST(FaceRenderer, OtherViewsShowTheHeadToo) {
   Scene& s = scene();
   s.renderer.setPositions(neutral().positions);
-  for (const auto& [name, yaw, pitch] :
-       {std::tuple{"three_quarter", 35.0f, 8.0f}, std::tuple{"profile", 90.0f, 0.0f},
-        std::tuple{"back", 180.0f, 10.0f}, std::tuple{"below", 20.0f, -25.0f}}) {
+  for (const auto& [name, yaw, pitch] : {std::tuple{"three_quarter", 35.0f, 8.0f}, std::tuple{"profile", 90.0f, 0.0f},
+                                         std::tuple{"back", 180.0f, 10.0f}, std::tuple{"below", 20.0f, -25.0f}}) {
     OrbitCamera camera = s.camera;
     camera.yawDegrees = yaw;
     camera.pitchDegrees = pitch;
@@ -217,15 +215,13 @@ TEST(FaceRenderer, MovingTheMeshMovesTheFace) {
   s.renderer.setPositions(neutral().positions);
   const Coverage before = coverage(s.renderer.renderImage(s.camera));
   Eigen::Matrix3Xd moved = neutral().positions;
-  moved.row(0).array() +=
-      2.0;  // 2 cm towards the face's left, which is the image's right seen from the front
+  moved.row(0).array() += 2.0;  // 2 cm towards the face's left, which is the image's right seen from the front
   s.renderer.setPositions(moved);
   const Image image = s.renderer.renderImage(s.camera);
   const Coverage after = coverage(image);
   // 2 cm at the head's distance, in pixels: the projection of the shift at the target's depth.
   const auto [x0, y0] = project(s.camera, s.camera.target.cast<double>(), 640, 480);
-  const auto [x1, y1] =
-      project(s.camera, s.camera.target.cast<double>() + Eigen::Vector3d(2.0, 0.0, 0.0), 640, 480);
+  const auto [x1, y1] = project(s.camera, s.camera.target.cast<double>() + Eigen::Vector3d(2.0, 0.0, 0.0), 640, 480);
   EXPECT_NEAR(after.centreX - before.centreX, x1 - x0, 3.0);
   EXPECT_NEAR(after.centreY, before.centreY, 2.0);
   EXPECT_GT(x1 - x0, 10);
@@ -355,17 +351,18 @@ TEST(FaceRenderer, CroppingToTheHeadChangesNoPixel) {
   const float d = framed.distance;
   int croppedFrames = 0;
   th::render::RawFrame rawCropped, rawFull;
-  for (const Step& step : {Step{0.0, {0, 0, 0}, 0, d}, Step{0.35, {6, 2, 0}, 0, d}, Step{-0.3, {-8, 0, 0}, 0, d},
-                           Step{0.0, {0, 0, 0}, 80, d}, Step{0.1, {0, 0, 0}, 0, 0.35f * d}, Step{0.0, {500, 0, 0}, 0, d},
-                           Step{0.0, {0, 0, 0}, 0, 2.0f}, Step{-0.2, {3, -3, 0}, 20, d}}) {
+  for (const Step& step :
+       {Step{0.0, {0, 0, 0}, 0, d}, Step{0.35, {6, 2, 0}, 0, d}, Step{-0.3, {-8, 0, 0}, 0, d},
+        Step{0.0, {0, 0, 0}, 80, d}, Step{0.1, {0, 0, 0}, 0, 0.35f * d}, Step{0.0, {500, 0, 0}, 0, d},
+        Step{0.0, {0, 0, 0}, 0, 2.0f}, Step{-0.2, {3, -3, 0}, 20, d}}) {
     const Eigen::Matrix3Xd positions =
         (Eigen::AngleAxisd(step.yaw, Eigen::Vector3d::UnitY()).toRotationMatrix() * neutral().positions).colwise() +
         step.shift;
     OrbitCamera camera = framed;
     camera.yawDegrees = step.cameraYaw;
     camera.distance = step.distance;
-    const std::string what = "yaw " + std::to_string(step.yaw) + ", camera " + std::to_string(step.cameraYaw) +
-                             " at " + std::to_string(step.distance);
+    const std::string what = "yaw " + std::to_string(step.yaw) + ", camera " + std::to_string(step.cameraYaw) + " at " +
+                             std::to_string(step.distance);
     // The GL targets themselves (what present() shows in a window) hold the same: cropping changes only what
     // is read back. render() leaves its target bound.
     std::array<std::vector<std::uint8_t>, 2> targets;
@@ -419,14 +416,18 @@ TEST(Simplify, FewerTrianglesOverTheSameVerticesOnTheSameSurfaceWithItsBorderKep
   for (int i = 0; i < kAround; ++i) triangles.insert(triangles.end(), {0U, at(1, i), at(1, i + 1)});
   for (int j = 1; j <= kDown; ++j)
     for (int i = 0; i < kAround; ++i)
-      triangles.insert(triangles.end(), {at(j, i), at(j + 1, i), at(j + 1, i + 1), at(j, i), at(j + 1, i + 1), at(j, i + 1)});
+      triangles.insert(triangles.end(),
+                       {at(j, i), at(j + 1, i), at(j + 1, i + 1), at(j, i), at(j + 1, i + 1), at(j, i + 1)});
   const auto area = [&](const std::vector<std::uint32_t>& t) {
     double sum = 0.0;
     for (std::size_t k = 0; k < t.size(); k += 3)
-      sum += 0.5 * (positions.col(t[k + 1]) - positions.col(t[k])).cross(positions.col(t[k + 2]) - positions.col(t[k])).norm();
+      sum +=
+          0.5 *
+          (positions.col(t[k + 1]) - positions.col(t[k])).cross(positions.col(t[k + 2]) - positions.col(t[k])).norm();
     return sum;
   };
-  const std::vector<std::uint32_t> fewer = th::render::simplifyTriangles(triangles, positions, {.keep = 0.25f, .error = 0.01f});
+  const std::vector<std::uint32_t> fewer =
+      th::render::simplifyTriangles(triangles, positions, {.keep = 0.25f, .error = 0.01f});
   ASSERT_EQ(fewer.size() % 3, 0U);
   EXPECT_LT(fewer.size(), triangles.size() * 35 / 100);
   EXPECT_GT(fewer.size(), triangles.size() / 10);
@@ -488,7 +489,8 @@ TEST(FaceRenderer, SimplifiedEyeballsLookTheSame) {
         dark += image.pixels[i] < 30 && image.pixels[i + 1] < 30 && image.pixels[i + 2] < 30 ? 1 : 0;
       return dark;
     };
-    EXPECT_NEAR(static_cast<double>(darkPixels(a)), static_cast<double>(darkPixels(b)), 0.05 * static_cast<double>(darkPixels(b)))
+    EXPECT_NEAR(static_cast<double>(darkPixels(a)), static_cast<double>(darkPixels(b)),
+                0.05 * static_cast<double>(darkPixels(b)))
         << "gaze " << gaze;
   }
 }
@@ -515,14 +517,17 @@ TEST(FaceRenderer, TheMouthsInsideAndTheEyeballsAreDroppedOnlyWhereTheyCannotSho
     faps[53] = faps[54] = faps[12] = faps[13] = pose.smile;
     faps[49] = pose.yaw;
     faps[48] = pose.yaw / 2;
-    faps[23] = faps[24] = pose.gaze;        // eyeballs turn sideways
+    faps[23] = faps[24] = pose.gaze;       // eyeballs turn sideways
     faps[25] = faps[26] = -pose.gaze / 2;  // and up or down
     faps[19] = faps[20] = pose.lids;
     const Eigen::Matrix3Xd positions = face.deform(faps);
     cpu.setPositions(positions);
     gl.setPositions(positions);
-    for (const auto& [yaw, pitch, distance] :
-         {std::tuple{0.0f, 0.0f, 1.0f}, {60.0f, 0.0f, 1.0f}, {0.0f, -35.0f, 1.0f}, {-20.0f, 40.0f, 1.0f}, {0.0f, 0.0f, 0.35f}}) {
+    for (const auto& [yaw, pitch, distance] : {std::tuple{0.0f, 0.0f, 1.0f},
+                                               {60.0f, 0.0f, 1.0f},
+                                               {0.0f, -35.0f, 1.0f},
+                                               {-20.0f, 40.0f, 1.0f},
+                                               {0.0f, 0.0f, 0.35f}}) {
       OrbitCamera view = camera;
       view.yawDegrees = yaw;
       view.pitchDegrees = pitch;
@@ -532,8 +537,8 @@ TEST(FaceRenderer, TheMouthsInsideAndTheEyeballsAreDroppedOnlyWhereTheyCannotSho
       long differing = 0;
       for (std::size_t i = 0; i < a.pixels.size(); ++i) differing += a.pixels[i] != b.pixels[i] ? 1 : 0;
       EXPECT_EQ(differing, 0) << "jaw " << pose.jaw << ", smile " << pose.smile << ", head yaw " << pose.yaw
-                              << ", gaze " << pose.gaze << ", lids " << pose.lids << "; view yaw " << yaw
-                              << ", pitch " << pitch << ", distance x" << distance;
+                              << ", gaze " << pose.gaze << ", lids " << pose.lids << "; view yaw " << yaw << ", pitch "
+                              << pitch << ", distance x" << distance;
       ++cases;
     }
   }
@@ -613,7 +618,7 @@ TEST(FaceRenderer, TheWindowAndTheReadBackShowTheSameBackdrop) {
   renderer.readPixels(cpu);  // composited on the CPU (the GL target keeps its transparent background)
   renderer.present({16, 16});
   EXPECT_LE(largestDifferenceFromTheWindow(cpu), 1);  // GL's 8-bit blending rounds once more
-  EXPECT_GT(coverage(cpu).fraction, 0.1);  // the head is there, not only the backdrop
+  EXPECT_GT(coverage(cpu).fraction, 0.1);             // the head is there, not only the backdrop
   EXPECT_LT(coverage(cpu).fraction, 0.9);
 }
 
@@ -690,7 +695,8 @@ TEST(Occlusion, TheCacheReturnsWhatWasMeasuredAndRemeasuresADamagedFile) {
   const th::render::OcclusionOptions options{.directions = 12, .resolution = 128};
   const th::TemporaryFolder folder;
   const fs::path cache = folder.path() / "cache";
-  const Eigen::VectorXf measured = th::render::computeOpenness(mesh.positions, normals, mesh.triangles, groups, masks, options);
+  const Eigen::VectorXf measured =
+      th::render::computeOpenness(mesh.positions, normals, mesh.triangles, groups, masks, options);
   const auto cached = [&] {
     return th::render::computeOpennessCached(mesh.positions, normals, mesh.triangles, groups, masks, cache, options);
   };
@@ -793,8 +799,8 @@ TEST(Fxaa, BlendsHardEdgesOnlyAndFlipsRows) {
 
 // The frame converted by libswscale as formats::Mp4Writer converts RGB frames (same matrix, same range).
 th::render::Yuv420Image swscaleYuv(const std::vector<std::uint8_t>& rgba, int w, int h, bool bt709) {
-  SwsContext* context = sws_getContext(w, h, AV_PIX_FMT_RGBA, w, h, AV_PIX_FMT_YUV420P, SWS_BILINEAR, nullptr,
-                                       nullptr, nullptr);
+  SwsContext* context =
+      sws_getContext(w, h, AV_PIX_FMT_RGBA, w, h, AV_PIX_FMT_YUV420P, SWS_BILINEAR, nullptr, nullptr, nullptr);
   const int* matrix = sws_getCoefficients(bt709 ? SWS_CS_ITU709 : SWS_CS_SMPTE170M);
   sws_setColorspaceDetails(context, matrix, 1, matrix, 0, 0, 1 << 16, 1 << 16);
   th::render::Yuv420Image out;
@@ -817,7 +823,8 @@ TEST(Yuv420, MatchesLibswscaleOnARenderedFrame) {
   // A real frame (skin, eyes, backdrop, edges) and a pattern of saturated colours.
   th::render::OffscreenContext context;
   // The whole frame in the read-back, not only the head's region.
-  FaceRenderer renderer(context, neutral(), {.width = 320, .height = 240, .samples = 1, .fxaa = true, .cropToHead = false});
+  FaceRenderer renderer(context, neutral(),
+                        {.width = 320, .height = 240, .samples = 1, .fxaa = true, .cropToHead = false});
   renderer.render(th::render::frameHead(neutral().positions, 320.0 / 240.0));
   th::render::RawFrame frame;
   renderer.readRaw(frame);
@@ -887,9 +894,9 @@ TEST(Yuv420, MatchesLibswscaleOnARenderedFrame) {
   EXPECT_EQ(pieced.y, whole.y);
   EXPECT_EQ(pieced.cb, whole.cb);
   EXPECT_EQ(pieced.cr, whole.cr);
-  EXPECT_THROW(block(1, 0, 32, 12), th::Error);   // an odd column
-  EXPECT_THROW(block(0, 20, 31, 12), th::Error);  // ends mid-block
-  EXPECT_THROW(block(40, 20, 32, 12), th::Error); // beyond the image
+  EXPECT_THROW(block(1, 0, 32, 12), th::Error);    // an odd column
+  EXPECT_THROW(block(0, 20, 31, 12), th::Error);   // ends mid-block
+  EXPECT_THROW(block(40, 20, 32, 12), th::Error);  // beyond the image
 }
 
 // ---- normals ----

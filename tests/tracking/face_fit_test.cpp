@@ -1,5 +1,7 @@
 // The face model fitted to landmarks (engine/tracking/face_fit.h): poses it made itself come back, with and
 // without pixel noise; a real GRID clip is fitted closely, and its fitted jaw opens with the sound.
+#include "tracking/face_fit.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -12,7 +14,6 @@
 #include "core/data_path.h"
 #include "face/face_model.h"
 #include "face/fap.h"
-#include "tracking/face_fit.h"
 #include "tracking/track.h"
 #include "tracking_test_support.h"
 
@@ -27,8 +28,12 @@ const th::face::FaceModel& faceModel() {
   return model;
 }
 
-double degrees(double angleUnits) { return angleUnits * th::face::kAngleUnit * 180.0 / std::numbers::pi; }
-double angleUnits(double degrees) { return degrees * std::numbers::pi / 180.0 / th::face::kAngleUnit; }
+double degrees(double angleUnits) {
+  return angleUnits * th::face::kAngleUnit * 180.0 / std::numbers::pi;
+}
+double angleUnits(double degrees) {
+  return degrees * std::numbers::pi / 180.0 / th::face::kAngleUnit;
+}
 
 // A talking pose: the head turned a little, the jaw open, the lips moved.
 FaceFit talkingPose() {
@@ -72,7 +77,8 @@ TEST(FaceFit, HalfAPixelOfNoiseKeepsTheAnglesWithinTwoDegrees) {
   std::normal_distribution<double> noise(0.0, 0.5);
   for (int trial = 0; trial < 5; ++trial) {
     Landmarks points = fitter.project(truth);
-    for (int i = 0; i < th::tracking::kNumLandmarks; ++i) points.col(i) += Eigen::Vector2d(noise(random), noise(random));
+    for (int i = 0; i < th::tracking::kNumLandmarks; ++i)
+      points.col(i) += Eigen::Vector2d(noise(random), noise(random));
     const FaceFit fit = fitter.fit(points);
     for (int fap : {48, 49, 50}) EXPECT_NEAR(degrees(fit.faps[fap]), degrees(truth.faps[fap]), 2.0) << "FAP " << fap;
     EXPECT_NEAR(fit.faps[3], truth.faps[3], 0.25 * truth.faps[3]);
@@ -94,7 +100,8 @@ TEST(FaceFit, CalibrationTakesTheSpeakersRestFaceAsNeutral) {
   fitter.calibrate(neutral);
   const FaceFit again = fitter.fit(neutral);
   EXPECT_LT(again.residualPixels, 0.1);
-  for (int fap : fitter.options().faps) EXPECT_NEAR(again.faps[static_cast<std::size_t>(fap)], 0.0, 5.0) << "FAP " << fap;
+  for (int fap : fitter.options().faps)
+    EXPECT_NEAR(again.faps[static_cast<std::size_t>(fap)], 0.0, 5.0) << "FAP " << fap;
   FaceFit open = rest;
   open.faps[3] = 300.0;
   const FaceFit fit = fitter.fit(fitter.project(open));

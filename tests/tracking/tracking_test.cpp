@@ -22,7 +22,9 @@ namespace {
 namespace fs = std::filesystem;
 using th::tracking::Landmarks;
 
-fs::path gridClip(const std::string& name) { return th::sharedDataPath("grid/s1/" + name + ".mpg"); }
+fs::path gridClip(const std::string& name) {
+  return th::sharedDataPath("grid/s1/" + name + ".mpg");
+}
 
 // The message of the th::Error that `work` throws ("" if it throws none).
 std::string errorOf(const std::function<void()>& work) {
@@ -58,7 +60,8 @@ TEST(VideoReader, BadFilesFailInOneLineNamingThem) {
   const fs::path text = folder.path() / "notes.mp4";
   std::ofstream(text) << "this is not a video";
   th::test::expectFileError(errorOf([&] { th::tracking::VideoReader video(text); }), text, "not a video");
-  th::test::expectFileError(errorOf([&] { th::tracking::VideoReader video(folder.path()); }), folder.path(), "not a file");
+  th::test::expectFileError(errorOf([&] { th::tracking::VideoReader video(folder.path()); }), folder.path(),
+                            "not a file");
 }
 
 TEST(LandmarkDetector, AMissingShapePredictorIsNamed) {
@@ -68,8 +71,8 @@ TEST(LandmarkDetector, AMissingShapePredictorIsNamed) {
   th::TemporaryFolder folder;
   const fs::path junk = folder.path() / "junk.dat";
   std::ofstream(junk) << "not a model";
-  th::test::expectFileError(errorOf([&] { th::tracking::LandmarkDetector detector({.shapePredictor = junk}); }),
-                            junk, "not a dlib shape predictor");
+  th::test::expectFileError(errorOf([&] { th::tracking::LandmarkDetector detector({.shapePredictor = junk}); }), junk,
+                            "not a dlib shape predictor");
 }
 
 // Every frame of a frontal talking-head clip has the face, found in the whole frame only at the start, and
@@ -109,7 +112,8 @@ TEST(Tracking, TheMouthOpensWithTheSoundsLoudness) {
     const std::vector<double> level =
         th::test::levelPerFrame(th::audio::readMediaAudio(gridClip(name)), track.framesPerSecond, track.frames.size());
     std::vector<double> opening;
-    for (std::size_t f = 0; f < level.size(); ++f) opening.push_back(th::tracking::mouthOpening(track.frames[f].landmarks));
+    for (std::size_t f = 0; f < level.size(); ++f)
+      opening.push_back(th::tracking::mouthOpening(track.frames[f].landmarks));
     const double rho = th::test::correlation(opening, level);
     std::cout << name << ": mouth opening against the sound's level, correlation " << rho << " over " << level.size()
               << " frames\n";
@@ -136,7 +140,8 @@ TEST(Smoothing, KeepsQuadraticMotionAndQuietensJitter) {
   }
   std::vector<Landmarks> smoothed = frames;
   th::tracking::smoothLandmarks(smoothed, found);
-  for (std::size_t f = 0; f < frames.size(); ++f) EXPECT_NEAR((smoothed[f] - frames[f]).cwiseAbs().maxCoeff(), 0.0, 1e-9);
+  for (std::size_t f = 0; f < frames.size(); ++f)
+    EXPECT_NEAR((smoothed[f] - frames[f]).cwiseAbs().maxCoeff(), 0.0, 1e-9);
 
   // Alternating jitter of ±1 round a constant: at that rate (the highest there is) the filter passes 13/35.
   for (std::size_t f = 0; f < frames.size(); ++f) frames[f] = Landmarks::Constant(f % 2 == 0 ? 1.0 : -1.0);
@@ -144,7 +149,7 @@ TEST(Smoothing, KeepsQuadraticMotionAndQuietensJitter) {
   smoothed = frames;
   th::tracking::smoothLandmarks(smoothed, found);
   EXPECT_NEAR(std::abs(smoothed[2](0, 0)), 13.0 / 35.0, 1e-12);  // a full window of found frames
-  EXPECT_EQ(smoothed[0](0, 0), 1.0);             // run edges and windows touching frame 6: unchanged
+  EXPECT_EQ(smoothed[0](0, 0), 1.0);                             // run edges and windows touching frame 6: unchanged
   EXPECT_EQ(smoothed[5](0, 0), -1.0);
   EXPECT_EQ(smoothed[6](0, 0), 1.0);
   EXPECT_EQ(smoothed[8](0, 0), 1.0);

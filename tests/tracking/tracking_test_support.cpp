@@ -6,10 +6,10 @@
 #include <opencv2/videoio.hpp>
 #include <vector>
 
-#include "eval/mouth_evaluation.h"
 #include "core/error.h"
-#include "tracking/video_reader.h"
+#include "eval/mouth_evaluation.h"
 #include "formats/mp4_writer.h"
+#include "tracking/video_reader.h"
 
 namespace th::test {
 
@@ -29,7 +29,8 @@ void writeFacelessVideo(const std::filesystem::path& path) {
     for (int y = 0; y < kHeight; ++y)
       for (int x = 0; x < kWidth; ++x)
         for (int c = 0; c < 3; ++c)
-          rgb[static_cast<std::size_t>((y * kWidth + x) * 3 + c)] = static_cast<std::uint8_t>((x + y + 2 * f + 20 * c) % 256);
+          rgb[static_cast<std::size_t>((y * kWidth + x) * 3 + c)] =
+              static_cast<std::uint8_t>((x + y + 2 * f + 20 * c) % 256);
     writer.addVideoFrame(rgb.data(), kWidth * 3);
   }
   writer.finish();
@@ -50,7 +51,8 @@ std::vector<double> levelPerFrame(const audio::AudioClip& sound, double framesPe
   std::vector<double> level;
   for (std::size_t f = 0; f < frames && (f + 1) * hop <= sound.samples.size(); ++f) {
     double energy = 0.0;
-    for (std::size_t n = f * hop; n < (f + 1) * hop; ++n) energy += static_cast<double>(sound.samples[n]) * sound.samples[n];
+    for (std::size_t n = f * hop; n < (f + 1) * hop; ++n)
+      energy += static_cast<double>(sound.samples[n]) * sound.samples[n];
     level.push_back(10.0 * std::log10(energy / static_cast<double>(hop) + 1e-10));
   }
   return level;

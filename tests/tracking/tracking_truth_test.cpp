@@ -14,20 +14,22 @@
 #include <numbers>
 #include <opencv2/imgproc.hpp>
 
-#include "pipeline/offline.h"
 #include "audio/audio_file.h"
 #include "core/data_path.h"
 #include "face/face_model.h"
+#include "face/fap_track.h"
+#include "pipeline/offline.h"
 #include "render/camera.h"
 #include "render/face_renderer.h"
 #include "render/gl_context.h"
 #include "tracking/track.h"
 #include "tracking/video_training.h"
-#include "face/fap_track.h"
 
 namespace {
 
-double degrees(double angleUnits) { return angleUnits * th::face::kAngleUnit * 180.0 / std::numbers::pi; }
+double degrees(double angleUnits) {
+  return angleUnits * th::face::kAngleUnit * 180.0 / std::numbers::pi;
+}
 
 const th::face::FaceModel& faceModel() {
   static const th::face::FaceModel face = th::face::FaceModel::buildDefault();
@@ -40,7 +42,7 @@ std::filesystem::path modelFile(const char* name) {
 
 struct FapError {
   int fap = 0;
-  double rms = 0.0;   // FAPU counts, or degrees for 48-50
+  double rms = 0.0;    // FAPU counts, or degrees for 48-50
   double range = 0.0;  // of the truth, likewise
 };
 
@@ -65,7 +67,8 @@ std::vector<FapError> renderTrackAndFit(const std::vector<th::face::FapFrame>& p
     renderer.setPupilScale(face.pupilScale(shown[f]));
     const th::render::Image image = renderer.renderImage(camera);
     cv::Mat bgr;
-    cv::cvtColor(cv::Mat(kHeight, kWidth, CV_8UC3, const_cast<std::uint8_t*>(image.pixels.data())), bgr, cv::COLOR_RGB2BGR);
+    cv::cvtColor(cv::Mat(kHeight, kWidth, CV_8UC3, const_cast<std::uint8_t*>(image.pixels.data())), bgr,
+                 cv::COLOR_RGB2BGR);
     th::tracking::TrackedFrame frame;
     frame.seconds = static_cast<double>(f) / framesPerSecond;
     frame.found = detector.find(bgr, frame.landmarks);
@@ -107,7 +110,8 @@ std::vector<FapError> renderTrackAndFit(const std::vector<th::face::FapFrame>& p
           squared += (track.frames[f].landmarks.col(i) - want.col(i)).squaredNorm();
       }
       std::printf("dlib's %s: %.1f px RMS from the model's (eye corners %.0f px apart)\n", group.name,
-                  std::sqrt(squared / count), (track.frames[0].landmarks.col(36) - track.frames[0].landmarks.col(45)).norm());
+                  std::sqrt(squared / count),
+                  (track.frames[0].landmarks.col(36) - track.frames[0].landmarks.col(45)).norm());
     }
   }
 
@@ -148,7 +152,8 @@ TEST(TrackingTruth, TheShippedModelsCurvesRotationsComeBackWithinTwoDegrees) {
   const th::animation::MouthModel mouth = th::animation::loadMouthModel(modelFile("mouth.json"));
   th::audio::AudioClip speech = th::audio::readAudioFile(th::sharedDataPath("beat2/audio_only/2_scott_0_2_2.wav"));
   speech.samples.resize(std::min<std::size_t>(speech.samples.size(), 16000 * 5));  // 5 s: 150 frames
-  const th::face::FapTrack truth = th::pipeline::animate(speech.samples, &head, &mouth, {.idle = false});  // no blinks: the fit has no lids
+  const th::face::FapTrack truth =
+      th::pipeline::animate(speech.samples, &head, &mouth, {.idle = false});  // no blinks: the fit has no lids
   std::vector<th::face::FapFrame> poses;
   for (int f = 0; f < truth.numFrames(); ++f) poses.push_back(truth.at(f / truth.framesPerSecond));
   expectRotationsWithin(2.0, renderTrackAndFit(poses, truth.framesPerSecond));
@@ -182,15 +187,16 @@ TEST(TrackingTruth, ARealSpeakersLipsWithModelledHeadRotationsComeBackWithinTwoD
 // Where the FAPs' errors above come from: given perfect landmarks (the model's own, projected as the renderer's
 // camera would, the face 170 px between the eye corners as in the renders) and a pull to 0 too light to bias
 // them, the fit gives every FAP back within 3.5 % of its range (the outer lip corners, with the largest ranges,
-// 2.6–3.0 %, a few tenths more or less as the head turns more or less) and the rotations within 0.1°. So the fit can tell
-// the 21 FAPs and the head apart from 68 points; what it lacks is dlib's accuracy on our rendered face, whose
-// lip points lie 2-6 px from the mesh's (tracking_truth_test prints the FAPs' errors).
+// 2.6–3.0 %, a few tenths more or less as the head turns more or less) and the rotations within 0.1°. So the fit can
+// tell the 21 FAPs and the head apart from 68 points; what it lacks is dlib's accuracy on our rendered face, whose lip
+// points lie 2-6 px from the mesh's (tracking_truth_test prints the FAPs' errors).
 TEST(TrackingTruth, FromPerfectLandmarksEveryFapComesBackWithinThreeAndAHalfPercentOfItsRange) {
   th::tracking::FitOptions options;
   options.jawPrior = options.fapPrior = 0.001;
   double fps = 0.0;
   const std::vector<th::face::FapFrame> poses = realSpeakersPoses(options, fps);
-  options.focalLengthPixels = 0.5 * 480 / std::tan(0.5 * th::render::OrbitCamera{}.fovYDegrees * std::numbers::pi / 180.0);
+  options.focalLengthPixels =
+      0.5 * 480 / std::tan(0.5 * th::render::OrbitCamera{}.fovYDegrees * std::numbers::pi / 180.0);
   const th::tracking::FaceFitter projector(faceModel(), options);
   th::tracking::FaceFit place;
   const th::tracking::Landmarks unit = projector.project(place);
@@ -203,13 +209,16 @@ TEST(TrackingTruth, FromPerfectLandmarksEveryFapComesBackWithinThreeAndAHalfPerc
   for (std::size_t f = 0; f < shown.size(); ++f) {
     th::tracking::FaceFit pose = place;
     pose.faps = shown[f];
-    track.frames.push_back({.seconds = static_cast<double>(f) / fps, .found = true, .landmarks = projector.project(pose), .fit = {}});
+    track.frames.push_back(
+        {.seconds = static_cast<double>(f) / fps, .found = true, .landmarks = projector.project(pose), .fit = {}});
   }
   th::tracking::fitTrack(track, faceModel(), options, 0);
   for (int fap : {48, 49, 50}) {
     double squared = 0.0;
     for (std::size_t f = 1; f < shown.size(); ++f)
-      squared += std::pow(degrees(track.frames[f].fit.faps[static_cast<std::size_t>(fap)] - shown[f][static_cast<std::size_t>(fap)]), 2);
+      squared += std::pow(
+          degrees(track.frames[f].fit.faps[static_cast<std::size_t>(fap)] - shown[f][static_cast<std::size_t>(fap)]),
+          2);
     EXPECT_LE(std::sqrt(squared / static_cast<double>(shown.size() - 1)), 0.1) << "FAP " << fap;
   }
   for (int fap : track.fittedFaps) {

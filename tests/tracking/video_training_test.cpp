@@ -1,6 +1,8 @@
 // Training data from talking videos: the clips found in a folder, a track's FAPs at the animation rate beside
 // its sound's MFCCs, tracks kept and read back, clips that cannot be used left out with their reason, and a
 // mouth model trained on GRID clips that predicts held-out clips' jaw from their sound.
+#include "tracking/video_training.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -12,9 +14,8 @@
 #include "core/data_path.h"
 #include "core/error.h"
 #include "core/temporary_file.h"
-#include "face/face_model.h"
 #include "eval/mouth_evaluation.h"
-#include "tracking/video_training.h"
+#include "face/face_model.h"
 #include "tracking_test_support.h"
 
 namespace {
@@ -80,7 +81,8 @@ TEST(MouthRecordingOf, ResamplesTheFapsToTheAnimationRateBesideTheSoundsMfccs) {
     track.frames.push_back(frame);
   }
   std::vector<float> sound(16000 * 3);  // longer than the video: the video sets the length
-  for (std::size_t n = 0; n < sound.size(); ++n) sound[n] = 0.1f * static_cast<float>(std::sin(0.05 * static_cast<double>(n)));
+  for (std::size_t n = 0; n < sound.size(); ++n)
+    sound[n] = 0.1f * static_cast<float>(std::sin(0.05 * static_cast<double>(n)));
   const th::animation::MouthRecording recording = th::tracking::mouthRecordingOf(track, sound);
   EXPECT_EQ(recording.visual.rows(), 2);
   // The last video frame is at 49/25 = 1.96 s: animation frames 0 .. 58 (58/30 = 1.933 s).
@@ -132,8 +134,7 @@ TEST(VideoCorpus, KeepsTheTracksReusesThemOnlyAsMadeAndLeavesOutAClipWithoutAFac
   std::vector<fs::path> videos = gridClips(2);
   videos.insert(videos.begin() + 1, faceless);
   const fs::path tracks = folder.path() / "tracks";
-  const th::tracking::VideoCorpus first =
-      th::tracking::loadVideoCorpus(videos, faceModel(), onThreads(2, tracks));
+  const th::tracking::VideoCorpus first = th::tracking::loadVideoCorpus(videos, faceModel(), onThreads(2, tracks));
   ASSERT_EQ(first.clips.size(), 2u);
   ASSERT_EQ(first.skipped.size(), 1u);
   EXPECT_EQ(first.skipped[0].video, faceless);
@@ -147,8 +148,7 @@ TEST(VideoCorpus, KeepsTheTracksReusesThemOnlyAsMadeAndLeavesOutAClipWithoutAFac
     EXPECT_TRUE(fs::exists(tracks / th::tracking::trackFileName(clip.video)));
   }
   // Again: read from the tracks, the same numbers (to the CSV's precision).
-  const th::tracking::VideoCorpus second =
-      th::tracking::loadVideoCorpus(videos, faceModel(), onThreads(1, tracks));
+  const th::tracking::VideoCorpus second = th::tracking::loadVideoCorpus(videos, faceModel(), onThreads(1, tracks));
   ASSERT_EQ(second.clips.size(), 2u);
   for (std::size_t i = 0; i < 2; ++i) {
     EXPECT_FALSE(second.clips[i].trackedNow);
@@ -175,19 +175,19 @@ TEST(VideoMouthModel, PredictsHeldOutClipsJawFromTheirSoundAndDrivesFapsFromItsF
   const th::tracking::VideoCorpus corpus = th::tracking::loadVideoCorpus(gridClips(15), faceModel(), onThreads(2));
   ASSERT_EQ(corpus.clips.size(), 15u);
   std::vector<th::animation::MouthRecording> train, test;
-  for (std::size_t i = 0; i < corpus.clips.size(); ++i) (i % 5 == 4 ? test : train).push_back(corpus.clips[i].recording);
+  for (std::size_t i = 0; i < corpus.clips.size(); ++i)
+    (i % 5 == 4 ? test : train).push_back(corpus.clips[i].recording);
   const th::animation::MouthModelOptions options{.states = 4, .mixtures = 1, .contextFrames = 2, .visualComponents = 2};
   const th::animation::MouthModel model = th::tracking::trainVideoMouthModel(train, corpus.faps, options);
   EXPECT_EQ(model.visualFaps, corpus.faps);
   EXPECT_FALSE(model.fapMap.has_value());
   EXPECT_EQ(th::animation::mouthFapNumbers(model), corpus.faps);
-  const FapScores scores =
-      th::eval::scoreFaps(th::eval::predictFaps(model, test), corpus.faps, test, corpus.faps);
+  const FapScores scores = th::eval::scoreFaps(th::eval::predictFaps(model, test), corpus.faps, test, corpus.faps);
   const FapScores otherAudio =
       th::eval::scoreFaps(th::eval::predictFaps(model, test, {}, 1), corpus.faps, test, corpus.faps);
-  std::cout << "held-out jaw eps " << scores.jawEpsilon << " rho " << scores.jawRho << "; all FAPs eps " << scores.epsilon
-            << " rho " << scores.rho << "; another clip's audio: jaw eps " << otherAudio.jawEpsilon << " rho "
-            << otherAudio.jawRho << '\n';
+  std::cout << "held-out jaw eps " << scores.jawEpsilon << " rho " << scores.jawRho << "; all FAPs eps "
+            << scores.epsilon << " rho " << scores.rho << "; another clip's audio: jaw eps " << otherAudio.jawEpsilon
+            << " rho " << otherAudio.jawRho << '\n';
   // The sound carries the jaw: well above chance, and better than the wrong clip's sound.
   EXPECT_GT(scores.jawRho, 0.5);
   EXPECT_LT(scores.jawEpsilon, 0.8);  // the mean's is about 1

@@ -79,8 +79,9 @@ int main(int argc, char** argv) {
   for (std::size_t f = 0; f < track.frames.size(); ++f) {
     th::tracking::FaceFit truth = rest;
     truth.faps[3] = jaws[f];
-    std::cout << "  " << jaws[f] << ": " << std::round(1000 * th::tracking::mouthOpening(track.frames[f].landmarks)) / 1000
-              << " / " << std::round(1000 * th::tracking::mouthOpening(fitter.project(truth))) / 1000;
+    std::cout << "  " << jaws[f] << ": "
+              << std::round(1000 * th::tracking::mouthOpening(track.frames[f].landmarks)) / 1000 << " / "
+              << std::round(1000 * th::tracking::mouthOpening(fitter.project(truth))) / 1000;
   }
   std::cout << "\n";
   if (argc > 1) {

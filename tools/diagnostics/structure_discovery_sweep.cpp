@@ -60,16 +60,18 @@ int main(int argc, char** argv) {
       const double z = run.fraction * static_cast<double>(sample.frames.cols());
       const th::hmm::TrainingResult result =
           th::hmm::trainHmm({sample.frames}, options,
-                            th::hmm::entropicHooks({.multinomialWeight = z, .warmupIterations = 10, .rampIterations = 20,
+                            th::hmm::entropicHooks({.multinomialWeight = z,
+                                                    .warmupIterations = 10,
+                                                    .rampIterations = 20,
                                                     .mergeCandidates = run.mergeCandidates}));
       run.report = th::test::compareStructure(truth, result.model, sample);
       run.iterations = static_cast<int>(result.history.size()) - 1;
       const std::lock_guard lock(mutex);
-      std::printf("Z = %.3f T, merging %-3s, data seed %4u, k-means seed %u: %2d states, %2d transitions, %d of 9 true "
-                  "edges, %d spurious, %3d iterations\n",
-                  run.fraction, run.mergeCandidates > 0 ? "on" : "off", run.dataSeed, run.initSeed,
-                  run.report.liveStates, run.report.transitions, run.report.recoveredEdges, run.report.spuriousEdges,
-                  run.iterations);
+      std::printf(
+          "Z = %.3f T, merging %-3s, data seed %4u, k-means seed %u: %2d states, %2d transitions, %d of 9 true "
+          "edges, %d spurious, %3d iterations\n",
+          run.fraction, run.mergeCandidates > 0 ? "on" : "off", run.dataSeed, run.initSeed, run.report.liveStates,
+          run.report.transitions, run.report.recoveredEdges, run.report.spuriousEdges, run.iterations);
       std::fflush(stdout);
     }
   };
