@@ -232,30 +232,7 @@ struct Judged {
   }
 };
 
-// Mean lip opening and width per phone class, truth and estimates, over clips with labels.
-struct ClassShapes {
-  std::map<PhoneClass, std::pair<Eigen::Vector2d, int>> sums;
-  void add(const std::vector<PhoneClass>& classes, const Eigen::MatrixXd& shapes) {
-    for (Eigen::Index t = 0; t < std::min<Eigen::Index>(shapes.cols(), static_cast<Eigen::Index>(classes.size()));
-         ++t) {
-      auto& [sum, count] = sums[classes[static_cast<std::size_t>(t)]];
-      if (count == 0) sum.setZero();
-      sum += shapes.col(t);
-      ++count;
-    }
-  }
-  Eigen::Vector2d mean(PhoneClass c) const {
-    const auto it = sums.find(c);
-    return it == sums.end() || it->second.second == 0 ? Eigen::Vector2d::Constant(std::nan(""))
-                                                      : Eigen::Vector2d(it->second.first / it->second.second);
-  }
-  int count(PhoneClass c) const {
-    const auto it = sums.find(c);
-    return it == sums.end() ? 0 : it->second.second;
-  }
-};
-
-void printClassRow(const std::string& name, const ClassShapes& shapes) {
+void printClassRow(const std::string& name, const eval::PhoneClassShapes& shapes) {
   std::printf("  %-50s %7.3f %7.3f %7.3f   %7.3f %7.3f\n", name.c_str(), shapes.mean(PhoneClass::kBilabial)[0],
               shapes.mean(PhoneClass::kOpenVowel)[0],
               shapes.mean(PhoneClass::kOpenVowel)[0] - shapes.mean(PhoneClass::kBilabial)[0],
@@ -264,8 +241,8 @@ void printClassRow(const std::string& name, const ClassShapes& shapes) {
 
 void reportPhoneClasses(const std::string& title, const Clips& clips, const std::vector<const Estimator*>& estimators,
                         const eval::MouthShapes& shapes) {
-  ClassShapes truth;
-  std::vector<ClassShapes> estimated(estimators.size());
+  eval::PhoneClassShapes truth;
+  std::vector<eval::PhoneClassShapes> estimated(estimators.size());
   for (const TalkingClip* clip : clips) {
     if (clip->labels.empty()) continue;
     const std::vector<PhoneClass> classes = eval::labelClassesAt(
@@ -335,7 +312,7 @@ void judgeBeat2(const std::vector<const Estimator*>& estimators, const animation
 // opening an estimate gives against the opening each phone class has on tracked speakers (StyleTalk's
 // phone-labelled clips), and the gap between open vowels and /p b m/ in units of the estimate's spread.
 void judgeLanguages(const std::filesystem::path& folder, const std::vector<const Estimator*>& estimators,
-                    const ClassShapes& typical, const eval::MouthShapes& shapes) {
+                    const eval::PhoneClassShapes& typical, const eval::MouthShapes& shapes) {
   std::ifstream index(folder / "index.csv");
   if (!index)
     throw fileError(folder / "index.csv", "cannot be read (make the folder with tools/multilingual_speech.py)");
@@ -558,7 +535,7 @@ void runEvalMouthCorpora(const MouthCorpusArguments& arguments) {
   reportPhoneClasses("GRID s1, held-out clips (word alignments)", gridTest, all, shapes);
 
   // Each StyleTalk speaker left out.
-  ClassShapes styleTalkTruth;
+  eval::PhoneClassShapes styleTalkTruth;
   for (const auto& [speaker, clips] : styleTalkSpeakers) {
     Clips foldTraining = gridTrain;
     for (const TalkingClip* clip : styleTalk)

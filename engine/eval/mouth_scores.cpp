@@ -110,4 +110,25 @@ Eigen::MatrixXd LevelBaseline::predict(const animation::SpeechFrames& speech) co
   return weights_ * features(speech);
 }
 
+void PhoneClassShapes::add(const std::vector<PhoneClass>& classes, const Eigen::MatrixXd& shapes) {
+  const Eigen::Index frames = std::min<Eigen::Index>(shapes.cols(), static_cast<Eigen::Index>(classes.size()));
+  for (Eigen::Index t = 0; t < frames; ++t) {
+    auto& [sum, count] = sums_[classes[static_cast<std::size_t>(t)]];
+    if (count == 0) sum.setZero();
+    sum += shapes.col(t);
+    ++count;
+  }
+}
+
+Eigen::Vector2d PhoneClassShapes::mean(PhoneClass phoneClass) const {
+  const auto it = sums_.find(phoneClass);
+  return it == sums_.end() || it->second.second == 0 ? Eigen::Vector2d::Constant(std::nan(""))
+                                                     : Eigen::Vector2d(it->second.first / it->second.second);
+}
+
+int PhoneClassShapes::count(PhoneClass phoneClass) const {
+  const auto it = sums_.find(phoneClass);
+  return it == sums_.end() ? 0 : it->second.second;
+}
+
 }  // namespace th::eval

@@ -14,6 +14,8 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <map>
+#include <utility>
 #include <vector>
 
 #include "animation/mouth_data.h"
@@ -66,6 +68,19 @@ class LevelBaseline {
   Eigen::MatrixXd features(const animation::SpeechFrames& speech) const;
   int contextFrames_;
   Eigen::MatrixXd weights_;  // FAPs x (2 tc + 2): the context's levels and a constant
+};
+
+// Mean lip opening and width (MouthShapes' rows) per phone class, over clips with labels: what the truth and each
+// estimate do at bilabials, open vowels, rounded and spread vowels.
+class PhoneClassShapes {
+ public:
+  // classes: each frame's (labelClassesAt); shapes: 2 x T. Frames beyond the shorter are left out.
+  void add(const std::vector<PhoneClass>& classes, const Eigen::MatrixXd& shapes);
+  Eigen::Vector2d mean(PhoneClass phoneClass) const;  // NaN where the class has no frame
+  int count(PhoneClass phoneClass) const;
+
+ private:
+  std::map<PhoneClass, std::pair<Eigen::Vector2d, int>> sums_;
 };
 
 }  // namespace th::eval

@@ -12,10 +12,6 @@ extern "C" {
 #include <libswscale/swscale.h>
 }
 
-#include <fcntl.h>
-#include <sys/stat.h>
-#include <unistd.h>
-
 #include <algorithm>
 #include <array>
 #include <cerrno>
@@ -31,6 +27,7 @@ extern "C" {
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/ffmpeg_support.h"
+#include "core/pending_file.h"
 
 #if LIBAVUTIL_VERSION_INT < AV_VERSION_INT(57, 24, 100)
 #error "mp4_writer.cpp needs FFmpeg 5.1 or later (AVChannelLayout, swr_alloc_set_opts2)"
@@ -81,104 +78,11 @@ AVRational frameRateOf(double framesPerSecond) {
   return av_d2q(framesPerSecond, kRationalPrecision);
 }
 
-std::string errnoText(int code) {
-  return std::error_code(code, std::generic_category()).message();
-}
-
 std::string number(double value) {
   char text[32];
   std::snprintf(text, sizeof(text), "%g", value);
   return text;
 }
-
-// The file being written, not yet visible under the target's name. Preferably an unnamed O_TMPFILE in the
-// target's folder, which the kernel frees if the process dies; FFmpeg opens it as /proc/self/fd/N (the mp4
-// muxer reopens the file by name to move the index to the front). Where O_TMPFILE or /proc is missing, a
-// hidden named file beside the target, removed by the destructor.
-class PendingFile {
- public:
-  PendingFile(fs::path target, bool unnamed) : target_(std::move(target)) {
-    folder_ = target_.has_parent_path() ? target_.parent_path() : fs::path(".");
-    if (unnamed && openUnnamed()) return;
-    // The fallback: a named hidden file, created here so that a name clash or a permission problem shows now.
-    for (int attempt = 0;; ++attempt) {
-      const fs::path candidate = hiddenName(attempt);
-      const int created = ::open(candidate.c_str(), O_CREAT | O_EXCL | O_WRONLY | O_CLOEXEC, 0666);
-      if (created >= 0) {
-        ::close(created);
-        path_ = candidate;
-        named_ = true;
-        return;
-      }
-      if (errno != EEXIST || attempt >= 100) throw cannotWrite(errno);
-    }
-  }
-
-  ~PendingFile() {
-    if (named_ && !committed_) {
-      std::error_code ignored;
-      fs::remove(path_, ignored);
-    }
-    if (descriptor_ >= 0) ::close(descriptor_);
-  }
-  PendingFile(const PendingFile&) = delete;
-  PendingFile& operator=(const PendingFile&) = delete;
-
-  // What FFmpeg opens ("file:" keeps a name with a colon in it from being read as a protocol).
-  std::string url() const { return "file:" + path_.string(); }
-
-  // Gives the complete file the target's name, replacing whatever was there in one step.
-  void commit() {
-    fs::path named = path_;
-    if (!named_) {  // an unnamed file gets a hidden name first: rename() is what replaces atomically
-      for (int attempt = 0;; ++attempt) {
-        named = hiddenName(attempt);
-        if (::linkat(AT_FDCWD, path_.c_str(), AT_FDCWD, named.c_str(), AT_SYMLINK_FOLLOW) == 0) break;
-        if (errno != EEXIST || attempt >= 100) throw cannotWrite(errno);
-      }
-    }
-    if (::rename(named.c_str(), target_.c_str()) != 0) {
-      const int code = errno;
-      std::error_code ignored;
-      fs::remove(named, ignored);
-      throw cannotWrite(code);
-    }
-    committed_ = true;
-  }
-
- private:
-  // An O_TMPFILE that FFmpeg can open through /proc; false where the system lacks either.
-  bool openUnnamed() {
-    descriptor_ = ::open(folder_.c_str(), O_TMPFILE | O_RDWR | O_CLOEXEC, 0666);
-    if (descriptor_ < 0) {
-      if (errno == EOPNOTSUPP || errno == EISDIR || errno == EINVAL || errno == ENOENT) return false;
-      throw cannotWrite(errno);  // permission denied, read-only, ...
-    }
-    const std::string procPath = "/proc/self/fd/" + std::to_string(descriptor_);
-    const int probe = ::open(procPath.c_str(), O_RDONLY | O_CLOEXEC);
-    if (probe < 0) {
-      ::close(descriptor_);
-      descriptor_ = -1;
-      return false;
-    }
-    ::close(probe);
-    path_ = procPath;
-    return true;
-  }
-
-  fs::path hiddenName(int attempt) const {
-    return folder_ / ("." + target_.filename().string() + "." + std::to_string(::getpid()) + "." +
-                      std::to_string(attempt) + ".tmp");
-  }
-  Error cannotWrite(int code) const { return fileError(target_, "cannot be written: " + errnoText(code)); }
-
-  fs::path target_;
-  fs::path folder_;
-  fs::path path_;        // /proc/self/fd/N of the unnamed file, or the hidden named file
-  int descriptor_ = -1;  // keeps the unnamed file alive
-  bool named_ = false;
-  bool committed_ = false;
-};
 
 void checkOptions(const fs::path& target, const Mp4Options& options) {
   const auto fail = [&](const std::string& what) { return fileError(target, what); };

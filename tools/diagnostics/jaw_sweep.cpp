@@ -1,6 +1,7 @@
 // A diagnostic, not a test: our face rendered with the jaw alone opening (0 to 400 MNS, the head still),
-// tracked and fitted three ways (all FAPs; the jaw alone; without the inner lips' points), printing the jaw each
-// gives, and a picture of the widest frame with dlib's landmarks (red) and the model's at the truth (green).
+// tracked and fitted four ways (all FAPs; the jaw alone; without the inner lips' points; the jaw alone without
+// them), printing the jaw each gives, and a picture of the widest frame with dlib's landmarks (red) and the
+// model's at the truth (green).
 //
 //   build/tools/diagnostics/jaw_sweep [picture.png]
 #include <cmath>
