@@ -134,7 +134,7 @@ void runHeadless(const HeadlessArguments& arguments, const pipeline::LiveSetting
               static_cast<unsigned long long>(counters.samplesIn),
               static_cast<unsigned long long>(counters.overrunSamples));
   if (fromDevice)
-    std::printf("  sound inputs: %llu opened, %llu lost\n", static_cast<unsigned long long>(live.sessionsStarted()),
+    std::printf("  sound inputs: %llu opened, %llu lost\n", static_cast<unsigned long long>(live.sourcesOpened()),
                 static_cast<unsigned long long>(live.sourcesLost()));
   const pipeline::DecoderLookahead& lookahead = live.lookahead();
   std::printf("  look-ahead: mouth %.1f ms (features %.1f ms + %d frames), head %.1f ms (features %.1f ms + %d frames)",

@@ -235,7 +235,7 @@ class LiveWindow {
     saveLiveSettings(arguments_.settingsPath, settings_);
     stats_.printSummary(secondsSince(started), panelDraws_);
     if (!live_->isRecording())
-      std::printf("sound inputs: %llu opened, %llu lost\n", static_cast<unsigned long long>(live_->sessionsStarted()),
+      std::printf("sound inputs: %llu opened, %llu lost\n", static_cast<unsigned long long>(live_->sourcesOpened()),
                   static_cast<unsigned long long>(live_->sourcesLost()));
     if (const audio::Playback* playback = live_->playback(); playback != nullptr && playback->firstSoundNs() != 0)
       stats_.printSoundToLips(static_cast<double>(playback->firstSoundNs()) * 1e-9,

@@ -135,6 +135,7 @@ void LivePipeline::startSource() {
       capture_ = std::make_unique<audio::Capture>(*system_, source_.device, rate, session_->ring());
       sourceName_ = "sound input " + std::to_string(capture_->device().index) + ": " + capture_->device().name;
       sourceOpened_ = std::chrono::steady_clock::now();
+      ++sourcesOpened_;
       note(LiveEventKind::kStarted, "listening: " + sourceName_ + ", " + std::to_string(std::lround(rate)) + " Hz");
     } else {
       // This pass's first sample is heard the pipeline's latency after the feeder starts.
@@ -148,6 +149,7 @@ void LivePipeline::startSource() {
       sourceName_ = source_.name + (options_.loop ? " (in a loop)" : "");
       if (passes_ == 0) note(LiveEventKind::kStarted, "playing: " + sourceName_);
       ++passes_;
+      ++sourcesOpened_;
     }
   } catch (const Error& error) {
     // No device, or it will not open: the face stays at rest, the caller shows why, and it is tried again.

@@ -108,6 +108,7 @@ class LivePipeline {
   const DecoderLookahead& lookahead() const { return lookahead_; }
   // The running session's and those replaced before it: frames dropped, samples overrun, ...
   SessionCounters counters() const;
+  std::uint64_t sourcesOpened() const { return sourcesOpened_; }  // sound inputs opened, recordings' passes begun
   std::uint64_t sourcesLost() const { return sourcesLost_; }
   std::uint64_t deviceOverflows() const { return capture_ ? capture_->inputOverflows() : 0; }
   const std::vector<audio::AudioDevice>& devices() const { return devices_; }
@@ -162,6 +163,7 @@ class LivePipeline {
   std::string failure_;
   int passes_ = 0;
   double deviceSeconds_ = 0.0;  // of the sound inputs closed so far
+  std::uint64_t sourcesOpened_ = 0;
   std::uint64_t sourcesLost_ = 0;
   std::uint64_t sessionsStarted_ = 0;
   SessionCounters totals_;  // of sessions since replaced
