@@ -4,7 +4,10 @@ target_compile_options(talkinghead_options INTERFACE
   -Wall -Wextra -Wpedantic -Wshadow -Wconversion -Wno-sign-conversion -Wnon-virtual-dtor
   -Wold-style-cast -Woverloaded-virtual -Wnull-dereference -Wformat=2
   # GCC 12 reports false -Wrestrict positives inside libstdc++ string code (GCC bug 105329).
-  -Wno-restrict)
+  $<$<CXX_COMPILER_ID:GNU>:-Wno-restrict>)
+# A program loads only the shared libraries it calls: a test of the HMMs does not start OpenCV, FFmpeg and GL
+# (and LeakSanitizer does not scan them at exit), though the engine's stages link them.
+target_link_options(talkinghead_options INTERFACE -Wl,--as-needed)
 # No code here reads errno after maths calls; without this, std::sqrt blocks vectorisation.
 target_compile_options(talkinghead_options INTERFACE -fno-math-errno)
 if(TALKINGHEAD_WERROR)

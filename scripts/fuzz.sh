@@ -2,7 +2,7 @@
 # Fuzzes the engine's file readers with libFuzzer + ASan + UBSan for a bounded time:
 #   audio_reader_fuzzer     th::audio::decodeAudio (recordings)
 #   model_file_fuzzer       th::hmm::parseModel (HMM model files)
-#   animation_file_fuzzer   th::video::readAnimation (CSV, JSON and .fap animation files)
+#   animation_file_fuzzer   th::formats::readAnimation (CSV, JSON and .fap animation files)
 #
 #   scripts/fuzz.sh                        # 60 s in all, split between the three
 #   FUZZ_SECONDS=180 scripts/fuzz.sh

@@ -117,8 +117,7 @@ class JsonWriter final : public OptionVisitor {
 
 class JsonReader final : public OptionVisitor {
  public:
-  JsonReader(const Json& document, const std::filesystem::path& path)
-      : document_(document), path_(path), fields_(path.string()) {}
+  JsonReader(const Json& document, const std::filesystem::path& path) : document_(document), fields_(path.string()) {}
 
   void option(bool& value, const OptionSpec& spec) override {
     if (const Json* item = find(spec)) value = fields_.boolean(*item, key(spec));
@@ -156,7 +155,6 @@ class JsonReader final : public OptionVisitor {
   }
 
   const Json& document_;
-  const std::filesystem::path& path_;
   JsonFields fields_;
 };
 

@@ -14,7 +14,6 @@ double hzToMel(double hz) {
 
 MfccComputer::MfccComputer(const MfccOptions& options, int sampleRateHz)
     : options_(options),
-      sampleRateHz_(sampleRateHz),
       windowLength_(static_cast<int>(std::lround(options.windowMs * 1e-3 * sampleRateHz))),
       fft_(options.fftSize) {
   if (windowLength_ < 2 || windowLength_ > options.fftSize) {

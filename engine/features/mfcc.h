@@ -56,7 +56,6 @@ class MfccComputer {
 
  private:
   MfccOptions options_;
-  int sampleRateHz_;
   int windowLength_;
   RealFft fft_;
   std::vector<float> hamming_;

@@ -2,6 +2,7 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -44,13 +45,22 @@ double Gaussian::logDensity(const Eigen::Ref<const Eigen::VectorXd>& x) const {
 }
 
 void Gaussian::logDensities(const Eigen::Ref<const Eigen::MatrixXd>& frames, Eigen::Ref<Eigen::VectorXd> out) const {
-  Eigen::MatrixXd centred = frames.colwise() - mean_;
-  if (type_ == CovarianceType::kDiagonal) {
-    out = (inverseVariances_.transpose() * centred.cwiseAbs2()).transpose();
-  } else {
-    // One triangular solve for all frames: the columns of L⁻¹(X − μ).
-    choleskyLower_.triangularView<Eigen::Lower>().solveInPlace(centred);
-    out = centred.colwise().squaredNorm().transpose();
+  // A block of frames at a time: the centred copy stays small enough for the cache, and one buffer serves the
+  // whole sequence instead of a copy of all of it.
+  constexpr Eigen::Index kBlockFrames = 128;
+  const Eigen::Index numFrames = frames.cols();
+  Eigen::MatrixXd centred(frames.rows(), std::min(kBlockFrames, numFrames));
+  for (Eigen::Index start = 0; start < numFrames; start += kBlockFrames) {
+    const Eigen::Index count = std::min(kBlockFrames, numFrames - start);
+    auto block = centred.leftCols(count);
+    block = frames.middleCols(start, count).colwise() - mean_;
+    if (type_ == CovarianceType::kDiagonal) {
+      out.segment(start, count) = (inverseVariances_.transpose() * block.cwiseAbs2()).transpose();
+    } else {
+      // One triangular solve for the block's frames: the columns of L⁻¹(X − μ).
+      choleskyLower_.triangularView<Eigen::Lower>().solveInPlace(block);
+      out.segment(start, count) = block.colwise().squaredNorm().transpose();
+    }
   }
   out = (logNormaliser_ - 0.5 * out.array()).matrix();
 }

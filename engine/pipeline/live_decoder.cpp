@@ -32,8 +32,7 @@ features::FeatureOptions mouthFeatureOptions() {
 
 LiveDecoder::LiveDecoder(const animation::HeadModel* head, const animation::MouthModel* mouth,
                          const LiveDecoderOptions& options)
-    : head_(head),
-      mouth_(mouth),
+    : mouth_(mouth),
       options_(options),
       // The features animate() gives each model: the prosody settings serve both (the energy's normalisation
       // does not touch the MFCCs).

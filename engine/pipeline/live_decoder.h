@@ -95,7 +95,6 @@ class LiveDecoder : public FrameDecoder {
     Eigen::VectorXd faps;  // the values of mouthFaps_, in order
   };
 
-  const animation::HeadModel* head_;
   const animation::MouthModel* mouth_;
   LiveDecoderOptions options_;
   features::OnlineFeatureExtractor prosodyExtractor_;
