@@ -39,14 +39,14 @@ std::map<std::string, std::set<std::string>> readGraph() {
 
 std::set<std::string> reachable(const std::map<std::string, std::set<std::string>>& graph, const std::string& from) {
   std::set<std::string> seen{from};
-  std::vector<std::string> todo{from};
-  while (!todo.empty()) {
-    const std::string stage = todo.back();
-    todo.pop_back();
+  std::vector<std::string> toVisit{from};
+  while (!toVisit.empty()) {
+    const std::string stage = toVisit.back();
+    toVisit.pop_back();
     const auto found = graph.find(stage);
     if (found == graph.end()) continue;
     for (const std::string& next : found->second)
-      if (seen.insert(next).second) todo.push_back(next);
+      if (seen.insert(next).second) toVisit.push_back(next);
   }
   return seen;
 }
