@@ -17,6 +17,7 @@
 #include "core/progress.h"
 #include "eval/mouth_evaluation.h"
 #include "face/face_model.h"
+#include "pipeline/animation_models.h"
 #include "tracking/video_training.h"
 
 namespace th::app {
@@ -28,7 +29,7 @@ struct TrainVideoArguments {
   std::string tracks;  // empty: beside the output, "<stem>_tracks"
   int holdOutEvery = 5;
   unsigned threads = 0;
-  std::string compare = std::string(TALKINGHEAD_SOURCE_DIR) + "/models/mouth.json";
+  std::string compare;  // empty: the shipped models/mouth.json
   // Chosen on the GRID s1 training clips alone, by tools/choose_video_mouth.sh (README: "Training from video").
   // FAPs are not standardised (trainVideoMouthModel), and the model file's options say so.
   // The speech normalised, the components' deltas generated as a trajectory and the spread compensated, as the
@@ -57,7 +58,9 @@ void runTrainVideo(const TrainVideoArguments& arguments) {
   if (tracks.empty()) tracks = std::filesystem::path(output).replace_extension().string() + "_tracks";
   const std::vector<std::filesystem::path> videos = tracking::listVideos(arguments.folder);
   // The comparison model is read first: a wrong path fails before the tracking.
-  const animation::MouthModel compared = animation::loadMouthModel(arguments.compare);
+  const std::filesystem::path comparePath =
+      arguments.compare.empty() ? pipeline::shippedModel("mouth.json") : std::filesystem::path(arguments.compare);
+  const animation::MouthModel compared = animation::loadMouthModel(comparePath);
 
   const face::FaceModel face = face::FaceModel::buildDefault();
   tracking::VideoCorpus corpus;
@@ -147,7 +150,7 @@ void runTrainVideo(const TrainVideoArguments& arguments) {
                 eval::averageMse(estimate, truth), eval::averageCorrelation(estimate, truth), model.basis.components());
   }
   printScores(
-      ("--compare " + std::filesystem::path(arguments.compare).filename().string() + ", inversion").c_str(),
+      ("--compare " + comparePath.filename().string() + ", inversion").c_str(),
       eval::scoreFaps(eval::predictFaps(compared, test), animation::mouthFapNumbers(compared), test, corpus.faps));
   // The training clips' mean FAPs in every frame.
   Eigen::VectorXd mean = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(corpus.faps.size()));
@@ -175,8 +178,9 @@ void addTrainVideoOptions(CLI::App& train) {
                   "--video: hold out every N-th clip (by name) and report on them; 0 trains on all")
       ->check(CLI::Range(0, 1000))
       ->capture_default_str();
-  train.add_option("--compare", arguments->compare, "--video: the mouth model to compare with on the held-out clips")
-      ->capture_default_str();
+  train.add_option("--compare", arguments->compare,
+                   "--video: the mouth model to compare with on the held-out clips (default: the shipped "
+                   "models/mouth.json)");
   train.add_option("--states", arguments->options.states, "--video: states N")
       ->check(CLI::Range(1, 100))
       ->capture_default_str();

@@ -19,6 +19,8 @@ TEST_F(CliReferenceTest, TheDocsReferenceIsWhatTheProgramWrites) {
   for (const char* command : {"## `talkinghead animate`", "## `talkinghead export`", "## `talkinghead live`",
                               "## `talkinghead train mouth`", "| `--head-amplitude` |"})
     EXPECT_NE(result.out.find(command), std::string::npos) << command;
+  // The reference is the same on every machine: no default is a path into this checkout.
+  EXPECT_EQ(result.out.find(TALKINGHEAD_SOURCE_DIR), std::string::npos) << "a default names this checkout's folder";
 }
 
 }  // namespace
