@@ -4,10 +4,11 @@
 #   model_file_fuzzer       th::hmm::parseModel (HMM model files)
 #   animation_file_fuzzer   th::formats::readAnimation (CSV, JSON and .fap animation files)
 #
-#   scripts/fuzz.sh                        # 60 s in all, split between the three
+#   scripts/fuzz.sh                        # 60 s of fuzzing in all, split between the three, two at a time
 #   FUZZ_SECONDS=180 scripts/fuzz.sh
 #
-# Builds build-fuzz/ with clang (its own tree: every target there is instrumented), writes the seed corpora
+# Builds build-fuzz/ with clang (its own tree: every target there is instrumented), or uses FUZZ_BUILD_DIR as it is
+# when that is a sanitizer tree configured with TALKINGHEAD_FUZZ (scripts/test.sh's), writes the seed corpora
 # (recordings from the shared data, TALKINGHEAD_DATA, default ../shared/data; small models from the engine's
 # model writer), and runs each fuzzer on a working corpus under build-fuzz/fuzz/ that persists between runs.
 # Both always run; exits non-zero if either finds a crash, a leak, a timeout (10 s per input) or an allocation
@@ -30,10 +31,17 @@ data_option=()
 if [[ -n "${TALKINGHEAD_DATA:-}" ]]; then
     data_option=(-DTALKINGHEAD_DEFAULT_DATA_DIR="$TALKINGHEAD_DATA")
 fi
-# -O1 -g1: the build is most of this script's time in CI; line tables are enough for crash reports.
-CC=clang CXX=clang++ cmake -S . -B "$build_dir" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-    -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG" -DCMAKE_C_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG" \
-    -DTALKINGHEAD_FUZZ=ON -DTALKINGHEAD_WERROR=OFF "${data_option[@]}" > /dev/null
+if grep -qs '^TALKINGHEAD_FUZZ:BOOL=ON$' "$build_dir/CMakeCache.txt" &&
+    grep -qs '^TALKINGHEAD_SANITIZE:BOOL=ON$' "$build_dir/CMakeCache.txt"; then
+    # A sanitizer tree that has the fuzzers already (scripts/test.sh builds them with the tests): used as it is.
+    echo "fuzz: the fuzzers of $build_dir"
+else
+    # -O1 -g1: the build is most of this script's time; line tables are enough for crash reports.
+    CC=clang CXX=clang++ cmake -S . -B "$build_dir" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+        -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG" -DCMAKE_C_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG" \
+        -DCMAKE_EXE_LINKER_FLAGS=-fuse-ld=lld -DTALKINGHEAD_FUZZ=ON -DTALKINGHEAD_WERROR=OFF "${data_option[@]}" \
+        > /dev/null
+fi
 ninja -C "$build_dir" audio_reader_fuzzer audio_reader_fuzzer_seeds model_file_fuzzer model_file_fuzzer_seeds \
     animation_file_fuzzer
 
@@ -55,7 +63,7 @@ printf '\001{"format":"talkinghead-animation","version":1,"fps":30,"name":"seed"
 
 # run_fuzzer NAME SECONDS CORPUS SEEDS [libFuzzer options...]: new inputs go to CORPUS; SEEDS are read only.
 # Known leaks in third-party decoders are suppressed (each with its upstream report) in fuzz/lsan_suppressions.txt.
-failed=0
+# Returns non-zero if the fuzzer found something.
 run_fuzzer() {
     local name="$1" time="$2" corpus="$3" seeds="$4"
     shift 4
@@ -65,14 +73,27 @@ run_fuzzer() {
         -max_total_time="$time" -rss_limit_mb=2048 -timeout=10 \
         -artifact_prefix="$fuzz_dir/artifacts/$name-" -print_final_stats=1 "$@"; then
         echo "fuzz: $name FAILED (see $fuzz_dir/artifacts/$name-*)"
-        failed=1
+        return 1
     fi
 }
 
-# The audio fuzzer's corpus keeps its first name (corpus/), so earlier runs' inputs are not lost.
-run_fuzzer audio_reader_fuzzer "$audio_seconds" "$fuzz_dir/corpus" "$fuzz_dir/audio_reader_seeds"
-run_fuzzer model_file_fuzzer "$model_seconds" "$fuzz_dir/model_file_corpus" "$fuzz_dir/model_file_seeds" \
-    -dict="$repo/fuzz/model_file.dict" -max_len=16384
-run_fuzzer animation_file_fuzzer "$animation_seconds" "$fuzz_dir/animation_file_corpus" \
-    "$fuzz_dir/animation_file_seeds" -max_len=16384
+# Two at a time, one per core: the audio fuzzer beside the two text fuzzers one after the other (each writes
+# its own log, shown in order afterwards). The audio fuzzer's corpus keeps its first name (corpus/), so earlier
+# runs' inputs are not lost.
+run_fuzzer audio_reader_fuzzer "$audio_seconds" "$fuzz_dir/corpus" "$fuzz_dir/audio_reader_seeds" \
+    >"$fuzz_dir/audio_reader_fuzzer.log" 2>&1 &
+audio_pid=$!
+{
+    status=0
+    run_fuzzer model_file_fuzzer "$model_seconds" "$fuzz_dir/model_file_corpus" "$fuzz_dir/model_file_seeds" \
+        -dict="$repo/fuzz/model_file.dict" -max_len=16384 || status=1
+    run_fuzzer animation_file_fuzzer "$animation_seconds" "$fuzz_dir/animation_file_corpus" \
+        "$fuzz_dir/animation_file_seeds" -max_len=16384 || status=1
+    exit "$status"
+} >"$fuzz_dir/text_fuzzers.log" 2>&1 &
+text_pid=$!
+failed=0
+wait "$audio_pid" || failed=1
+wait "$text_pid" || failed=1
+cat "$fuzz_dir/audio_reader_fuzzer.log" "$fuzz_dir/text_fuzzers.log"
 exit "$failed"

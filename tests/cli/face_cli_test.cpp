@@ -141,18 +141,20 @@ TEST_F(FaceCliTest, ExportsBlinkAtAHumanRate) {
   EXPECT_GE(perMinute, 8.0);
   EXPECT_LE(perMinute, 30.0);
 
+  // The lids of a played animation: a prompt of a few seconds is enough to see whether they are there.
+  const std::string prompt = th::test::readArcticPrompt().path.string();
   const fs::path lidless = out() / "lidless.csv";
-  ASSERT_EQ(runCli({"animate", speech, "-o", lidless.string(), "--no-idle"}, logs()).exitCode, 0);
+  ASSERT_EQ(runCli({"animate", prompt, "-o", lidless.string(), "--no-idle"}, logs()).exitCode, 0);
   EXPECT_EQ(th::formats::readAnimation(lidless).rowOf(19), -1);
   const fs::path replayed = out() / "replayed.csv";
-  ASSERT_EQ(runCli({"export", speech, "-o", (out() / "replayed.mp4").string(), "--size", "64x48", "--fps", "5",
+  ASSERT_EQ(runCli({"export", prompt, "-o", (out() / "replayed.mp4").string(), "--size", "64x48", "--fps", "5",
                     "--anim", lidless.string(), "--save-anim", replayed.string()},
                    logs())
                 .exitCode,
             0);
   EXPECT_GE(th::formats::readAnimation(replayed).rowOf(19), 0) << "blinks added to a file without lids";
   const fs::path still = out() / "still.csv";
-  ASSERT_EQ(runCli({"export", speech, "-o", (out() / "still.mp4").string(), "--size", "64x48", "--fps", "5", "--anim",
+  ASSERT_EQ(runCli({"export", prompt, "-o", (out() / "still.mp4").string(), "--size", "64x48", "--fps", "5", "--anim",
                     lidless.string(), "--save-anim", still.string(), "--no-idle"},
                    logs())
                 .exitCode,
