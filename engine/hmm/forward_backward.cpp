@@ -101,19 +101,25 @@ Posteriors forwardBackward(const HmmModel& model, const Eigen::Ref<const Eigen::
   Eigen::VectorXd beta = Eigen::VectorXd::Ones(numStates);
   result.stateGivenAll.resize(numStates, numFrames);
   result.stateGivenAll.col(numFrames - 1) = alpha.col(numFrames - 1);
-  Eigen::VectorXd weightedNext(numStates);
+  // Every buffer is made once: nothing is allocated per frame.
+  Eigen::VectorXd weightedNext(numStates), gamma(numStates);
   Eigen::MatrixXd xi(numStates, numStates);
   for (Eigen::Index t = numFrames - 2; t >= 0; --t) {
     weightedNext = scaled.col(t + 1).cwiseProduct(beta);
-    xi.noalias() = (alpha.col(t) * weightedNext.transpose()).cwiseProduct(model.transition);
+    xi.noalias() = alpha.col(t) * weightedNext.transpose();
+    xi.array() *= model.transition.array();
     const double xiSum = xi.sum();
     if (xiSum > 0.0) result.transitionCounts += xi / xiSum;
-    beta = model.transition * weightedNext;
+    beta.noalias() = model.transition * weightedNext;
     const double betaMax = beta.maxCoeff();
     if (betaMax > 0.0) beta /= betaMax;
-    Eigen::VectorXd gamma = alpha.col(t).cwiseProduct(beta);
+    gamma = alpha.col(t).cwiseProduct(beta);
     const double gammaSum = gamma.sum();
-    result.stateGivenAll.col(t) = gammaSum > 0.0 ? Eigen::VectorXd(gamma / gammaSum) : alpha.col(t);
+    if (gammaSum > 0.0) {
+      result.stateGivenAll.col(t) = gamma / gammaSum;
+    } else {
+      result.stateGivenAll.col(t) = alpha.col(t);
+    }
   }
   return result;
 }

@@ -219,6 +219,7 @@ SufficientStatistics expectationStep(const HmmModel& model, const std::vector<Ei
         static_cast<size_t>(m), full ? Eigen::MatrixXd::Zero(d, d) : Eigen::MatrixXd::Zero(d, 1));
   }
   std::vector<Eigen::MatrixXd> componentLog;
+  Eigen::VectorXd responsibility;  // a component's γₜ(j, m) over a sequence, made once per sequence length
   for (const auto& frames : sequences) {
     if (frames.cols() == 0) continue;
     const Eigen::MatrixXd logB = model.emissionLogLikelihoods(frames, &componentLog);
@@ -233,10 +234,9 @@ SufficientStatistics expectationStep(const HmmModel& model, const std::vector<Ei
         // γₜ(j, m) = γₜ(j) · wₘ Nₘ(xₜ) / bⱼ(xₜ)
         // Responsibilities below 1e-300 count as 0: they add nothing a double can hold, and subnormal
         // numbers make the products below many times slower.
-        const Eigen::VectorXd responsibility =
-            (posteriors.stateGivenAll.row(j).array() * (terms.row(m) - logB.row(j)).array().exp())
-                .transpose()
-                .unaryExpr([](double r) { return r < 1e-300 ? 0.0 : r; });
+        responsibility = (posteriors.stateGivenAll.row(j).array() * (terms.row(m) - logB.row(j)).array().exp())
+                             .transpose()
+                             .unaryExpr([](double r) { return r < 1e-300 ? 0.0 : r; });
         statistics.componentCounts[static_cast<size_t>(j)][m] += responsibility.sum();
         statistics.firstMoments[static_cast<size_t>(j)].col(m) += frames * responsibility;
         Eigen::MatrixXd& second = statistics.secondMoments[static_cast<size_t>(j)][static_cast<size_t>(m)];
