@@ -25,8 +25,14 @@ endif()
 
 # Precompiled headers: what nearly every file of a target includes (Eigen, the standard library) is parsed once
 # per target instead of once per file. Off with -DTALKINGHEAD_PCH=OFF (to check that every file includes what it
-# uses).
-option(TALKINGHEAD_PCH "Precompile the headers most files include" ON)
+# uses). On by default with clang only: GCC 12 reports libstdc++'s code reached through a precompiled header as
+# if it were ours (false -Wstringop-overflow and -Warray-bounds on "text" + std::string at -O3).
+if(CMAKE_CXX_COMPILER_ID MATCHES "Clang")
+  set(talkinghead_pch_default ON)
+else()
+  set(talkinghead_pch_default OFF)
+endif()
+option(TALKINGHEAD_PCH "Precompile the headers most files include" ${talkinghead_pch_default})
 function(talkinghead_precompile target)
   if(NOT TALKINGHEAD_PCH)
     return()
