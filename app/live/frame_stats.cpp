@@ -10,6 +10,10 @@ namespace th::app {
 namespace {
 
 constexpr std::size_t kStatFrames = 150;  // the rolling figures are medians over the last 5 s
+constexpr double kStartUpMs = 500.0;
+// Fewest frames whose sound-to-lips offsets are summed up: a third of a second at 30 frames/s, and a loaded
+// machine's slow display still gives them in a few seconds.
+constexpr std::size_t kFewestSoundToLipsFrames = 10;
 
 void record(std::deque<double>& values, double value) {
   values.push_back(value);
@@ -39,10 +43,15 @@ void FrameStats::frameDrawn(const FrameTimes& times) {
   if (times.panelMs >= 0.0) record(stageMs_[2], times.panelMs);  // on the frames that draw it
   record(stageMs_[3], times.swapMs);
   record(periodMs_, times.periodMs);
-  if (framesDrawn_ == 30) cpuAtFrame30_ = processCpuSeconds();
-  if (framesDrawn_ > 30) {  // after the first half second (start-up)
+  // Start-up (the first half second: shaders compiled, buffers filled) is left out of the summary. Counted in
+  // time, not frames: a loaded machine draws few frames in it, and its run should still be summed up.
+  if (framesDrawn_ > 1) msSinceFirstFrame_ += times.periodMs;
+  if (warm_) {
     allPeriodsMs_.push_back(times.periodMs);
     allBusyMs_.push_back(times.busyMs);
+  } else if (msSinceFirstFrame_ >= kStartUpMs) {
+    warm_ = true;
+    cpuAtWarm_ = processCpuSeconds();
   }
 }
 
@@ -90,7 +99,7 @@ void FrameStats::printSummary(double secondsOpen, std::uint64_t panelDraws) cons
   std::sort(busy.begin(), busy.end());
   // The process's CPU time, llvmpipe's rasterising threads and the decoders included: less at the mercy of what
   // else the machine runs than the frame rate (two cores give 33.3 ms a frame at 60 frames/s).
-  const double cpuMs = (processCpuSeconds() - cpuAtFrame30_) * 1000.0 / static_cast<double>(periods.size());
+  const double cpuMs = (processCpuSeconds() - cpuAtWarm_) * 1000.0 / static_cast<double>(periods.size());
   std::printf(
       "display: %zu frames, median %.1f frames/s (95th percentile frame %.1f ms), CPU %.1f ms a frame (all "
       "threads), busy %.1f ms a frame (95th percentile %.1f), the panel drawn %.1f times a second; per frame "
@@ -101,7 +110,7 @@ void FrameStats::printSummary(double secondsOpen, std::uint64_t panelDraws) cons
 
 void FrameStats::printSoundToLips(double firstSoundSeconds, double firstDeviceDelayMs, double scheduledMs,
                                   std::uint64_t underruns) const {
-  if (lateMs_.size() < 30) return;
+  if (lateMs_.size() < kFewestSoundToLipsFrames) return;
   std::vector<double> late = lateMs_;
   std::sort(late.begin(), late.end());
   const auto at = [&](double q) { return late[static_cast<std::size_t>(q * static_cast<double>(late.size() - 1))]; };

@@ -56,10 +56,12 @@ class FrameStats {
  private:
   std::deque<double> processingMs_, queueMs_, behindMs_, displayMs_, periodMs_;
   std::array<std::deque<double>, 4> stageMs_;  // face set-up, GL, panel, swap
-  std::vector<double> allPeriodsMs_;           // after the first 30 frames
+  std::vector<double> allPeriodsMs_;           // after the first half second (start-up)
   std::vector<double> allBusyMs_;
   std::vector<double> lateMs_;
-  double cpuAtFrame30_ = 0.0;
+  double cpuAtWarm_ = 0.0;          // the process's CPU seconds when start-up ended
+  double msSinceFirstFrame_ = 0.0;  // swap to swap, summed from the first frame
+  bool warm_ = false;
   std::uint64_t framesDrawn_ = 0;
 };
 
