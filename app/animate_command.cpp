@@ -1,8 +1,10 @@
-// `talkinghead animate IN -o OUT.(csv|json|fap)`: any recording in, MPEG-4 FAP curves out (head rotation from
-// the head model, jaw and lips from the mouth model), in the file format the output's extension names.
+// `talkinghead animate IN -o OUT [--format F]`: any recording in, an animation out: MPEG-4 FAP curves (head
+// rotation from the head model, jaw and lips from the mouth model), ARKit weights, or the viseme model's visemes
+// and mouth cues (Oculus, VRM, Rhubarb, Moho), in the format named or the one the output's extension picks.
 #include <iostream>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "cli_options.h"
 #include "commands.h"
@@ -30,6 +32,7 @@ struct DecodingChoices {
 struct AnimateArguments {
   std::string input;
   std::string output;
+  std::string format;
   pipeline::ModelOptions models;
   pipeline::HeadMotionOptions head;
   pipeline::IdleOptions idle;
@@ -39,17 +42,17 @@ struct AnimateArguments {
 
 void runAnimate(const AnimateArguments& arguments) {
   // What can be checked without work is checked first, so a bad output path fails at once.
-  formats::animationFormatFor(arguments.output);
+  const formats::AnimationFormat& format = formats::formatForWriting(arguments.output, arguments.format);
   checkOutputTarget(arguments.output);
   const pipeline::AnimateOptions options =
       pipeline::animateOptionsOf(arguments.models, arguments.head, arguments.idle,
                                  arguments.decoding.online ? &arguments.streaming : nullptr, arguments.decoding.start);
   const pipeline::AnimationModels models = pipeline::loadModels(arguments.models);
   const face::FapTrack track = pipeline::animateRecording(arguments.input, models, options);
-  formats::writeAnimation(arguments.output, track);
+  formats::writeAnimation(arguments.output, track, format);
 
-  std::cout << "wrote " << arguments.output << ": " << track.numFrames() << " frames at " << track.framesPerSecond
-            << " fps (" << track.durationSeconds() << " s), FAPs";
+  std::cout << "wrote " << arguments.output << " (" << format.name() << "): " << track.numFrames() << " frames at "
+            << track.framesPerSecond << " fps (" << track.durationSeconds() << " s), FAPs";
   for (int fap : track.faps) std::cout << ' ' << fap;
   std::cout << "; head " << arguments.models.head << ", mouth " << arguments.models.mouth
             << (arguments.decoding.online ? ", online" : ", batch") << '\n';
@@ -60,11 +63,17 @@ void runAnimate(const AnimateArguments& arguments) {
 void addAnimateCommand(CLI::App& app) {
   auto arguments = std::make_shared<AnimateArguments>();
   CLI::App* animate = app.add_subcommand("animate",
-                                         "Recording -> MPEG-4 FAP animation (head FAPs 48-50, jaw FAP 3, lip FAPs, "
-                                         "blinks and gaze) as .csv, .json or .fap");
+                                         "Recording -> animation: MPEG-4 FAPs (.csv, .json, .fap), ARKit weights, "
+                                         "Oculus or VRM visemes, Rhubarb mouth cues (.tsv, .xml, .json, Moho .dat)");
   animate->add_option("input", arguments->input, "Recording: WAV/FLAC/... or a video's audio track")->required();
-  animate->add_option("-o,--output", arguments->output, "Animation file: .csv, .json or .fap (MPEG-4 FAP stream)")
-      ->required();
+  animate->add_option("-o,--output", arguments->output, "Animation file (its extension picks the format)")->required();
+  std::vector<std::string> formatNames;
+  for (const formats::AnimationFormat* format : formats::animationFormats()) formatNames.emplace_back(format->name());
+  animate
+      ->add_option("--format", arguments->format,
+                   "Format: csv, json, fap (FAPs), arkit, oculus, vrm (weights; .json for JSON), rhubarb-tsv, "
+                   "rhubarb-xml, rhubarb-json, moho (mouth cues); default: by the extension")
+      ->check(CLI::IsMember(formatNames));
   addOptions(*animate, arguments->models);
   addOptions(*animate, arguments->decoding);
   addOptions(*animate, arguments->streaming);

@@ -130,6 +130,7 @@ void addEvalCommand(CLI::App& app) {
   pitch->callback([arguments] { runEvalPitch(*arguments); });
   addEvalHeadCommand(*eval);
   addEvalMouthCommand(*eval);
+  addEvalVisemesCommand(*eval);
 }
 
 }  // namespace th::app

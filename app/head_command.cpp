@@ -413,6 +413,7 @@ void addTrainCommand(CLI::App& app) {
   head->add_flag("--beat2", arguments->beat2Only, "BEAT2's one speaker only (the paper's setting)");
   head->callback([arguments] { runTrain(*arguments); });
   addTrainMouthCommand(*train);
+  addTrainVisemesCommand(*train);
   addTrainVideoOptions(*train);
 }
 

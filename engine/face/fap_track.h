@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "face/fap.h"
+#include "face/visemes.h"
 
 namespace th::face {
 
@@ -26,6 +27,10 @@ struct FapTrack {
   std::string name = "talkinghead";  // a file's title (the .fap header's NAME)
   std::vector<int> faps;             // FAP numbers of the rows: ascending, unique, each in 1..68
   Eigen::MatrixXd values;            // faps.size() x numFrames
+  // The mouth's visemes on the same frames, where a viseme model made them (the viseme and mouth-cue formats
+  // write them); empty otherwise. Not read back from files.
+  VisemeTrack visemes;
+  std::string source;  // the recording it was made from, absolute, where known (Rhubarb's formats name it)
 
   int numFrames() const { return static_cast<int>(values.cols()); }
   double durationSeconds() const { return numFrames() / framesPerSecond; }

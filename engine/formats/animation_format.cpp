@@ -16,8 +16,10 @@ face::FapTrack AnimationFormat::read(std::string_view, const std::filesystem::pa
 }
 
 const std::vector<const AnimationFormat*>& animationFormats() {
-  static const std::vector<const AnimationFormat*> formats{&csvFormat(), &jsonFormat(), &fapStreamFormat(),
-                                                           &arkitFormat()};
+  static const std::vector<const AnimationFormat*> formats{
+      &csvFormat(),        &jsonFormat(),       &fapStreamFormat(),   &arkitFormat(),
+      &oculusFormat(),     &oculusJsonFormat(), &vrmFormat(),         &vrmJsonFormat(),
+      &rhubarbTsvFormat(), &rhubarbXmlFormat(), &rhubarbJsonFormat(), &mohoFormat()};
   return formats;
 }
 
@@ -38,6 +40,27 @@ const AnimationFormat& animationFormatFor(const std::filesystem::path& path) {
   throw fileError(path,
                   (given.empty() ? std::string("has no extension") : "has the extension '" + printable(given) + "'") +
                       "; an animation file is .csv, .json or .fap");
+}
+
+const AnimationFormat& formatForWriting(const std::filesystem::path& path, std::string_view name) {
+  const std::string extension = lowercaseExtension(path);
+  if (!name.empty()) {
+    const AnimationFormat& named = animationFormat(name);
+    if (extension == ".json" && named.extension() != ".json")
+      for (const AnimationFormat* format : animationFormats())
+        if (format->name() == std::string(name) + "-json") return *format;
+    return named;
+  }
+  std::string extensions;
+  for (const AnimationFormat* format : animationFormats()) {
+    if (format->extension() == extension) return *format;
+    if (extensions.find(format->extension()) == std::string::npos)
+      extensions += (extensions.empty() ? "" : ", ") + std::string(format->extension());
+  }
+  const std::string given = path.extension().string();
+  throw fileError(path,
+                  (given.empty() ? std::string("has no extension") : "has the extension '" + printable(given) + "'") +
+                      "; an animation is written as " + extensions + " (or name a format with --format)");
 }
 
 void checkTrack(const std::filesystem::path& path, const face::FapTrack& track) {

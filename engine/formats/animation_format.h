@@ -10,6 +10,11 @@
 //   json   FAP curves with their names and units (.json)                read and written
 //   fap    the MPEG-4 FAP stream Xface and Greta read (.fap)            read and written
 //   arkit  Apple's 52 blendshape weights per frame (.csv)              written
+// and, from the track's visemes (FapTrack::visemes, made by a viseme model; face/visemes.h):
+//   oculus, oculus-json   Oculus/OpenXR's 15 viseme weights per frame (.csv, .json)          written
+//   vrm, vrm-json         VRM's A I U E O weights per frame (.csv, .json)                     written
+//   rhubarb-tsv, rhubarb-xml, rhubarb-json, moho
+//                         Rhubarb Lip Sync's mouth cues in its layouts (.tsv, .xml, .json, .dat)   written
 // A new format is one file (a class deriving from AnimationFormat) and a line in animation_format.cpp's list.
 //
 // Every write checks the track first (a positive finite frame rate, FAP numbers ascending, unique and in 1..68,
@@ -48,19 +53,34 @@ const std::vector<const AnimationFormat*>& animationFormats();
 const AnimationFormat& animationFormat(std::string_view name);
 // The readable format of a file's extension (case-insensitive); throws th::Error naming the file otherwise.
 const AnimationFormat& animationFormatFor(const std::filesystem::path& path);
+// What to write to `path`: the named format (empty: the first in the list above with the path's extension);
+// a name with a JSON twin ("oculus", "vrm") takes the twin for a .json path. Throws th::Error naming the file
+// or listing the names.
+const AnimationFormat& formatForWriting(const std::filesystem::path& path, std::string_view name = {});
 
 // The common checks (see above); throws th::Error naming `path`.
 void checkTrack(const std::filesystem::path& path, const face::FapTrack& track);
+// The viseme formats' own: the track has visemes on its frames.
+void checkVisemes(const std::filesystem::path& path, const face::FapTrack& track);
 
 void writeAnimation(const std::filesystem::path& path, const face::FapTrack& track);
 void writeAnimation(const std::filesystem::path& path, const face::FapTrack& track, const AnimationFormat& format);
 face::FapTrack readAnimation(const std::filesystem::path& path);
 
 // The formats themselves (their files: csv_format.cpp, json_format.cpp, fap_stream_format.cpp,
-// arkit_format.cpp; arkit_format.h has the ARKit format with a face's own scale).
+// arkit_format.cpp, viseme_weight_formats.cpp, rhubarb_formats.cpp; arkit_format.h has the ARKit format with a
+// face's own scale).
 const AnimationFormat& csvFormat();
 const AnimationFormat& jsonFormat();
 const AnimationFormat& fapStreamFormat();
 const AnimationFormat& arkitFormat();
+const AnimationFormat& oculusFormat();
+const AnimationFormat& oculusJsonFormat();
+const AnimationFormat& vrmFormat();
+const AnimationFormat& vrmJsonFormat();
+const AnimationFormat& rhubarbTsvFormat();
+const AnimationFormat& rhubarbXmlFormat();
+const AnimationFormat& rhubarbJsonFormat();
+const AnimationFormat& mohoFormat();
 
 }  // namespace th::formats

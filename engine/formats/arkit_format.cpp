@@ -6,6 +6,7 @@
 
 #include "core/error.h"
 #include "face/face_model.h"
+#include "formats/weight_tables.h"
 
 namespace th::formats {
 namespace {
@@ -84,20 +85,7 @@ Eigen::MatrixXd arkitWeights(const face::FapTrack& track, const ArkitScale& scal
 }
 
 void ArkitFormat::write(std::ostream& out, const face::FapTrack& track) const {
-  const Eigen::MatrixXd weights = arkitWeights(track, scale_);
-  out << "time_s";
-  for (std::string_view name : kArkitNames) out << ',' << name;
-  out << '\n';
-  char buffer[32];
-  for (Eigen::Index t = 0; t < weights.cols(); ++t) {
-    std::snprintf(buffer, sizeof buffer, "%.6f", static_cast<double>(t) / track.framesPerSecond);
-    out << buffer;
-    for (Eigen::Index k = 0; k < weights.rows(); ++k) {
-      std::snprintf(buffer, sizeof buffer, ",%.4f", weights(k, t));
-      out << buffer;
-    }
-    out << '\n';
-  }
+  writeWeightsCsv(out, kArkitNames, arkitWeights(track, scale_), track.framesPerSecond);
 }
 
 const AnimationFormat& arkitFormat() {

@@ -11,8 +11,10 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <algorithm>
 #include <vector>
 
+#include "core/frame_store.h"
 #include "hmm/hmm_model.h"
 
 namespace th::hmm {
@@ -56,6 +58,8 @@ class FixedLagSmoother {
 
   int numReady() const { return static_cast<int>(posteriors_.size()); }
   const Eigen::VectorXd& posterior(int frame) const { return posteriors_[static_cast<size_t>(frame)]; }
+  // Posteriors before `frame` will not be read again: they are freed (a live stream runs for hours).
+  void forgetBefore(int frame) { posteriors_.forgetBefore(static_cast<size_t>(std::max(0, frame))); }
 
  private:
   void emitOldest(Eigen::Index windowFrames);
@@ -66,7 +70,7 @@ class FixedLagSmoother {
   std::vector<Eigen::VectorXd> window_;  // normalised α of the frames not yet emitted
 
   std::vector<Eigen::VectorXd> scaledEmissions_;
-  std::vector<Eigen::VectorXd> posteriors_;
+  FrameStore<Eigen::VectorXd> posteriors_;
   Eigen::VectorXd lastEmittedAlpha_;  // α of the newest emitted frame, when the window is empty
   bool finished_ = false;
 };

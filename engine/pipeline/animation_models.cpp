@@ -6,7 +6,8 @@
 
 namespace th::pipeline {
 
-AnimationModels loadAnimationModels(const std::filesystem::path& headModel, const std::filesystem::path& mouthModel) {
+AnimationModels loadAnimationModels(const std::filesystem::path& headModel, const std::filesystem::path& mouthModel,
+                                    const std::filesystem::path& visemeModel) {
   if (headModel.empty() && mouthModel.empty()) throw Error("neither a head nor a mouth model: nothing to animate");
   AnimationModels models;
   if (!headModel.empty()) models.head = std::make_unique<animation::HeadModel>(animation::loadHeadModel(headModel));
@@ -15,6 +16,8 @@ AnimationModels loadAnimationModels(const std::filesystem::path& headModel, cons
     if (!animation::drivesFaps(*models.mouth))
       throw fileError(mouthModel, "drives no FAPs (a sweep model?); make one with `talkinghead train mouth`");
   }
+  if (!visemeModel.empty())
+    models.visemes = std::make_unique<animation::VisemeModel>(animation::loadVisemeModel(visemeModel));
   return models;
 }
 

@@ -1,5 +1,5 @@
-// The speech models a run animates with: the head model and the mouth model, each optional, and where the
-// shipped ones are.
+// The speech models a run animates with: the head model, the mouth model and the viseme model, each optional,
+// and where the shipped ones are.
 //
 //   const th::pipeline::AnimationModels models =
 //       th::pipeline::loadAnimationModels(th::pipeline::shippedModel("head.json"), th::pipeline::shippedModel("mouth.json"));
@@ -13,17 +13,20 @@
 
 #include "animation/head_model.h"
 #include "animation/mouth_model.h"
+#include "animation/viseme_model.h"
 
 namespace th::pipeline {
 
 struct AnimationModels {
-  std::unique_ptr<animation::HeadModel> head;    // null: the head left out
-  std::unique_ptr<animation::MouthModel> mouth;  // null: the mouth left out
+  std::unique_ptr<animation::HeadModel> head;       // null: the head left out
+  std::unique_ptr<animation::MouthModel> mouth;     // null: the mouth left out
+  std::unique_ptr<animation::VisemeModel> visemes;  // null: no visemes (the viseme and mouth-cue formats need them)
 };
 
 // An empty path leaves that model out. Throws th::Error naming the file for an unreadable model or a mouth
 // model that drives no FAPs (a sweep model), and when both paths are empty.
-AnimationModels loadAnimationModels(const std::filesystem::path& headModel, const std::filesystem::path& mouthModel);
+AnimationModels loadAnimationModels(const std::filesystem::path& headModel, const std::filesystem::path& mouthModel,
+                                    const std::filesystem::path& visemeModel = {});
 
 // models/<file> in the source tree, where the shipped models live ("head.json", "mouth_live.json", ...).
 std::filesystem::path shippedModel(std::string_view file);

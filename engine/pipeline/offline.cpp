@@ -10,7 +10,8 @@
 namespace th::pipeline {
 
 face::FapTrack animate(std::span<const float> samples16k, const animation::HeadModel* head,
-                       const animation::MouthModel* mouth, const AnimateOptions& options) {
+                       const animation::MouthModel* mouth, const AnimateOptions& options,
+                       const animation::VisemeModel* visemes) {
   if (head == nullptr && mouth == nullptr) throw Error("animate: neither a head nor a mouth model");
   if (mouth != nullptr && !animation::drivesFaps(*mouth))
     throw Error("animate: the mouth model drives no FAPs (a sweep model?); make one with `talkinghead train mouth`");
@@ -42,12 +43,13 @@ face::FapTrack animate(std::span<const float> samples16k, const animation::HeadM
     track.values.row(row++) = curve.head(frames);
   }
   if (options.idle) animation::addIdleMotion(track, heard.speech.levelDb, options.idleOptions, {});
+  if (visemes != nullptr) track.visemes = animation::decodeVisemes(*visemes, heard.speech);
   return track;
 }
 
 face::FapTrack animate(std::span<const float> samples16k, const AnimationModels& models,
                        const AnimateOptions& options) {
-  return animate(samples16k, models.head.get(), models.mouth.get(), options);
+  return animate(samples16k, models.head.get(), models.mouth.get(), options, models.visemes.get());
 }
 
 face::FapTrack animateRecording(const std::filesystem::path& recording, const AnimationModels& models,
@@ -61,6 +63,7 @@ face::FapTrack animateRecording(const std::filesystem::path& recording, const An
     throw fileError(recording, error.what());
   }
   track.name = recording.stem().string();
+  track.source = std::filesystem::absolute(recording).lexically_normal().string();
   if (clip != nullptr) *clip = std::move(sound);
   return track;
 }

@@ -4,6 +4,7 @@
 //   recording ─► speech features, computed once (animation/speech_analysis.h)
 //             ─► head model: prosody ─► rotations ─► FAPs 48–50 ───┐
 //             ─► mouth model: MFCCs ─► visual components ─► jaw and lip FAPs
+//             ─► viseme model: MFCCs ─► each frame's mouth class (visemes, Rhubarb's mouth cues)
 //             ─► idle behaviour: blinks, gaze, the head at rest in silence
 //             ─► FapTrack ─► an animation file (formats/), or the face rendered and encoded (video_export.h)
 //
@@ -39,7 +40,8 @@ struct AnimateOptions {
 // samples16k: mono at 16 kHz. Throws th::Error if both models are null, the mouth model drives no FAPs (no
 // FAP map and no visual FAPs), or the recording is shorter than one frame.
 face::FapTrack animate(std::span<const float> samples16k, const animation::HeadModel* head,
-                       const animation::MouthModel* mouth, const AnimateOptions& options = {});
+                       const animation::MouthModel* mouth, const AnimateOptions& options = {},
+                       const animation::VisemeModel* visemes = nullptr);
 face::FapTrack animate(std::span<const float> samples16k, const AnimationModels& models,
                        const AnimateOptions& options = {});
 

@@ -15,11 +15,19 @@ void ModelOptions::visitOptions(OptionVisitor& v) {
            {.name = "head-model", .help = "Head model file (default: the shipped models/head.json)", .panel = false});
   v.option(mouthModel,
            {.name = "mouth-model", .help = "Mouth model file (default: the shipped one in models/)", .panel = false});
+  v.option(visemeModel, {.name = "viseme-model",
+                         .help = "Viseme model file (default: the shipped models/visemes.json; none: no visemes)",
+                         .panel = false});
 }
 
 std::filesystem::path ModelOptions::headModelPath() const {
   if (head == "none") return {};
   return headModel.empty() ? shippedModel("head.json") : std::filesystem::path(headModel);
+}
+
+std::filesystem::path ModelOptions::visemeModelPath() const {
+  if (visemeModel == "none") return {};
+  return visemeModel.empty() ? shippedModel("visemes.json") : std::filesystem::path(visemeModel);
 }
 
 std::filesystem::path ModelOptions::mouthModelPath(std::string_view shippedMouth) const {
@@ -207,7 +215,7 @@ LiveDecoderOptions decoderOptionsOf(const ModelOptions& models, const HeadMotion
 AnimationModels loadModels(const ModelOptions& models, std::string_view shippedMouth) {
   if (models.head == "none" && models.mouth == "none")
     throw Error("--head none and --mouth none leave nothing to animate");
-  return loadAnimationModels(models.headModelPath(), models.mouthModelPath(shippedMouth));
+  return loadAnimationModels(models.headModelPath(), models.mouthModelPath(shippedMouth), models.visemeModelPath());
 }
 
 AnimationModels loadModels(const LiveSettings& settings) {

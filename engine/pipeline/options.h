@@ -35,11 +35,13 @@ struct ModelOptions {
   std::string mouth = "inversion";  // kMouthMethodNames
   std::string headModel;            // a file; empty: the shipped one
   std::string mouthModel;           // a file; empty: the shipped one (live: the preset's)
+  std::string visemeModel;          // a file; empty: the shipped one; "none": no visemes
   void visitOptions(OptionVisitor& v);
   // The files to load: the given ones, else the shipped ones (the mouth's: shippedMouth, in models/); empty for
   // a part switched off ("none").
   std::filesystem::path headModelPath() const;
   std::filesystem::path mouthModelPath(std::string_view shippedMouth = "mouth.json") const;
+  std::filesystem::path visemeModelPath() const;  // empty for "none"
 };
 
 struct HeadMotionOptions {

@@ -16,6 +16,7 @@
 #include "core/data_path.h"
 #include "core/numeric_csv.h"
 #include "formats/animation_format.h"
+#include "support/files.h"
 
 namespace {
 
@@ -202,6 +203,37 @@ TEST_F(AnimateCliTest, VariantsAndPartsAreSelectable) {
       "animate", "nothing to animate");
 }
 
+// The viseme model's output in every viseme and mouth-cue format: the format named, or picked by the extension.
+TEST_F(AnimateCliTest, VisemesAndMouthCuesInEveryFormat) {
+  const fs::path prompt = th::sharedDataPath("speech/arctic/arctic_a0001.wav");
+  struct Case {
+    const char* file;
+    const char* format;
+    const char* starts;
+  };
+  for (const Case& c :
+       {Case{"cues.tsv", "", "0.00\t"}, Case{"cues.xml", "", "<?xml version=\"1.0\" encoding=\"utf-8\"?>"},
+        Case{"cues.dat", "", "MohoSwitch1\n1 "}, Case{"cues.json", "rhubarb-json", "{\n  \"metadata\""},
+        Case{"oculus.csv", "oculus", "time_s,sil,PP,FF"}, Case{"oculus.json", "oculus", "{\n  \"fps\": 30"},
+        Case{"vrm.csv", "vrm", "time_s,A,I,U,E,O\n"}}) {
+    std::vector<std::string> arguments{"animate", prompt.string(), "-o", (out() / c.file).string()};
+    if (*c.format != '\0') arguments.insert(arguments.end(), {"--format", c.format});
+    const CliResult result = runCli(arguments, logs());
+    ASSERT_EQ(result.exitCode, 0) << c.file << ": " << result.err;
+    const std::string text = th::test::readText(out() / c.file);
+    EXPECT_EQ(text.rfind(c.starts, 0), 0U) << c.file << ":\n" << text.substr(0, 200);
+  }
+  // The prompt is speech between silences: the cues open and close at rest and show the mouth open between.
+  const std::string tsv = th::test::readText(out() / "cues.tsv");
+  EXPECT_EQ(tsv.rfind("0.00\tX\n", 0), 0U) << tsv;
+  EXPECT_NE(tsv.find("\tD\n"), std::string::npos) << tsv;
+  EXPECT_GT(std::count(tsv.begin(), tsv.end(), '\n'), 10) << tsv;
+  expectOneLineFailure(
+      runCli({"animate", prompt.string(), "-o", (out() / "none.tsv").string(), "--viseme-model", "none"}, logs()),
+      "none.tsv", "has no visemes");
+  EXPECT_FALSE(fs::exists(out() / "none.tsv"));
+}
+
 TEST_F(AnimateCliTest, BadInputsAndOutputsFailInOneLineAndLeaveNothing) {
   const std::string good = (out() / "a.csv").string();
   expectOneLineFailure(runCli({"animate", (folder_.path() / "missing.wav").string(), "-o", good}, logs()),
@@ -210,7 +242,7 @@ TEST_F(AnimateCliTest, BadInputsAndOutputsFailInOneLineAndLeaveNothing) {
   std::ofstream(text) << "not audio at all";
   expectOneLineFailure(runCli({"animate", text.string(), "-o", good}, logs()), "text.wav", "not a readable audio file");
   expectOneLineFailure(runCli({"animate", speech().string(), "-o", (out() / "a.txt").string()}, logs()), "a.txt",
-                       "an animation file is .csv, .json or .fap");
+                       "an animation is written as .csv, .json, .fap");
   expectOneLineFailure(runCli({"animate", speech().string(), "-o", (out() / "no" / "a.csv").string()}, logs()), "a.csv",
                        "folder does not exist");
   expectOneLineFailure(runCli({"animate", speech().string(), "-o", good, "--mouth-model", text.string()}, logs()),
