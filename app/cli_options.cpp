@@ -30,6 +30,18 @@ class CliBinder final : public OptionVisitor {
   void option(unsigned& value, const OptionSpec& spec) override { number(value, spec); }
   void option(double& value, const OptionSpec& spec) override { number(value, spec); }
   void option(std::string& value, const OptionSpec& spec) override {
+    if (!spec.implicitValue.empty()) {  // "--vmc" alone, or "--vmc 9000"
+      command_
+          .add_option(
+              flagOf(spec, false),
+              [&value, implicit = std::string(spec.implicitValue)](const CLI::results_t& results) {
+                value = results.empty() || results.front().empty() ? implicit : results.front();
+                return true;
+              },
+              helpOf(spec) + " (alone: " + std::string(spec.implicitValue) + ")")
+          ->expected(0, 1);
+      return;
+    }
     CLI::Option* option = command_.add_option(flagOf(spec, false), value, helpOf(spec));
     if (!spec.choices.empty()) {
       std::vector<std::string> names(spec.choices.begin(), spec.choices.end());

@@ -16,7 +16,7 @@ namespace {
 struct VisemeArguments {
   animation::VisemeModelOptions model;
   std::string output = "models/visemes.json";
-  int lagFrames = 6;
+  int lagFrames = 2;
   bool sweep = false;
 };
 

@@ -15,6 +15,9 @@
 #include "core/statistics.h"
 #include "formats/animation_format.h"
 #include "interrupt.h"
+#include "live/settings_file.h"
+#include "outputs/avatar_frame.h"
+#include "outputs/live_output.h"
 #include "pipeline/live.h"
 
 namespace th::app {
@@ -85,6 +88,9 @@ void runHeadless(const HeadlessArguments& arguments, const pipeline::LiveSetting
   printEvents(live);
   // A sound input that will not open at the start is an error, not something to wait for.
   if (!live.running()) throw Error(live.sourceError().empty() ? "live: the source did not start" : live.sourceError());
+  const auto issuedToken = std::make_shared<outputs::IssuedToken>();
+  std::vector<std::unique_ptr<outputs::LiveOutput>> sinks = outputs::openOutputs(
+      settings.outputs, live.fapNumbers(), [issuedToken](const std::string& token) { issuedToken->set(token); });
   const std::string sourceName =
       fromDevice ? live.sourceName() + " (" + std::to_string(static_cast<int>(live.rateHz())) + " Hz)"
                  : live.sourceName();
@@ -106,6 +112,10 @@ void runHeadless(const HeadlessArguments& arguments, const pipeline::LiveSetting
     while (live.nextFrame(frame)) {
       decodeMs.add(static_cast<double>(frame.decodedNs - frame.inputReadNs) * 1e-6);
       if (!arguments.dump.empty()) shown.push_back(frame);
+      if (!sinks.empty()) {
+        const outputs::AvatarFrame avatar = outputs::avatarFrameOf(frame);
+        for (const auto& sink : sinks) sink->send(avatar);
+      }
       if (++framesShown == 60 * 30) minuteMegabytes = residentMegabytes();  // a minute of sound in
     }
   };
@@ -121,6 +131,10 @@ void runHeadless(const HeadlessArguments& arguments, const pipeline::LiveSetting
     std::this_thread::sleep_until(next);
   }
   take();
+  const double runSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  std::vector<std::string> outputLines;
+  for (const auto& sink : sinks) outputLines.push_back(outputs::describe(sink->status(), runSeconds));
+  sinks.clear();  // VTube Studio's thread ends before its token is read
   const double endMegabytes = residentMegabytes();
   if (fromDevice) seconds = live.deviceSeconds();
 
@@ -148,6 +162,13 @@ void runHeadless(const HeadlessArguments& arguments, const pipeline::LiveSetting
   if (minuteMegabytes >= 0.0) std::snprintf(afterAMinute, sizeof afterAMinute, "%.1f MB", minuteMegabytes);
   std::printf("  memory (resident): %.1f MB at the start, %s after the first minute of sound, %.1f MB at the end\n",
               startMegabytes, afterAMinute, endMegabytes);
+  for (const std::string& line : outputLines) std::printf("  output %s\n", line.c_str());
+  if (const std::string token = issuedToken->get(); !token.empty() && !arguments.settingsPath.empty()) {
+    pipeline::LiveSettings kept = loadLiveSettings(arguments.settingsPath);
+    kept.outputs.vtsToken = token;
+    saveLiveSettings(arguments.settingsPath, kept);
+    std::printf("  VTube Studio's token kept in %s\n", arguments.settingsPath.string().c_str());
+  }
   std::fflush(stdout);
   if (!live.failure().empty()) throw Error(sourceName + ": " + live.failure() + "; no dump written");
 

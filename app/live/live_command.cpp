@@ -37,6 +37,11 @@ void listDevices() {
                 d.isDefaultInput ? "  [default]" : "", d.hostApi.c_str(), d.inputChannels, d.defaultRateHz);
 }
 
+std::filesystem::path settingsPathOf(const LiveArguments& arguments) {
+  if (arguments.noSettings) return {};
+  return arguments.settingsFile.empty() ? defaultLiveSettingsPath() : std::filesystem::path(arguments.settingsFile);
+}
+
 // The saved settings, then the preset typed, then every option typed.
 pipeline::LiveSettings resolveSettings(LiveArguments& arguments, const CLI::App& command,
                                        pipeline::LiveSettings settings) {
@@ -63,17 +68,19 @@ void runLive(LiveArguments& arguments, const CLI::App& command) {
     if (input.empty() && !typedDevice)
       throw Error("live --headless: give the sound either as --input FILE or as --device (default or a number)");
     if (!arguments.window.screenshot.empty()) throw Error("live: --screenshot is for the window, not --headless");
-    runHeadless(arguments.run, resolveSettings(arguments, command, {}));
+    // Headless reads nothing else of the window's settings, only VTube Studio's token (and keeps a new one).
+    arguments.run.settingsPath = settingsPathOf(arguments);
+    pipeline::LiveSettings base;
+    if (!arguments.run.settingsPath.empty() && !arguments.given.outputs.vts.empty())
+      base.outputs.vtsToken = loadLiveSettings(arguments.run.settingsPath).outputs.vtsToken;
+    runHeadless(arguments.run, resolveSettings(arguments, command, base));
     return;
   }
   if (!arguments.run.dump.empty()) throw Error("live: --dump is for --headless runs");
   if (arguments.run.speed != 1.0) throw Error("live: --speed is for --headless runs; the window plays in real time");
   arguments.window.input = input;
   arguments.window.duration = arguments.run.duration;
-  arguments.window.settingsPath =
-      arguments.noSettings ? std::filesystem::path()
-                           : (arguments.settingsFile.empty() ? defaultLiveSettingsPath()
-                                                             : std::filesystem::path(arguments.settingsFile));
+  arguments.window.settingsPath = settingsPathOf(arguments);
   runLiveWindow(arguments.window, resolveSettings(arguments, command, loadLiveSettings(arguments.window.settingsPath)));
 }
 

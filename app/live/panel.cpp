@@ -105,6 +105,7 @@ PanelChanges LivePanel::draw(const PanelView& view, std::pair<int, int> windowSi
   soundSection(view, changes);
   plotSection();
   latencySection(view);
+  outputsSection(view, changes);
   settingsSection(view, changes);
   ImGui::End();
   return changes;
@@ -200,6 +201,35 @@ void LivePanel::latencySection(const PanelView& view) {
   ImGui::Text("display %.1f frames/s; per frame (median ms):", period > 0.0 ? 1000.0 / period : 0.0);
   ImGui::Text("  face %.1f, GL %.1f, panel %.1f (when drawn), swap %.1f", stats.faceSetupMs(), stats.glMs(),
               stats.panelMs(), stats.swapMs());
+}
+
+// Each output switched on and off, and how it is doing: where it sends, whether the receiver takes the frames.
+void LivePanel::outputsSection(const PanelView& view, PanelChanges& changes) {
+  if (!ImGui::CollapsingHeader("Outputs", ImGuiTreeNodeFlags_DefaultOpen)) return;
+  pipeline::OutputSettings& outputs = view.settings.outputs;
+  struct Row {
+    const char* label;
+    const char* name;  // OutputStatus::name
+    std::string& address;
+    std::string_view fallback;
+  };
+  for (const Row& row : {Row{"VMC (VSeeFace, VMagicMirror, ...)", "VMC", outputs.vmc, pipeline::kVmcDefault},
+                         Row{"OSC (VRChat, TouchDesigner, Max)", "OSC", outputs.osc, pipeline::kOscDefault},
+                         Row{"VTube Studio", "VTube Studio", outputs.vts, pipeline::kVtsDefault}}) {
+    bool on = !row.address.empty();
+    if (ImGui::Checkbox(row.label, &on)) {
+      row.address = on ? std::string(row.fallback) : std::string();
+      changes.outputs = true;
+    }
+    for (const outputs::OutputStatus& status : view.outputs) {
+      if (status.name != row.name) continue;
+      if (!status.connected) ImGui::PushStyleColor(ImGuiCol_Text, kErrorColour);
+      ImGui::TextWrapped("  %s: %s; %llu frames, %llu dropped", status.target.c_str(), status.state.c_str(),
+                         static_cast<unsigned long long>(status.framesSent),
+                         static_cast<unsigned long long>(status.framesDropped));
+      if (!status.connected) ImGui::PopStyleColor();
+    }
+  }
 }
 
 void LivePanel::settingsSection(const PanelView& view, PanelChanges& changes) {

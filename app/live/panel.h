@@ -20,6 +20,7 @@
 
 #include "live/frame_stats.h"
 #include "live/option_widgets.h"
+#include "outputs/live_output.h"
 #include "pipeline/animation_frame.h"
 #include "pipeline/live.h"
 #include "pipeline/options.h"
@@ -33,6 +34,7 @@ struct PanelChanges {
   bool newPlayout = false;    // the display mode (interpolation)
   bool idle = false;          // the idle behaviour's pace
   bool device = false;        // another sound input, or a rescan
+  bool outputs = false;       // an output switched on or off
 };
 
 // The settings' widgets, and what their changes ask for (a preset's values applied, a min-f0 at or above
@@ -43,9 +45,10 @@ struct PanelView {
   pipeline::LivePipeline* live = nullptr;  // null: no pipeline yet
   pipeline::LiveSettings& settings;
   const FrameStats& stats;
-  std::uint64_t displayStarved = 0;  // the playout's
-  bool speaking = false;             // the idle behaviour hears speech
-  const std::string& modelError;     // the last model file that would not load (the running ones stay)
+  std::uint64_t displayStarved = 0;                 // the playout's
+  bool speaking = false;                            // the idle behaviour hears speech
+  const std::string& modelError;                    // the last model file that would not load (the running ones stay)
+  std::vector<outputs::OutputStatus> outputs = {};  // the open outputs', in the order VMC, OSC, VTube Studio
 };
 
 class LivePanel {
@@ -78,6 +81,7 @@ class LivePanel {
   void soundSection(const PanelView& view, PanelChanges& changes);
   void plotSection();
   void latencySection(const PanelView& view);
+  void outputsSection(const PanelView& view, PanelChanges& changes);
   void settingsSection(const PanelView& view, PanelChanges& changes);
   static void plot(const char* label, const Curve& curve, float low, float high, float width);
   static void posteriorPlot(const char* title, const Posteriors& posteriors, float width);

@@ -23,6 +23,8 @@
 #include "live/frame_stats.h"
 #include "live/panel.h"
 #include "live/settings_file.h"
+#include "outputs/avatar_frame.h"
+#include "outputs/live_output.h"
 #include "pipeline/live.h"
 #include "pipeline/playout.h"
 #include "render/animated_face.h"
@@ -147,6 +149,7 @@ class LiveWindow {
     glfwSetCursorEnterCallback(window_.window(), [](GLFWwindow* w, int) { noteInput(w); });
     ImGui_ImplGlfw_InitForOpenGL(window_.window(), true);
     ImGui_ImplOpenGL3_Init("#version 330 core");
+    openOutputs();  // a bad address is an error before the window is of any use
     live_->supervise();
     handleEvents();
     const pipeline::LiveSettings& s = settings_;
@@ -232,8 +235,12 @@ class LiveWindow {
         std::this_thread::sleep_until(nextTick_);
       }
     }
+    const double secondsOpen = secondsSince(started);
+    for (const auto& output : outputs_) std::printf("%s\n", outputs::describe(output->status(), secondsOpen).c_str());
+    outputs_.clear();  // VTube Studio's thread ends before its token is read
+    if (const std::string token = issuedToken_->get(); !token.empty()) settings_.outputs.vtsToken = token;
     saveLiveSettings(arguments_.settingsPath, settings_);
-    stats_.printSummary(secondsSince(started), panelDraws_);
+    stats_.printSummary(secondsOpen, panelDraws_);
     if (!live_->isRecording())
       std::printf("sound inputs: %llu opened, %llu lost\n", static_cast<unsigned long long>(live_->sourcesOpened()),
                   static_cast<unsigned long long>(live_->sourcesLost()));
@@ -311,6 +318,12 @@ class LiveWindow {
     }
     if (settings_.idle.idle)
       idle_.apply(secondsSince(opened_), levelDb, {.blinks = settings_.live.blinks, .gaze = settings_.live.gaze}, faps);
+    if (shown && !outputs_.empty()) {  // the face as drawn, blinks and gaze included
+      pipeline::AnimationFrame drawn = sample.frame;
+      drawn.faps = faps;
+      const outputs::AvatarFrame avatar = outputs::avatarFrameOf(drawn);
+      for (const auto& output : outputs_) output->send(avatar);
+    }
     const auto setupStart = std::chrono::steady_clock::now();
     face_.pose(faps);
     times.faceSetupMs = millisecondsBetween(setupStart, std::chrono::steady_clock::now());
@@ -334,7 +347,8 @@ class LiveWindow {
                                               .stats = stats_,
                                               .displayStarved = playout_.starvedSamples(),
                                               .speaking = idle_.speaking(),
-                                              .modelError = modelError_},
+                                              .modelError = modelError_,
+                                              .outputs = outputStatuses()},
                                              size, panelWidth_);
     ImGui::Render();
     ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
@@ -345,7 +359,22 @@ class LiveWindow {
     apply(changes);
   }
 
+  // The outputs the settings name, (re)opened; VTube Studio's token, once issued, is kept for the settings file.
+  void openOutputs() {
+    outputs_.clear();
+    if (const std::string token = issuedToken_->get(); !token.empty()) settings_.outputs.vtsToken = token;
+    outputs_ = outputs::openOutputs(settings_.outputs, live_->fapNumbers(),
+                                    [token = issuedToken_](const std::string& issued) { token->set(issued); });
+  }
+
+  std::vector<outputs::OutputStatus> outputStatuses() const {
+    std::vector<outputs::OutputStatus> statuses;
+    for (const auto& output : outputs_) statuses.push_back(output->status());
+    return statuses;
+  }
+
   void apply(const PanelChanges& changes) {
+    if (changes.outputs) openOutputs();
     if (changes.newPlayout)
       playout_ = pipeline::Playout(pipeline::PlayoutOptions{.interpolate = settings_.live.interpolate});
     if (changes.idle) idle_ = animation::IdleMotion(settings_.idle.motionOptions());
@@ -403,6 +432,8 @@ class LiveWindow {
   std::chrono::steady_clock::time_point opened_ = std::chrono::steady_clock::now();
   std::shared_ptr<const pipeline::AnimationModels> models_;
   std::unique_ptr<pipeline::LivePipeline> live_;
+  std::vector<std::unique_ptr<outputs::LiveOutput>> outputs_;
+  std::shared_ptr<outputs::IssuedToken> issuedToken_ = std::make_shared<outputs::IssuedToken>();
   std::uint64_t sessionsSeen_ = 0;
   std::string modelError_;
   LivePanel panel_;

@@ -44,11 +44,11 @@
 namespace th::animation {
 
 struct VisemeModelOptions {
-  int contextFrames = 4;  // tc: ±133 ms at 30 fps
+  int contextFrames = 2;  // tc: ±67 ms at 30 fps
   int dimensions = 10;    // LDA directions kept (at most the classes less one)
   int mixtures = 2;       // Gaussians per class
   int minHoldFrames = 3;  // 100 ms at 30 fps
-  double emissionScale = 0.35;
+  double emissionScale = 0.5;
   features::SpeechNormalisationOptions normalisation{};
   unsigned seed = 1;
   void check() const;  // throws th::Error naming the bad option
@@ -61,9 +61,9 @@ struct LabelledSpeech {
 };
 
 struct VisemeModel {
-  int contextFrames = 4;
+  int contextFrames = 2;
   int minHoldFrames = 3;
-  double emissionScale = 0.35;
+  double emissionScale = 0.5;
   features::SpeechNormalisationOptions normalisation;
   Eigen::VectorXd priorMean;   // the training speech's mean c1..c11
   Eigen::VectorXd inputMean;   // of the stacked features
@@ -94,7 +94,7 @@ struct VisemeFrame {
 class VisemeStream {
  public:
   // lagFrames: how many frames after a frame its class is decided (beyond the context's tc).
-  explicit VisemeStream(const VisemeModel& model, int lagFrames = 6);
+  explicit VisemeStream(const VisemeModel& model, int lagFrames = 2);
   void accept(double levelDb, const Eigen::Ref<const Eigen::VectorXd>& mfcc);
   void finish();  // the input has ended: the frames still waiting are decided
   bool next(VisemeFrame& frame);

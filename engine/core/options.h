@@ -41,8 +41,9 @@ struct OptionSpec {
   double min = -std::numeric_limits<double>::infinity();  // numbers: the allowed range, inclusive
   double max = std::numeric_limits<double>::infinity();
   std::span<const std::string_view> choices = {};  // strings: the allowed values (empty: any text)
-  bool logarithmic = false;  // the panel's slider: equal steps in ratio (wide ranges of positive values)
-  bool panel = true;         // offered in the live panel (file paths and the like are not)
+  bool logarithmic = false;             // the panel's slider: equal steps in ratio (wide ranges of positive values)
+  bool panel = true;                    // offered in the live panel (file paths and the like are not)
+  std::string_view implicitValue = {};  // strings: the value of the option given without one ("--vmc")
 };
 
 // What the adapters implement: called once per field, in declaration order, with a reference to the field.

@@ -9,15 +9,11 @@
 #include "formats/weight_tables.h"
 
 namespace th::formats {
-namespace {
-
-int indexOf(std::string_view name) {
+int arkitIndex(std::string_view name) {
   for (std::size_t i = 0; i < kArkitNames.size(); ++i)
     if (kArkitNames[i] == name) return static_cast<int>(i);
   throw Error("ARKit: no shape named " + std::string(name));
 }
-
-}  // namespace
 
 ArkitScale arkitScaleFor(const face::FaceModel& face) {
   ArkitScale scale;
@@ -41,7 +37,7 @@ Eigen::MatrixXd arkitWeights(const face::FapTrack& track, const ArkitScale& scal
     };
     const auto pair = [&](int inner, int outer) { return 0.5 * (fap(inner) + fap(outer)); };
     const auto set = [&](std::string_view name, double value, double full) {
-      weights(indexOf(name), t) = std::clamp(value / full, 0.0, 1.0);
+      weights(arkitIndex(name), t) = std::clamp(value / full, 0.0, 1.0);
     };
     set("jawOpen", fap(3), scale.jawOpen);
     set("jawForward", fap(14), scale.jaw);

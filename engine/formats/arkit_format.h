@@ -71,6 +71,9 @@ ArkitScale arkitScaleFor(const face::FaceModel& face);
 // 52 x numFrames weights, a row per shape in kArkitNames order; FAPs the track lacks count as 0.
 Eigen::MatrixXd arkitWeights(const face::FapTrack& track, const ArkitScale& scale = {});
 
+// The row of a name in kArkitNames; throws th::Error for another name.
+int arkitIndex(std::string_view name);
+
 // The format: a header time_s and the 52 names, then a row per frame (times to 6 decimals, weights to 4).
 // The registry's "arkit" (animationFormat) uses the default scale; export measures it on the face it renders.
 class ArkitFormat final : public AnimationFormat {

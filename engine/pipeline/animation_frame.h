@@ -10,6 +10,7 @@
 #include <span>
 
 #include "face/fap.h"
+#include "face/visemes.h"
 
 namespace th::pipeline {
 
@@ -34,6 +35,11 @@ struct AnimationFrame {
   static constexpr int kMaxMouthStates = 16;
   std::array<float, kMaxMouthStates> mouthPosterior{};
   int mouthStates = 0;
+  // The viseme model's, where the decoder has one: the mouth classes' probabilities and the class shown
+  // (face/visemes.h), of frame visemeIndex, the newest it has decided by this frame (visemeIndex < 0: none yet).
+  std::array<float, face::kNumMouthClasses> visemeProbabilities{};
+  int mouthClass = face::kSilence;
+  int visemeIndex = -1;
   // Steady-clock times (ns) set by the live session: when the worker had read the input that released this
   // frame, and when the frame left the decoder.
   std::int64_t inputReadNs = 0;

@@ -31,7 +31,7 @@ features::FeatureOptions mouthFeatureOptions() {
 }  // namespace
 
 LiveDecoder::LiveDecoder(const animation::HeadModel* head, const animation::MouthModel* mouth,
-                         const LiveDecoderOptions& options)
+                         const LiveDecoderOptions& options, const animation::VisemeModel* visemes)
     : mouth_(mouth),
       options_(options),
       // The features animate() gives each model: the prosody settings serve both (the energy's normalisation
@@ -55,6 +55,7 @@ LiveDecoder::LiveDecoder(const animation::HeadModel* head, const animation::Mout
     mouthStream_ = std::make_unique<animation::MouthSynthesiser>(*mouth, options.mouth);
     mouthFaps_ = animation::mouthFapNumbers(*mouth);
   }
+  if (visemes != nullptr) visemeStream_ = std::make_unique<animation::VisemeStream>(*visemes, options.visemeLagFrames);
   headDelayFrames_ = lookahead().headDelayFrames;
   row_.resize(static_cast<std::size_t>(prosodyExtractor_.layout().size()));
   mfccRow_.resize(static_cast<std::size_t>(mouthExtractor_.layout().numMfcc));
@@ -64,16 +65,17 @@ LiveDecoder::~LiveDecoder() = default;
 
 void LiveDecoder::acceptWaveform(std::span<const float> samples16k) {
   prosodyExtractor_.acceptWaveform(samples16k);
-  if (mouthStream_) mouthExtractor_.acceptWaveform(samples16k);
+  if (mouthStream_ || visemeStream_) mouthExtractor_.acceptWaveform(samples16k);
   pull();
 }
 
 void LiveDecoder::inputFinished() {
   prosodyExtractor_.inputFinished();
-  if (mouthStream_) mouthExtractor_.inputFinished();
+  if (mouthStream_ || visemeStream_) mouthExtractor_.inputFinished();
   pull();
   if (headStream_) headStream_->finish();
   if (mouthStream_) mouthStream_->finish();
+  if (visemeStream_) visemeStream_->finish();
   pull();
   finished_ = true;
 }
@@ -96,13 +98,26 @@ void LiveDecoder::pull() {
     for (; headTaken_ < headStream_->numReady(); ++headTaken_)
       prosodyFrames_[static_cast<std::size_t>(headTaken_ - prosodyBase_)].headDegrees =
           headStream_->rotation(headTaken_);
-  if (mouthStream_) {
+  if (mouthStream_ || visemeStream_) {
     Eigen::VectorXd mfcc(static_cast<Eigen::Index>(mfccRow_.size()));
     for (; mfccFrames_ < mouthExtractor_.numBaseFramesReady(); ++mfccFrames_) {
       mouthExtractor_.getMfcc(mfccFrames_, mfccRow_);
       for (Eigen::Index k = 0; k < mfcc.size(); ++k) mfcc[k] = mfccRow_[static_cast<std::size_t>(k)];
-      mouthStream_->acceptFrame(mouthExtractor_.getLevelDb(mfccFrames_), mfcc);
+      const double levelDb = mouthExtractor_.getLevelDb(mfccFrames_);
+      if (mouthStream_) mouthStream_->acceptFrame(levelDb, mfcc);
+      if (visemeStream_) visemeStream_->accept(levelDb, mfcc);
     }
+  }
+  if (visemeStream_) {
+    VisemeDecision decision;
+    while (visemeStream_->next(decision.frame)) {
+      decision.index = visemesDecided_++;
+      visemeFrames_.push_back(decision);
+    }
+    // Without a mouth, nothing else reads the MFCC extractor's frames again.
+    if (!mouthStream_) mouthExtractor_.forgetBefore(mfccFrames_);
+  }
+  if (mouthStream_) {
     Eigen::VectorXd components;
     while (mouthStream_->next(components)) {
       const auto frame = static_cast<int>(static_cast<int>(mouthFrames_.size()) + nextIndex_);
@@ -124,7 +139,7 @@ void LiveDecoder::pull() {
 
 std::size_t LiveDecoder::framesHeld() const {
   return prosodyExtractor_.framesHeld() + mouthExtractor_.framesHeld() + (headStream_ ? headStream_->framesHeld() : 0) +
-         prosodyFrames_.size() + mouthFrames_.size();
+         prosodyFrames_.size() + mouthFrames_.size() + visemeFrames_.size();
 }
 
 bool LiveDecoder::next(AnimationFrame& frame) {
@@ -163,6 +178,19 @@ bool LiveDecoder::next(AnimationFrame& frame) {
     frame.mouthStates = std::min(mouthStream_->numStates(), AnimationFrame::kMaxMouthStates);
     for (std::size_t i = 0; i < mouthFaps_.size(); ++i)
       frame.faps[static_cast<std::size_t>(mouthFaps_[i])] = mouth.faps[static_cast<Eigen::Index>(i)];
+  }
+  if (visemeStream_) {
+    while (!visemeFrames_.empty() && visemeFrames_.front().index <= frame.index) {
+      shownVisemes_ = std::move(visemeFrames_.front());
+      visemeFrames_.pop_front();
+    }
+    if (shownVisemes_.index >= 0) {
+      frame.visemeIndex = shownVisemes_.index;
+      frame.mouthClass = shownVisemes_.frame.mouthClass;
+      for (int c = 0; c < face::kNumMouthClasses; ++c)
+        frame.visemeProbabilities[static_cast<std::size_t>(c)] =
+            static_cast<float>(shownVisemes_.frame.probabilities[c]);
+    }
   }
   ++nextIndex_;
   // Prosody frames before the next frame's are not needed again.

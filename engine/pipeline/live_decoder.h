@@ -12,7 +12,8 @@
 // lag, the mouth ~110 ms, so by default the mouth sets the pace: frame i carries the mouth of instant i and the
 // head (and F0) of frame i - headDelayFrames, decided by then (lookahead() says how many). With
 // `waitForHead`, a frame waits for its own head instead, and the frames are those of pipeline::animate() with
-// the same online options, frame for frame (tests/pipeline). A null model leaves its FAPs at 0.
+// the same online options, frame for frame (tests/pipeline). A null model leaves its FAPs at 0. With a viseme
+// model, the MFCC extractor also feeds its stream, and each frame carries the newest visemes decided.
 //
 // Thread contract: one thread per instance; the models are shared read-only and must outlive it.
 #pragma once
@@ -24,6 +25,7 @@
 #include "animation/head_model.h"
 #include "animation/mouth_model.h"
 #include "animation/prosody.h"
+#include "animation/viseme_model.h"
 #include "audio/resampler.h"
 #include "features/online_features.h"
 #include "pipeline/animation_frame.h"
@@ -43,6 +45,9 @@ struct LiveDecoderOptions {
   // The F0 search range of the prosody features (a voice outside the default 60-500 Hz, or one to hold tighter).
   double minF0Hz = features::PitchOptions{}.minF0Hz;
   double maxF0Hz = features::PitchOptions{}.maxF0Hz;
+  // The viseme stream's decision lag beyond its context (animation/viseme_model.h). A frame never waits for its
+  // visemes: it carries the newest decided (visemeIndex), a frame or two behind the mouth.
+  int visemeLagFrames = 2;
 };
 
 // How far past a frame's time the input must reach before the frame is out, part by part.
@@ -61,7 +66,8 @@ class LiveDecoder : public FrameDecoder {
  public:
   // Throws th::Error if both models are null, the mouth model drives no FAPs (no FAP map and no visual FAPs), or an
   // option cannot stream (a batch head, maxLagFrames < 0, or a mouth window below 1).
-  LiveDecoder(const animation::HeadModel* head, const animation::MouthModel* mouth, const LiveDecoderOptions& options);
+  LiveDecoder(const animation::HeadModel* head, const animation::MouthModel* mouth, const LiveDecoderOptions& options,
+              const animation::VisemeModel* visemes = nullptr);
   ~LiveDecoder() override;
   LiveDecoder(const LiveDecoder&) = delete;
   LiveDecoder& operator=(const LiveDecoder&) = delete;
@@ -102,6 +108,14 @@ class LiveDecoder : public FrameDecoder {
   animation::ProsodyTracker prosody_;
   std::unique_ptr<animation::HeadSynthesiser> headStream_;
   std::unique_ptr<animation::MouthSynthesiser> mouthStream_;
+  std::unique_ptr<animation::VisemeStream> visemeStream_;
+  struct VisemeDecision {
+    int index = 0;
+    animation::VisemeFrame frame;
+  };
+  std::deque<VisemeDecision> visemeFrames_;  // decided, not yet shown
+  VisemeDecision shownVisemes_{-1, {}};
+  int visemesDecided_ = 0;
   std::vector<int> mouthFaps_;  // the mouth model's FAP numbers, in its map's order
   int headDelayFrames_ = 0;
   std::vector<float> row_;

@@ -120,6 +120,25 @@ void LiveSettings::visitOptions(OptionVisitor& v) {
   streaming.visitOptions(v);
   head.visitOptions(v);
   idle.visitOptions(v);
+  outputs.visitOptions(v);
+}
+
+void OutputSettings::visitOptions(OptionVisitor& v) {
+  v.option(vmc, {.name = "vmc",
+                 .help = "Send the face to a VMC receiver (VSeeFace, VMagicMirror, ...): [HOST:]PORT",
+                 .panel = false,
+                 .implicitValue = kVmcDefault});
+  v.option(osc, {.name = "osc",
+                 .help = "Send FAPs, visemes and the head as plain OSC (VRChat, TouchDesigner, Max): [HOST:]PORT",
+                 .panel = false,
+                 .implicitValue = kOscDefault});
+  v.option(vts, {.name = "vts",
+                 .help = "Drive a VTube Studio model through its plugin API: ws://HOST:PORT",
+                 .panel = false,
+                 .implicitValue = kVtsDefault});
+  v.option(vtsToken, {.name = "vts-token",
+                      .help = "VTube Studio's plugin token (kept in the settings once issued; empty: ask for one)",
+                      .panel = false});
 }
 
 void LiveSettings::check() {

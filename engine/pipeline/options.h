@@ -66,6 +66,18 @@ struct StreamingOptions {
   void visitOptions(OptionVisitor& v);
 };
 
+// Where live sends the face besides its window (outputs/live_output.h): each empty when off.
+struct OutputSettings {
+  std::string vmc;       // the VMC protocol: [HOST:]PORT
+  std::string osc;       // plain OSC: [HOST:]PORT
+  std::string vts;       // VTube Studio's plugin API: ws://HOST:PORT
+  std::string vtsToken;  // VTube Studio's authentication token, kept from the run that was issued it
+  void visitOptions(OptionVisitor& v);
+};
+inline constexpr std::string_view kVmcDefault = "127.0.0.1:39539";
+inline constexpr std::string_view kOscDefault = "127.0.0.1:9000";
+inline constexpr std::string_view kVtsDefault = "ws://localhost:8001";
+
 // Live's own.
 struct LiveOptions {
   std::string preset = "default";   // live_presets.h
@@ -90,6 +102,7 @@ struct LiveSettings {
   IdleOptions idle;
   StreamingOptions streaming;
   LiveOptions live;
+  OutputSettings outputs;
   void visitOptions(OptionVisitor& v);
   // Each option in its range, and min-f0 below max-f0; throws th::Error naming the option.
   void check();

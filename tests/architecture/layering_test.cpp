@@ -20,7 +20,7 @@ namespace fs = std::filesystem;
 
 // The stages from the lowest to the highest (DESIGN.md's order; docs/architecture.md).
 const std::vector<std::string> kOrder{"core",      "audio",  "hmm",      "face", "features", "formats",
-                                      "animation", "render", "tracking", "eval", "pipeline"};
+                                      "animation", "render", "tracking", "eval", "pipeline", "outputs"};
 
 // stage -> the stages it declares it uses.
 std::map<std::string, std::set<std::string>> readGraph() {

@@ -50,7 +50,8 @@ std::string maskLine(std::initializer_list<int> faps) {
 Animation randomAnimation(double fps, int numFrames, std::vector<int> faps, unsigned seed) {
   std::mt19937 random(seed);
   std::uniform_real_distribution<double> value(-600.0, 600.0);
-  Animation animation{.framesPerSecond = fps, .name = "round trip", .faps = std::move(faps), .values = {}};
+  Animation animation{
+      .framesPerSecond = fps, .name = "round trip", .faps = std::move(faps), .values = {}, .visemes = {}, .source = {}};
   animation.values.resize(static_cast<Eigen::Index>(animation.faps.size()), numFrames);
   for (Eigen::Index i = 0; i < animation.values.size(); ++i) animation.values.data()[i] = value(random);
   return animation;
@@ -128,7 +129,7 @@ TEST(AnimationFile, ExtensionIsCaseInsensitive) {
 }
 
 TEST(AnimationFile, RowOf) {
-  const Animation animation{.faps = {3, 48, 50}, .values = {}};
+  const Animation animation{.faps = {3, 48, 50}, .values = {}, .visemes = {}, .source = {}};
   EXPECT_EQ(animation.rowOf(3), 0);
   EXPECT_EQ(animation.rowOf(50), 2);
   EXPECT_EQ(animation.rowOf(4), -1);
@@ -138,7 +139,8 @@ TEST(AnimationFile, RowOf) {
 // ---- what is written ----
 
 Animation smallAnimation() {
-  Animation animation{.framesPerSecond = 25, .name = "hello world", .faps = {3, 48}, .values = {}};
+  Animation animation{
+      .framesPerSecond = 25, .name = "hello world", .faps = {3, 48}, .values = {}, .visemes = {}, .source = {}};
   animation.values = (Eigen::MatrixXd(2, 2) << 10.4, 11.6, -2.5, 0.0).finished();  // a column per frame
   return animation;
 }

@@ -1,0 +1,70 @@
+#include "outputs/avatar_frame.h"
+
+#include <cmath>
+
+#include "face/fap_track.h"
+#include "formats/arkit_format.h"
+
+namespace th::outputs {
+
+float AvatarFrame::blinkLeft() const {
+  static const int shape = formats::arkitIndex("eyeBlinkLeft");
+  return arkit[static_cast<std::size_t>(shape)];
+}
+float AvatarFrame::blinkRight() const {
+  static const int shape = formats::arkitIndex("eyeBlinkRight");
+  return arkit[static_cast<std::size_t>(shape)];
+}
+float AvatarFrame::jawOpen() const {
+  static const int shape = formats::arkitIndex("jawOpen");
+  return arkit[static_cast<std::size_t>(shape)];
+}
+float AvatarFrame::smile() const {
+  static const int left = formats::arkitIndex("mouthSmileLeft");
+  static const int right = formats::arkitIndex("mouthSmileRight");
+  return 0.5f * (arkit[static_cast<std::size_t>(left)] + arkit[static_cast<std::size_t>(right)]);
+}
+
+Eigen::Quaternionf AvatarFrame::unityHeadRotation() const {
+  constexpr double kRadians = 3.14159265358979323846 / 180.0;
+  const Eigen::Matrix3d ours = (Eigen::AngleAxisd(headDegrees[1] * kRadians, Eigen::Vector3d::UnitY()) *
+                                Eigen::AngleAxisd(headDegrees[0] * kRadians, Eigen::Vector3d::UnitX()) *
+                                Eigen::AngleAxisd(headDegrees[2] * kRadians, Eigen::Vector3d::UnitZ()))
+                                   .toRotationMatrix();
+  // Unity's x points to the avatar's right, ours to its left: the same rotation seen with x mirrored.
+  const Eigen::Matrix3d mirror = Eigen::Vector3d(-1.0, 1.0, 1.0).asDiagonal();
+  return Eigen::Quaternionf(Eigen::Quaterniond(Eigen::Matrix3d(mirror * ours * mirror)).cast<float>());
+}
+
+AvatarFrame avatarFrameOf(const pipeline::AnimationFrame& frame) {
+  AvatarFrame avatar;
+  avatar.index = frame.index;
+  avatar.timeSeconds = frame.timeSeconds;
+  avatar.faps = frame.faps;
+  avatar.headDegrees = frame.headDegrees;
+  face::FapTrack track;
+  track.values.resize(face::kNumFaps, 1);
+  for (int fap = 1; fap <= face::kNumFaps; ++fap) {
+    track.faps.push_back(fap);
+    track.values(fap - 1, 0) = frame.faps[static_cast<std::size_t>(fap)];
+  }
+  const Eigen::MatrixXd weights = formats::arkitWeights(track, formats::ArkitScale{});
+  for (std::size_t k = 0; k < avatar.arkit.size(); ++k)
+    avatar.arkit[k] = static_cast<float>(weights(static_cast<Eigen::Index>(k), 0));
+  if (frame.visemeIndex >= 0) {
+    avatar.hasVisemes = true;
+    avatar.mouthClass = frame.mouthClass;
+    Eigen::VectorXd probabilities(face::kNumMouthClasses);
+    for (int c = 0; c < face::kNumMouthClasses; ++c)
+      probabilities[c] = frame.visemeProbabilities[static_cast<std::size_t>(c)];
+    const Eigen::VectorXd oculus = face::oculusWeights(probabilities);
+    const Eigen::VectorXd vrm = face::vrmWeights(probabilities);
+    for (std::size_t k = 0; k < avatar.oculus.size(); ++k)
+      avatar.oculus[k] = static_cast<float>(oculus[static_cast<Eigen::Index>(k)]);
+    for (std::size_t k = 0; k < avatar.vrm.size(); ++k)
+      avatar.vrm[k] = static_cast<float>(vrm[static_cast<Eigen::Index>(k)]);
+  }
+  return avatar;
+}
+
+}  // namespace th::outputs

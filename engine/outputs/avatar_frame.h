@@ -1,0 +1,47 @@
+// One frame as avatar programs take it: what the live outputs (VMC, OSC, VTube Studio) and the C library's
+// stream hand on, made from the live pipeline's AnimationFrame.
+//
+//   const th::outputs::AvatarFrame avatar = th::outputs::avatarFrameOf(frame);
+//   send(avatar.arkit[17]);                              // jawOpen, 0..1
+//   const Eigen::Quaternionf q = avatar.unityHeadRotation();
+//
+// - ARKit's 52 weights from the frame's FAPs (formats/arkit_format.h, the default scale);
+// - the viseme model's probabilities as Oculus's 15 weights and VRM's five vowels (face/visemes.h), zero where
+//   the decoder has no viseme model (hasVisemes false);
+// - the head's pitch, yaw and roll in degrees (BEAT2's convention: R = Ry(yaw) Rx(pitch) Rz(roll), y up,
+//   z forward, +x the speaker's left; pitch down, yaw to the speaker's left and roll to the right positive),
+//   and the same rotation in Unity's left-handed frame (x to the avatar's right) as VMC sends it.
+// Thread contract: a value; avatarFrameOf is a pure function.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <array>
+
+#include "face/fap.h"
+#include "face/visemes.h"
+#include "pipeline/animation_frame.h"
+
+namespace th::outputs {
+
+struct AvatarFrame {
+  int index = 0;
+  double timeSeconds = 0.0;
+  face::FapFrame faps{};
+  std::array<float, 52> arkit{};  // formats::kArkitNames' order
+  bool hasVisemes = false;
+  int mouthClass = face::kSilence;  // the class shown (face::MouthClass)
+  std::array<float, face::kNumOculusVisemes> oculus{};
+  std::array<float, 5> vrm{};                             // A I U E O
+  Eigen::Vector3d headDegrees = Eigen::Vector3d::Zero();  // pitch, yaw, roll
+
+  float blinkLeft() const;   // ARKit eyeBlinkLeft
+  float blinkRight() const;  // eyeBlinkRight
+  float jawOpen() const;
+  float smile() const;  // the mean of mouthSmileLeft and mouthSmileRight
+  Eigen::Quaternionf unityHeadRotation() const;
+};
+
+AvatarFrame avatarFrameOf(const pipeline::AnimationFrame& frame);
+
+}  // namespace th::outputs

@@ -1,0 +1,40 @@
+#include "outputs/osc_output.h"
+
+#include <string>
+
+namespace th::outputs {
+
+void OscOutput::fill(OscBundle& bundle, const AvatarFrame& frame) const {
+  bundle.add("/talkinghead/time").real(static_cast<float>(frame.timeSeconds));
+  for (int fap : faps_)
+    bundle.add("/talkinghead/fap/" + std::to_string(fap))
+        .real(static_cast<float>(frame.faps[static_cast<std::size_t>(fap)]));
+  if (frame.hasVisemes) {
+    for (std::size_t k = 0; k < face::kOculusVisemeNames.size(); ++k)
+      bundle.add("/talkinghead/viseme/" + std::string(face::kOculusVisemeNames[k])).real(frame.oculus[k]);
+    for (std::size_t k = 0; k < face::kVrmVowelNames.size(); ++k)
+      bundle.add("/talkinghead/vrm/" + std::string(face::kVrmVowelNames[k])).real(frame.vrm[k]);
+  }
+  bundle.add("/talkinghead/head")
+      .real(static_cast<float>(frame.headDegrees[0]))
+      .real(static_cast<float>(frame.headDegrees[1]))
+      .real(static_cast<float>(frame.headDegrees[2]));
+  bundle.add("/talkinghead/jaw").real(frame.jawOpen());
+}
+
+void OscOutput::send(const AvatarFrame& frame) {
+  OscBundle bundle;
+  fill(bundle, frame);
+  lastSent_ = sender_.send(bundle);
+}
+
+OutputStatus OscOutput::status() const {
+  return {.name = "OSC",
+          .target = sender_.endpoint().text(),
+          .connected = lastSent_,
+          .state = lastSent_ ? "sending" : (sender_.sent() + sender_.dropped() == 0 ? "waiting" : "not taken"),
+          .framesSent = sender_.sent(),
+          .framesDropped = sender_.dropped()};
+}
+
+}  // namespace th::outputs

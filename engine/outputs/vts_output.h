@@ -1,0 +1,61 @@
+// The VTube Studio plugin API (https://github.com/DenchiSoft/VTubeStudio, WebSocket, JSON): the face drives a
+// VTube Studio model's default input parameters. On its own thread (Boost.Beast):
+//   1. connect to ws://HOST:PORT (VTube Studio's API server, default ws://localhost:8001);
+//   2. without a token: AuthenticationTokenRequest (VTube Studio asks its user to allow the plugin) and the
+//      token issued handed to tokenIssued, for the settings to keep;
+//   3. AuthenticationRequest with the token (a token refused is forgotten and a new one asked for);
+//   4. each frame, InjectParameterDataRequest ("set", faceFound) of the default parameters in their documented
+//      ranges: MouthOpen and MouthSmile 0..1, FaceAngleX (yaw, to the avatar's right +) and FaceAngleY (pitch,
+//      up +) -30..30, FaceAngleZ (roll) -90..90 degrees, VoiceA, VoiceI, VoiceU, VoiceE, VoiceO 0..1 (the
+//      viseme model's VRM vowels; no custom parameters, so none to register);
+//   5. a lost connection is tried again every reconnectSeconds, from step 1.
+// send() never waits: it leaves the newest frame for the thread, and a frame it replaces unsent is dropped,
+// counted. Each request is answered before the next is sent.
+// Thread contract: as LiveOutput; tokenIssued is called on the output's own thread.
+#pragma once
+
+#include <functional>
+#include <memory>
+#include <string>
+
+#include "outputs/live_output.h"
+
+namespace th::outputs {
+
+struct VtsEndpoint {
+  std::string host = "localhost";
+  std::string port = "8001";
+  std::string path = "/";
+  std::string text() const { return "ws://" + host + ":" + port + path; }
+};
+// "ws://HOST[:PORT][/PATH]" (or "" for the default); throws th::Error naming --vts and what is wrong.
+VtsEndpoint parseVtsUrl(std::string_view url);
+
+struct VtsOptions {
+  std::string pluginName = "talkinghead";
+  std::string pluginDeveloper = "talkinghead";
+  double reconnectSeconds = 2.0;
+};
+
+class VtsOutput final : public LiveOutput {
+ public:
+  VtsOutput(VtsEndpoint endpoint, std::string token, std::function<void(const std::string&)> tokenIssued,
+            VtsOptions options = {});
+  ~VtsOutput() override;
+  VtsOutput(const VtsOutput&) = delete;
+  VtsOutput& operator=(const VtsOutput&) = delete;
+
+  void send(const AvatarFrame& frame) override;
+  OutputStatus status() const override;
+  std::uint64_t connections() const;  // sessions authenticated so far (a reconnection adds one)
+
+ private:
+  struct Client;
+  std::unique_ptr<Client> client_;
+};
+
+// The InjectParameterDataRequest of one frame (its "data" object's parameterValues as name, value pairs), for
+// tests and for anyone mapping the face onto VTube Studio by hand.
+std::vector<std::pair<std::string, double>> vtsParameters(const AvatarFrame& frame);
+
+}  // namespace th::outputs
