@@ -33,7 +33,14 @@ UdpEndpoint parseUdpEndpoint(std::string_view text, int defaultPort, std::string
   return endpoint;
 }
 
-OscBundle::OscBundle() : bundle_(lo_bundle_new(LO_TT_IMMEDIATE)) {}
+namespace {
+lo_bundle immediateBundle() {
+  lo_timetag immediately{0U, 1U};  // LO_TT_IMMEDIATE, which is a C compound literal
+  return lo_bundle_new(immediately);
+}
+}  // namespace
+
+OscBundle::OscBundle() : bundle_(immediateBundle()) {}
 
 OscBundle::~OscBundle() {
   lo_bundle_free_recursive(static_cast<lo_bundle>(bundle_));

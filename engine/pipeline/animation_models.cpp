@@ -1,5 +1,6 @@
 #include "pipeline/animation_models.h"
 
+#include <cstdlib>
 #include <string>
 
 #include "core/error.h"
@@ -22,7 +23,13 @@ AnimationModels loadAnimationModels(const std::filesystem::path& headModel, cons
 }
 
 std::filesystem::path shippedModel(std::string_view file) {
-  return std::filesystem::path(TALKINGHEAD_SOURCE_DIR) / "models" / std::string(file);
+  if (const char* own = std::getenv("TALKINGHEAD_MODELS"); own != nullptr && *own != '\0')
+    return std::filesystem::path(own) / std::string(file);
+  // The source tree's (a build), else the installed ones (libtalkinghead and the Python module, installed).
+  const std::filesystem::path source = std::filesystem::path(TALKINGHEAD_SOURCE_DIR) / "models";
+  std::error_code error;
+  if (std::filesystem::is_directory(source, error)) return source / std::string(file);
+  return std::filesystem::path(TALKINGHEAD_INSTALLED_MODELS) / std::string(file);
 }
 
 }  // namespace th::pipeline

@@ -28,7 +28,8 @@ struct AnimationModels {
 AnimationModels loadAnimationModels(const std::filesystem::path& headModel, const std::filesystem::path& mouthModel,
                                     const std::filesystem::path& visemeModel = {});
 
-// models/<file> in the source tree, where the shipped models live ("head.json", "mouth_live.json", ...).
+// Where a shipped model is ("head.json", "mouth_live.json", ...): in $TALKINGHEAD_MODELS if set, else the
+// source tree's models/ if it is there, else the installed share/talkinghead/models.
 std::filesystem::path shippedModel(std::string_view file);
 
 }  // namespace th::pipeline

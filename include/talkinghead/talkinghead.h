@@ -1,0 +1,131 @@
+/* talkinghead: speech in, a talking face's animation out, on a CPU, live or from a file.
+ *
+ * The C API of libtalkinghead (semantic versioning: TALKINGHEAD_VERSION_*; a minor version adds, a major one may
+ * break). Every function that can fail returns a th_status; th_last_error() says what went wrong, in one line, on
+ * the calling thread.
+ *
+ *   th_stream_options options;
+ *   th_stream_options_init(&options);                 // the installed models, 16 kHz
+ *   options.sample_rate_hz = 48000;
+ *   th_stream* stream = NULL;
+ *   if (th_stream_open(&options, &stream) != TH_OK) fprintf(stderr, "%s\n", th_last_error());
+ *   th_stream_push(stream, samples, count);           // mono float samples, any block size
+ *   th_frame frame;
+ *   while (th_stream_pull(stream, &frame) == 1) use(&frame);   // 30 frames a second, in order
+ *   th_stream_finish(stream);                         // the input has ended: the last frames
+ *   th_stream_close(stream);
+ *
+ *   th_animation* animation = NULL;                   // a whole recording
+ *   th_animate_file("speech.wav", &options, &animation);
+ *   th_animation_write(animation, "speech.tsv", NULL);   // any animate format: by extension, or named
+ *   th_animation_free(animation);
+ *
+ * A frame: its time, the MPEG-4 FAPs (the face's standard parameters), ARKit's 52 blendshape weights, the
+ * Oculus/OpenXR 15 viseme weights and VRM's five vowels, the viseme shown (held at least 100 ms) and Rhubarb's
+ * mouth shape for it, and the head's rotation in degrees.
+ *
+ * Threads: a stream or an animation belongs to one thread at a time; different ones may be used on different
+ * threads at once. The library starts no threads of its own. */
+#ifndef TALKINGHEAD_TALKINGHEAD_H
+#define TALKINGHEAD_TALKINGHEAD_H
+
+#include <stddef.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define TALKINGHEAD_VERSION_MAJOR 0
+#define TALKINGHEAD_VERSION_MINOR 1
+#define TALKINGHEAD_VERSION_PATCH 0
+
+#if defined(__GNUC__)
+#define TH_API __attribute__((visibility("default")))
+#else
+#define TH_API
+#endif
+
+typedef enum th_status {
+  TH_OK = 0,
+  TH_ERROR_ARGUMENT = 1, /* a null pointer, a rate or option out of range */
+  TH_ERROR_FILE = 2,     /* a file that cannot be read or written, or is not what it should be */
+  TH_ERROR_STATE = 3,    /* a call out of order: pushing after th_stream_finish */
+  TH_ERROR_INTERNAL = 4  /* anything else (out of memory) */
+} th_status;
+
+/* "0.1.0": the library's version (compare with the TALKINGHEAD_VERSION_* it was compiled against). */
+TH_API const char* th_version(void);
+/* The message of the last failure on this thread ("" if none); valid until the next call that fails. */
+TH_API const char* th_last_error(void);
+
+enum {
+  TH_NUM_FAPS = 68,    /* FAPs 1..68: th_frame.faps[n] is FAP n (faps[0] unused) */
+  TH_NUM_ARKIT = 52,   /* th_arkit_name(i) */
+  TH_NUM_VISEMES = 15, /* th_viseme_name(i): sil PP FF TH DD kk CH SS nn RR aa E ih oh ou */
+  TH_NUM_VRM = 5       /* th_vrm_name(i): A I U E O */
+};
+
+typedef struct th_frame {
+  int index;           /* from 0, 30 a second */
+  double time_seconds; /* index / 30: the instant of the speech it shows */
+  float faps[TH_NUM_FAPS + 1];
+  float arkit[TH_NUM_ARKIT];     /* each 0..1 */
+  float visemes[TH_NUM_VISEMES]; /* the Oculus visemes' probabilities, summing to 1 (all 0 before the first) */
+  float vrm[TH_NUM_VRM];         /* each 0..1 */
+  int viseme;                    /* the Oculus viseme shown, or -1 before the first is decided */
+  char rhubarb_shape;            /* Rhubarb Lip Sync's shape for it: 'A'..'H' or 'X' */
+  float head_pitch_deg;          /* down + */
+  float head_yaw_deg;            /* to the speaker's left + */
+  float head_roll_deg;           /* to the right + */
+} th_frame;
+
+typedef struct th_stream_options {
+  const char* head_model;   /* a model file; NULL: the installed one; "": no head motion */
+  const char* mouth_model;  /* NULL: the installed live model; "": no mouth */
+  const char* viseme_model; /* NULL: the installed one; "": no visemes */
+  double sample_rate_hz;    /* of the pushed samples, 8000..192000 (default 16000) */
+  int wait_for_head;        /* 0: frames as soon as the mouth is decided (the head 12 frames late); 1: each frame
+                               waits for its own head (~400 ms) */
+} th_stream_options;
+
+TH_API void th_stream_options_init(th_stream_options* options);
+
+typedef struct th_stream th_stream;
+
+TH_API th_status th_stream_open(const th_stream_options* options, th_stream** stream);
+TH_API th_status th_stream_push(th_stream* stream, const float* samples, size_t count);
+TH_API th_status th_stream_finish(th_stream* stream);
+/* 1: a frame was written to *frame; 0: none is ready yet (push more, or finish); -1: an error. */
+TH_API int th_stream_pull(th_stream* stream, th_frame* frame);
+/* How far past a frame's instant the input must reach before the frame is out, ms. */
+TH_API double th_stream_latency_ms(const th_stream* stream);
+TH_API void th_stream_close(th_stream* stream);
+
+typedef struct th_animation th_animation;
+
+/* A whole recording (WAV, FLAC, OGG, MP3, or a video's sound) animated offline: the best the models do, with
+ * the whole recording to look at. options: the models (NULL for the installed ones; its rate is ignored). */
+TH_API th_status th_animate_file(const char* recording, const th_stream_options* options, th_animation** animation);
+TH_API int th_animation_frames(const th_animation* animation);
+TH_API th_status th_animation_frame(const th_animation* animation, int index, th_frame* frame);
+/* Any format `talkinghead animate` writes: format NULL picks it by the extension (.csv .json .fap .tsv .xml
+ * .dat), or one of th_format_name(i). Written atomically: the file is whole or absent. */
+TH_API th_status th_animation_write(const th_animation* animation, const char* path, const char* format);
+TH_API void th_animation_free(th_animation* animation);
+
+/* A recording rendered to MP4 (H.264 + AAC, the face speaking it, off-screen), as `talkinghead export` does. */
+TH_API th_status th_export_file(const char* recording, const char* mp4, int width, int height);
+
+TH_API const char* th_arkit_name(int index);
+TH_API const char* th_viseme_name(int index);
+TH_API const char* th_vrm_name(int index);
+/* The formats' names ("csv", "oculus", "rhubarb-tsv", ...) and their files' extensions (".csv"), NULL past the
+ * last. */
+TH_API const char* th_format_name(int index);
+TH_API const char* th_format_extension(int index);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* TALKINGHEAD_TALKINGHEAD_H */

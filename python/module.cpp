@@ -1,0 +1,219 @@
+// The Python module `talkinghead` (pybind11) over libtalkinghead's C API: numpy arrays in and out.
+//
+//   import talkinghead, numpy
+//   stream = talkinghead.Stream(sample_rate=48000)
+//   stream.push(samples)                        # float32 mono, any length
+//   frames = stream.pull()                      # the frames ready: a dict of arrays, one row per frame
+//   animation = talkinghead.animate("speech.wav")
+//   animation.arrays()["arkit"]                 # (frames, 52)
+//   animation.write("speech.tsv")               # any format animate writes
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "talkinghead/talkinghead.h"
+
+namespace py = pybind11;
+
+namespace {
+
+struct TalkingheadError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+void check(th_status status) {
+  if (status != TH_OK) throw TalkingheadError(th_last_error());
+}
+
+struct ModelChoice {
+  std::optional<std::string> head, mouth, visemes;
+  // NULL for the installed model, the path otherwise ("" switches the part off).
+  th_stream_options options(double rate, bool waitForHead) const {
+    th_stream_options o;
+    th_stream_options_init(&o);
+    o.head_model = head ? head->c_str() : nullptr;
+    o.mouth_model = mouth ? mouth->c_str() : nullptr;
+    o.viseme_model = visemes ? visemes->c_str() : nullptr;
+    o.sample_rate_hz = rate;
+    o.wait_for_head = waitForHead ? 1 : 0;
+    return o;
+  }
+};
+
+// Frames as a dict of arrays, one row per frame.
+py::dict arraysOf(const std::vector<th_frame>& frames) {
+  const auto n = static_cast<py::ssize_t>(frames.size());
+  py::array_t<int> index(n), viseme(n);
+  py::array_t<double> time(n);
+  py::array_t<float> faps({n, py::ssize_t{TH_NUM_FAPS + 1}}), arkit({n, py::ssize_t{TH_NUM_ARKIT}}),
+      visemes({n, py::ssize_t{TH_NUM_VISEMES}}), vrm({n, py::ssize_t{TH_NUM_VRM}}), head({n, py::ssize_t{3}});
+  std::string shapes;
+  auto f = faps.mutable_unchecked<2>();
+  auto a = arkit.mutable_unchecked<2>();
+  auto v = visemes.mutable_unchecked<2>();
+  auto r = vrm.mutable_unchecked<2>();
+  auto h = head.mutable_unchecked<2>();
+  for (py::ssize_t i = 0; i < n; ++i) {
+    const th_frame& frame = frames[static_cast<std::size_t>(i)];
+    index.mutable_at(i) = frame.index;
+    time.mutable_at(i) = frame.time_seconds;
+    viseme.mutable_at(i) = frame.viseme;
+    shapes += frame.rhubarb_shape;
+    for (int k = 0; k <= TH_NUM_FAPS; ++k) f(i, k) = frame.faps[k];
+    for (int k = 0; k < TH_NUM_ARKIT; ++k) a(i, k) = frame.arkit[k];
+    for (int k = 0; k < TH_NUM_VISEMES; ++k) v(i, k) = frame.visemes[k];
+    for (int k = 0; k < TH_NUM_VRM; ++k) r(i, k) = frame.vrm[k];
+    h(i, 0) = frame.head_pitch_deg;
+    h(i, 1) = frame.head_yaw_deg;
+    h(i, 2) = frame.head_roll_deg;
+  }
+  py::dict out;
+  out["index"] = index;
+  out["time"] = time;
+  out["faps"] = faps;
+  out["arkit"] = arkit;
+  out["visemes"] = visemes;
+  out["vrm"] = vrm;
+  out["viseme"] = viseme;
+  out["rhubarb"] = shapes;
+  out["head"] = head;
+  return out;
+}
+
+class Stream {
+ public:
+  Stream(double sampleRate, ModelChoice models, bool waitForHead) {
+    const th_stream_options options = models.options(sampleRate, waitForHead);
+    check(th_stream_open(&options, &stream_));
+  }
+  ~Stream() { th_stream_close(stream_); }
+  Stream(const Stream&) = delete;
+  Stream& operator=(const Stream&) = delete;
+
+  void push(const py::array_t<float, py::array::c_style | py::array::forcecast>& samples) {
+    if (samples.ndim() != 1) throw TalkingheadError("Stream.push: samples must be one-dimensional (mono)");
+    open();
+    check(th_stream_push(stream_, samples.data(), static_cast<std::size_t>(samples.size())));
+  }
+  void finish() {
+    open();
+    check(th_stream_finish(stream_));
+  }
+  py::dict pull() {
+    open();
+    std::vector<th_frame> frames;
+    th_frame frame;
+    int got = 0;
+    while ((got = th_stream_pull(stream_, &frame)) == 1) frames.push_back(frame);
+    if (got < 0) throw TalkingheadError(th_last_error());
+    return arraysOf(frames);
+  }
+  double latencyMs() const { return th_stream_latency_ms(stream_); }
+  void close() {
+    th_stream_close(stream_);
+    stream_ = nullptr;
+  }
+
+ private:
+  void open() const {
+    if (stream_ == nullptr) throw TalkingheadError("the stream is closed");
+  }
+  th_stream* stream_ = nullptr;
+};
+
+class Animation {
+ public:
+  explicit Animation(th_animation* animation) : animation_(animation) {}
+  ~Animation() { th_animation_free(animation_); }
+  Animation(const Animation&) = delete;
+  Animation& operator=(const Animation&) = delete;
+
+  int frames() const { return th_animation_frames(animation_); }
+  py::dict arrays() const {
+    std::vector<th_frame> all(static_cast<std::size_t>(frames()));
+    for (int i = 0; i < frames(); ++i) check(th_animation_frame(animation_, i, &all[static_cast<std::size_t>(i)]));
+    return arraysOf(all);
+  }
+  void write(const std::string& path, const std::optional<std::string>& format) const {
+    check(th_animation_write(animation_, path.c_str(), format ? format->c_str() : nullptr));
+  }
+
+ private:
+  th_animation* animation_;
+};
+
+std::vector<std::string> namesOf(const char* (*name)(int)) {
+  std::vector<std::string> names;
+  for (int i = 0; name(i) != nullptr; ++i) names.emplace_back(name(i));
+  return names;
+}
+
+}  // namespace
+
+PYBIND11_MODULE(_talkinghead, module) {
+  module.doc() = "talkinghead: speech in, a talking face's animation out (libtalkinghead's Python binding)";
+  py::register_exception<TalkingheadError>(module, "Error", PyExc_RuntimeError);
+  module.attr("__version__") = th_version();
+
+  py::class_<Stream>(module, "Stream", "Speech in as it comes, animation frames out (30 a second)")
+      .def(py::init([](double sampleRate, std::optional<std::string> head, std::optional<std::string> mouth,
+                       std::optional<std::string> visemes, bool waitForHead) {
+             return std::make_unique<Stream>(sampleRate, ModelChoice{head, mouth, visemes}, waitForHead);
+           }),
+           py::arg("sample_rate") = 16000.0, py::arg("head_model") = py::none(), py::arg("mouth_model") = py::none(),
+           py::arg("viseme_model") = py::none(), py::arg("wait_for_head") = false)
+      .def("push", &Stream::push, py::arg("samples"), "Mono samples (float32; other dtypes are converted)")
+      .def("finish", &Stream::finish, "The input has ended: the last frames become ready")
+      .def("pull", &Stream::pull, "The frames ready: a dict of arrays (index, time, faps, arkit, visemes, vrm, ...)")
+      .def_property_readonly("latency_ms", &Stream::latencyMs)
+      .def("close", &Stream::close)
+      .def("__enter__", [](Stream& stream) -> Stream& { return stream; })
+      .def("__exit__", [](Stream& stream, py::args) { stream.close(); });
+
+  py::class_<Animation>(module, "Animation", "A whole recording's animation")
+      .def_property_readonly("frames", &Animation::frames)
+      .def("arrays", &Animation::arrays, "A dict of arrays, one row per frame")
+      .def("write", &Animation::write, py::arg("path"), py::arg("format") = py::none(),
+           "Write it in any format animate writes (by the extension, or named)");
+
+  module.def(
+      "animate",
+      [](const std::string& path, std::optional<std::string> head, std::optional<std::string> mouth,
+         std::optional<std::string> visemes) {
+        const ModelChoice models{head, mouth, visemes};
+        const th_stream_options options = models.options(16000.0, false);
+        th_animation* animation = nullptr;
+        {
+          py::gil_scoped_release unlocked;  // the work is ours: other Python threads go on
+          check(th_animate_file(path.c_str(), &options, &animation));
+        }
+        return std::make_unique<Animation>(animation);
+      },
+      py::arg("path"), py::arg("head_model") = py::none(), py::arg("mouth_model") = py::none(),
+      py::arg("viseme_model") = py::none(), "A recording animated offline");
+  module.def(
+      "export",
+      [](const std::string& recording, const std::string& mp4, int width, int height) {
+        py::gil_scoped_release unlocked;
+        check(th_export_file(recording.c_str(), mp4.c_str(), width, height));
+      },
+      py::arg("recording"), py::arg("mp4"), py::arg("width") = 1280, py::arg("height") = 720,
+      "The face speaking a recording, rendered off-screen to MP4");
+  module.def(
+      "formats", [] { return namesOf(th_format_name); }, "The animation formats' names");
+  module.def(
+      "format_extension",
+      [](const std::string& name) {
+        for (int i = 0; th_format_name(i) != nullptr; ++i)
+          if (name == th_format_name(i)) return std::string(th_format_extension(i));
+        throw TalkingheadError("no animation format \"" + name + "\"");
+      },
+      py::arg("name"));
+  module.attr("arkit_names") = namesOf(th_arkit_name);
+  module.attr("viseme_names") = namesOf(th_viseme_name);
+  module.attr("vrm_names") = namesOf(th_vrm_name);
+}

@@ -1,0 +1,16 @@
+"""talkinghead: speech in, a talking face's animation out, on a CPU.
+
+    import talkinghead
+    animation = talkinghead.animate("speech.wav")          # a whole recording
+    arrays = animation.arrays()                            # numpy: faps, arkit, visemes, vrm, head, ...
+    animation.write("speech.tsv")                          # any format `talkinghead animate` writes
+
+    stream = talkinghead.Stream(sample_rate=48000)         # live: samples in as they come
+    stream.push(block)                                     # float32 mono
+    frames = stream.pull()                                 # the frames ready, 30 a second
+
+talkinghead.batch runs animate and export over many recordings on a Dask cluster.
+"""
+
+from ._talkinghead import (Animation, Error, Stream, __version__, animate, arkit_names, export,  # noqa: F401
+                           format_extension, formats, viseme_names, vrm_names)

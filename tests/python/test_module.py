@@ -1,0 +1,102 @@
+"""The module as a Python user meets it: numpy in and out, a stream that gives what a whole file gives, every
+format, and errors as exceptions that name the file."""
+
+import json
+import os
+import wave
+
+import numpy as np
+import pytest
+
+import talkinghead
+
+
+def read_wav(path):
+    with wave.open(path) as w:
+        pcm = np.frombuffer(w.readframes(w.getnframes()), dtype=np.int16)
+        return pcm.reshape(-1, w.getnchannels())[:, 0].astype(np.float32) / 32768.0, w.getframerate()
+
+
+@pytest.fixture(scope="module")
+def prompt(data):
+    return os.path.join(data, "speech", "arctic", "arctic_a0001.wav")
+
+
+def test_names_and_formats():
+    assert talkinghead.__version__.count(".") == 2
+    assert len(talkinghead.arkit_names) == 52 and talkinghead.arkit_names[17] == "jawOpen"
+    assert talkinghead.viseme_names == ["sil", "PP", "FF", "TH", "DD", "kk", "CH", "SS", "nn", "RR", "aa", "E", "ih",
+                                        "oh", "ou"]
+    assert talkinghead.vrm_names == ["A", "I", "U", "E", "O"]
+    for name in ("csv", "json", "fap", "arkit", "oculus", "vrm", "rhubarb-tsv", "rhubarb-xml", "rhubarb-json", "moho"):
+        assert name in talkinghead.formats()
+    assert talkinghead.format_extension("moho") == ".dat"
+
+
+def test_animate_gives_arrays_that_follow_the_speech(prompt):
+    samples, rate = read_wav(prompt)
+    animation = talkinghead.animate(prompt)
+    arrays = animation.arrays()
+    frames = animation.frames
+    assert abs(frames - len(samples) / rate * 30) <= 2
+    assert arrays["faps"].shape == (frames, 69) and arrays["faps"].dtype == np.float32
+    assert arrays["arkit"].shape == (frames, 52)
+    assert arrays["head"].shape == (frames, 3)
+    np.testing.assert_allclose(arrays["time"], np.arange(frames) / 30.0)
+    np.testing.assert_allclose(arrays["visemes"].sum(axis=1), 1.0, atol=1e-4)
+    assert ((arrays["arkit"] >= 0) & (arrays["arkit"] <= 1)).all()
+    assert len(arrays["rhubarb"]) == frames and set(arrays["rhubarb"]) <= set("ABCDEFGHX")
+    # The jaw opens with the voice: jawOpen against each frame's level.
+    hop = rate / 30.0
+    level = np.array([np.sqrt(np.mean(samples[int(max(0, i * hop - hop / 2)):int(i * hop + hop / 2)] ** 2) + 1e-12)
+                      for i in range(frames)])
+    assert np.corrcoef(arrays["arkit"][:, 17], 20 * np.log10(level))[0, 1] > 0.5
+
+
+def test_a_stream_fed_in_blocks_gives_every_frame_in_order(prompt):
+    samples, rate = read_wav(prompt)
+    with talkinghead.Stream(sample_rate=rate) as stream:
+        assert 20 < stream.latency_ms < 200
+        pieces = []
+        for start in range(0, len(samples), 441):
+            stream.push(samples[start:start + 441])
+            pieces.append(stream.pull())
+        stream.finish()
+        pieces.append(stream.pull())
+    index = np.concatenate([p["index"] for p in pieces])
+    np.testing.assert_array_equal(index, np.arange(len(index)))
+    assert abs(len(index) - len(samples) / rate * 30) <= 2
+    jaw = np.concatenate([p["arkit"][:, 17] for p in pieces])
+    assert jaw.max() > 0.2 and jaw[:3].max() < 0.1  # opens for the speech, closed at the start's silence
+    # Integers and float64 are converted: the same frames.
+    with talkinghead.Stream(sample_rate=rate) as again:
+        again.push((samples * 32767).astype(np.float64) / 32767)
+        again.finish()
+        assert len(again.pull()["index"]) == len(index)
+
+
+def test_every_format_is_written(prompt, tmp_path):
+    animation = talkinghead.animate(prompt)
+    for name in talkinghead.formats():
+        path = tmp_path / ("out" + talkinghead.format_extension(name))
+        animation.write(str(path), name)
+        assert path.stat().st_size > 0, name
+    assert (tmp_path / "out.tsv").read_text().startswith("0.00\tX\n")
+    cues = json.loads((tmp_path / "out.json").read_text())  # rhubarb-json was written last to .json
+    assert cues["metadata"]["soundFile"].endswith("arctic_a0001.wav")
+
+
+def test_errors_are_exceptions_naming_the_file(tmp_path):
+    missing = str(tmp_path / "missing.wav")
+    with pytest.raises(talkinghead.Error, match="missing.wav"):
+        talkinghead.animate(missing)
+    text = tmp_path / "text.wav"
+    text.write_text("not audio")
+    with pytest.raises(talkinghead.Error, match="text.wav"):
+        talkinghead.animate(str(text))
+    with pytest.raises(talkinghead.Error, match="sample rate"):
+        talkinghead.Stream(sample_rate=100)
+    with pytest.raises(talkinghead.Error, match="text.wav.*not valid JSON"):
+        talkinghead.Stream(viseme_model=str(text))
+    with pytest.raises(talkinghead.Error, match="one-dimensional"):
+        talkinghead.Stream().push(np.zeros((2, 2), dtype=np.float32))
