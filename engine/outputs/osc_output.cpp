@@ -25,16 +25,11 @@ void OscOutput::fill(OscBundle& bundle, const AvatarFrame& frame) const {
 void OscOutput::send(const AvatarFrame& frame) {
   OscBundle bundle;
   fill(bundle, frame);
-  lastSent_ = sender_.send(bundle);
+  sender_.send(bundle);
 }
 
 OutputStatus OscOutput::status() const {
-  return {.name = "OSC",
-          .target = sender_.endpoint().text(),
-          .connected = lastSent_,
-          .state = lastSent_ ? "sending" : (sender_.sent() + sender_.dropped() == 0 ? "waiting" : "not taken"),
-          .framesSent = sender_.sent(),
-          .framesDropped = sender_.dropped()};
+  return sender_.statusAs("OSC");
 }
 
 }  // namespace th::outputs

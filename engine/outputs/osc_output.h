@@ -26,7 +26,6 @@ class OscOutput final : public LiveOutput {
  private:
   OscSender sender_;
   std::vector<int> faps_;
-  bool lastSent_ = false;
 };
 
 }  // namespace th::outputs

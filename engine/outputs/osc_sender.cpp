@@ -11,6 +11,7 @@
 #include <cstring>
 
 #include "core/error.h"
+#include "outputs/live_output.h"
 
 namespace th::outputs {
 
@@ -103,13 +104,23 @@ bool OscSender::send(const OscBundle& bundle) {
   const std::vector<char> bytes = bundle.serialise();
   const ssize_t written = ::sendto(socket_, bytes.data(), bytes.size(), MSG_DONTWAIT,
                                    reinterpret_cast<const sockaddr*>(address_.data()), addressLength_);
-  if (written != static_cast<ssize_t>(bytes.size())) {
+  lastSent_ = written == static_cast<ssize_t>(bytes.size());
+  if (!lastSent_) {
     ++dropped_;  // EAGAIN (the socket's buffer is full) or ECONNREFUSED (nobody listened to the last one)
     return false;
   }
   ++sent_;
   bytes_ += bytes.size();
   return true;
+}
+
+OutputStatus OscSender::statusAs(std::string name) const {
+  return {.name = std::move(name),
+          .target = endpoint_.text(),
+          .connected = lastSent_,
+          .state = lastSent_ ? "sending" : (sent_ + dropped_ == 0 ? "waiting" : "not taken"),
+          .framesSent = sent_,
+          .framesDropped = dropped_};
 }
 
 }  // namespace th::outputs

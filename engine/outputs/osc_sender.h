@@ -20,6 +20,8 @@
 
 namespace th::outputs {
 
+struct OutputStatus;
+
 struct UdpEndpoint {
   std::string host = "127.0.0.1";
   int port = 0;
@@ -71,6 +73,8 @@ class OscSender {
   std::uint64_t sent() const { return sent_; }
   std::uint64_t dropped() const { return dropped_; }
   std::uint64_t bytes() const { return bytes_; }
+  // A live output's status from these counts: connected while the last bundle went out.
+  OutputStatus statusAs(std::string name) const;
 
  private:
   UdpEndpoint endpoint_;
@@ -78,6 +82,7 @@ class OscSender {
   std::vector<unsigned char> address_;  // sockaddr_storage bytes
   unsigned addressLength_ = 0;
   std::uint64_t sent_ = 0, dropped_ = 0, bytes_ = 0;
+  bool lastSent_ = false;
 };
 
 }  // namespace th::outputs

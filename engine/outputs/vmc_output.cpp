@@ -29,16 +29,11 @@ void VmcOutput::fill(OscBundle& bundle, const AvatarFrame& frame) {
 void VmcOutput::send(const AvatarFrame& frame) {
   OscBundle bundle;
   fill(bundle, frame);
-  lastSent_ = sender_.send(bundle);
+  sender_.send(bundle);
 }
 
 OutputStatus VmcOutput::status() const {
-  return {.name = "VMC",
-          .target = sender_.endpoint().text(),
-          .connected = lastSent_,
-          .state = lastSent_ ? "sending" : (sender_.sent() + sender_.dropped() == 0 ? "waiting" : "not taken"),
-          .framesSent = sender_.sent(),
-          .framesDropped = sender_.dropped()};
+  return sender_.statusAs("VMC");
 }
 
 }  // namespace th::outputs

@@ -24,7 +24,6 @@ class VmcOutput final : public LiveOutput {
 
  private:
   OscSender sender_;
-  bool lastSent_ = false;
 };
 
 }  // namespace th::outputs
