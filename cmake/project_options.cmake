@@ -17,6 +17,11 @@ if(TALKINGHEAD_SANITIZE)
   target_compile_options(talkinghead_options INTERFACE
     -fsanitize=address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer)
   target_link_options(talkinghead_options INTERFACE -fsanitize=address,undefined)
+  if(CMAKE_CXX_COMPILER_ID MATCHES "Clang")
+    # UBSan stays out of third-party headers (Eigen, Boost, ...): the file says why.
+    target_compile_options(talkinghead_options INTERFACE
+      -fsanitize-ignorelist=${CMAKE_CURRENT_LIST_DIR}/sanitize_ignorelist.txt)
+  endif()
 endif()
 if(TALKINGHEAD_TSAN)
   target_compile_options(talkinghead_options INTERFACE -fsanitize=thread -fno-omit-frame-pointer)
