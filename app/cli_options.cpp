@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace th::app {
@@ -15,15 +16,15 @@ std::string helpOf(const OptionSpec& spec) {
 
 class CliBinder final : public OptionVisitor {
  public:
-  explicit CliBinder(CLI::App& command) : command_(command) {}
+  CliBinder(CLI::App& command, std::string group) : command_(command), group_(std::move(group)) {}
 
   void option(bool& value, const OptionSpec& spec) override {
     if (value) {
-      command_.add_flag(
+      grouped(command_.add_flag(
           flagOf(spec, true), [&value](std::int64_t) { value = false; },
-          "Turn off " + helpOf(spec) + " (on by default)");
+          "Turn off " + helpOf(spec) + " (on by default)"));
     } else {
-      command_.add_flag(flagOf(spec, false), value, helpOf(spec));
+      grouped(command_.add_flag(flagOf(spec, false), value, helpOf(spec)));
     }
   }
   void option(int& value, const OptionSpec& spec) override { number(value, spec); }
@@ -31,18 +32,17 @@ class CliBinder final : public OptionVisitor {
   void option(double& value, const OptionSpec& spec) override { number(value, spec); }
   void option(std::string& value, const OptionSpec& spec) override {
     if (!spec.implicitValue.empty()) {  // "--vmc" alone, or "--vmc 9000"
-      command_
-          .add_option(
-              flagOf(spec, false),
-              [&value, implicit = std::string(spec.implicitValue)](const CLI::results_t& results) {
-                value = results.empty() || results.front().empty() ? implicit : results.front();
-                return true;
-              },
-              helpOf(spec) + " (alone: " + std::string(spec.implicitValue) + ")")
+      grouped(command_.add_option(
+                  flagOf(spec, false),
+                  [&value, implicit = std::string(spec.implicitValue)](const CLI::results_t& results) {
+                    value = results.empty() || results.front().empty() ? implicit : results.front();
+                    return true;
+                  },
+                  helpOf(spec) + " (alone: " + std::string(spec.implicitValue) + ")"))
           ->expected(0, 1);
       return;
     }
-    CLI::Option* option = command_.add_option(flagOf(spec, false), value, helpOf(spec));
+    CLI::Option* option = grouped(command_.add_option(flagOf(spec, false), value, helpOf(spec)));
     if (!spec.choices.empty()) {
       std::vector<std::string> names(spec.choices.begin(), spec.choices.end());
       option->check(CLI::IsMember(names));
@@ -53,13 +53,19 @@ class CliBinder final : public OptionVisitor {
  private:
   template <typename T>
   void number(T& value, const OptionSpec& spec) {
-    CLI::Option* option = command_.add_option(flagOf(spec, false), value, helpOf(spec));
+    CLI::Option* option = grouped(command_.add_option(flagOf(spec, false), value, helpOf(spec)));
     if (std::isfinite(spec.min) && std::isfinite(spec.max))
       option->check(CLI::Range(static_cast<T>(spec.min), static_cast<T>(spec.max)));
     option->capture_default_str();
   }
 
+  CLI::Option* grouped(CLI::Option* option) const {
+    if (!group_.empty()) option->group(group_);
+    return option;
+  }
+
   CLI::App& command_;
+  std::string group_;
 };
 
 // The typed options' current values (as bound), under their settings keys.
@@ -99,8 +105,8 @@ std::string flagOf(const OptionSpec& spec, bool boolOnByDefault) {
   return (boolOnByDefault ? "--no-" : "--") + std::string(spec.name);
 }
 
-void addOptionsFrom(CLI::App& command, const std::function<void(OptionVisitor&)>& visit) {
-  CliBinder binder(command);
+void addOptionsFrom(CLI::App& command, const std::function<void(OptionVisitor&)>& visit, const std::string& group) {
+  CliBinder binder(command, group);
   visit(binder);
 }
 

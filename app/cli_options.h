@@ -17,14 +17,16 @@
 
 namespace th::app {
 
-void addOptionsFrom(CLI::App& command, const std::function<void(OptionVisitor&)>& visit);
+// `group`: the --help section the options are listed under (empty: CLI11's "Options").
+void addOptionsFrom(CLI::App& command, const std::function<void(OptionVisitor&)>& visit, const std::string& group = {});
 // The typed options' values, as a settings object (core/options.h's keys).
 Json typedOptionsFrom(const CLI::App& command, const std::function<void(OptionVisitor&)>& visit);
 
 // The options bound to `options`: they must outlive the command's parsing.
 template <typename Options>
-void addOptions(CLI::App& command, Options& options) {
-  addOptionsFrom(command, [&](OptionVisitor& v) { options.visitOptions(v); });
+void addOptions(CLI::App& command, Options& options, const std::string& group = {}) {
+  addOptionsFrom(
+      command, [&](OptionVisitor& v) { options.visitOptions(v); }, group);
 }
 
 // The options typed on `command` (bound to `given`) copied into `target`; the others keep target's values.

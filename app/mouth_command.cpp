@@ -19,6 +19,7 @@
 #include "animation/mouth_data.h"
 #include "animation/mouth_model.h"
 #include "animation/time_split.h"
+#include "cli_options.h"
 #include "commands.h"
 #include "core/atomic_file.h"
 #include "core/data_path.h"
@@ -313,6 +314,59 @@ void runEvalMouth(const MouthArguments& arguments) {
       "M = 3: ε = 0.47, ρ = 0.76.\n");
 }
 
+// `eval mouth --recipe-NAME`: the default recipe's knobs (mouth_corpus_command.h), to measure its variants on the
+// same clips (docs/mouth.md).
+void visitRecipe(MouthCorpusArguments& recipe, OptionVisitor& v) {
+  animation::MouthModelOptions& model = recipe.model;
+  v.option(model.states, {.name = "recipe-states", .help = "Hidden states N", .min = 1, .max = 64});
+  v.option(model.mixtures, {.name = "recipe-mixtures", .help = "Gaussians per state M", .min = 1, .max = 16});
+  v.option(model.contextFrames, {.name = "recipe-context",
+                                 .help = "MFCC context tc: frames each side of the frame heard",
+                                 .unit = "frames",
+                                 .min = 0,
+                                 .max = 10});
+  v.option(model.visualComponents,
+           {.name = "recipe-components", .help = "Visual components K (PCA of the mouth's FAPs)", .min = 1, .max = 16});
+  v.option(model.visualDeltas,
+           {.name = "recipe-deltas", .help = "the visual components' deltas and the trajectory made from them (MLPG)"});
+  v.option(model.varianceValidationEvery,
+           {.name = "recipe-gv-every",
+            .help = "Global variance compensation: every N-th training clip held out to measure the spread (0: none)",
+            .min = 0,
+            .max = 100});
+  v.option(model.normaliseSpeech, {.name = "recipe-normalise",
+                                   .help = "the speech normaliser (running cepstral mean, level against its peak)"});
+  v.option(model.normalisation.meanSeconds, {.name = "recipe-mean-seconds",
+                                             .help = "The running cepstral mean's time constant",
+                                             .unit = "s",
+                                             .min = 0.1,
+                                             .max = 600});
+  v.option(model.normalisation.peakDecayDbPerSecond, {.name = "recipe-peak-decay",
+                                                      .help = "How fast the level's reference peak falls",
+                                                      .unit = "dB/s",
+                                                      .min = 0.01,
+                                                      .max = 100});
+  v.option(model.maxIterations,
+           {.name = "recipe-iterations", .help = "Baum-Welch iterations at most", .min = 1, .max = 1000});
+  v.option(recipe.recipeDiagonal, {.name = "recipe-diagonal", .help = "Diagonal covariances instead of full ones"});
+  v.option(recipe.recipeInversion,
+           {.name = "recipe-inversion", .help = "Synthesis by HMM inversion (EM) instead of the MMSE estimate"});
+  v.option(recipe.synthesis.trajectory,
+           {.name = "recipe-trajectory", .help = "the MLPG trajectory from the MMSE estimate's Gaussians"});
+  v.option(recipe.synthesis.windowFrames, {.name = "recipe-window",
+                                           .help = "Frames per decoding window, as live decodes (0: the whole clip)",
+                                           .unit = "frames",
+                                           .min = 0,
+                                           .max = 10000});
+  v.option(recipe.stageTwo,
+           {.name = "recipe-stage2", .help = "Stage 2: the audio side re-trained on speech-only recordings"});
+  v.option(recipe.otherSpeakerWeight,
+           {.name = "recipe-other-weight",
+            .help = "How many times each clip of a speaker other than GRID's s1 counts in training",
+            .min = 1,
+            .max = 100});
+}
+
 }  // namespace
 
 void runTrainMouth(const MouthArguments& arguments) {
@@ -340,7 +394,7 @@ void addTrainMouthCommand(CLI::App& train) {
   mouth->add_option("-o,--output", arguments->modelOutput, "Model file to write (default models/mouth.json)");
   mouth->add_option(
       "--tracks", corpus->tracks,
-      "Folder of the clips' tracks, made on first use (default: " + defaultMouthTrackFolder().string() + ")");
+      "Folder of the clips' tracks, made on first use (default: " + std::string(kMouthTrackFolderHelp) + ")");
   CLI::Option* states = mouth->add_option("--states", corpus->model.states, "States N (default 8; 16 with --diagonal)")
                             ->check(CLI::Range(1, 100));
   CLI::Option* mixtures =
@@ -405,33 +459,13 @@ void addEvalMouthCommand(CLI::App& eval) {
   mouth->add_flag("--beat2", *beat2,
                   "The paper's ε and ρ on BEAT2 per synthesis method, beside baselines (and --sweep)");
   mouth->add_option("--tracks", corpus->tracks,
-                    "Folder of the clips' tracks (default: " + defaultMouthTrackFolder().string() + ")");
+                    "Folder of the clips' tracks (default: " + std::string(kMouthTrackFolderHelp) + ")");
   mouth->add_option("--compare", corpus->compare, "Other mouth model files to judge on the same clips");
   mouth->add_option("--multilingual", corpus->multilingual,
                     "Folder of phone-aligned speech in other languages (tools/multilingual_speech.py; default: made "
                     "in the cache on first use)");
-  mouth->add_option("--recipe-states", corpus->model.states)->group("Recipe");
-  mouth->add_option("--recipe-mixtures", corpus->model.mixtures)->group("Recipe");
-  mouth->add_option("--recipe-context", corpus->model.contextFrames)->group("Recipe");
-  mouth->add_option("--recipe-components", corpus->model.visualComponents)->group("Recipe");
-  mouth->add_option("--recipe-deltas", corpus->model.visualDeltas)->group("Recipe");
-  mouth->add_option("--recipe-gv-every", corpus->model.varianceValidationEvery)->group("Recipe");
-  mouth->add_option("--recipe-normalise", corpus->model.normaliseSpeech)->group("Recipe");
-  mouth->add_option("--recipe-mean-seconds", corpus->model.normalisation.meanSeconds)->group("Recipe");
-  mouth->add_option("--recipe-peak-decay", corpus->model.normalisation.peakDecayDbPerSecond)->group("Recipe");
-  mouth->add_option("--recipe-iterations", corpus->model.maxIterations)->group("Recipe");
-  mouth
-      ->add_flag_function("--recipe-diagonal",
-                          [corpus](std::int64_t) { corpus->model.covariance = hmm::CovarianceType::kDiagonal; })
-      ->group("Recipe");
-  mouth
-      ->add_flag_function("--recipe-inversion",
-                          [corpus](std::int64_t) { corpus->synthesis.method = animation::MouthMethod::kInversion; })
-      ->group("Recipe");
-  mouth->add_option("--recipe-trajectory", corpus->synthesis.trajectory)->group("Recipe");
-  mouth->add_option("--recipe-window", corpus->synthesis.windowFrames)->group("Recipe");
-  mouth->add_option("--recipe-stage2", corpus->stageTwo)->group("Recipe");
-  mouth->add_option("--recipe-other-weight", corpus->otherSpeakerWeight)->group("Recipe");
+  addOptionsFrom(
+      *mouth, [corpus](OptionVisitor& v) { visitRecipe(*corpus, v); }, "Recipe");
   mouth
       ->add_option("--train-fraction", arguments->trainingFraction,
                    "The first this fraction of the BEAT2 take trains, the rest is held out")
@@ -451,10 +485,13 @@ void addEvalMouthCommand(CLI::App& eval) {
       ->group("Sweep");
   mouth->add_option("--output", arguments->output, "Sweep: folder for the CSV and the plots")->group("Sweep");
   mouth->callback([arguments, corpus, beat2] {
-    if (*beat2)
+    if (*beat2) {
       runEvalMouth(*arguments);
-    else
-      runEvalMouthCorpora(*corpus);
+      return;
+    }
+    if (corpus->recipeDiagonal) corpus->model.covariance = hmm::CovarianceType::kDiagonal;
+    if (corpus->recipeInversion) corpus->synthesis.method = animation::MouthMethod::kInversion;
+    runEvalMouthCorpora(*corpus);
   });
 }
 

@@ -31,9 +31,15 @@ struct MouthCorpusArguments {
   // How many times each clip of a speaker other than GRID's s1 counts in training (GRID's one speaker has 16
   // minutes, the others 18-70 s each).
   int otherSpeakerWeight = 1;
+  // eval: set model.covariance and synthesis.method when parsed (`--recipe-diagonal`, `--recipe-inversion`).
+  bool recipeDiagonal = false;
+  bool recipeInversion = false;
 };
 
 std::filesystem::path defaultMouthTrackFolder();  // $XDG_CACHE_HOME/talkinghead/tracks, or ~/.cache/...
+// The same, as --help says it (the same on every machine, as docs/cli.md is).
+inline constexpr const char* kMouthTrackFolderHelp =
+    "$XDG_CACHE_HOME/talkinghead/tracks, or ~/.cache/talkinghead/tracks";
 void runEvalMouthCorpora(const MouthCorpusArguments& arguments);
 void runTrainMouthCorpora(const MouthCorpusArguments& arguments, const std::string& output);
 
