@@ -11,7 +11,7 @@
 # when that is a sanitizer tree configured with TALKINGHEAD_FUZZ (scripts/test.sh's), writes the seed corpora
 # (recordings from the shared data, TALKINGHEAD_DATA, default ../shared/data; small models from the engine's
 # model writer), and runs each fuzzer on a working corpus under build-fuzz/fuzz/ that persists between runs.
-# Both always run; exits non-zero if either finds a crash, a leak, a timeout (10 s per input) or an allocation
+# All three always run; exits non-zero if any finds a crash, a leak, a timeout (10 s per input) or an allocation
 # beyond the memory limit. The input that did it is saved as build-fuzz/fuzz/artifacts/<fuzzer>-crash-* (or
 # -leak-, -timeout-, -oom-) and reproduces with
 #   build-fuzz/fuzz/model_file_fuzzer build-fuzz/fuzz/artifacts/model_file_fuzzer-crash-...
@@ -46,6 +46,11 @@ ninja -C "$build_dir" audio_reader_fuzzer audio_reader_fuzzer_seeds model_file_f
     animation_file_fuzzer
 
 fuzz_dir="$build_dir/fuzz"
+# A tree built earlier wrote its audio seeds from the data folder it was configured with; TALKINGHEAD_DATA, when
+# given, is where they come from now.
+if [[ -n "${TALKINGHEAD_DATA:-}" ]]; then
+    "$fuzz_dir/make_audio_seeds" "$TALKINGHEAD_DATA" "$fuzz_dir/audio_reader_seeds"
+fi
 mkdir -p "$fuzz_dir/corpus" "$fuzz_dir/model_file_corpus" "$fuzz_dir/animation_file_corpus" \
     "$fuzz_dir/animation_file_seeds" "$fuzz_dir/artifacts"
 # Animation seeds: one small valid file per format; the first byte picks the format (0 CSV, 1 JSON, 2 .fap).
