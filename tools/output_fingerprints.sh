@@ -1,0 +1,46 @@
+#!/usr/bin/env bash
+# The md5 of every output a refactoring must leave unchanged, written by one talkinghead binary:
+#
+#   tools/output_fingerprints.sh BINARY OUT_FOLDER > fingerprints.txt
+#
+# Build two commits (e.g. main and a worktree of the commit before a change) and diff their lists:
+#   tools/output_fingerprints.sh build/talkinghead /tmp/after > after.txt
+#   tools/output_fingerprints.sh /tmp/base/build/talkinghead /tmp/before > before.txt
+#   diff before.txt after.txt
+# It writes, from the shared data (TALKINGHEAD_DATA, default ../shared/data): `animate` of a minute of BEAT2
+# speech as CSV, JSON and .fap and with the posterior head; `export` of an ARCTIC prompt at 320x240 with its
+# track, and at 64x48 and 5 fps; `features`; `render` frames; `strip`; `live --headless --dump`. A command that
+# fails is reported and its files are missing from the list, so the diff shows it.
+set -uo pipefail
+
+if (($# != 2)); then
+  echo "usage: tools/output_fingerprints.sh BINARY OUT_FOLDER" >&2
+  exit 2
+fi
+binary="$(realpath "$1")"
+out="$2"
+repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+data="${TALKINGHEAD_DATA:-$repo/../shared/data}"
+speech="$data/beat2/2_scott_0_1_1.wav"
+prompt="$(find "$data" -name arctic_a0001.wav -print -quit)"
+for input in "$speech" "$prompt"; do
+  [[ -f "$input" ]] || { echo "output_fingerprints: $input: not found (TALKINGHEAD_DATA)" >&2; exit 1; }
+done
+
+rm -rf "$out"
+mkdir -p "$out"
+cd "$out"
+run() {
+  "$binary" "$@" > /dev/null 2>&1 || echo "output_fingerprints: failed: talkinghead $*" >&2
+}
+run animate "$speech" -o speech.csv
+run animate "$speech" -o speech.json
+run animate "$speech" -o speech.fap
+run animate "$speech" --head posterior -o posterior.fap
+run export "$prompt" -o prompt.mp4 --size 320x240 --save-anim prompt.csv
+run export "$prompt" -o small.mp4 --size 64x48 --fps 5
+run features "$prompt" -o features.csv
+run render prompt.csv -o frames --size 160x120 --fps 5
+run strip prompt.csv -o strip.png --from 0.5
+run live --headless --input "$prompt" --speed 8 --dump live.csv
+find . -type f | sort | xargs md5sum
