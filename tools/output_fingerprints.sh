@@ -22,7 +22,7 @@ out="$2"
 repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 data="${TALKINGHEAD_DATA:-$repo/../shared/data}"
 speech="$data/beat2/2_scott_0_1_1.wav"
-prompt="$(find "$data" -name arctic_a0001.wav -print -quit)"
+prompt="$(find "$data" -name arctic_a0001.wav -print -quit 2>/dev/null)"
 for input in "$speech" "$prompt"; do
   [[ -f "$input" ]] || { echo "output_fingerprints: $input: not found (TALKINGHEAD_DATA)" >&2; exit 1; }
 done
