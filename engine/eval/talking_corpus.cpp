@@ -11,6 +11,7 @@
 #include "core/error.h"
 #include "core/json_reading.h"
 #include "core/text_files.h"
+#include "eval/phone_labels.h"
 
 namespace th::eval {
 
@@ -53,12 +54,15 @@ void readLabelsBeside(TalkingClip& clip) {
   align.replace_extension(".align");
   const std::filesystem::path phones = video.parent_path() / (video.stem().string() + "_phonemes.json");
   const std::filesystem::path index = video.parent_path() / "phindex.json";
+  const std::filesystem::path words = video.parent_path() / (video.stem().string() + ".words.csv");
   std::error_code missing;
   if (std::filesystem::is_regular_file(align, missing)) {
     clip.labels = readGridAlignment(align);
     clip.labelsAreWords = true;
   } else if (std::filesystem::is_regular_file(phones, missing) && std::filesystem::is_regular_file(index, missing)) {
     clip.labels = readFramePhones(phones, index);
+  } else if (std::filesystem::is_regular_file(words, missing)) {
+    clip.labels = arabicPhones(readWordTimings(words));  // the news anchors' words, as phones
   }
 }
 

@@ -8,7 +8,8 @@
 //
 // Labels: GRID's `.align` beside a clip (words, in 1/25000 s), StyleTalk's `NAME_phonemes.json` (one ARPAbet
 // phone index per 30 fps frame, named by `phindex.json` in the same folder), a Praat TextGrid's "phones" tier
-// (BEAT2). Phone classes for measuring lip shapes: phoneClassOf.
+// (BEAT2), the news anchors' `NAME.words.csv` (Arabic words with their times, turned into phones by
+// phone_labels.h's arabicPhones). Phone classes for measuring lip shapes: phoneClassOf.
 // Thread contract: loadTalkingCorpus tracks on threads of its own (as loadVideoCorpus); the rest are pure
 // functions of files.
 #pragma once
