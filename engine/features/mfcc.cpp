@@ -38,9 +38,21 @@ MfccComputer::MfccComputer(const MfccOptions& options, int sampleRateHz)
   const double spacing = maxMel / (numBands + 1);
   lowerChannel_.assign(static_cast<size_t>(half), 0);
   lowerWeight_.assign(static_cast<size_t>(half), 0.0);
+  if (!(options.frequencyWarp >= 0.5 && options.frequencyWarp <= 2.0))
+    throw Error("MFCC: the frequency warp must be in [0.5, 2]");
+  // VTLP's warp: α·f up to a boundary, then the line to the Nyquist frequency (Jaitly & Hinton 2013, with their
+  // upper boundary of 4.8 kHz at 8 kHz scaled to the Nyquist frequency).
+  const double nyquist = sampleRateHz / 2.0;
+  const double alpha = options.frequencyWarp;
+  const double boundary = 0.6 * nyquist * std::min(alpha, 1.0) / alpha;
+  const auto warp = [&](double hz) {
+    if (alpha == 1.0) return hz;
+    if (hz <= boundary) return alpha * hz;
+    return nyquist - (nyquist - alpha * boundary) / (nyquist - boundary) * (nyquist - hz);
+  };
   int channel = 0;
   for (int k = 1; k < half; ++k) {
-    const double mel = hzToMel(static_cast<double>(k) * sampleRateHz / options.fftSize);
+    const double mel = hzToMel(warp(static_cast<double>(k) * sampleRateHz / options.fftSize));
     while (channel <= numBands && (channel + 1) * spacing < mel) ++channel;
     lowerChannel_[static_cast<size_t>(k)] = channel;
     lowerWeight_[static_cast<size_t>(k)] = ((channel + 1) * spacing - mel) / spacing;

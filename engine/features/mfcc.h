@@ -41,6 +41,10 @@ struct MfccOptions {
   double preEmphasis = 0.97;
   int lifter = 22;               // 0 disables liftering
   double filterbankFloor = 1.0;  // in 16-bit-scale magnitude units
+  // Vocal tract length perturbation (Jaitly & Hinton 2013), for training on more voices than were recorded: the
+  // filterbank hears frequency f at α·f (piecewise linear, the Nyquist frequency fixed; 1: none). α 0.9-1.1
+  // spans about the difference between a man's and a woman's vocal tract.
+  double frequencyWarp = 1.0;
 };
 
 class MfccComputer {
