@@ -1,0 +1,129 @@
+#include "eval/network_corpus.h"
+
+#include <sstream>
+
+#include "audio/media_audio.h"
+#include "core/data_path.h"
+#include "core/error.h"
+#include "core/parallel_for.h"
+#include "core/text_files.h"
+#include "eval/phone_labels.h"
+#include "tracking/video_training.h"
+
+namespace th::eval {
+namespace {
+
+std::string setOf(const std::filesystem::path& video) {
+  const std::filesystem::path folder = video.parent_path().lexically_normal();
+  return (folder.parent_path().filename() / folder.filename()).generic_string();
+}
+
+}  // namespace
+
+std::vector<CorpusRecording> networkRecordingsOf(const TalkingCorpus& corpus, const std::vector<double>& warps,
+                                                 unsigned threads) {
+  std::vector<CorpusRecording> out(corpus.clips.size());
+  parallelFor(corpus.clips.size(), threads, [&](std::size_t i) {
+    const TalkingClip& clip = corpus.clips[i];
+    CorpusRecording& r = out[i];
+    r.clip = &clip;
+    r.set = setOf(clip.clip.video);
+    r.recording.name = clip.clip.video.stem().string();
+    r.recording.speaker = clip.speaker;
+    const audio::AudioClip sound = tracking::readClipSound(clip.clip.video);
+    r.recording.subframes = animation::speechSubframesOf(sound.samples);
+    for (const double warp : warps) r.warped.push_back(animation::speechSubframesOf(sound.samples, warp));
+    r.recording.faps = clip.clip.recording.visual;
+    r.recording.lipShape = clip.clip.lipShape;
+    const int frames = clip.clip.recording.numFrames();
+    if (!clip.labels.empty())
+      r.recording.classes = mouthClassesAt(clip.labelsAreWords ? gridPhones(clip.labels) : clip.labels,
+                                           animation::kMouthFramesPerSecond, frames);
+  });
+  return out;
+}
+
+std::vector<CorpusRecording> phoneAlignedSpeech(const std::vector<double>& warps) {
+  std::vector<CorpusRecording> out;
+  const std::filesystem::path beat2 = sharedDataPath("beat2");
+  for (const std::filesystem::path& take :
+       {beat2 / "2_scott_0_1_1", beat2 / "audio_only" / "2_scott_0_2_2", beat2 / "audio_only" / "2_scott_0_4_4"}) {
+    const std::filesystem::path wav = take.string() + ".wav";
+    const audio::AudioClip sound = audio::readRecording(wav);
+    if (sound.samples.empty()) throw fileError(wav, "has no samples");
+    CorpusRecording r;
+    r.set = "beat2";
+    r.recording.name = take.filename().string();
+    r.recording.speaker = "scott";
+    r.recording.subframes = animation::speechSubframesOf(sound.samples);
+    for (const double warp : warps) r.warped.push_back(animation::speechSubframesOf(sound.samples, warp));
+    const int frames =
+        (r.recording.subframes.numFrames() + animation::kSubframesPerFrame - 1) / animation::kSubframesPerFrame;
+    r.recording.classes =
+        mouthClassesAt(readTextGridPhones(take.string() + ".TextGrid"), animation::kMouthFramesPerSecond, frames);
+    out.push_back(std::move(r));
+  }
+  return out;
+}
+
+namespace {
+
+std::vector<LabelInterval> readPhonesCsv(const std::filesystem::path& path) {
+  std::istringstream text(readTextFile(path, "phone list"));
+  std::string line;
+  if (!std::getline(text, line) || line.rfind("start_s,end_s,phone", 0) != 0)
+    throw fileError(path, "does not start with the header start_s,end_s,phone");
+  std::vector<LabelInterval> phones;
+  int number = 1;
+  while (std::getline(text, line)) {
+    ++number;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    if (line.empty()) continue;
+    std::istringstream fields(line);
+    std::string start, end, phone;
+    std::getline(fields, start, ',');
+    std::getline(fields, end, ',');
+    std::getline(fields, phone, ',');
+    try {
+      phones.push_back({std::stod(start), std::stod(end), phone});
+    } catch (const std::exception&) {
+      throw fileError(path, "line " + std::to_string(number) + " is not start_s,end_s,phone");
+    }
+  }
+  return phones;
+}
+
+}  // namespace
+
+std::vector<CorpusRecording> synthesisedSpeech(const std::filesystem::path& folder, const std::vector<double>& warps) {
+  std::istringstream index(readTextFile(folder / "index.csv", "index"));
+  std::string line;
+  std::getline(index, line);
+  std::vector<std::pair<std::string, std::string>> files;
+  while (std::getline(index, line)) {
+    const std::size_t comma = line.find(',');
+    const std::size_t second = line.find(',', comma + 1);
+    if (comma == std::string::npos || second == std::string::npos)
+      throw fileError(folder / "index.csv", "a line is not file,voice,text");
+    files.emplace_back(line.substr(0, comma), line.substr(comma + 1, second - comma - 1));
+  }
+  std::vector<CorpusRecording> out(files.size());
+  parallelFor(files.size(), 0, [&](std::size_t i) {
+    const std::filesystem::path wav = folder / (files[i].first + ".wav");
+    const audio::AudioClip sound = audio::readRecording(wav);
+    if (sound.samples.empty()) throw fileError(wav, "has no samples");
+    CorpusRecording& r = out[i];
+    r.set = "festival";
+    r.recording.name = files[i].first;
+    r.recording.speaker = files[i].second;
+    r.recording.subframes = animation::speechSubframesOf(sound.samples);
+    for (const double warp : warps) r.warped.push_back(animation::speechSubframesOf(sound.samples, warp));
+    const int frames =
+        (r.recording.subframes.numFrames() + animation::kSubframesPerFrame - 1) / animation::kSubframesPerFrame;
+    r.recording.classes = mouthClassesAt(readPhonesCsv(folder / (files[i].first + ".phones.csv")),
+                                         animation::kMouthFramesPerSecond, frames);
+  });
+  return out;
+}
+
+}  // namespace th::eval

@@ -1,0 +1,45 @@
+// The mouth network's corpus (animation/mouth_network.h): every talking clip with its sound's subframes, its
+// tracked FAPs and lip shape, and its phones' mouth classes where it has phones; and phone-aligned speech without
+// video. Each recording keeps its speaker and its set, so that evaluations can hold speakers out.
+//
+//   th::eval::TalkingCorpus talking = th::eval::loadTalkingCorpus(folders, face, options);
+//   std::vector<th::eval::CorpusRecording> corpus = th::eval::networkRecordingsOf(talking);
+//   for (th::eval::CorpusRecording& r : th::eval::phoneAlignedSpeech()) corpus.push_back(std::move(r));
+//
+// Classes: StyleTalk's per-frame phones and BEAT2's TextGrids as they are; GRID's words through its lexicon
+// (phone_labels.h: phones placed within each word by typical durations). Clips without phones (the Arabic
+// anchors, GRID's other speakers without alignments) train and are judged on their lips alone.
+// Thread contract: pure functions of files; networkRecordingsOf reads each clip's sound on a few threads.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "animation/mouth_network.h"
+#include "eval/talking_corpus.h"
+
+namespace th::eval {
+
+struct CorpusRecording {
+  animation::NetworkRecording recording;
+  std::string set;  // the folder it came from: "grid/s1", "talking/styletalk", "talking/arabic-news", "beat2", ...
+  const TalkingClip* clip = nullptr;  // the talking clip it was made from (nullptr: speech without video)
+  // The same speech heard through other vocal tracts (speechSubframesOf's frequencyWarp), one per warp asked
+  // for: more voices to train on, with the same truths.
+  std::vector<animation::SpeechFrames> warped;
+};
+
+// Every clip of a loaded talking corpus; the corpus must outlive the result (clip points into it).
+std::vector<CorpusRecording> networkRecordingsOf(const TalkingCorpus& corpus, const std::vector<double>& warps = {},
+                                                 unsigned threads = 0);
+
+// BEAT2's three phone-aligned takes (speaker "scott", set "beat2"): speech and classes, no video.
+std::vector<CorpusRecording> phoneAlignedSpeech(const std::vector<double>& warps = {});
+
+// A folder of synthesised, phone-aligned speech (tools/festival_speech.py: index.csv naming each file and its
+// voice, FILE.wav and FILE.phones.csv with start_s,end_s,phone in ARPAbet): each voice a speaker, set "festival".
+// Errors name the file.
+std::vector<CorpusRecording> synthesisedSpeech(const std::filesystem::path& folder,
+                                               const std::vector<double>& warps = {});
+
+}  // namespace th::eval

@@ -1,0 +1,322 @@
+// Experiments with the mouth network (animation/mouth_network.h): leave-speakers-out folds over the shared
+// corpora (GRID s1, StyleTalk, the Arabic news anchors, BEAT2's phone-aligned takes), printing per held-out
+// set the viseme accuracies, /p b m/ recall and precision (by the class and at thresholds on P(PP) and on the
+// closure head), rounded-vowel recall, and the jaw's and lips' correlation with the tracked truth. The fold
+// that holds out BEAT2's speaker also judges GRID s1's held-out clips (every fifth) and GRID's other speakers.
+// Not the product: a workbench for choosing the recipe.
+//   mouth_network_experiment [--folds scott,Obama,KristiNoem,andrew] [--epochs 20] [--hidden 256,256]
+//       [--past 24] [--future 9] [--components 6] [--class-weight 1] [--visual-weight 1] [--shape-weight 1]
+//       [--closure-weight 1] [--closed 0.04] [--dropout 0.2] [--noise 0.1] [--rate 1e-3] [--decay 1e-4]
+//       [--warps 0.9,1.1] [--balance 0.5] [--arabic SHARE] [--threads 2] [--groups NAME_GROUP.csv]
+//       [--festival DIR]   (tools/festival_speech.py's phone-aligned synthetic voices, trained on in every fold)
+// --groups names each Arabic clip's speaker group (a CSV "name,group" with a header); without it the anchors
+// count as one speaker. Tracks are read from (and made into) ~/.cache/talkinghead/tracks.
+#include <Eigen/Core>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+#include <string>
+
+#include "animation/mouth_network.h"
+#include "core/data_path.h"
+#include "core/parallel_for.h"
+#include "eval/mouth_scores.h"
+#include "eval/network_corpus.h"
+#include "eval/talking_corpus.h"
+#include "eval/viseme_corpus.h"
+#include "face/face_model.h"
+#include "face/visemes.h"
+
+using namespace th;
+
+namespace {
+
+std::map<std::string, std::string> readGroups(const std::string& file) {
+  std::map<std::string, std::string> groups;
+  std::ifstream in(file);
+  std::string line;
+  std::getline(in, line);
+  while (std::getline(in, line)) {
+    const auto comma = line.find(',');
+    if (comma != std::string::npos) groups[line.substr(0, comma)] = line.substr(comma + 1);
+  }
+  return groups;
+}
+
+std::vector<int> parseList(const std::string& text) {
+  std::vector<int> out;
+  std::stringstream s(text);
+  for (std::string item; std::getline(s, item, ',');) out.push_back(std::stoi(item));
+  return out;
+}
+
+double correlation(const Eigen::RowVectorXd& a, const Eigen::RowVectorXd& b) {
+  const Eigen::RowVectorXd x = a.array() - a.mean(), y = b.array() - b.mean();
+  return x.dot(y) / std::sqrt(std::max(x.squaredNorm() * y.squaredNorm(), 1e-300));
+}
+
+struct Measures {
+  eval::VisemeScores visemes;
+  std::vector<double> jawEstimate, jawTruth, openEstimate, openTruth, openFace;
+  int shutTruthFrames = 0, shutHits = 0, shutShown = 0;
+  int ppFrames = 0, ppShut = 0;  // PP-phone frames where the shut head says shut
+  // PP by a threshold on P(PP) (rows) and on P(shut) (last row): truth hits, frames shown.
+  std::vector<double> thresholds{0.1, 0.15, 0.2, 0.3, 0.4};
+  std::vector<int> ppHit = std::vector<int>(6, 0), ppShown = std::vector<int>(6, 0);
+  // Frame accuracy (17 classes) with the decoded classes shifted by -3..+3 frames against the phones.
+  std::vector<int> shiftHits = std::vector<int>(7, 0);
+  int shiftFrames = 0;
+  std::string format(const std::string& name) const {
+    const Eigen::MatrixXi& c = visemes.oculusConfusion();
+    const int pp = 1;
+    const double ppRecall = c.row(pp).sum() > 0 ? double(c(pp, pp)) / c.row(pp).sum() : NAN;
+    const double ppPrecision = c.col(pp).sum() > 0 ? double(c(pp, pp)) / c.col(pp).sum() : NAN;
+    const int oh = 13, ou = 14;
+    const double roundTruth = c.row(oh).sum() + c.row(ou).sum();
+    const double roundRecall = roundTruth > 0 ? (c(oh, oh) + c(oh, ou) + c(ou, oh) + c(ou, ou)) / roundTruth : NAN;
+    const auto rho = [](const std::vector<double>& a, const std::vector<double>& b) {
+      if (a.size() < 3) return double(NAN);
+      return correlation(Eigen::Map<const Eigen::RowVectorXd>(a.data(), static_cast<Eigen::Index>(a.size())),
+                         Eigen::Map<const Eigen::RowVectorXd>(b.data(), static_cast<Eigen::Index>(b.size())));
+    };
+    const auto spread = [](const std::vector<double>& a, const std::vector<double>& b) {
+      if (a.size() < 3) return double(NAN);
+      const Eigen::Map<const Eigen::RowVectorXd> x(a.data(), static_cast<Eigen::Index>(a.size()));
+      const Eigen::Map<const Eigen::RowVectorXd> y(b.data(), static_cast<Eigen::Index>(b.size()));
+      return std::sqrt((x.array() - x.mean()).square().mean() /
+                       std::max((y.array() - y.mean()).square().mean(), 1e-300));
+    };
+    char line[512];
+    std::snprintf(
+        line, sizeof line,
+        "  %-22s frames %6d | oculus %5.1f%% rhubarb %5.1f%% | PP R %5.1f%% P %5.1f%% (n %4d) | round R %5.1f%% | "
+        "jaw rho %6.3f spr %5.2f | open rho %6.3f (head) %6.3f | shut R %5.1f%% P %5.1f%% | PP shut %5.1f%%\n",
+        name.c_str(), visemes.labelledFrames() > 0 ? visemes.labelledFrames() : static_cast<int>(jawTruth.size()),
+        100.0 * visemes.oculusAccuracy(), 100.0 * visemes.rhubarbAccuracy(), 100.0 * ppRecall, 100.0 * ppPrecision,
+        static_cast<int>(c.row(pp).sum()), 100.0 * roundRecall, rho(jawEstimate, jawTruth),
+        spread(jawEstimate, jawTruth), rho(openFace, openTruth), rho(openEstimate, openTruth),
+        shutTruthFrames > 0 ? 100.0 * shutHits / shutTruthFrames : NAN,
+        shutShown > 0 ? 100.0 * shutHits / shutShown : NAN, ppFrames > 0 ? 100.0 * ppShut / ppFrames : NAN);
+    std::string text = line;
+    if (c.row(pp).sum() > 0) {
+      text += "      PP by P(PP) >";
+      for (std::size_t k = 0; k < 6; ++k) {
+        char cell[96];
+        std::snprintf(cell, sizeof cell, " %s%.2f: R %4.1f%% P %4.1f%% |", k < 5 ? "" : "shut ",
+                      k < 5 ? thresholds[k] : 0.5, 100.0 * ppHit[k] / c.row(pp).sum(),
+                      ppShown[k] > 0 ? 100.0 * ppHit[k] / ppShown[k] : 0.0);
+        text += cell;
+      }
+      text += "\n      class accuracy with the estimate k frames later (k = -3..3):";
+      for (int k = 0; k < 7; ++k) {
+        char cell[32];
+        std::snprintf(cell, sizeof cell, " %.1f%%",
+                      100.0 * shiftHits[static_cast<std::size_t>(k)] / std::max(shiftFrames, 1));
+        text += cell;
+      }
+      text += "\n";
+    }
+    return text;
+  }
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::map<std::string, std::string> args;
+  for (int i = 1; i + 1 < argc; i += 2) args[std::string(argv[i]).substr(2)] = argv[i + 1];
+  const auto arg = [&](const std::string& key, const std::string& fallback) {
+    return args.count(key) ? args[key] : fallback;
+  };
+  animation::MouthNetworkOptions options;
+  options.training.epochs = std::stoi(arg("epochs", "20"));
+  options.hidden = parseList(arg("hidden", "256,256"));
+  options.pastSubframes = std::stoi(arg("past", "24"));
+  options.futureSubframes = std::stoi(arg("future", "9"));
+  options.visualComponents = std::stoi(arg("components", "6"));
+  options.classWeight = std::stod(arg("class-weight", "1"));
+  options.visualWeight = std::stod(arg("visual-weight", "1"));
+  options.shapeWeight = std::stod(arg("shape-weight", "1"));
+  options.closureWeight = std::stod(arg("closure-weight", "1"));
+  options.closedOpening = std::stod(arg("closed", "0.04"));
+  options.training.dropout = std::stod(arg("dropout", "0.2"));
+  options.training.inputNoise = std::stod(arg("noise", "0.1"));
+  options.training.learningRate = std::stod(arg("rate", "1e-3"));
+  options.training.weightDecay = std::stod(arg("decay", "1e-4"));
+  const double arabicWeight = std::stod(arg("arabic", "1"));
+  const std::string groupsFile = arg("groups", "");
+  const std::map<std::string, std::string> groups =
+      groupsFile.empty() ? std::map<std::string, std::string>{} : readGroups(groupsFile);
+
+  const face::FaceModel face = face::FaceModel::buildDefault();
+  std::vector<eval::TalkingFolder> folders = eval::sharedTalkingFolders();
+  folders.push_back({sharedDataPath("talking/arabic-news"), ""});
+  folders.push_back({sharedDataPath("grid/samples"), ""});
+  tracking::VideoCorpusOptions corpusOptions;
+  const char* home = std::getenv("HOME");
+  corpusOptions.trackFolder = std::filesystem::path(home) / ".cache/talkinghead/tracks";
+  corpusOptions.synchronise = true;
+  auto started = std::chrono::steady_clock::now();
+  const eval::TalkingCorpus talking = eval::loadTalkingCorpus(folders, face, corpusOptions);
+  std::vector<double> warps;
+  {
+    std::stringstream list(arg("warps", ""));
+    for (std::string w; std::getline(list, w, ',');) warps.push_back(std::stod(w));
+  }
+  std::vector<eval::CorpusRecording> corpus = eval::networkRecordingsOf(talking, warps);
+  for (eval::CorpusRecording& r : eval::phoneAlignedSpeech(warps)) corpus.push_back(std::move(r));
+  if (!arg("festival", "").empty())
+    for (eval::CorpusRecording& r : eval::synthesisedSpeech(arg("festival", ""), warps)) corpus.push_back(std::move(r));
+  std::map<std::string, int> gridIndex;
+  std::vector<std::string> role(corpus.size());  // "train", "grid-held-out", "grid-samples"
+  for (std::size_t i = 0; i < corpus.size(); ++i) {
+    eval::CorpusRecording& r = corpus[i];
+    role[i] = "train";
+    if (r.set == "talking/arabic-news") {
+      const auto found = groups.find(r.recording.name);
+      r.recording.speaker = "arabic-" + (found == groups.end() ? std::string("news") : found->second);
+    }
+    if (r.set == "grid/samples") role[i] = "grid-samples";
+    if (r.recording.speaker == "grid-s1") {
+      const int n = gridIndex[r.set]++;
+      if (n % 5 == 4) role[i] = "grid-held-out";
+    }
+  }
+  std::fprintf(stderr, "corpus: %zu recordings in %.0f s\n", corpus.size(),
+               std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count());
+  std::map<std::string, int> speakerFrames;
+  for (const auto& r : corpus) speakerFrames[r.recording.speaker] += r.recording.numFrames();
+
+  // Each speaker's mean c1..c13, as the start of the running cepstral mean (a stream adapted to them).
+  if (arg("speaker-mean", "0") == "1") {
+    std::map<std::string, std::pair<Eigen::VectorXd, double>> sums;
+    for (const auto& r : corpus) {
+      auto& [sum, count] = sums[r.recording.speaker];
+      if (sum.size() == 0) sum = Eigen::VectorXd::Zero(animation::kNetworkMfcc);
+      sum += r.recording.subframes.mfcc.rowwise().sum();
+      count += static_cast<double>(r.recording.subframes.numFrames());
+    }
+    for (auto& r : corpus) {
+      const auto& [sum, count] = sums[r.recording.speaker];
+      r.recording.startMean = sum / count;
+    }
+  }
+  // Speaker balance: each recording's frames weigh (median speaker's frames / its speaker's frames)^power.
+  const double balance = std::stod(arg("balance", "0"));
+  if (balance > 0.0) {
+    std::vector<int> sizes;
+    for (const auto& [speaker, frames] : speakerFrames) sizes.push_back(frames);
+    std::sort(sizes.begin(), sizes.end());
+    const double median = sizes[sizes.size() / 2];
+    for (auto& r : corpus) r.recording.weight = std::pow(median / speakerFrames[r.recording.speaker], balance);
+  }
+  std::vector<std::string> folds;
+  std::stringstream foldList(arg("folds", "scott,Obama,KristiNoem,andrew"));
+  for (std::string f; std::getline(foldList, f, ',');) folds.push_back(f);
+  std::printf(
+      "options: hidden %s past %d future %d K %d epochs %d weights %.2f/%.2f/%.2f/%.2f closed %.3f dropout %.2f noise "
+      "%.2f\n",
+      arg("hidden", "256,256").c_str(), options.pastSubframes, options.futureSubframes, options.visualComponents,
+      options.training.epochs, options.classWeight, options.visualWeight, options.shapeWeight, options.closureWeight,
+      options.closedOpening, options.training.dropout, options.training.inputNoise);
+  const eval::MouthShapes shapes(face);
+  std::vector<std::string> outputs(folds.size());
+  parallelFor(folds.size(), std::stoi(arg("threads", "2")), [&](std::size_t f) {
+    const std::string& held = folds[f];
+    std::vector<animation::NetworkRecording> training;
+    std::vector<const eval::CorpusRecording*> tests;
+    for (std::size_t i = 0; i < corpus.size(); ++i) {
+      const auto& r = corpus[i];
+      if (r.recording.speaker == held)
+        tests.push_back(&r);
+      else if (role[i] == "train") {
+        training.push_back(r.recording);
+        for (const animation::SpeechFrames& w : r.warped) {
+          animation::NetworkRecording copy = r.recording;
+          copy.subframes = w;
+          training.push_back(std::move(copy));
+        }
+        if (r.set == "talking/arabic-news" && arabicWeight != 1.0) {
+          // weight by dropping: keep a share of the Arabic clips
+          if (arabicWeight < 1.0 &&
+              static_cast<double>(std::hash<std::string>{}(r.recording.name) % 100) >= arabicWeight * 100)
+            training.pop_back();
+        }
+      }
+      if (held == "scott" && role[i] != "train") tests.push_back(&r);  // the scott fold also judges GRID
+    }
+    const auto t0 = std::chrono::steady_clock::now();
+    const animation::MouthNetworkTraining trained = animation::trainMouthNetwork(training, talking.faps, options);
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    std::map<std::string, Measures> measures;
+    for (const eval::CorpusRecording* r : tests) {
+      const std::string key = r->recording.speaker == held ? held
+                              : role[static_cast<std::size_t>(r - corpus.data())] == "grid-held-out"
+                                  ? "grid-s1 held-out"
+                                  : "grid-samples";
+      Measures& m = measures[key];
+      const animation::MouthNetworkOutput out =
+          animation::runMouthNetwork(trained.model, r->recording.subframes, &r->recording.startMean);
+      const int frames = std::min(out.numFrames(), r->recording.numFrames());
+      if (!r->recording.classes.empty()) {
+        std::vector<int> decoded, truth;
+        for (int t = 0; t < frames; ++t) {
+          Eigen::Index best = 0;
+          out.classes.col(t).maxCoeff(&best);
+          decoded.push_back(static_cast<int>(best));
+          truth.push_back(r->recording.classes[static_cast<std::size_t>(t)]);
+          for (std::size_t k = 0; k < 6; ++k) {
+            const bool shown = k < 5 ? out.classes(face::kPp, t) > m.thresholds[k] : out.shut[t] > 0.5;
+            m.ppShown[k] += shown;
+            m.ppHit[k] += shown && truth.back() == face::kPp;
+          }
+          if (truth.back() == face::kPp) {
+            ++m.ppFrames;
+            m.ppShut += out.shut[t] > 0.5 ? 1 : 0;
+          }
+        }
+        m.visemes.add(truth, decoded);
+        for (int t = 3; t + 3 < frames; ++t) {
+          if (truth[static_cast<std::size_t>(t)] < 0) continue;
+          ++m.shiftFrames;
+          for (int k = -3; k <= 3; ++k)
+            m.shiftHits[static_cast<std::size_t>(k + 3)] +=
+                decoded[static_cast<std::size_t>(t + k)] == truth[static_cast<std::size_t>(t)];
+        }
+      }
+      if (r->recording.faps.cols() > 0) {
+        const Eigen::MatrixXd faps = animation::mouthNetworkFaps(trained.model, out);
+        const Eigen::MatrixXd faceShape = shapes.of(faps, trained.model.visualFaps);
+        const auto jaw = std::find(talking.faps.begin(), talking.faps.end(), 3) - talking.faps.begin();
+        for (int t = 0; t < std::min<int>(frames, static_cast<int>(r->recording.faps.cols())); ++t) {
+          m.jawEstimate.push_back(faps(jaw, t));
+          m.jawTruth.push_back(r->recording.faps(jaw, t));
+          m.openEstimate.push_back(out.lipShape(0, t));
+          m.openFace.push_back(faceShape(0, t));
+          m.openTruth.push_back(r->recording.lipShape(0, t));
+          const bool shutTruth = r->recording.lipShape(0, t) < options.closedOpening;
+          const bool shutShown = out.shut[t] > 0.5;
+          m.shutTruthFrames += shutTruth;
+          m.shutShown += shutShown;
+          m.shutHits += shutTruth && shutShown;
+        }
+      }
+    }
+    char header[256];
+    std::snprintf(header, sizeof header,
+                  "fold %s: %zu training recordings, trained in %.0f s, best epoch %d, loss %.3f\n", held.c_str(),
+                  training.size(), seconds, trained.report.bestEpoch, trained.report.trainingLoss.back());
+    std::string text = header;
+    for (const auto& [name, m] : measures) text += m.format(name);
+    outputs[f] = text;
+    std::fprintf(stderr, "%s", text.c_str());
+  });
+  for (const std::string& text : outputs) std::printf("%s", text.c_str());
+  return 0;
+}
