@@ -98,6 +98,8 @@ TalkingCorpus loadTalkingCorpus(const std::vector<TalkingFolder>& folders, const
     for (tracking::VideoClip& clip : loaded.clips) {
       TalkingClip talking;
       talking.speaker = folders[f].speaker.empty() ? speakerOfClip(clip.video) : folders[f].speaker;
+      if (!folderOptions.trackFolder.empty())
+        talking.trackFile = folderOptions.trackFolder / tracking::trackFileName(clip.video);
       talking.clip = std::move(clip);
       readLabelsBeside(talking);
       corpus.clips.push_back(std::move(talking));

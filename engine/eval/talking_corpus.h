@@ -41,6 +41,7 @@ struct LabelInterval {
 
 struct TalkingClip {
   tracking::VideoClip clip;
+  std::filesystem::path trackFile;  // where its track is kept (empty when tracks are not kept)
   std::string speaker;
   std::vector<LabelInterval> labels;  // phones, or words where labelsAreWords; empty where there are none
   bool labelsAreWords = false;

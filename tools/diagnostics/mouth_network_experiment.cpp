@@ -9,6 +9,8 @@
 //       [--closure-weight 1] [--closed 0.04] [--dropout 0.2] [--noise 0.1] [--rate 1e-3] [--decay 1e-4]
 //       [--warps 0.9,1.1] [--balance 0.5] [--arabic SHARE] [--threads 2] [--groups NAME_GROUP.csv]
 //       [--festival DIR]   (tools/festival_speech.py's phone-aligned synthetic voices, trained on in every fold)
+//       [--arabic-folds N [--speaker-groups 60] [--families 2]]   (the N largest anchor groups held out in turn,
+//       each with its family kept out of training: eval/speaker_groups.h; --groups-out FILE writes name,speaker,family)
 // --groups names each Arabic clip's speaker group (a CSV "name,group" with a header); without it the anchors
 // count as one speaker. Tracks are read from (and made into) ~/.cache/talkinghead/tracks.
 #include <Eigen/Core>
@@ -19,15 +21,18 @@
 #include <cstdlib>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <set>
 #include <sstream>
 #include <string>
 
+#include "animation/mouth_model.h"
 #include "animation/mouth_network.h"
 #include "core/data_path.h"
 #include "core/parallel_for.h"
 #include "eval/mouth_scores.h"
 #include "eval/network_corpus.h"
+#include "eval/speaker_groups.h"
 #include "eval/talking_corpus.h"
 #include "eval/viseme_corpus.h"
 #include "face/face_model.h"
@@ -64,6 +69,7 @@ double correlation(const Eigen::RowVectorXd& a, const Eigen::RowVectorXd& b) {
 struct Measures {
   eval::VisemeScores visemes;
   std::vector<double> jawEstimate, jawTruth, openEstimate, openTruth, openFace;
+  std::vector<double> hmmJaw, hmmOpen, levelJaw, levelOpen;  // the mouth model's (HMM) and the level's, if asked
   int shutTruthFrames = 0, shutHits = 0, shutShown = 0;
   int ppFrames = 0, ppShut = 0;  // PP-phone frames where the shut head says shut
   // PP by a threshold on P(PP) (rows) and on P(shut) (last row): truth hits, frames shown.
@@ -72,6 +78,17 @@ struct Measures {
   // Frame accuracy (17 classes) with the decoded classes shifted by -3..+3 frames against the phones.
   std::vector<int> shiftHits = std::vector<int>(7, 0);
   int shiftFrames = 0;
+  std::vector<int> truthAll, decodedAll;  // every labelled frame, to pool folds
+  void pool(const Measures& other) {
+    visemes.add(other.truthAll, other.decodedAll);
+    truthAll.insert(truthAll.end(), other.truthAll.begin(), other.truthAll.end());
+    decodedAll.insert(decodedAll.end(), other.decodedAll.begin(), other.decodedAll.end());
+    for (std::size_t k = 0; k < ppHit.size(); ++k) ppHit[k] += other.ppHit[k], ppShown[k] += other.ppShown[k];
+    for (std::size_t k = 0; k < shiftHits.size(); ++k) shiftHits[k] += other.shiftHits[k];
+    shiftFrames += other.shiftFrames;
+    ppFrames += other.ppFrames;
+    ppShut += other.ppShut;
+  }
   std::string format(const std::string& name) const {
     const Eigen::MatrixXi& c = visemes.oculusConfusion();
     const int pp = 1;
@@ -104,6 +121,16 @@ struct Measures {
         shutTruthFrames > 0 ? 100.0 * shutHits / shutTruthFrames : NAN,
         shutShown > 0 ? 100.0 * shutHits / shutShown : NAN, ppFrames > 0 ? 100.0 * ppShut / ppFrames : NAN);
     std::string text = line;
+    if (!hmmJaw.empty()) {
+      char more[256];
+      std::snprintf(
+          more, sizeof more,
+          "      mouth model (HMM, same training clips): jaw rho %6.3f spr %5.2f open rho %6.3f | the level: jaw rho "
+          "%6.3f open rho %6.3f\n",
+          rho(hmmJaw, jawTruth), spread(hmmJaw, jawTruth), rho(hmmOpen, openTruth), rho(levelJaw, jawTruth),
+          rho(levelOpen, openTruth));
+      text += more;
+    }
     if (c.row(pp).sum() > 0) {
       text += "      PP by P(PP) >";
       for (std::size_t k = 0; k < 6; ++k) {
@@ -173,6 +200,51 @@ int main(int argc, char** argv) {
   for (eval::CorpusRecording& r : eval::phoneAlignedSpeech(warps)) corpus.push_back(std::move(r));
   if (!arg("festival", "").empty())
     for (eval::CorpusRecording& r : eval::synthesisedSpeech(arg("festival", ""), warps)) corpus.push_back(std::move(r));
+  // The news anchors grouped by face, voice and look (eval/speaker_groups.h): speaker groups nested in families.
+  std::map<std::string, std::string> familyOf;  // speaker -> family
+  const int arabicFolds = std::stoi(arg("arabic-folds", "0"));
+  std::vector<std::string> arabicHeldOut;
+  if (arabicFolds > 0) {
+    std::vector<const eval::TalkingClip*> anchors;
+    std::vector<std::size_t> index;
+    for (std::size_t i = 0; i < corpus.size(); ++i)
+      if (corpus[i].set == "talking/arabic-news") anchors.push_back(corpus[i].clip), index.push_back(i);
+    const auto t0 = std::chrono::steady_clock::now();
+    const eval::SpeakerGroups grouping = eval::groupSpeakers(
+        eval::clipIdentities(anchors),
+        {.speakers = std::stoi(arg("speaker-groups", "60")), .families = std::stoi(arg("families", "2"))});
+    std::map<int, int> sizes;
+    for (std::size_t k = 0; k < anchors.size(); ++k) {
+      auto& r = corpus[index[k]].recording;
+      r.speaker = "arabic-s" + std::to_string(grouping.speaker[k]);
+      familyOf[r.speaker] = "arabic-f" + std::to_string(grouping.family[k]);
+      ++sizes[grouping.speaker[k]];
+    }
+    if (!arg("groups-out", "").empty()) {
+      std::ofstream out(arg("groups-out", ""));
+      out << "name,speaker,family\n";
+      for (std::size_t k = 0; k < anchors.size(); ++k)
+        out << corpus[index[k]].recording.name << "," << grouping.speaker[k] << "," << grouping.family[k] << "\n";
+    }
+    // The largest speaker groups, at most one per family while families last.
+    std::vector<std::pair<int, int>> bySize;
+    for (const auto& [group, count] : sizes) bySize.emplace_back(count, group);
+    std::sort(bySize.rbegin(), bySize.rend());
+    std::set<std::string> familiesUsed;
+    for (int pass = 0; pass < 2 && static_cast<int>(arabicHeldOut.size()) < arabicFolds; ++pass)
+      for (const auto& [count, group] : bySize) {
+        const std::string speaker = "arabic-s" + std::to_string(group);
+        if (static_cast<int>(arabicHeldOut.size()) >= arabicFolds || count < 10) break;
+        if (std::find(arabicHeldOut.begin(), arabicHeldOut.end(), speaker) != arabicHeldOut.end()) continue;
+        if (pass == 0 && familiesUsed.count(familyOf[speaker])) continue;
+        familiesUsed.insert(familyOf[speaker]);
+        arabicHeldOut.push_back(speaker);
+      }
+    std::fprintf(stderr, "news anchors grouped in %.0f s; held out:",
+                 std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    for (const std::string& s : arabicHeldOut) std::fprintf(stderr, " %s (%s)", s.c_str(), familyOf[s].c_str());
+    std::fprintf(stderr, "\n");
+  }
   std::map<std::string, int> gridIndex;
   std::vector<std::string> role(corpus.size());  // "train", "grid-held-out", "grid-samples"
   for (std::size_t i = 0; i < corpus.size(); ++i) {
@@ -219,6 +291,7 @@ int main(int argc, char** argv) {
   std::vector<std::string> folds;
   std::stringstream foldList(arg("folds", "scott,Obama,KristiNoem,andrew"));
   for (std::string f; std::getline(foldList, f, ',');) folds.push_back(f);
+  folds.insert(folds.end(), arabicHeldOut.begin(), arabicHeldOut.end());
   std::printf(
       "options: hidden %s past %d future %d K %d epochs %d weights %.2f/%.2f/%.2f/%.2f closed %.3f dropout %.2f noise "
       "%.2f\n",
@@ -227,6 +300,7 @@ int main(int argc, char** argv) {
       options.closedOpening, options.training.dropout, options.training.inputNoise);
   const eval::MouthShapes shapes(face);
   std::vector<std::string> outputs(folds.size());
+  std::vector<Measures> heldOut(folds.size());
   parallelFor(folds.size(), std::stoi(arg("threads", "2")), [&](std::size_t f) {
     const std::string& held = folds[f];
     std::vector<animation::NetworkRecording> training;
@@ -253,6 +327,33 @@ int main(int argc, char** argv) {
     }
     const auto t0 = std::chrono::steady_clock::now();
     const animation::MouthNetworkTraining trained = animation::trainMouthNetwork(training, talking.faps, options);
+    // The shipped mouth model's recipe (HMM inversion, `train mouth`) and the level baseline on the same clips.
+    std::optional<animation::MouthModel> hmm;
+    std::optional<eval::LevelBaseline> level;
+    if (arg("hmm", "0") == "1") {
+      std::vector<animation::MouthRecording> videoTraining;
+      std::vector<const animation::MouthRecording*> pointers;
+      for (std::size_t i = 0; i < corpus.size(); ++i) {
+        const auto& r = corpus[i];
+        const bool sameFamily = familyOf.count(held) && familyOf.count(r.recording.speaker) &&
+                                familyOf.at(held) == familyOf.at(r.recording.speaker);
+        if (r.clip != nullptr && role[i] == "train" && r.recording.speaker != held && !sameFamily)
+          videoTraining.push_back(r.clip->clip.recording);
+      }
+      for (const auto& r : videoTraining) pointers.push_back(&r);
+      animation::MouthModelOptions recipe{.states = 8,
+                                          .mixtures = 2,
+                                          .covariance = hmm::CovarianceType::kFull,
+                                          .contextFrames = 2,
+                                          .visualComponents = 4,
+                                          .standardiseVisual = false,
+                                          .normaliseSpeech = true,
+                                          .visualDeltas = true,
+                                          .varianceValidationEvery = 5};
+      hmm = animation::trainMouthModel(videoTraining, recipe);
+      hmm->visualFaps = talking.faps;
+      level.emplace(pointers, 2);
+    }
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     std::map<std::string, Measures> measures;
     for (const eval::CorpusRecording* r : tests) {
@@ -282,6 +383,8 @@ int main(int argc, char** argv) {
           }
         }
         m.visemes.add(truth, decoded);
+        m.truthAll.insert(m.truthAll.end(), truth.begin(), truth.end());
+        m.decodedAll.insert(m.decodedAll.end(), decoded.begin(), decoded.end());
         for (int t = 3; t + 3 < frames; ++t) {
           if (truth[static_cast<std::size_t>(t)] < 0) continue;
           ++m.shiftFrames;
@@ -292,6 +395,24 @@ int main(int argc, char** argv) {
       }
       if (r->recording.faps.cols() > 0) {
         const Eigen::MatrixXd faps = animation::mouthNetworkFaps(trained.model, out);
+        if (hmm && r->clip != nullptr) {
+          const animation::SpeechFrames& speech = r->clip->clip.recording.speech;
+          const Eigen::MatrixXd hmmFaps = animation::mouthFapsOf(
+              *hmm, animation::synthesiseMouth(*hmm, speech, {.method = animation::MouthMethod::kMmse}));
+          const Eigen::MatrixXd levelFaps = level->predict(speech);
+          const Eigen::MatrixXd hmmShape = shapes.of(hmmFaps, talking.faps);
+          const Eigen::MatrixXd levelShape = shapes.of(levelFaps, talking.faps);
+          const auto jawRow = std::find(talking.faps.begin(), talking.faps.end(), 3) - talking.faps.begin();
+          // The same frames as the network's below (the HMM's last frame held if it has fewer).
+          const Eigen::Index n = std::min<Eigen::Index>(frames, r->recording.faps.cols());
+          for (Eigen::Index t = 0; t < n; ++t) {
+            const Eigen::Index u = std::min<Eigen::Index>(t, hmmFaps.cols() - 1);
+            m.hmmJaw.push_back(hmmFaps(jawRow, u));
+            m.hmmOpen.push_back(hmmShape(0, u));
+            m.levelJaw.push_back(levelFaps(jawRow, u));
+            m.levelOpen.push_back(levelShape(0, u));
+          }
+        }
         const Eigen::MatrixXd faceShape = shapes.of(faps, trained.model.visualFaps);
         const auto jaw = std::find(talking.faps.begin(), talking.faps.end(), 3) - talking.faps.begin();
         for (int t = 0; t < std::min<int>(frames, static_cast<int>(r->recording.faps.cols())); ++t) {
@@ -314,9 +435,13 @@ int main(int argc, char** argv) {
                   training.size(), seconds, trained.report.bestEpoch, trained.report.trainingLoss.back());
     std::string text = header;
     for (const auto& [name, m] : measures) text += m.format(name);
+    if (measures.count(held)) heldOut[f] = measures[held];
     outputs[f] = text;
     std::fprintf(stderr, "%s", text.c_str());
   });
   for (const std::string& text : outputs) std::printf("%s", text.c_str());
+  Measures pooled;
+  for (const Measures& m : heldOut) pooled.pool(m);
+  std::printf("pooled over the held-out speakers' phones:\n%s", pooled.format("all held out").c_str());
   return 0;
 }
