@@ -17,15 +17,7 @@ struct MouthCorpusArguments {
   std::vector<std::string> corpora;
   std::vector<std::string> compare;  // eval: other model files judged on the same clips
   std::string multilingual;          // eval: the folder tools/multilingual_speech.py made; empty: made in the cache
-  animation::MouthModelOptions model{.states = 8,
-                                     .mixtures = 2,
-                                     .covariance = hmm::CovarianceType::kFull,
-                                     .contextFrames = 2,
-                                     .visualComponents = 4,
-                                     .standardiseVisual = false,
-                                     .normaliseSpeech = true,
-                                     .visualDeltas = true,
-                                     .varianceValidationEvery = 5};
+  animation::MouthModelOptions model = animation::videoMouthRecipe();
   animation::MouthSynthesisOptions synthesis{.method = animation::MouthMethod::kMmse};
   bool stageTwo = false;  // re-train the audio side on speech-only recordings of other voices
   // How many times each clip of a speaker other than GRID's s1 counts in training (GRID's one speaker has 16

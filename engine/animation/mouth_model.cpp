@@ -16,6 +16,18 @@
 
 namespace th::animation {
 
+MouthModelOptions videoMouthRecipe() {
+  return {.states = 8,
+          .mixtures = 2,
+          .covariance = hmm::CovarianceType::kFull,
+          .contextFrames = 2,
+          .visualComponents = 4,
+          .standardiseVisual = false,
+          .normaliseSpeech = true,
+          .visualDeltas = true,
+          .varianceValidationEvery = 5};
+}
+
 int MouthModel::speechRowsPerFrame() const {
   if (normalisation) return static_cast<int>(normalisation->priorMean.size()) + 1;
   return hmm.block("audio").size / (2 * contextFrames + 1);

@@ -64,6 +64,11 @@ struct MouthModelOptions {
   int speechOnlyIterations = 5;
 };
 
+// The recipe of the shipped mouth models (`talkinghead train mouth`, from tracked talking video): 8 states x 2
+// full-covariance Gaussians, ±2 frames of normalised speech, 4 components of the FAPs with their deltas (MLPG),
+// global variance compensation measured on every fifth sequence.
+MouthModelOptions videoMouthRecipe();
+
 // The speech normalisation a model was trained with: its options and the training speech's mean c1..cN.
 struct MouthSpeechNormalisation {
   features::SpeechNormalisationOptions options;

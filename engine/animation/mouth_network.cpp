@@ -291,19 +291,13 @@ Eigen::MatrixXd matrixOf(const JsonFields& fields, const Json& value, const std:
 }  // namespace
 
 void saveMouthNetwork(const std::filesystem::path& path, const MouthNetwork& model) {
-  const features::SpeechNormalisationOptions& n = model.normalisation;
   Json json = {{"kind", kKind},
                {"format_version", kFormatVersion},
                {"classes", std::vector<std::string>(face::kMouthClassNames.begin(), face::kMouthClassNames.end())},
                {"past_subframes", model.pastSubframes},
                {"future_subframes", model.futureSubframes},
                {"subframes_per_second", kSubframesPerSecond},
-               {"speech_normalisation",
-                {{"mean_seconds", n.meanSeconds},
-                 {"prior_seconds", n.priorSeconds},
-                 {"peak_decay_db_per_second", n.peakDecayDbPerSecond},
-                 {"level_unit_db", n.levelUnitDb},
-                 {"prior_mean", vectorJson(model.priorMean)}}},
+               {"speech_normalisation", features::speechNormalisationJson(model.normalisation, model.priorMean)},
                {"visual_faps", model.visualFaps},
                {"visual_basis",
                 {{"mean", vectorJson(model.basis.mean())},
@@ -348,21 +342,8 @@ MouthNetwork loadMouthNetwork(const std::filesystem::path& path) {
   model.futureSubframes = integer("future_subframes", 0, 45);
   if (fields.number(fields.member(json, "subframes_per_second", ""), "subframes_per_second") != kSubframesPerSecond)
     fields.fail("subframes_per_second", "must be " + std::to_string(kSubframesPerSecond));
-  const Json& n = fields.object(fields.member(json, "speech_normalisation", ""), "speech_normalisation");
-  const auto number = [&](const char* key) {
-    return fields.number(fields.member(n, key, "speech_normalisation"), std::string("speech_normalisation.") + key);
-  };
-  model.normalisation = {.meanSeconds = number("mean_seconds"),
-                         .priorSeconds = number("prior_seconds"),
-                         .peakDecayDbPerSecond = number("peak_decay_db_per_second"),
-                         .levelUnitDb = number("level_unit_db")};
-  try {
-    model.normalisation.check();
-  } catch (const Error& error) {
-    fields.fail("speech_normalisation", error.what());
-  }
-  model.priorMean = vectorOf(fields, fields.member(n, "prior_mean", "speech_normalisation"),
-                             "speech_normalisation.prior_mean", kNetworkMfcc);
+  model.normalisation = features::readSpeechNormalisation(fields.member(json, "speech_normalisation", ""), fields,
+                                                          "speech_normalisation", model.priorMean, kNetworkMfcc);
   const Json& faps = fields.array(fields.member(json, "visual_faps", ""), "visual_faps");
   for (std::size_t i = 0; i < faps.size(); ++i) {
     const std::int64_t fap = fields.integer(faps[i], JsonFields::indexed("visual_faps", i));

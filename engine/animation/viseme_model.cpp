@@ -235,12 +235,7 @@ void saveVisemeModel(const std::filesystem::path& path, const VisemeModel& model
   training["context_frames"] = model.contextFrames;
   training["min_hold_frames"] = model.minHoldFrames;
   training["emission_scale"] = model.emissionScale;
-  const features::SpeechNormalisationOptions& n = model.normalisation;
-  training["speech_normalisation"] = {{"mean_seconds", n.meanSeconds},
-                                      {"prior_seconds", n.priorSeconds},
-                                      {"peak_decay_db_per_second", n.peakDecayDbPerSecond},
-                                      {"level_unit_db", n.levelUnitDb},
-                                      {"prior_mean", vectorJson(model.priorMean)}};
+  training["speech_normalisation"] = features::speechNormalisationJson(model.normalisation, model.priorMean);
   training["input_mean"] = vectorJson(model.inputMean);
   nlohmann::json rows = nlohmann::json::array();
   for (Eigen::Index r = 0; r < model.projection.rows(); ++r) rows.push_back(vectorJson(model.projection.row(r)));
@@ -276,23 +271,8 @@ VisemeModel loadVisemeModel(const std::filesystem::path& path) {
   model.emissionScale = fields.number(fields.member(training, "emission_scale", "training"), "training.emission_scale");
   if (!(model.emissionScale > 0.0 && model.emissionScale <= 1.0))
     throw fileError(path, "training.emission_scale must be in (0, 1]");
-  const Json& n =
-      fields.object(fields.member(training, "speech_normalisation", "training"), "training.speech_normalisation");
-  const auto number = [&](const char* key) {
-    return fields.number(fields.member(n, key, "training.speech_normalisation"),
-                         std::string("training.speech_normalisation.") + key);
-  };
-  model.normalisation = {.meanSeconds = number("mean_seconds"),
-                         .priorSeconds = number("prior_seconds"),
-                         .peakDecayDbPerSecond = number("peak_decay_db_per_second"),
-                         .levelUnitDb = number("level_unit_db")};
-  try {
-    model.normalisation.check();
-  } catch (const Error& error) {
-    throw fileError(path, std::string("training.speech_normalisation: ") + error.what());
-  }
-  model.priorMean = vectorOf(fields, fields.member(n, "prior_mean", "training.speech_normalisation"),
-                             "training.speech_normalisation.prior_mean");
+  model.normalisation = features::readSpeechNormalisation(fields.member(training, "speech_normalisation", "training"),
+                                                          fields, "training.speech_normalisation", model.priorMean);
   model.inputMean = vectorOf(fields, fields.member(training, "input_mean", "training"), "training.input_mean");
   const Json& rows = fields.array(fields.member(training, "projection", "training"), "training.projection");
   const Eigen::Index inputs = (model.priorMean.size() + 1) * (2 * model.contextFrames + 1);

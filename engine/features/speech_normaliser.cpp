@@ -66,4 +66,39 @@ Eigen::MatrixXd normaliseSpeech(const SpeechNormalisationOptions& options, doubl
   return out;
 }
 
+Json speechNormalisationJson(const SpeechNormalisationOptions& options, const Eigen::VectorXd& priorMean) {
+  return {{"mean_seconds", options.meanSeconds},
+          {"prior_seconds", options.priorSeconds},
+          {"peak_decay_db_per_second", options.peakDecayDbPerSecond},
+          {"level_unit_db", options.levelUnitDb},
+          {"prior_mean", std::vector<double>(priorMean.data(), priorMean.data() + priorMean.size())}};
+}
+
+SpeechNormalisationOptions readSpeechNormalisation(const Json& object, const JsonFields& fields,
+                                                   const std::string& field, Eigen::VectorXd& priorMean,
+                                                   Eigen::Index priorMeanSize) {
+  fields.object(object, field);
+  const auto number = [&](const char* key) {
+    return fields.number(fields.member(object, key, field), JsonFields::dotted(field, key));
+  };
+  const SpeechNormalisationOptions options{.meanSeconds = number("mean_seconds"),
+                                           .priorSeconds = number("prior_seconds"),
+                                           .peakDecayDbPerSecond = number("peak_decay_db_per_second"),
+                                           .levelUnitDb = number("level_unit_db")};
+  try {
+    options.check();
+  } catch (const Error& error) {
+    fields.fail(field, error.what());
+  }
+  const std::string meanField = JsonFields::dotted(field, "prior_mean");
+  const Json& list = fields.array(fields.member(object, "prior_mean", field), meanField);
+  if (list.empty() || (priorMeanSize >= 0 && static_cast<Eigen::Index>(list.size()) != priorMeanSize))
+    fields.fail(meanField,
+                priorMeanSize >= 0 ? "must hold " + std::to_string(priorMeanSize) + " numbers" : "must not be empty");
+  priorMean.resize(static_cast<Eigen::Index>(list.size()));
+  for (std::size_t i = 0; i < list.size(); ++i)
+    priorMean[static_cast<Eigen::Index>(i)] = fields.number(list[i], JsonFields::indexed(meanField, i));
+  return options;
+}
+
 }  // namespace th::features

@@ -19,6 +19,9 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <string>
+
+#include "core/json_reading.h"
 
 namespace th::features {
 
@@ -58,5 +61,13 @@ class OnlineSpeechNormaliser {
 Eigen::MatrixXd normaliseSpeech(const SpeechNormalisationOptions& options, double framesPerSecond,
                                 const Eigen::VectorXd& priorMean, const Eigen::RowVectorXd& levelDb,
                                 const Eigen::MatrixXd& mfcc);
+
+// The options and the prior mean as a model file keeps them: {"mean_seconds", "prior_seconds",
+// "peak_decay_db_per_second", "level_unit_db", "prior_mean": [...]}; and back, checked (errors name the file and
+// the field; priorMeanSize < 0: any size).
+Json speechNormalisationJson(const SpeechNormalisationOptions& options, const Eigen::VectorXd& priorMean);
+SpeechNormalisationOptions readSpeechNormalisation(const Json& object, const JsonFields& fields,
+                                                   const std::string& field, Eigen::VectorXd& priorMean,
+                                                   Eigen::Index priorMeanSize = -1);
 
 }  // namespace th::features

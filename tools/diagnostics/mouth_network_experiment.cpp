@@ -250,7 +250,7 @@ int main(int argc, char** argv) {
   for (std::size_t i = 0; i < corpus.size(); ++i) {
     eval::CorpusRecording& r = corpus[i];
     role[i] = "train";
-    if (r.set == "talking/arabic-news") {
+    if (r.set == "talking/arabic-news" && arabicFolds == 0) {
       const auto found = groups.find(r.recording.name);
       r.recording.speaker = "arabic-" + (found == groups.end() ? std::string("news") : found->second);
     }
@@ -341,16 +341,7 @@ int main(int argc, char** argv) {
           videoTraining.push_back(r.clip->clip.recording);
       }
       for (const auto& r : videoTraining) pointers.push_back(&r);
-      animation::MouthModelOptions recipe{.states = 8,
-                                          .mixtures = 2,
-                                          .covariance = hmm::CovarianceType::kFull,
-                                          .contextFrames = 2,
-                                          .visualComponents = 4,
-                                          .standardiseVisual = false,
-                                          .normaliseSpeech = true,
-                                          .visualDeltas = true,
-                                          .varianceValidationEvery = 5};
-      hmm = animation::trainMouthModel(videoTraining, recipe);
+      hmm = animation::trainMouthModel(videoTraining, animation::videoMouthRecipe());
       hmm->visualFaps = talking.faps;
       level.emplace(pointers, 2);
     }
