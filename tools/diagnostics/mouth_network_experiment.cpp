@@ -307,9 +307,11 @@ int main(int argc, char** argv) {
     std::vector<const eval::CorpusRecording*> tests;
     for (std::size_t i = 0; i < corpus.size(); ++i) {
       const auto& r = corpus[i];
+      const bool sameFamily = familyOf.count(held) && familyOf.count(r.recording.speaker) &&
+                              familyOf.at(held) == familyOf.at(r.recording.speaker);
       if (r.recording.speaker == held)
         tests.push_back(&r);
-      else if (role[i] == "train") {
+      else if (role[i] == "train" && !sameFamily) {
         training.push_back(r.recording);
         for (const animation::SpeechFrames& w : r.warped) {
           animation::NetworkRecording copy = r.recording;
