@@ -8,7 +8,7 @@
 //       [--past 24] [--future 9] [--components 6] [--class-weight 1] [--visual-weight 1] [--shape-weight 1]
 //       [--closure-weight 1] [--closed 0.04] [--dropout 0.2] [--noise 0.1] [--rate 1e-3] [--decay 1e-4]
 //       [--warps 0.9,1.1] [--balance 0.5] [--arabic SHARE] [--threads 2] [--groups NAME_GROUP.csv]
-//       [--festival DIR]   (tools/festival_speech.py's phone-aligned synthetic voices, trained on in every fold)
+//       [--arabic-faps 0] [--festival DIR]   (tools/festival_speech.py's phone-aligned synthetic voices, trained on in every fold)
 //       [--arabic-folds N [--speaker-groups 60] [--families 2]]   (the N largest anchor groups held out in turn,
 //       each with its family kept out of training: eval/speaker_groups.h; --groups-out FILE writes name,speaker,family)
 // --groups names each Arabic clip's speaker group (a CSV "name,group" with a header); without it the anchors
@@ -245,6 +245,11 @@ int main(int argc, char** argv) {
     for (const std::string& s : arabicHeldOut) std::fprintf(stderr, " %s (%s)", s.c_str(), familyOf[s].c_str());
     std::fprintf(stderr, "\n");
   }
+  // --arabic-faps 0: the anchors train the classes, lip shape and closures but not the FAP components (their FAPs
+  // are measured from each 1.2 s clip's own most closed frame).
+  if (arg("arabic-faps", "1") == "0")
+    for (auto& r : corpus)
+      if (r.set == "talking/arabic-news") r.recording.faps.resize(0, 0);
   std::map<std::string, int> gridIndex;
   std::vector<std::string> role(corpus.size());  // "train", "grid-held-out", "grid-samples"
   for (std::size_t i = 0; i < corpus.size(); ++i) {
