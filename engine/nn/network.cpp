@@ -61,20 +61,6 @@ Network Network::fromParts(Eigen::VectorXf inputMean, Eigen::VectorXf inputScale
   return network;
 }
 
-NetworkShape Network::shape() const {
-  NetworkShape shape;
-  shape.inputs = inputs();
-  for (std::size_t i = 0; i + 1 < layers_.size(); ++i) shape.hidden.push_back(static_cast<int>(layers_[i].bias.size()));
-  shape.outputs = outputs();
-  return shape;
-}
-
-long Network::parameterCount() const {
-  long count = 0;
-  for (const DenseLayer& layer : layers_) count += static_cast<long>(layer.weights.size() + layer.bias.size());
-  return count;
-}
-
 void Network::setStandardisation(Eigen::VectorXf mean, Eigen::VectorXf scale) {
   if (mean.size() != inputs() || scale.size() != inputs())
     throw Error("network: a standardisation of " + std::to_string(mean.size()) + " values for " +

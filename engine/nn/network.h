@@ -41,8 +41,6 @@ class Network {
 
   int inputs() const { return static_cast<int>(inputMean_.size()); }
   int outputs() const { return layers_.empty() ? 0 : static_cast<int>(layers_.back().bias.size()); }
-  NetworkShape shape() const;
-  long parameterCount() const;
 
   // The standardisation: x' = (x − mean) ⊙ scale (scale = 1 / the training frames' deviation).
   const Eigen::VectorXf& inputMean() const { return inputMean_; }

@@ -11,22 +11,6 @@
 
 namespace th::nn {
 
-void Frames::append(const Frames& more) {
-  if (size() == 0) {
-    *this = more;
-    return;
-  }
-  if (more.inputs.rows() != inputs.rows() || more.targets.rows() != targets.rows() || more.mask.rows() != mask.rows())
-    throw Error("network frames: appending frames of another shape");
-  const Eigen::Index n = size(), m = more.size();
-  inputs.conservativeResize(Eigen::NoChange, n + m);
-  targets.conservativeResize(Eigen::NoChange, n + m);
-  mask.conservativeResize(Eigen::NoChange, n + m);
-  inputs.rightCols(m) = more.inputs;
-  targets.rightCols(m) = more.targets;
-  mask.rightCols(m) = more.mask;
-}
-
 void TrainingOptions::check() const {
   if (epochs < 1) throw Error("network training: epochs " + std::to_string(epochs) + " (at least 1)");
   if (batchFrames < 1) throw Error("network training: batch of " + std::to_string(batchFrames) + " frames");

@@ -40,7 +40,6 @@ struct Frames {
   Eigen::MatrixXf targets;  // network outputs x N (rows of a head a frame has no target for are ignored)
   Eigen::MatrixXf mask;     // heads x N: each frame's weight for each head, 0 where it has no target
   Eigen::Index size() const { return inputs.cols(); }
-  void append(const Frames& more);
 };
 
 struct TrainingOptions {

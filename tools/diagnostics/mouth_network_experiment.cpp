@@ -310,13 +310,18 @@ int main(int argc, char** argv) {
     const std::string& held = folds[f];
     std::vector<animation::NetworkRecording> training;
     std::vector<const eval::CorpusRecording*> tests;
+    // Whether recording i trains this fold's models: a training clip of neither the held-out speaker nor their family.
+    const auto trainsOn = [&](std::size_t i) {
+      const std::string& speaker = corpus[i].recording.speaker;
+      const bool sameFamily =
+          familyOf.count(held) && familyOf.count(speaker) && familyOf.at(held) == familyOf.at(speaker);
+      return role[i] == "train" && speaker != held && !sameFamily;
+    };
     for (std::size_t i = 0; i < corpus.size(); ++i) {
       const auto& r = corpus[i];
-      const bool sameFamily = familyOf.count(held) && familyOf.count(r.recording.speaker) &&
-                              familyOf.at(held) == familyOf.at(r.recording.speaker);
       if (r.recording.speaker == held)
         tests.push_back(&r);
-      else if (role[i] == "train" && !sameFamily) {
+      else if (trainsOn(i)) {
         training.push_back(r.recording);
         for (const animation::SpeechFrames& w : r.warped) {
           animation::NetworkRecording copy = r.recording;
@@ -341,11 +346,7 @@ int main(int argc, char** argv) {
       std::vector<animation::MouthRecording> videoTraining;
       std::vector<const animation::MouthRecording*> pointers;
       for (std::size_t i = 0; i < corpus.size(); ++i) {
-        const auto& r = corpus[i];
-        const bool sameFamily = familyOf.count(held) && familyOf.count(r.recording.speaker) &&
-                                familyOf.at(held) == familyOf.at(r.recording.speaker);
-        if (r.clip != nullptr && role[i] == "train" && r.recording.speaker != held && !sameFamily)
-          videoTraining.push_back(r.clip->clip.recording);
+        if (corpus[i].clip != nullptr && trainsOn(i)) videoTraining.push_back(corpus[i].clip->clip.recording);
       }
       for (const auto& r : videoTraining) pointers.push_back(&r);
       hmm = animation::trainMouthModel(videoTraining, animation::videoMouthRecipe());
