@@ -14,6 +14,7 @@ void addEvalHeadCommand(CLI::App& eval);       // `eval head`, registered by add
 void addEvalMouthCommand(CLI::App& eval);      // `eval mouth`, likewise
 void addTrainMouthCommand(CLI::App& train);    // `train mouth`, registered by addTrainCommand
 void addTrainVisemesCommand(CLI::App& train);  // `train visemes`, likewise
+void addTrainArticulationCommand(CLI::App& train);  // `train articulation`, likewise
 void addEvalVisemesCommand(CLI::App& eval);    // `eval visemes`, registered by addEvalCommand
 void addTrainVideoOptions(CLI::App& train);    // `train --video DIR`, likewise
 void addAnimateCommand(CLI::App& app);

@@ -414,6 +414,7 @@ void addTrainCommand(CLI::App& app) {
   head->callback([arguments] { runTrain(*arguments); });
   addTrainMouthCommand(*train);
   addTrainVisemesCommand(*train);
+  addTrainArticulationCommand(*train);
   addTrainVideoOptions(*train);
 }
 

@@ -48,23 +48,6 @@ std::filesystem::path cacheFolder() {
   return std::filesystem::temp_directory_path() / "talkinghead-cache";
 }
 
-eval::TalkingCorpus loadCorpus(const std::vector<eval::TalkingFolder>& folders, const std::string& tracks,
-                               const face::FaceModel& face) {
-  tracking::VideoCorpusOptions options;
-  options.trackFolder = tracks.empty() ? defaultMouthTrackFolder() : std::filesystem::path(tracks);
-  options.synchronise = true;
-  ProgressBar bar(1.0, "track", std::cerr);
-  eval::TalkingCorpus corpus = eval::loadTalkingCorpus(
-      folders, face, options, [&](int done, int total) { bar.update(static_cast<double>(done) / total); });
-  bar.finish();
-  int trackedNow = 0;
-  for (const TalkingClip& clip : corpus.clips) trackedNow += clip.clip.trackedNow ? 1 : 0;
-  std::fprintf(stderr, "%zu clips (%d tracked now; tracks kept in %s) in %.1f s\n", corpus.clips.size(), trackedNow,
-               options.trackFolder.c_str(), corpus.trackingSeconds);
-  for (const auto& skipped : corpus.skipped) std::fprintf(stderr, "  left out: %s\n", skipped.reason.c_str());
-  return corpus;
-}
-
 // GRID's held-out clips: every fifth of each of its folders, by name.
 void splitGrid(const eval::TalkingCorpus& corpus, Clips& train, Clips& heldOut,
                std::map<std::string, Clips>& otherSpeakers) {
@@ -452,6 +435,23 @@ void reportChinDrop(const std::vector<const Estimator*>& estimators) {
 
 }  // namespace
 
+eval::TalkingCorpus loadMouthCorpus(const std::vector<eval::TalkingFolder>& folders, const std::string& tracks,
+                               const face::FaceModel& face) {
+  tracking::VideoCorpusOptions options;
+  options.trackFolder = tracks.empty() ? defaultMouthTrackFolder() : std::filesystem::path(tracks);
+  options.synchronise = true;
+  ProgressBar bar(1.0, "track", std::cerr);
+  eval::TalkingCorpus corpus = eval::loadTalkingCorpus(
+      folders, face, options, [&](int done, int total) { bar.update(static_cast<double>(done) / total); });
+  bar.finish();
+  int trackedNow = 0;
+  for (const TalkingClip& clip : corpus.clips) trackedNow += clip.clip.trackedNow ? 1 : 0;
+  std::fprintf(stderr, "%zu clips (%d tracked now; tracks kept in %s) in %.1f s\n", corpus.clips.size(), trackedNow,
+               options.trackFolder.c_str(), corpus.trackingSeconds);
+  for (const auto& skipped : corpus.skipped) std::fprintf(stderr, "  left out: %s\n", skipped.reason.c_str());
+  return corpus;
+}
+
 std::filesystem::path defaultMouthTrackFolder() {
   return cacheFolder() / "tracks";
 }
@@ -463,7 +463,7 @@ void runEvalMouthCorpora(const MouthCorpusArguments& arguments) {
   const std::filesystem::path languages = multilingualFolder(arguments.multilingual);
   std::vector<eval::TalkingFolder> folders = eval::sharedTalkingFolders();
   folders.push_back({sharedDataPath("grid/samples"), ""});
-  const eval::TalkingCorpus corpus = loadCorpus(folders, arguments.tracks, face);
+  const eval::TalkingCorpus corpus = loadMouthCorpus(folders, arguments.tracks, face);
   const eval::MouthShapes shapes(face);
 
   std::printf("Mouth from audio, the recipe: %s\n", describeRecipe(arguments).c_str());
@@ -569,7 +569,7 @@ void runTrainMouthCorpora(const MouthCorpusArguments& arguments, const std::stri
   }
   if (folders.empty()) folders = eval::sharedTalkingFolders();
   const face::FaceModel face = face::FaceModel::buildDefault();
-  const eval::TalkingCorpus corpus = loadCorpus(folders, arguments.tracks, face);
+  const eval::TalkingCorpus corpus = loadMouthCorpus(folders, arguments.tracks, face);
   Clips gridTrain, gridTest;
   std::map<std::string, Clips> otherSpeakers;
   splitGrid(corpus, gridTrain, gridTest, otherSpeakers);

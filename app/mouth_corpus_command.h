@@ -7,6 +7,8 @@
 #include <vector>
 
 #include "animation/mouth_model.h"
+#include "eval/talking_corpus.h"
+#include "face/face_model.h"
 
 namespace th::app {
 
@@ -32,6 +34,10 @@ std::filesystem::path defaultMouthTrackFolder();  // $XDG_CACHE_HOME/talkinghead
 // The same, as --help says it (the same on every machine, as docs/cli.md is).
 inline constexpr const char* kMouthTrackFolderHelp =
     "$XDG_CACHE_HOME/talkinghead/tracks, or ~/.cache/talkinghead/tracks";
+// The talking clips of these folders, tracked (tracks kept in `tracks`, empty: the default folder), with the
+// progress on stderr.
+eval::TalkingCorpus loadMouthCorpus(const std::vector<eval::TalkingFolder>& folders, const std::string& tracks,
+                                    const face::FaceModel& face);
 void runEvalMouthCorpora(const MouthCorpusArguments& arguments);
 void runTrainMouthCorpora(const MouthCorpusArguments& arguments, const std::string& output);
 

@@ -14,7 +14,7 @@ namespace {
 
 constexpr int kClasses = face::kNumMouthClasses;
 constexpr const char* kKind = "mouth_network";
-constexpr int kFormatVersion = 1;
+constexpr int kFormatVersion = 2;
 
 std::vector<nn::Head> headsFor(int components) {
   return {{"classes", nn::HeadKind::kSoftmax, 0, kClasses, 1.0},
@@ -47,7 +47,7 @@ void stackFrame(const Eigen::MatrixXd& normalised, int past, int future, Eigen::
 
 }  // namespace
 
-SpeechFrames speechSubframesOf(std::span<const float> samples16k, double frequencyWarp) {
+features::FeatureOptions subframeFeatureOptions(double frequencyWarp) {
   features::FeatureOptions options = features::batchFeatureOptions();
   options.framesPerSecond = kSubframesPerSecond;
   options.mfcc.numCoefficients = kNetworkMfcc;
@@ -55,7 +55,11 @@ SpeechFrames speechSubframesOf(std::span<const float> samples16k, double frequen
   options.contextFrames = 0;
   options.trackPitch = false;
   options.energyNormalisation = features::EnergyNormalisation::kNone;
-  features::OnlineFeatureExtractor extractor(options);
+  return options;
+}
+
+SpeechFrames speechSubframesOf(std::span<const float> samples16k, double frequencyWarp) {
+  features::OnlineFeatureExtractor extractor(subframeFeatureOptions(frequencyWarp));
   extractor.acceptWaveform(samples16k);
   extractor.inputFinished();
   const int frames = extractor.numBaseFramesReady();
@@ -211,6 +215,10 @@ MouthNetworkTraining trainMouthNetwork(const std::vector<NetworkRecording>& reco
         ((allShapes.colwise() - model.shapeMean).array().square().rowwise().mean().sqrt()).max(1e-6).matrix();
   }
   model.classPriors = classCounts / classCounts.sum();
+  std::vector<std::vector<int>> labels;
+  for (const NetworkRecording& r : recordings)
+    if (!r.classes.empty()) labels.push_back(r.classes);
+  model.sequence = classSequenceOf(labels);
 
   model.heads = headsFor(options.visualComponents);
   model.heads[kClassHead].weight = options.classWeight;
@@ -246,6 +254,53 @@ MouthNetworkOutput runMouthNetwork(const MouthNetwork& model, const SpeechFrames
                  model.shapeMean;
   out.shut = outputs.row(kClasses + k + 2).cast<double>();
   return out;
+}
+
+MouthNetworkStream::MouthNetworkStream(const MouthNetwork& model)
+    : model_(model),
+      normaliser_(model.normalisation, kSubframesPerSecond, model.priorMean),
+      inference_(model.network),
+      input_(model.contextSubframes() * model.inputsPerSubframe()),
+      output_(model.network.outputs(), 1) {}
+
+void MouthNetworkStream::accept(double levelDb, const Eigen::Ref<const Eigen::VectorXd>& mfcc) {
+  if (finished_) throw Error("mouth network stream: a subframe after the end of the input");
+  if (mfcc.size() != kNetworkMfcc)
+    throw Error("mouth network stream: a subframe must have " + std::to_string(kNetworkMfcc) + " MFCCs");
+  Eigen::VectorXd out(model_.inputsPerSubframe());
+  normaliser_.accept(levelDb, mfcc, out);
+  normalised_.push_back(std::move(out));
+  ++received_;
+}
+
+void MouthNetworkStream::finish() {
+  finished_ = true;
+}
+
+bool MouthNetworkStream::next(MouthNetworkFrame& frame) {
+  const Eigen::Index centre = nextFrame_ * kSubframesPerFrame;
+  const bool ready = finished_ ? centre < received_ : centre + model_.futureSubframes < received_;
+  if (!ready) return false;
+  // As stackFrame: the subframes centre - past .. centre + future, the edges repeated.
+  const Eigen::Index rows = model_.inputsPerSubframe();
+  for (int k = -model_.pastSubframes; k <= model_.futureSubframes; ++k) {
+    const Eigen::Index source = std::clamp<Eigen::Index>(centre + k, 0, received_ - 1);
+    input_.segment((k + model_.pastSubframes) * rows, rows) =
+        normalised_[static_cast<std::size_t>(source - base_)].cast<float>();
+  }
+  output_.col(0) = inference_.run(input_);
+  nn::applyHeads(model_.heads, output_);
+  const int k = model_.basis.components();
+  frame.classes = output_.col(0).head(kClasses).cast<double>();
+  frame.shut = output_(kClasses + k + 2, 0);
+  ++nextFrame_;
+  // The next frame looks back to its centre - past.
+  const Eigen::Index keepFrom = std::max<Eigen::Index>(0, nextFrame_ * kSubframesPerFrame - model_.pastSubframes);
+  while (base_ < keepFrom && !normalised_.empty()) {
+    normalised_.pop_front();
+    ++base_;
+  }
+  return true;
 }
 
 Eigen::MatrixXd mouthNetworkFaps(const MouthNetwork& model, const MouthNetworkOutput& output) {
@@ -308,7 +363,12 @@ void saveMouthNetwork(const std::filesystem::path& path, const MouthNetwork& mod
                {"lip_shape_mean", vectorJson(model.shapeMean)},
                {"lip_shape_deviation", vectorJson(model.shapeDeviation)},
                {"class_priors", vectorJson(model.classPriors)},
+               {"class_sequence",
+                {{"mean_run", vectorJson(model.sequence.meanRun)},
+                 {"bigrams", matrixJson(model.sequence.bigrams)},
+                 {"starts", vectorJson(model.sequence.starts)}}},
                {"network", nn::networkJson(model.network)}};
+  if (model.openingGradient.size() > 0) json["opening_gradient"] = vectorJson(model.openingGradient);
   AtomicFile out(path);
   out.stream() << json.dump(1) << "\n";
   out.commit();
@@ -321,7 +381,8 @@ MouthNetwork loadMouthNetwork(const std::filesystem::path& path) {
   fields.onlyKnownFields(json,
                          {"kind", "format_version", "classes", "past_subframes", "future_subframes",
                           "subframes_per_second", "speech_normalisation", "visual_faps", "visual_basis",
-                          "lip_shape_mean", "lip_shape_deviation", "class_priors", "network"},
+                          "lip_shape_mean", "lip_shape_deviation", "class_priors", "class_sequence",
+                          "opening_gradient", "network"},
                          "");
   if (fields.string(fields.member(json, "kind", ""), "kind") != kKind)
     fields.fail("kind", std::string("must be \"") + kKind + "\"");
@@ -372,6 +433,22 @@ MouthNetwork loadMouthNetwork(const std::filesystem::path& path) {
   model.classPriors = vectorOf(fields, fields.member(json, "class_priors", ""), "class_priors", kClasses);
   if ((model.classPriors.array() <= 0.0).any() || std::abs(model.classPriors.sum() - 1.0) > 1e-6)
     fields.fail("class_priors", "must be positive and sum to 1");
+  const Json& sequence = fields.object(fields.member(json, "class_sequence", ""), "class_sequence");
+  fields.onlyKnownFields(sequence, {"mean_run", "bigrams", "starts"}, "class_sequence");
+  model.sequence.meanRun =
+      vectorOf(fields, fields.member(sequence, "mean_run", "class_sequence"), "class_sequence.mean_run", kClasses);
+  model.sequence.starts =
+      vectorOf(fields, fields.member(sequence, "starts", "class_sequence"), "class_sequence.starts", kClasses);
+  model.sequence.bigrams =
+      matrixOf(fields, fields.member(sequence, "bigrams", "class_sequence"), "class_sequence.bigrams");
+  if (model.sequence.bigrams.rows() != kClasses || model.sequence.bigrams.cols() != kClasses)
+    fields.fail("class_sequence.bigrams", "must be 17 x 17");
+  if ((model.sequence.meanRun.array() < 0.0).any() || (model.sequence.starts.array() <= 0.0).any() ||
+      (model.sequence.bigrams.array() <= 0.0).any())
+    fields.fail("class_sequence", "runs must be >= 0, starts and bigrams > 0");
+  if (json.contains("opening_gradient"))
+    model.openingGradient = vectorOf(fields, json["opening_gradient"], "opening_gradient",
+                                     static_cast<Eigen::Index>(model.visualFaps.size()));
   model.network = nn::networkFromJson(fields.member(json, "network", ""), fields, "network");
   const int k = model.basis.components();
   if (model.network.inputs() != model.contextSubframes() * model.inputsPerSubframe())

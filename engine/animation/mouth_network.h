@@ -7,7 +7,7 @@
 //   th::animation::MouthNetwork model = th::animation::trainMouthNetwork(recordings, {});
 //   th::animation::MouthNetworkOutput out = th::animation::runMouthNetwork(model, subframes);
 //   Eigen::MatrixXd faps = th::animation::mouthNetworkFaps(model, out);          // jaw and lip FAPs, FAPU counts
-//   th::face::VisemeTrack visemes = th::animation::mouthNetworkVisemes(model, out);
+//   (animation/articulation.h turns the output into the visemes and the lips' closures and shape)
 //
 // What it hears: 13 MFCCs (c1..c13) and the level at three times the animation's rate (90 a second, 25 ms
 // windows: a /p/'s closure and burst are 20-80 ms, which 30 fps frames 33 ms apart with 25 ms windows can
@@ -18,14 +18,17 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <deque>
 #include <filesystem>
 #include <span>
 #include <string>
 #include <vector>
 
 #include "animation/mouth_data.h"
+#include "animation/viseme_model.h"
 #include "animation/visual_basis.h"
 #include "face/visemes.h"
+#include "features/online_features.h"
 #include "features/speech_normaliser.h"
 #include "nn/network.h"
 #include "nn/training.h"
@@ -40,6 +43,8 @@ inline constexpr int kNetworkMfcc = 13;
 // c1..c13 and the level at 90 frames a second (features/online_features.h, no pitch): 13 x 3T. frequencyWarp:
 // the filterbank's vocal tract length perturbation (features/mfcc.h), for training on more voices.
 SpeechFrames speechSubframesOf(std::span<const float> samples16k, double frequencyWarp = 1.0);
+// The extractor's settings behind speechSubframesOf, for a stream (MouthNetworkStream's input).
+features::FeatureOptions subframeFeatureOptions(double frequencyWarp = 1.0);
 
 struct MouthNetworkOptions {
   int pastSubframes = 24;   // 267 ms before the frame's centre
@@ -93,6 +98,11 @@ struct MouthNetwork {
   std::vector<int> visualFaps;                                    // the basis's rows, ascending
   Eigen::Vector2d shapeMean{0.0, 0.0}, shapeDeviation{1.0, 1.0};  // of the lips' opening and width
   Eigen::VectorXd classPriors;                                    // the training frames' class shares (17)
+  ClassSequence sequence;  // how the training frames' classes follow one another (the visemes' HMM)
+  // d(inner-lip opening) / d(FAP) for each visual FAP, measured on the face the FAPs drive (eye-corner
+  // distances per FAPU count; the trainer sets it, eval/mouth_scores.h openingGradient): how far the lips are
+  // from meeting, for closing them. Empty: not known, and the lips cannot be closed by the articulation.
+  Eigen::VectorXd openingGradient;
 
   int inputsPerSubframe() const { return kNetworkMfcc + 1; }
   int contextSubframes() const { return pastSubframes + futureSubframes + 1; }
@@ -125,6 +135,33 @@ MouthNetworkOutput runMouthNetwork(const MouthNetwork& model, const SpeechFrames
                                    const Eigen::VectorXd* startMean = nullptr);
 // The FAPs of the components (rows: visualFaps); the jaw (FAP 3) never below 0.
 Eigen::MatrixXd mouthNetworkFaps(const MouthNetwork& model, const MouthNetworkOutput& output);
+
+// The network frame by frame, for live use: each speech subframe in as it comes (c1..c13 and the level), each
+// frame's answers out once its look-ahead (futureSubframes) has come, or the input has ended. The same answers as
+// runMouthNetwork on the whole input with the model's prior mean, frame for frame. Holds only the context a
+// frame needs. The model must outlive the stream.
+struct MouthNetworkFrame {
+  Eigen::VectorXd classes;  // 17: P(class | speech)
+  double shut = 0.0;        // P(lips shut)
+};
+class MouthNetworkStream {
+ public:
+  explicit MouthNetworkStream(const MouthNetwork& model);
+  void accept(double levelDb, const Eigen::Ref<const Eigen::VectorXd>& mfcc);
+  void finish();
+  bool next(MouthNetworkFrame& frame);
+  std::size_t subframesHeld() const { return normalised_.size(); }
+
+ private:
+  const MouthNetwork& model_;
+  features::OnlineSpeechNormaliser normaliser_;
+  nn::Inference inference_;
+  std::deque<Eigen::VectorXd> normalised_;  // subframes from base_ on
+  Eigen::Index base_ = 0, received_ = 0, nextFrame_ = 0;
+  bool finished_ = false;
+  Eigen::VectorXf input_;
+  Eigen::MatrixXf output_;
+};
 
 void saveMouthNetwork(const std::filesystem::path& path, const MouthNetwork& model);
 MouthNetwork loadMouthNetwork(const std::filesystem::path& path);  // errors name the file and the field

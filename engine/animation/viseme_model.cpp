@@ -57,57 +57,8 @@ Eigen::MatrixXd discriminantDirections(const Eigen::MatrixXd& frames, const std:
   return directions;
 }
 
-// The class HMM: minHold states per class in a chain, the last looping.
-hmm::HmmModel classHmm(const std::vector<hmm::GaussianMixture>& emissions, const std::vector<LabelledSpeech>& data,
-                       int minHold) {
-  Eigen::VectorXd runFrames = Eigen::VectorXd::Zero(kClasses);
-  Eigen::VectorXd runCount = Eigen::VectorXd::Zero(kClasses);
-  Eigen::MatrixXd bigrams = Eigen::MatrixXd::Constant(kClasses, kClasses, 0.5);  // add-½ smoothing
-  Eigen::VectorXd starts = Eigen::VectorXd::Constant(kClasses, 0.5);
-  for (const LabelledSpeech& recording : data) {
-    int previous = -1;
-    for (const face::Run& run : face::runsOf(recording.classes)) {
-      if (run.value < 0) {
-        previous = -1;
-        continue;
-      }
-      runFrames[run.value] += run.length;
-      runCount[run.value] += 1.0;
-      if (previous >= 0) bigrams(previous, run.value) += 1.0;
-      if (run.first == 0) starts[run.value] += 1.0;
-      previous = run.value;
-    }
-  }
-  const int n = kClasses * minHold;
-  hmm::HmmModel model;
-  model.initial = Eigen::VectorXd::Zero(n);
-  model.transition = Eigen::MatrixXd::Zero(n, n);
-  for (int c = 0; c < kClasses; ++c) {
-    model.initial[c * minHold] = starts[c] / starts.sum();
-    for (int k = 0; k + 1 < minHold; ++k) model.transition(c * minHold + k, c * minHold + k + 1) = 1.0;
-    // The last state's stay gives the mean run: minHold − 1 + 1 / (1 − stay) frames.
-    const double meanRun = runCount[c] > 0.0 ? runFrames[c] / runCount[c] : static_cast<double>(minHold);
-    const double stay = 1.0 - 1.0 / std::max(meanRun - minHold + 1.0, 1.25);
-    const int last = c * minHold + minHold - 1;
-    model.transition(last, last) = stay;
-    double leaving = 0.0;
-    for (int to = 0; to < kClasses; ++to)
-      if (to != c) leaving += bigrams(c, to);
-    for (int to = 0; to < kClasses; ++to)
-      if (to != c) model.transition(last, to * minHold) = (1.0 - stay) * bigrams(c, to) / leaving;
-    for (int k = 0; k < minHold; ++k) model.states.push_back(emissions[static_cast<std::size_t>(c)]);
-  }
-  return model;
-}
-
 Eigen::MatrixXd scaledEmissions(const VisemeModel& model, const Eigen::MatrixXd& projected) {
   return model.emissionScale * model.hmm.emissionLogLikelihoods(projected);
-}
-
-Eigen::MatrixXd classProbabilities(const VisemeModel& model, const Eigen::MatrixXd& statePosteriors) {
-  Eigen::MatrixXd out = Eigen::MatrixXd::Zero(kClasses, statePosteriors.cols());
-  for (int s = 0; s < model.hmm.numStates(); ++s) out.row(model.classOfState(s)) += statePosteriors.row(s);
-  return out;
 }
 
 nlohmann::json vectorJson(const Eigen::VectorXd& v) {
@@ -123,6 +74,71 @@ Eigen::VectorXd vectorOf(const JsonFields& fields, const Json& value, const std:
 }
 
 }  // namespace
+
+ClassSequence classSequenceOf(const std::vector<std::vector<int>>& labels) {
+  ClassSequence sequence;
+  Eigen::VectorXd runFrames = Eigen::VectorXd::Zero(kClasses);
+  Eigen::VectorXd runCount = Eigen::VectorXd::Zero(kClasses);
+  sequence.bigrams = Eigen::MatrixXd::Constant(kClasses, kClasses, 0.5);  // add-½ smoothing
+  sequence.starts = Eigen::VectorXd::Constant(kClasses, 0.5);
+  for (const std::vector<int>& classes : labels) {
+    int previous = -1;
+    for (const face::Run& run : face::runsOf(classes)) {
+      if (run.value < 0 || run.value >= kClasses) {
+        previous = -1;
+        continue;
+      }
+      runFrames[run.value] += run.length;
+      runCount[run.value] += 1.0;
+      if (previous >= 0) sequence.bigrams(previous, run.value) += 1.0;
+      if (run.first == 0) sequence.starts[run.value] += 1.0;
+      previous = run.value;
+    }
+  }
+  sequence.meanRun.resize(kClasses);
+  for (int c = 0; c < kClasses; ++c) sequence.meanRun[c] = runCount[c] > 0.0 ? runFrames[c] / runCount[c] : 0.0;
+  return sequence;
+}
+
+hmm::HmmModel classHmm(const ClassSequence& sequence, int minHold, const std::vector<hmm::GaussianMixture>& emissions) {
+  const int n = kClasses * minHold;
+  hmm::HmmModel model;
+  model.initial = Eigen::VectorXd::Zero(n);
+  model.transition = Eigen::MatrixXd::Zero(n, n);
+  for (int c = 0; c < kClasses; ++c) {
+    model.initial[c * minHold] = sequence.starts[c] / sequence.starts.sum();
+    for (int k = 0; k + 1 < minHold; ++k) model.transition(c * minHold + k, c * minHold + k + 1) = 1.0;
+    // The last state's stay gives the mean run: minHold − 1 + 1 / (1 − stay) frames.
+    const double meanRun = sequence.meanRun[c] > 0.0 ? sequence.meanRun[c] : static_cast<double>(minHold);
+    const double stay = 1.0 - 1.0 / std::max(meanRun - minHold + 1.0, 1.25);
+    const int last = c * minHold + minHold - 1;
+    model.transition(last, last) = stay;
+    double leaving = 0.0;
+    for (int to = 0; to < kClasses; ++to)
+      if (to != c) leaving += sequence.bigrams(c, to);
+    for (int to = 0; to < kClasses; ++to)
+      if (to != c) model.transition(last, to * minHold) = (1.0 - stay) * sequence.bigrams(c, to) / leaving;
+    for (int k = 0; k < minHold; ++k)
+      model.states.push_back(emissions.empty() ? hmm::GaussianMixture{} : emissions[static_cast<std::size_t>(c)]);
+  }
+  return model;
+}
+
+face::VisemeTrack decodeClassEvidence(const hmm::HmmModel& classes, int minHoldFrames,
+                                      const Eigen::MatrixXd& classLogLikelihoods) {
+  face::VisemeTrack track;
+  track.framesPerSecond = kMouthFramesPerSecond;
+  if (classLogLikelihoods.cols() == 0) return track;
+  if (classLogLikelihoods.rows() != kClasses || classes.numStates() != kClasses * minHoldFrames)
+    throw Error("visemes: the evidence must have one row per mouth class and the HMM minHold states per class");
+  Eigen::MatrixXd logB(classes.numStates(), classLogLikelihoods.cols());
+  for (int s = 0; s < classes.numStates(); ++s) logB.row(s) = classLogLikelihoods.row(s / minHoldFrames);
+  const Eigen::MatrixXd states = hmm::forwardBackward(classes, logB).stateGivenAll;
+  track.posteriors = Eigen::MatrixXd::Zero(kClasses, states.cols());
+  for (int s = 0; s < classes.numStates(); ++s) track.posteriors.row(s / minHoldFrames) += states.row(s);
+  for (int state : hmm::viterbi(classes, logB).states) track.classes.push_back(state / minHoldFrames);
+  return track;
+}
 
 void VisemeModelOptions::check() const {
   if (contextFrames < 0 || contextFrames > 20) throw Error("viseme model: context frames must be 0..20");
@@ -196,7 +212,9 @@ VisemeModel trainVisemeModel(const std::vector<LabelledSpeech>& recordings, cons
                                   .seed = options.seed + static_cast<unsigned>(c)};
     emissions.push_back(hmm::trainHmm({own}, training).model.states.front());
   }
-  model.hmm = classHmm(emissions, recordings, options.minHoldFrames);
+  std::vector<std::vector<int>> labels;
+  for (const LabelledSpeech& r : recordings) labels.push_back(r.classes);
+  model.hmm = classHmm(classSequenceOf(labels), options.minHoldFrames, emissions);
   model.hmm.check();
   return model;
 }
@@ -208,13 +226,12 @@ Eigen::MatrixXd visemeFeatures(const VisemeModel& model, const SpeechFrames& spe
 }
 
 face::VisemeTrack decodeVisemes(const VisemeModel& model, const SpeechFrames& speech) {
-  face::VisemeTrack track;
-  track.framesPerSecond = kMouthFramesPerSecond;
-  if (speech.numFrames() == 0) return track;
+  if (speech.numFrames() == 0) return decodeClassEvidence(model.hmm, model.minHoldFrames, Eigen::MatrixXd(kClasses, 0));
+  // A class's states share its density: the class's evidence is its first state's.
   const Eigen::MatrixXd logB = scaledEmissions(model, visemeFeatures(model, speech));
-  track.posteriors = classProbabilities(model, hmm::forwardBackward(model.hmm, logB).stateGivenAll);
-  for (int state : hmm::viterbi(model.hmm, logB).states) track.classes.push_back(model.classOfState(state));
-  return track;
+  Eigen::MatrixXd evidence(kClasses, logB.cols());
+  for (int c = 0; c < kClasses; ++c) evidence.row(c) = logB.row(c * model.minHoldFrames);
+  return decodeClassEvidence(model.hmm, model.minHoldFrames, evidence);
 }
 
 std::vector<int> classifyFrames(const VisemeModel& model, const SpeechFrames& speech) {
@@ -297,32 +314,51 @@ VisemeModel loadVisemeModel(const std::filesystem::path& path) {
 }
 
 VisemeStream::VisemeStream(const VisemeModel& model, int lagFrames)
-    : model_(model),
+    : VisemeStream(model.hmm, model.minHoldFrames, lagFrames) {
+  model_ = &model;
+  normaliser_.emplace(model.normalisation, kMouthFramesPerSecond, model.priorMean);
+  stacker_.emplace(model.priorMean.size() + 1, model.contextFrames);
+  normalised_.resize(model.priorMean.size() + 1);
+}
+
+VisemeStream::VisemeStream(const hmm::HmmModel& classes, int minHoldFrames, int lagFrames)
+    : hmm_(classes),
+      minHoldFrames_(minHoldFrames),
       lagFrames_(lagFrames),
-      normaliser_(model.normalisation, kMouthFramesPerSecond, model.priorMean),
-      stacker_(model.priorMean.size() + 1, model.contextFrames),
-      smoother_(model.hmm, lagFrames),
-      viterbi_(model.hmm, {.maxLagFrames = lagFrames}),
-      normalised_(model.priorMean.size() + 1) {}
+      smoother_(classes, lagFrames),
+      viterbi_(classes, {.maxLagFrames = lagFrames}),
+      stateEvidence_(classes.numStates()) {
+  if (minHoldFrames < 1 || classes.numStates() != kClasses * minHoldFrames)
+    throw Error("viseme stream: the class HMM must have minHoldFrames states per mouth class");
+}
 
 void VisemeStream::accept(double levelDb, const Eigen::Ref<const Eigen::VectorXd>& mfcc) {
-  normaliser_.accept(levelDb, mfcc, normalised_);
-  stacker_.acceptFrame(normalised_);
+  if (model_ == nullptr) throw Error("viseme stream: speech frames need a viseme model; this stream takes evidence");
+  normaliser_->accept(levelDb, mfcc, normalised_);
+  stacker_->acceptFrame(normalised_);
   Eigen::VectorXd stacked;
-  while (stacker_.next(stacked)) pushStacked(stacked);
+  while (stacker_->next(stacked)) pushStacked(stacked);
 }
 
 void VisemeStream::pushStacked(const Eigen::VectorXd& stacked) {
-  const Eigen::VectorXd projected = model_.projection * (stacked - model_.inputMean);
-  const Eigen::VectorXd logB = model_.emissionScale * model_.hmm.emissionLogLikelihoods(projected).col(0);
+  const Eigen::VectorXd projected = model_->projection * (stacked - model_->inputMean);
+  const Eigen::VectorXd logB = model_->emissionScale * model_->hmm.emissionLogLikelihoods(projected).col(0);
   smoother_.acceptFrame(logB);
   viterbi_.acceptFrame(logB);
 }
 
+void VisemeStream::acceptEvidence(const Eigen::Ref<const Eigen::VectorXd>& classLogLikelihoods) {
+  for (Eigen::Index s = 0; s < stateEvidence_.size(); ++s) stateEvidence_[s] = classLogLikelihoods[s / minHoldFrames_];
+  smoother_.acceptFrame(stateEvidence_);
+  viterbi_.acceptFrame(stateEvidence_);
+}
+
 void VisemeStream::finish() {
-  stacker_.inputFinished();
-  Eigen::VectorXd stacked;
-  while (stacker_.next(stacked)) pushStacked(stacked);
+  if (stacker_) {
+    stacker_->inputFinished();
+    Eigen::VectorXd stacked;
+    while (stacker_->next(stacked)) pushStacked(stacked);
+  }
   smoother_.finish();
   viterbi_.finish();
 }
@@ -331,10 +367,10 @@ bool VisemeStream::next(VisemeFrame& frame) {
   if (taken_ >= smoother_.numReady() || taken_ >= viterbi_.numDecided()) return false;
   const Eigen::VectorXd& state = smoother_.posterior(taken_);
   frame.probabilities = Eigen::VectorXd::Zero(face::kNumMouthClasses);
-  for (int s = 0; s < model_.hmm.numStates(); ++s) frame.probabilities[model_.classOfState(s)] += state[s];
+  for (int s = 0; s < hmm_.numStates(); ++s) frame.probabilities[s / minHoldFrames_] += state[s];
   // A decision forced by the lag may cut a class short of its hold: the class shown keeps it regardless.
-  const int decided = model_.classOfState(viterbi_.state(taken_));
-  if (decided != shownClass_ && (shownFrames_ >= model_.minHoldFrames || taken_ == 0)) {
+  const int decided = viterbi_.state(taken_) / minHoldFrames_;
+  if (decided != shownClass_ && (shownFrames_ >= minHoldFrames_ || taken_ == 0)) {
     shownClass_ = decided;
     shownFrames_ = 0;
   }

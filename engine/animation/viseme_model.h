@@ -31,6 +31,7 @@
 #include <deque>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "animation/mouth_data.h"
@@ -79,6 +80,27 @@ VisemeModel trainVisemeModel(const std::vector<LabelledSpeech>& recordings, cons
 Eigen::MatrixXd visemeFeatures(const VisemeModel& model, const SpeechFrames& speech);
 face::VisemeTrack decodeVisemes(const VisemeModel& model, const SpeechFrames& speech);
 
+// How the mouth classes follow one another in labelled frames (each recording's classes, -1 unlabelled): each
+// class's mean run in frames (0: never seen), and add-½-smoothed counts of the run bigrams and of the first runs.
+struct ClassSequence {
+  Eigen::VectorXd meanRun;  // kNumMouthClasses
+  Eigen::MatrixXd bigrams;  // kNumMouthClasses x kNumMouthClasses: from (row) → to (column)
+  Eigen::VectorXd starts;   // kNumMouthClasses
+};
+ClassSequence classSequenceOf(const std::vector<std::vector<int>>& labels);
+
+// The class HMM: minHoldFrames states per class in a chain, the last looping so that the class's mean run is
+// the sequence's, leaving by its bigrams. emissions: one density per class (empty: the states carry none, for
+// evidence from elsewhere, decodeClassEvidence).
+hmm::HmmModel classHmm(const ClassSequence& sequence, int minHoldFrames,
+                       const std::vector<hmm::GaussianMixture>& emissions = {});
+
+// Decoding from any per-class evidence (kNumMouthClasses x T log-likelihoods, e.g. a network's scaled log
+// posteriors over its priors): forward-backward class probabilities and the Viterbi path. Throws th::Error if
+// the shapes disagree.
+face::VisemeTrack decodeClassEvidence(const hmm::HmmModel& classes, int minHoldFrames,
+                                      const Eigen::MatrixXd& classLogLikelihoods);
+
 // The per-frame most likely class with no HMM (each frame alone): what the HMM's smoothing is measured against.
 std::vector<int> classifyFrames(const VisemeModel& model, const SpeechFrames& speech);
 
@@ -91,25 +113,31 @@ struct VisemeFrame {
   int mouthClass = 0;
 };
 
+// Two sources: the viseme model's own (accept each speech frame), or any per-class evidence (acceptEvidence,
+// decodeClassEvidence's) decoded with a class HMM. The stream keeps a reference to the model or the HMM.
 class VisemeStream {
  public:
   // lagFrames: how many frames after a frame its class is decided (beyond the context's tc).
   explicit VisemeStream(const VisemeModel& model, int lagFrames = 2);
-  void accept(double levelDb, const Eigen::Ref<const Eigen::VectorXd>& mfcc);
+  VisemeStream(const hmm::HmmModel& classes, int minHoldFrames, int lagFrames);
+  void accept(double levelDb, const Eigen::Ref<const Eigen::VectorXd>& mfcc);  // the viseme model's stream only
+  void acceptEvidence(const Eigen::Ref<const Eigen::VectorXd>& classLogLikelihoods);  // kNumMouthClasses
   void finish();  // the input has ended: the frames still waiting are decided
   bool next(VisemeFrame& frame);
-  int latencyFrames() const { return model_.contextFrames + lagFrames_; }
+  int latencyFrames() const { return (model_ != nullptr ? model_->contextFrames : 0) + lagFrames_; }
 
  private:
   void pushStacked(const Eigen::VectorXd& stacked);
 
-  const VisemeModel& model_;
+  const VisemeModel* model_ = nullptr;
+  const hmm::HmmModel& hmm_;
+  int minHoldFrames_;
   int lagFrames_;
-  features::OnlineSpeechNormaliser normaliser_;
-  features::ContextStacker stacker_;
+  std::optional<features::OnlineSpeechNormaliser> normaliser_;
+  std::optional<features::ContextStacker> stacker_;
   hmm::FixedLagSmoother smoother_;
   hmm::OnlineViterbi viterbi_;
-  Eigen::VectorXd normalised_;
+  Eigen::VectorXd normalised_, stateEvidence_;
   int taken_ = 0;
   int shownClass_ = 0;
   int shownFrames_ = 0;

@@ -28,6 +28,22 @@ Eigen::MatrixXd MouthShapes::of(const Eigen::MatrixXd& faps, const std::vector<i
   return shapes;
 }
 
+Eigen::VectorXd openingGradient(const MouthShapes& shapes, const std::vector<int>& fapNumbers,
+                                const Eigen::VectorXd& at, double step) {
+  if (at.size() != static_cast<Eigen::Index>(fapNumbers.size()) || !(step > 0.0))
+    throw Error("opening gradient: one value per FAP number and a positive step");
+  const auto k = static_cast<Eigen::Index>(fapNumbers.size());
+  Eigen::MatrixXd probes = at.replicate(1, 2 * k);
+  for (Eigen::Index i = 0; i < k; ++i) {
+    probes(i, 2 * i) += step;
+    probes(i, 2 * i + 1) -= step;
+  }
+  const Eigen::MatrixXd opened = shapes.of(probes, fapNumbers);
+  Eigen::VectorXd gradient(k);
+  for (Eigen::Index i = 0; i < k; ++i) gradient[i] = (opened(0, 2 * i) - opened(0, 2 * i + 1)) / (2.0 * step);
+  return gradient;
+}
+
 CurveScore scoreCurve(const Eigen::RowVectorXd& estimate, const Eigen::RowVectorXd& truth) {
   const Eigen::RowVectorXd e = estimate.array() - estimate.mean();
   const Eigen::RowVectorXd t = truth.array() - truth.mean();

@@ -35,6 +35,12 @@ class MouthShapes {
   tracking::FaceFitter fitter_;
 };
 
+// d(inner-lip opening) / d(FAP) for each of fapNumbers, by central differences of ±step FAP units around `at`
+// (a typical open mouth: the opening is a smooth function of the FAPs there, rotation of the jaw included). The
+// articulation's closures read it (animation/articulation.h).
+Eigen::VectorXd openingGradient(const MouthShapes& shapes, const std::vector<int>& fapNumbers,
+                                const Eigen::VectorXd& at, double step = 10.0);
+
 struct CurveScore {
   double rho = 0.0;      // Pearson correlation
   double spread = 0.0;   // std(estimate) / std(truth)

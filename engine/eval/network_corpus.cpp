@@ -1,5 +1,7 @@
 #include "eval/network_corpus.h"
 
+#include <algorithm>
+#include <map>
 #include <sstream>
 
 #include "audio/media_audio.h"
@@ -124,6 +126,41 @@ std::vector<CorpusRecording> synthesisedSpeech(const std::filesystem::path& fold
                                          animation::kMouthFramesPerSecond, frames);
   });
   return out;
+}
+
+std::vector<bool> gridHeldOut(const std::vector<CorpusRecording>& corpus) {
+  std::map<std::string, int> seen;
+  std::vector<bool> heldOut;
+  for (const CorpusRecording& r : corpus)
+    heldOut.push_back(r.recording.speaker == "grid-s1" && seen[r.set]++ % 5 == 4);
+  return heldOut;
+}
+
+void startAtSpeakerMeans(std::vector<CorpusRecording>& corpus) {
+  std::map<std::string, std::pair<Eigen::VectorXd, double>> sums;
+  for (const CorpusRecording& r : corpus) {
+    auto& [sum, count] = sums[r.recording.speaker];
+    if (sum.size() == 0) sum = Eigen::VectorXd::Zero(r.recording.subframes.mfcc.rows());
+    sum += r.recording.subframes.mfcc.rowwise().sum();
+    count += static_cast<double>(r.recording.subframes.numFrames());
+  }
+  for (CorpusRecording& r : corpus) {
+    const auto& [sum, count] = sums[r.recording.speaker];
+    r.recording.startMean = sum / std::max(count, 1.0);
+  }
+}
+
+Eigen::VectorXd meanFaps(const std::vector<CorpusRecording>& corpus) {
+  Eigen::VectorXd sum;
+  double frames = 0.0;
+  for (const CorpusRecording& r : corpus) {
+    if (r.recording.faps.cols() == 0) continue;
+    if (sum.size() == 0) sum = Eigen::VectorXd::Zero(r.recording.faps.rows());
+    sum += r.recording.faps.rowwise().sum();
+    frames += static_cast<double>(r.recording.faps.cols());
+  }
+  if (frames == 0.0) throw Error("network corpus: no recording has tracked FAPs");
+  return sum / frames;
 }
 
 }  // namespace th::eval

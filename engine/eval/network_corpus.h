@@ -42,4 +42,14 @@ std::vector<CorpusRecording> phoneAlignedSpeech(const std::vector<double>& warps
 std::vector<CorpusRecording> synthesisedSpeech(const std::filesystem::path& folder,
                                                const std::vector<double>& warps = {});
 
+// GRID s1's held-out clips: every fifth of each of its folders, in corpus order (as `eval mouth` holds out).
+std::vector<bool> gridHeldOut(const std::vector<CorpusRecording>& corpus);
+
+// Each recording's running cepstral mean set to start at its speaker's mean over the corpus (c1..c13): what a
+// stream that has heard the speaker a while, or a whole recording, starts from.
+void startAtSpeakerMeans(std::vector<CorpusRecording>& corpus);
+
+// The mean of the recordings' tracked FAPs (rows: the corpus's FAPs): a typical open mouth.
+Eigen::VectorXd meanFaps(const std::vector<CorpusRecording>& corpus);
+
 }  // namespace th::eval

@@ -1,5 +1,6 @@
 #include "formats/mouth_cues.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -17,7 +18,9 @@ std::vector<MouthCue> mouthCues(const face::FapTrack& track) {
   const int end = durationCentiseconds(track);
   std::vector<MouthCue> cues;
   for (const face::Run& run : face::runsOf(shapes)) {
-    const int start = static_cast<int>(std::lround(run.first * 100.0 / track.visemes.framesPerSecond));
+    // Frame i is centred at i / fps and stands for the half frame either side: its cue starts half a frame early.
+    const int start =
+        std::max(0, static_cast<int>(std::lround((run.first - 0.5) * 100.0 / track.visemes.framesPerSecond)));
     if (start >= end) break;
     if (!cues.empty()) cues.back().endCs = start;
     cues.push_back({start, end, static_cast<char>(run.value)});

@@ -8,7 +8,8 @@
 namespace th::pipeline {
 
 AnimationModels loadAnimationModels(const std::filesystem::path& headModel, const std::filesystem::path& mouthModel,
-                                    const std::filesystem::path& visemeModel) {
+                                    const std::filesystem::path& visemeModel,
+                                    const std::filesystem::path& articulationModel) {
   if (headModel.empty() && mouthModel.empty()) throw Error("neither a head nor a mouth model: nothing to animate");
   AnimationModels models;
   if (!headModel.empty()) models.head = std::make_unique<animation::HeadModel>(animation::loadHeadModel(headModel));
@@ -19,6 +20,13 @@ AnimationModels loadAnimationModels(const std::filesystem::path& headModel, cons
   }
   if (!visemeModel.empty())
     models.visemes = std::make_unique<animation::VisemeModel>(animation::loadVisemeModel(visemeModel));
+  if (!articulationModel.empty()) {
+    models.articulation =
+        std::make_unique<animation::MouthNetwork>(animation::loadMouthNetwork(articulationModel));
+    if (models.articulation->openingGradient.size() == 0)
+      throw fileError(articulationModel, "has no opening_gradient: the lips cannot be closed by it; make one with "
+                                         "`talkinghead train articulation`");
+  }
   return models;
 }
 

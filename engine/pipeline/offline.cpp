@@ -11,7 +11,7 @@ namespace th::pipeline {
 
 face::FapTrack animate(std::span<const float> samples16k, const animation::HeadModel* head,
                        const animation::MouthModel* mouth, const AnimateOptions& options,
-                       const animation::VisemeModel* visemes) {
+                       const animation::VisemeModel* visemes, const animation::MouthNetwork* articulation) {
   if (head == nullptr && mouth == nullptr) throw Error("animate: neither a head nor a mouth model");
   if (mouth != nullptr && !animation::drivesFaps(*mouth))
     throw Error("animate: the mouth model drives no FAPs (a sweep model?); make one with `talkinghead train mouth`");
@@ -29,9 +29,27 @@ face::FapTrack animate(std::span<const float> samples16k, const animation::HeadM
     const Eigen::MatrixXd rotations = animation::synthesiseHead(*head, heard.prosody, heard.voiced, options.head);
     add({animation::kHeadFaps.begin(), animation::kHeadFaps.end()}, animation::headFaps(rotations));
   }
+  // The articulation's classes, one per animation frame (its frames are the subframes' thirds).
+  face::VisemeTrack articulated;
+  if (articulation != nullptr) {
+    const animation::SpeechFrames subframes = animation::speechSubframesOf(samples16k);
+    const Eigen::VectorXd ownMean = subframes.mfcc.rowwise().mean();
+    const animation::MouthNetworkOutput heardSounds = animation::runMouthNetwork(*articulation, subframes, &ownMean);
+    articulated = animation::networkVisemes(*articulation, heardSounds.classes, options.articulation);
+    if (articulated.classes.empty()) throw Error("animate: the recording is too short for the articulation");
+    // As many frames as the other parts: the last repeated where the subframes end early.
+    articulated.posteriors.conservativeResize(Eigen::NoChange, frames);
+    for (Eigen::Index t = static_cast<Eigen::Index>(articulated.classes.size()); t < frames; ++t)
+      articulated.posteriors.col(t) = articulated.posteriors.col(t - 1);
+    articulated.classes.resize(static_cast<std::size_t>(frames), articulated.classes.back());
+  }
   if (mouth != nullptr) {
     const Eigen::MatrixXd components = animation::synthesiseMouth(*mouth, heard.speech, options.mouth);
-    add(animation::mouthFapNumbers(*mouth), animation::mouthFapsOf(*mouth, components));
+    Eigen::MatrixXd faps = animation::mouthFapsOf(*mouth, components);
+    const std::vector<int> numbers = animation::mouthFapNumbers(*mouth);
+    if (articulation != nullptr)
+      animation::articulateLips(*articulation, articulated.classes, numbers, faps, options.articulation);
+    add(numbers, faps);
   }
 
   face::FapTrack track;
@@ -43,13 +61,17 @@ face::FapTrack animate(std::span<const float> samples16k, const animation::HeadM
     track.values.row(row++) = curve.head(frames);
   }
   if (options.idle) animation::addIdleMotion(track, heard.speech.levelDb, options.idleOptions, {});
-  if (visemes != nullptr) track.visemes = animation::decodeVisemes(*visemes, heard.speech);
+  if (articulation != nullptr)
+    track.visemes = std::move(articulated);
+  else if (visemes != nullptr)
+    track.visemes = animation::decodeVisemes(*visemes, heard.speech);
   return track;
 }
 
 face::FapTrack animate(std::span<const float> samples16k, const AnimationModels& models,
                        const AnimateOptions& options) {
-  return animate(samples16k, models.head.get(), models.mouth.get(), options, models.visemes.get());
+  return animate(samples16k, models.head.get(), models.mouth.get(), options, models.visemes.get(),
+                 models.articulation.get());
 }
 
 face::FapTrack animateRecording(const std::filesystem::path& recording, const AnimationModels& models,

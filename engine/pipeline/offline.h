@@ -3,8 +3,9 @@
 //
 //   recording ─► speech features, computed once (animation/speech_analysis.h)
 //             ─► head model: prosody ─► rotations ─► FAPs 48–50 ───┐
-//             ─► mouth model: MFCCs ─► visual components ─► jaw and lip FAPs
-//             ─► viseme model: MFCCs ─► each frame's mouth class (visemes, Rhubarb's mouth cues)
+//             ─► mouth model: MFCCs ─► visual components ─► jaw and lip FAPs ─┐
+//             ─► articulation: MFCCs at 90 fps ─► mouth classes (visemes, Rhubarb's cues) ─► lips closed on PP, FF
+//                (without it, the viseme model: MFCCs ─► each frame's mouth class)
 //             ─► idle behaviour: blinks, gaze, the head at rest in silence
 //             ─► FapTrack ─► an animation file (formats/), or the face rendered and encoded (video_export.h)
 //
@@ -20,6 +21,7 @@
 #include <filesystem>
 #include <span>
 
+#include "animation/articulation.h"
 #include "animation/head_model.h"
 #include "animation/idle_motion.h"
 #include "animation/mouth_model.h"
@@ -35,13 +37,17 @@ struct AnimateOptions {
   animation::MouthSynthesisOptions mouth = {};  // method; windowFrames > 0 for the streaming inversion
   bool idle = true;                             // blinks, gaze shifts and the head at rest in silence
   animation::IdleMotionOptions idleOptions = {};
+  animation::ArticulationOptions articulation = {};
 };
 
 // samples16k: mono at 16 kHz. Throws th::Error if both models are null, the mouth model drives no FAPs (no
 // FAP map and no visual FAPs), or the recording is shorter than one frame.
+// The articulation hears the whole recording: its running cepstral mean starts at the recording's own mean
+// (a stream starts at the training speech's and adapts within seconds).
 face::FapTrack animate(std::span<const float> samples16k, const animation::HeadModel* head,
                        const animation::MouthModel* mouth, const AnimateOptions& options = {},
-                       const animation::VisemeModel* visemes = nullptr);
+                       const animation::VisemeModel* visemes = nullptr,
+                       const animation::MouthNetwork* articulation = nullptr);
 face::FapTrack animate(std::span<const float> samples16k, const AnimationModels& models,
                        const AnimateOptions& options = {});
 

@@ -18,6 +18,16 @@ void ModelOptions::visitOptions(OptionVisitor& v) {
   v.option(visemeModel, {.name = "viseme-model",
                          .help = "Viseme model file (default: the shipped models/visemes.json; none: no visemes)",
                          .panel = false});
+  v.option(articulationModel,
+           {.name = "articulation-model",
+            .help = "Articulation (the mouth network: visemes, closures) file (default: the shipped "
+                    "models/articulation.json; none: the mouth model's lips and the viseme model's visemes alone)",
+            .panel = false});
+}
+
+std::filesystem::path ModelOptions::articulationModelPath() const {
+  if (articulationModel == "none") return {};
+  return articulationModel.empty() ? shippedModel("articulation.json") : std::filesystem::path(articulationModel);
 }
 
 std::filesystem::path ModelOptions::headModelPath() const {
@@ -234,7 +244,8 @@ LiveDecoderOptions decoderOptionsOf(const ModelOptions& models, const HeadMotion
 AnimationModels loadModels(const ModelOptions& models, std::string_view shippedMouth) {
   if (models.head == "none" && models.mouth == "none")
     throw Error("--head none and --mouth none leave nothing to animate");
-  return loadAnimationModels(models.headModelPath(), models.mouthModelPath(shippedMouth), models.visemeModelPath());
+  return loadAnimationModels(models.headModelPath(), models.mouthModelPath(shippedMouth), models.visemeModelPath(),
+                             models.articulationModelPath());
 }
 
 AnimationModels loadModels(const LiveSettings& settings) {

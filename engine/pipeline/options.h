@@ -36,12 +36,14 @@ struct ModelOptions {
   std::string headModel;            // a file; empty: the shipped one
   std::string mouthModel;           // a file; empty: the shipped one (live: the preset's)
   std::string visemeModel;          // a file; empty: the shipped one; "none": no visemes
+  std::string articulationModel;    // a file; empty: the shipped one; "none": the mouth model's lips alone
   void visitOptions(OptionVisitor& v);
   // The files to load: the given ones, else the shipped ones (the mouth's: shippedMouth, in models/); empty for
   // a part switched off ("none").
   std::filesystem::path headModelPath() const;
   std::filesystem::path mouthModelPath(std::string_view shippedMouth = "mouth.json") const;
-  std::filesystem::path visemeModelPath() const;  // empty for "none"
+  std::filesystem::path visemeModelPath() const;        // empty for "none"
+  std::filesystem::path articulationModelPath() const;  // empty for "none"
 };
 
 struct HeadMotionOptions {

@@ -127,7 +127,8 @@ TEST(MouthNetwork, ItsFileKeepsItsAnswersAndBrokenFilesAreRefused) {
   const std::vector<NetworkRecording> training{synthetic(4, 6.0, 140.0)};
   th::animation::MouthNetworkOptions options = smallOptions();
   options.training.epochs = 2;
-  const th::animation::MouthNetwork model = th::animation::trainMouthNetwork(training, {3, 12}, options).model;
+  th::animation::MouthNetwork model = th::animation::trainMouthNetwork(training, {3, 12}, options).model;
+  model.openingGradient = Eigen::Vector2d(2e-4, -1e-6);
   th::TemporaryFile file(".json");
   th::animation::saveMouthNetwork(file.path(), model);
   const th::animation::MouthNetwork back = th::animation::loadMouthNetwork(file.path());
@@ -138,6 +139,9 @@ TEST(MouthNetwork, ItsFileKeepsItsAnswersAndBrokenFilesAreRefused) {
   EXPECT_TRUE(a.shut.isApprox(b.shut, 1e-12));
   EXPECT_EQ(back.visualFaps, model.visualFaps);
   EXPECT_EQ(back.lookaheadMs(), 33);
+  EXPECT_TRUE(back.openingGradient.isApprox(model.openingGradient));
+  EXPECT_TRUE(back.sequence.bigrams.isApprox(model.sequence.bigrams));
+  EXPECT_TRUE(back.sequence.meanRun.isApprox(model.sequence.meanRun));
 
   const std::string text = th::readTextFile(file.path(), "model");
   const auto failure = [&](const std::string& from, const std::string& to) {
@@ -158,7 +162,39 @@ TEST(MouthNetwork, ItsFileKeepsItsAnswersAndBrokenFilesAreRefused) {
   EXPECT_NE(failure("\"kind\": \"mouth_network\"", "\"kind\": \"mouth\"").find(": kind"), std::string::npos);
   EXPECT_NE(failure("\"visual_faps\": [\n  3,\n  12\n ]", "\"visual_faps\": [12, 3]").find("visual_faps"),
             std::string::npos);
-  EXPECT_NE(failure("\"format_version\": 1", "\"format_version\": 2").find("format_version"), std::string::npos);
+  EXPECT_NE(failure("\"format_version\": 2", "\"format_version\": 1").find("format_version"), std::string::npos);
+  EXPECT_NE(failure("\"opening_gradient\": [", "\"opening_gradient\": [1,").find("opening_gradient"), std::string::npos);
+  EXPECT_NE(failure("\"mean_run\": [", "\"mean_run\": [-1,").find("class_sequence"), std::string::npos);
+}
+
+TEST(MouthNetwork, TheStreamAnswersAsTheBatchFrameForFrame) {
+  const std::vector<NetworkRecording> training{synthetic(4, 6.0, 140.0)};
+  th::animation::MouthNetworkOptions options = smallOptions();
+  options.training.epochs = 1;
+  const th::animation::MouthNetwork model = th::animation::trainMouthNetwork(training, {3, 12}, options).model;
+  const th::animation::SpeechFrames& speech = training[0].subframes;
+  const th::animation::MouthNetworkOutput batch = th::animation::runMouthNetwork(model, speech);
+  th::animation::MouthNetworkStream stream(model);
+  th::animation::MouthNetworkFrame frame;
+  int frames = 0;
+  std::size_t held = 0;
+  const auto check = [&] {
+    ASSERT_LT(frames, batch.numFrames());
+    EXPECT_TRUE(frame.classes.isApprox(batch.classes.col(frames), 1e-5)) << frames;
+    EXPECT_NEAR(frame.shut, batch.shut[frames], 1e-5);
+    ++frames;
+  };
+  for (Eigen::Index t = 0; t < speech.numFrames(); ++t) {
+    stream.accept(speech.levelDb[t], speech.mfcc.col(t));
+    held = std::max(held, stream.subframesHeld());
+    while (stream.next(frame)) check();
+    // A frame is out as soon as its look-ahead has come.
+    EXPECT_EQ(frames, t >= model.futureSubframes ? (t - model.futureSubframes) / th::animation::kSubframesPerFrame + 1 : 0);
+  }
+  stream.finish();
+  while (stream.next(frame)) check();
+  EXPECT_EQ(frames, batch.numFrames());
+  EXPECT_LE(held, static_cast<std::size_t>(model.contextSubframes() + th::animation::kSubframesPerFrame));
 }
 
 }  // namespace

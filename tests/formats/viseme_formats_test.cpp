@@ -32,10 +32,11 @@ std::string written(const std::string& name, const std::string& extension, const
   return th::test::readText(path);
 }
 
-// Cues start at their first frame's time in centiseconds (frame 3: 0.10 s, frame 7: 0.2333 -> 0.23); the last
+// Cues start half a frame before their first frame's centre, in centiseconds (frame 3: 2.5 / 30 = 0.0833 ->
+// 0.08 s, frame 7: 0.2167 -> 0.22); the last
 // line (TSV) or the duration is the animation's end truncated to 0.01 s (10 frames: 0.3333 -> 0.33).
 TEST(RhubarbFormats, TsvHasAStartAndAShapePerLineAndEndsAtRest) {
-  EXPECT_EQ(written("rhubarb-tsv", ".tsv"), "0.00\tX\n0.10\tD\n0.23\tA\n0.33\tX\n");
+  EXPECT_EQ(written("rhubarb-tsv", ".tsv"), "0.00\tX\n0.08\tD\n0.22\tA\n0.33\tX\n");
 }
 
 TEST(RhubarbFormats, XmlIsRhubarbsDocument) {
@@ -47,9 +48,9 @@ TEST(RhubarbFormats, XmlIsRhubarbsDocument) {
             "    <duration>0.33</duration>\n"
             "  </metadata>\n"
             "  <mouthCues>\n"
-            "    <mouthCue start=\"0.00\" end=\"0.10\">X</mouthCue>\n"
-            "    <mouthCue start=\"0.10\" end=\"0.23\">D</mouthCue>\n"
-            "    <mouthCue start=\"0.23\" end=\"0.33\">A</mouthCue>\n"
+            "    <mouthCue start=\"0.00\" end=\"0.08\">X</mouthCue>\n"
+            "    <mouthCue start=\"0.08\" end=\"0.22\">D</mouthCue>\n"
+            "    <mouthCue start=\"0.22\" end=\"0.33\">A</mouthCue>\n"
             "  </mouthCues>\n"
             "</rhubarbResult>\n");
 }
@@ -63,9 +64,9 @@ TEST(RhubarbFormats, JsonIsRhubarbsDocument) {
             "    \"duration\": 0.33\n"
             "  },\n"
             "  \"mouthCues\": [\n"
-            "    { \"start\": 0.00, \"end\": 0.10, \"value\": \"X\" },\n"
-            "    { \"start\": 0.10, \"end\": 0.23, \"value\": \"D\" },\n"
-            "    { \"start\": 0.23, \"end\": 0.33, \"value\": \"A\" }\n"
+            "    { \"start\": 0.00, \"end\": 0.08, \"value\": \"X\" },\n"
+            "    { \"start\": 0.08, \"end\": 0.22, \"value\": \"D\" },\n"
+            "    { \"start\": 0.22, \"end\": 0.33, \"value\": \"A\" }\n"
             "  ]\n"
             "}\n");
   const nlohmann::json document = nlohmann::json::parse(text);
@@ -74,14 +75,14 @@ TEST(RhubarbFormats, JsonIsRhubarbsDocument) {
 }
 
 TEST(RhubarbFormats, MohoSwitchDataCountsFramesAt24PerSecondFromOne) {
-  // 0.10 s is frame 1 + int(2.4) = 3; 0.23 s frame 6; the end (0.33 s) frame 8.
-  EXPECT_EQ(written("moho", ".dat"), "MohoSwitch1\n1 X\n3 D\n6 A\n8 X\n");
+  // 0.08 s is frame 1 + int(1.92) = 2; 0.22 s frame 6; the end (0.33 s) frame 8.
+  EXPECT_EQ(written("moho", ".dat"), "MohoSwitch1\n1 X\n2 D\n6 A\n8 X\n");
 }
 
 TEST(RhubarbFormats, ClassesWithTheSameShapeAreOneCue) {
   FapTrack track = spokenTrack();
   track.visemes.classes = {4, 4, 4, 7, 7, 7, 14, 14, 14, 0};  // DD, SS, ih: all B
-  EXPECT_EQ(written("rhubarb-tsv", ".tsv", track), "0.00\tB\n0.30\tX\n0.33\tX\n");
+  EXPECT_EQ(written("rhubarb-tsv", ".tsv", track), "0.00\tB\n0.28\tX\n0.33\tX\n");
 }
 
 TEST(VisemeWeightFormats, OculusCsvHasTheFifteenVisemesPerFrame) {

@@ -26,6 +26,7 @@
 #include <sstream>
 #include <string>
 
+#include "animation/articulation.h"
 #include "animation/mouth_model.h"
 #include "animation/mouth_network.h"
 #include "core/data_path.h"
@@ -66,10 +67,12 @@ double correlation(const Eigen::RowVectorXd& a, const Eigen::RowVectorXd& b) {
   return x.dot(y) / std::sqrt(std::max(x.squaredNorm() * y.squaredNorm(), 1e-300));
 }
 
+constexpr double kScales[] = {0.3, 0.5, 0.75, 1.0};
+
 struct Measures {
   eval::VisemeScores visemes;
-  std::vector<double> jawEstimate, jawTruth, openEstimate, openTruth, openFace;
-  std::vector<double> hmmJaw, hmmOpen, levelJaw, levelOpen;  // the mouth model's (HMM) and the level's, if asked
+  std::vector<double> jawEstimate, jawTruth, openEstimate, openTruth, openFace, widthFace, widthTruth;
+  std::vector<double> hmmJaw, hmmOpen, hmmWidth, levelJaw, levelOpen;  // the mouth model's (HMM) and the level's, if asked
   int shutTruthFrames = 0, shutHits = 0, shutShown = 0;
   int ppFrames = 0, ppShut = 0;  // PP-phone frames where the shut head says shut
   // PP by a threshold on P(PP) (rows) and on P(shut) (last row): truth hits, frames shown.
@@ -79,6 +82,13 @@ struct Measures {
   std::vector<int> shiftHits = std::vector<int>(7, 0);
   int shiftFrames = 0;
   std::vector<int> truthAll, decodedAll;  // every labelled frame, to pool folds
+  // Decoded by the class HMM (animation/articulation.h networkVisemes), one per evidence scale.
+  std::vector<eval::VisemeScores> hybrid = std::vector<eval::VisemeScores>(4);
+  std::vector<std::vector<int>> hybridAll = std::vector<std::vector<int>>(4);
+  // The mouth model's FAPs with the lips articulated on the decoded classes (the first scale): jaw, opening,
+  // width; and on the phones' /p b m/ frames, how often the face's lips are shut (opening < the closed share).
+  std::vector<double> fusedJaw, fusedOpen, fusedWidth;
+  int ppFaceFrames = 0, ppFaceShutHmm = 0, ppFaceShutFused = 0, faceShutHmm = 0, faceShutFused = 0, faceFrames = 0;
   void pool(const Measures& other) {
     visemes.add(other.truthAll, other.decodedAll);
     truthAll.insert(truthAll.end(), other.truthAll.begin(), other.truthAll.end());
@@ -88,6 +98,12 @@ struct Measures {
     shiftFrames += other.shiftFrames;
     ppFrames += other.ppFrames;
     ppShut += other.ppShut;
+    for (std::size_t k = 0; k < hybrid.size(); ++k) {
+      hybrid[k].add(other.truthAll, other.hybridAll[k]);
+      hybridAll[k].insert(hybridAll[k].end(), other.hybridAll[k].begin(), other.hybridAll[k].end());
+    }
+    ppFaceFrames += other.ppFaceFrames, ppFaceShutHmm += other.ppFaceShutHmm, ppFaceShutFused += other.ppFaceShutFused;
+    faceShutHmm += other.faceShutHmm, faceShutFused += other.faceShutFused, faceFrames += other.faceFrames;
   }
   std::string format(const std::string& name) const {
     const Eigen::MatrixXi& c = visemes.oculusConfusion();
@@ -113,23 +129,47 @@ struct Measures {
     std::snprintf(
         line, sizeof line,
         "  %-22s frames %6d | oculus %5.1f%% rhubarb %5.1f%% | PP R %5.1f%% P %5.1f%% (n %4d) | round R %5.1f%% | "
-        "jaw rho %6.3f spr %5.2f | open rho %6.3f (head) %6.3f | shut R %5.1f%% P %5.1f%% | PP shut %5.1f%%\n",
+        "jaw rho %6.3f spr %5.2f | open rho %6.3f (head) %6.3f | width rho %6.3f | shut R %5.1f%% P %5.1f%% | PP shut "
+        "%5.1f%%\n",
         name.c_str(), visemes.labelledFrames() > 0 ? visemes.labelledFrames() : static_cast<int>(jawTruth.size()),
         100.0 * visemes.oculusAccuracy(), 100.0 * visemes.rhubarbAccuracy(), 100.0 * ppRecall, 100.0 * ppPrecision,
         static_cast<int>(c.row(pp).sum()), 100.0 * roundRecall, rho(jawEstimate, jawTruth),
         spread(jawEstimate, jawTruth), rho(openFace, openTruth), rho(openEstimate, openTruth),
-        shutTruthFrames > 0 ? 100.0 * shutHits / shutTruthFrames : NAN,
+        rho(widthFace, widthTruth), shutTruthFrames > 0 ? 100.0 * shutHits / shutTruthFrames : NAN,
         shutShown > 0 ? 100.0 * shutHits / shutShown : NAN, ppFrames > 0 ? 100.0 * ppShut / ppFrames : NAN);
     std::string text = line;
     if (!hmmJaw.empty()) {
       char more[256];
       std::snprintf(
           more, sizeof more,
-          "      mouth model (HMM, same training clips): jaw rho %6.3f spr %5.2f open rho %6.3f | the level: jaw rho "
-          "%6.3f open rho %6.3f\n",
-          rho(hmmJaw, jawTruth), spread(hmmJaw, jawTruth), rho(hmmOpen, openTruth), rho(levelJaw, jawTruth),
-          rho(levelOpen, openTruth));
+          "      mouth model (HMM, same training clips): jaw rho %6.3f spr %5.2f open rho %6.3f width rho %6.3f | the "
+          "level: jaw rho %6.3f open rho %6.3f\n",
+          rho(hmmJaw, jawTruth), spread(hmmJaw, jawTruth), rho(hmmOpen, openTruth), rho(hmmWidth, widthTruth),
+          rho(levelJaw, jawTruth), rho(levelOpen, openTruth));
       text += more;
+    }
+    for (std::size_t k = 0; k < hybrid.size(); ++k) {
+      const Eigen::MatrixXi& h = hybrid[k].oculusConfusion();
+      if (h.sum() == 0) continue;
+      char cell[256];
+      std::snprintf(cell, sizeof cell,
+                    "      decoded (scale %.2f): oculus %5.1f%% rhubarb %5.1f%% PP R %5.1f%% P %5.1f%% round R %5.1f%% "
+                    "short runs %4.1f%%\n",
+                    kScales[k], 100.0 * hybrid[k].oculusAccuracy(), 100.0 * hybrid[k].rhubarbAccuracy(),
+                    100.0 * h(pp, pp) / std::max(h.row(pp).sum(), 1), 100.0 * h(pp, pp) / std::max(h.col(pp).sum(), 1),
+                    100.0 * (h(oh, oh) + h(oh, ou) + h(ou, oh) + h(ou, ou)) / std::max(roundTruth, 1.0),
+                    100.0 * hybrid[k].holds().shortRunShare(2));
+      text += cell;
+    }
+    if (!fusedJaw.empty()) {
+      char cell[320];
+      std::snprintf(cell, sizeof cell,
+                    "      mouth model + articulated lips: jaw rho %6.3f open rho %6.3f width rho %6.3f | face shut on "
+                    "/p b m/: %5.1f%% (mouth model %5.1f%%), on all frames %5.1f%% (%5.1f%%)\n",
+                    rho(fusedJaw, jawTruth), rho(fusedOpen, openTruth), rho(fusedWidth, widthTruth),
+                    100.0 * ppFaceShutFused / std::max(ppFaceFrames, 1), 100.0 * ppFaceShutHmm / std::max(ppFaceFrames, 1),
+                    100.0 * faceShutFused / std::max(faceFrames, 1), 100.0 * faceShutHmm / std::max(faceFrames, 1));
+      text += cell;
     }
     if (c.row(pp).sum() > 0) {
       text += "      PP by P(PP) >";
@@ -250,7 +290,7 @@ int main(int argc, char** argv) {
   if (arg("arabic-faps", "1") == "0")
     for (auto& r : corpus)
       if (r.set == "talking/arabic-news") r.recording.faps.resize(0, 0);
-  std::map<std::string, int> gridIndex;
+  const std::vector<bool> gridHeld = eval::gridHeldOut(corpus);
   std::vector<std::string> role(corpus.size());  // "train", "grid-held-out", "grid-samples"
   for (std::size_t i = 0; i < corpus.size(); ++i) {
     eval::CorpusRecording& r = corpus[i];
@@ -260,10 +300,7 @@ int main(int argc, char** argv) {
       r.recording.speaker = "arabic-" + (found == groups.end() ? std::string("news") : found->second);
     }
     if (r.set == "grid/samples") role[i] = "grid-samples";
-    if (r.recording.speaker == "grid-s1") {
-      const int n = gridIndex[r.set]++;
-      if (n % 5 == 4) role[i] = "grid-held-out";
-    }
+    if (gridHeld[i]) role[i] = "grid-held-out";
   }
   std::fprintf(stderr, "corpus: %zu recordings in %.0f s\n", corpus.size(),
                std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count());
@@ -271,19 +308,7 @@ int main(int argc, char** argv) {
   for (const auto& r : corpus) speakerFrames[r.recording.speaker] += r.recording.numFrames();
 
   // Each speaker's mean c1..c13, as the start of the running cepstral mean (a stream adapted to them).
-  if (arg("speaker-mean", "0") == "1") {
-    std::map<std::string, std::pair<Eigen::VectorXd, double>> sums;
-    for (const auto& r : corpus) {
-      auto& [sum, count] = sums[r.recording.speaker];
-      if (sum.size() == 0) sum = Eigen::VectorXd::Zero(animation::kNetworkMfcc);
-      sum += r.recording.subframes.mfcc.rowwise().sum();
-      count += static_cast<double>(r.recording.subframes.numFrames());
-    }
-    for (auto& r : corpus) {
-      const auto& [sum, count] = sums[r.recording.speaker];
-      r.recording.startMean = sum / count;
-    }
-  }
+  if (arg("speaker-mean", "0") == "1") eval::startAtSpeakerMeans(corpus);
   // Speaker balance: each recording's frames weigh (median speaker's frames / its speaker's frames)^power.
   const double balance = std::stod(arg("balance", "0"));
   if (balance > 0.0) {
@@ -304,6 +329,13 @@ int main(int argc, char** argv) {
       options.training.epochs, options.classWeight, options.visualWeight, options.shapeWeight, options.closureWeight,
       options.closedOpening, options.training.dropout, options.training.inputNoise);
   const eval::MouthShapes shapes(face);
+  const int hold = std::stoi(arg("hold", "2"));
+  const Eigen::VectorXd typical = eval::meanFaps(corpus);
+  const Eigen::VectorXd gradient = eval::openingGradient(shapes, talking.faps, typical);
+  std::fprintf(stderr, "opening gradient:");
+  for (Eigen::Index i = 0; i < gradient.size(); ++i)
+    std::fprintf(stderr, " %d:%.2e", talking.faps[static_cast<std::size_t>(i)], gradient[i]);
+  std::fprintf(stderr, "\n");
   std::vector<std::string> outputs(folds.size());
   std::vector<Measures> heldOut(folds.size());
   parallelFor(folds.size(), std::stoi(arg("threads", "2")), [&](std::size_t f) {
@@ -338,7 +370,8 @@ int main(int argc, char** argv) {
       if (held == "scott" && role[i] != "train") tests.push_back(&r);  // the scott fold also judges GRID
     }
     const auto t0 = std::chrono::steady_clock::now();
-    const animation::MouthNetworkTraining trained = animation::trainMouthNetwork(training, talking.faps, options);
+    animation::MouthNetworkTraining trained = animation::trainMouthNetwork(training, talking.faps, options);
+    trained.model.openingGradient = gradient;
     // The shipped mouth model's recipe (HMM inversion, `train mouth`) and the level baseline on the same clips.
     std::optional<animation::MouthModel> hmm;
     std::optional<eval::LevelBaseline> level;
@@ -382,6 +415,15 @@ int main(int argc, char** argv) {
           }
         }
         m.visemes.add(truth, decoded);
+        for (std::size_t k = 0; k < m.hybrid.size(); ++k) {
+          animation::ArticulationOptions articulation;
+          articulation.evidenceScale = kScales[k];
+          articulation.minHoldFrames = hold;
+          std::vector<int> path = animation::networkVisemes(trained.model, out.classes, articulation).classes;
+          path.resize(static_cast<std::size_t>(frames));
+          m.hybrid[k].add(truth, path);
+          m.hybridAll[k].insert(m.hybridAll[k].end(), path.begin(), path.end());
+        }
         m.truthAll.insert(m.truthAll.end(), truth.begin(), truth.end());
         m.decodedAll.insert(m.decodedAll.end(), decoded.begin(), decoded.end());
         for (int t = 3; t + 3 < frames; ++t) {
@@ -400,6 +442,14 @@ int main(int argc, char** argv) {
               *hmm, animation::synthesiseMouth(*hmm, speech, {.method = animation::MouthMethod::kMmse}));
           const Eigen::MatrixXd levelFaps = level->predict(speech);
           const Eigen::MatrixXd hmmShape = shapes.of(hmmFaps, talking.faps);
+          // The lips articulated on the decoded classes (the first evidence scale, as the product would).
+          animation::ArticulationOptions articulation;
+          articulation.evidenceScale = kScales[0];
+          articulation.minHoldFrames = hold;
+          const std::vector<int> shown = animation::networkVisemes(trained.model, out.classes, articulation).classes;
+          Eigen::MatrixXd fusedFaps = hmmFaps;
+          animation::articulateLips(trained.model, shown, talking.faps, fusedFaps, articulation);
+          const Eigen::MatrixXd fusedShape = shapes.of(fusedFaps, talking.faps);
           const Eigen::MatrixXd levelShape = shapes.of(levelFaps, talking.faps);
           const auto jawRow = std::find(talking.faps.begin(), talking.faps.end(), 3) - talking.faps.begin();
           // The same frames as the network's below (the HMM's last frame held if it has fewer).
@@ -408,6 +458,20 @@ int main(int argc, char** argv) {
             const Eigen::Index u = std::min<Eigen::Index>(t, hmmFaps.cols() - 1);
             m.hmmJaw.push_back(hmmFaps(jawRow, u));
             m.hmmOpen.push_back(hmmShape(0, u));
+            m.hmmWidth.push_back(hmmShape(1, u));
+            m.fusedJaw.push_back(fusedFaps(jawRow, u));
+            m.fusedOpen.push_back(fusedShape(0, u));
+            m.fusedWidth.push_back(fusedShape(1, u));
+            const bool shutHmm = hmmShape(0, u) < options.closedOpening;
+            const bool shutFused = fusedShape(0, u) < options.closedOpening;
+            ++m.faceFrames;
+            m.faceShutHmm += shutHmm;
+            m.faceShutFused += shutFused;
+            if (!r->recording.classes.empty() && r->recording.classes[static_cast<std::size_t>(t)] == face::kPp) {
+              ++m.ppFaceFrames;
+              m.ppFaceShutHmm += shutHmm;
+              m.ppFaceShutFused += shutFused;
+            }
             m.levelJaw.push_back(levelFaps(jawRow, u));
             m.levelOpen.push_back(levelShape(0, u));
           }
@@ -420,6 +484,8 @@ int main(int argc, char** argv) {
           m.openEstimate.push_back(out.lipShape(0, t));
           m.openFace.push_back(faceShape(0, t));
           m.openTruth.push_back(r->recording.lipShape(0, t));
+          m.widthFace.push_back(faceShape(1, t));
+          m.widthTruth.push_back(r->recording.lipShape(1, t));
           const bool shutTruth = r->recording.lipShape(0, t) < options.closedOpening;
           const bool shutShown = out.shut[t] > 0.5;
           m.shutTruthFrames += shutTruth;
