@@ -24,6 +24,7 @@ struct ArticulationArguments {
   std::string output = "models/articulation.json";
   std::string tracks;    // empty: defaultMouthTrackFolder()
   std::string festival;  // tools/festival_speech.py's folder; empty: none
+  int futureSubframes = animation::MouthNetworkOptions{}.futureSubframes;
   int epochs = 20;  // as measured in docs/mouth.md (the best epoch was the last or the one before in every fold)
 };
 
@@ -50,6 +51,7 @@ void runTrain(const ArticulationArguments& arguments) {
 
   animation::MouthNetworkOptions options;
   options.training.epochs = arguments.epochs;
+  options.futureSubframes = arguments.futureSubframes;
   animation::MouthNetworkTraining trained = animation::trainMouthNetwork(training, talking.faps, options);
   trained.model.openingGradient = eval::openingGradient(eval::MouthShapes(face), talking.faps, eval::meanFaps(corpus));
   animation::saveMouthNetwork(arguments.output, trained.model);
@@ -71,6 +73,10 @@ void addTrainArticulationCommand(CLI::App& train) {
                           std::string(kMouthTrackFolderHelp) + ")");
   command->add_option("--festival", arguments->festival,
                       "Folder of synthesised phone-aligned speech to train on too (tools/festival_speech.py)");
+  command->add_option("--future", arguments->futureSubframes,
+                      "Look-ahead in 90 fps subframes (9: 100 ms; the live presets' files use 3 and 0)")
+      ->check(CLI::Range(0, 45))
+      ->capture_default_str();
   command->add_option("--epochs", arguments->epochs, "Training epochs")->check(CLI::Range(1, 200))->capture_default_str();
   command->callback([arguments] { runTrain(*arguments); });
 }

@@ -20,6 +20,7 @@
 #include "core/error.h"
 #include "core/progress.h"
 #include "core/text_files.h"
+#include "eval/phone_labels.h"
 #include "eval/talking_corpus.h"
 #include "face/face_model.h"
 #include "face/poses.h"
@@ -130,7 +131,10 @@ void runStrip(const StripArguments& arguments) {
   checkOutputTarget(arguments.output);
   const face::FapTrack animation = formats::readAnimation(arguments.animation);
   std::vector<eval::LabelInterval> phones;
-  if (!arguments.phones.empty()) phones = eval::readTextGridPhones(arguments.phones);
+  if (!arguments.phones.empty())
+    phones = lowercaseExtension(arguments.phones) == ".align"
+                 ? eval::gridPhones(eval::readGridAlignment(arguments.phones))
+                 : eval::readTextGridPhones(arguments.phones);
   const double step = arguments.every / animation.framesPerSecond;
   const int count = std::max(1, static_cast<int>(std::floor(arguments.seconds / step + 1e-9)));
   if (arguments.fromSeconds + (count - 1) * step > animation.durationSeconds() + 1e-9)
@@ -271,7 +275,8 @@ void addFaceCommands(CLI::App& app) {
       ->check(CLI::Range(64, 1024))
       ->capture_default_str();
   strip->add_option("--phones", stripArguments->phones,
-                    "Praat TextGrid with a \"phones\" tier: each tile's phone under it");
+                    "Praat TextGrid with a \"phones\" tier, or a GRID .align of words (phones from GRID's lexicon): "
+                    "each tile's phone under it");
   strip->add_flag("--whole-head", stripArguments->wholeHead,
                   "Frame the whole head, turning as animated, rather than the mouth");
   strip->callback([stripArguments] { runStrip(*stripArguments); });

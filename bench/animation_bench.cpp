@@ -5,6 +5,9 @@
 //   components from the held-out part's MFCC by batch inversion from the conditional-mean start (ours) and from
 //   the random start (the paper's), by windowed (streaming) inversion with `eval mouth --window`'s default of
 //   30 frames, and by the MMSE estimate. The mouth model is trained in-process, not read from models/mouth.json.
+// - articulation: the shipped models/articulation*.json on the take's last 16 s of sound, from samples to the
+//   visemes and the closed lips (the speech subframes, the network, the class HMM, the lips: what the articulation
+//   adds to animate), batch and as the live stream decodes it frame by frame (with articulation_live.json).
 //
 //   taskset -c 0 build/bench/animation_bench [--quick]      (scripts/bench.sh animation)
 #include <benchmark/benchmark.h>
@@ -12,11 +15,14 @@
 #include <iostream>
 #include <memory>
 
+#include "animation/articulation.h"
 #include "animation/head_data.h"
 #include "animation/head_model.h"
 #include "animation/mouth_data.h"
 #include "animation/mouth_model.h"
+#include "audio/audio_file.h"
 #include "bench_arguments.h"
+#include "core/data_path.h"
 #include "eval/head_corpus.h"
 #include "eval/mouth_corpus.h"
 
@@ -101,6 +107,74 @@ void synthesiseMouth(benchmark::State& state, th::animation::MouthSynthesisOptio
   state.counters["realtime_factor"] = benchmark::Counter(seconds, benchmark::Counter::kIsIterationInvariantRate);
 }
 
+struct ArticulationData {
+  std::vector<float> samples;  // 16 kHz
+  th::animation::MouthNetwork batch, live;
+  std::vector<int> fapNumbers;
+  Eigen::MatrixXd faps;  // the mouth's FAPs to articulate: the visual basis's mean on every frame
+};
+
+const ArticulationData& articulationData() {
+  static const ArticulationData loaded = [] {
+    ArticulationData result;
+    const std::vector<float> all = th::audio::readAudioFile(th::sharedDataPath("beat2/2_scott_0_1_1.wav")).samples;
+    const std::size_t last = std::min<std::size_t>(all.size(), 16 * 16000);
+    result.samples.assign(all.end() - static_cast<long>(last), all.end());
+    const std::string models = TALKINGHEAD_SOURCE_DIR "/models/";
+    result.batch = th::animation::loadMouthNetwork(models + "articulation.json");
+    result.live = th::animation::loadMouthNetwork(models + "articulation_live.json");
+    result.fapNumbers = result.batch.visualFaps;
+    result.faps = result.batch.basis.mean().replicate(1, static_cast<Eigen::Index>(last / 16000 * 30));
+    return result;
+  }();
+  return loaded;
+}
+
+void articulateBatch(benchmark::State& state) {
+  const ArticulationData& d = articulationData();
+  for (auto _ : state) {
+    const th::animation::SpeechFrames subframes = th::animation::speechSubframesOf(d.samples);
+    const th::animation::MouthNetworkOutput heard = th::animation::runMouthNetwork(d.batch, subframes);
+    const th::face::VisemeTrack visemes = th::animation::networkVisemes(d.batch, heard.classes, {});
+    Eigen::MatrixXd faps = d.faps;
+    th::animation::articulateLips(d.batch, visemes.classes, d.fapNumbers, faps, {});
+    benchmark::DoNotOptimize(faps.data());
+  }
+  state.counters["realtime_factor"] = benchmark::Counter(static_cast<double>(d.samples.size()) / 16000.0,
+                                                         benchmark::Counter::kIsIterationInvariantRate);
+}
+
+void articulateStream(benchmark::State& state) {
+  const ArticulationData& d = articulationData();
+  const th::animation::ArticulationOptions options;
+  const th::hmm::HmmModel classes = th::animation::classHmm(d.live.sequence, options.minHoldFrames);
+  const Eigen::VectorXd logPriors = d.live.classPriors.array().log().matrix();
+  for (auto _ : state) {
+    th::features::OnlineFeatureExtractor extractor(th::animation::subframeFeatureOptions());
+    th::animation::MouthNetworkStream network(d.live);
+    th::animation::VisemeStream visemes(classes, options.minHoldFrames, 0);
+    std::vector<float> row(th::animation::kNetworkMfcc);
+    Eigen::VectorXd mfcc(th::animation::kNetworkMfcc);
+    th::animation::MouthNetworkFrame heard;
+    th::animation::VisemeFrame shown;
+    int taken = 0, frames = 0;
+    for (std::size_t at = 0; at < d.samples.size(); at += 160) {  // 10 ms blocks, as a sound device gives them
+      extractor.acceptWaveform(std::span<const float>(d.samples).subspan(at, std::min<std::size_t>(160, d.samples.size() - at)));
+      for (; taken < extractor.numBaseFramesReady(); ++taken) {
+        extractor.getMfcc(taken, row);
+        for (Eigen::Index k = 0; k < mfcc.size(); ++k) mfcc[k] = row[static_cast<std::size_t>(k)];
+        network.accept(extractor.getLevelDb(taken), mfcc);
+      }
+      extractor.forgetBefore(taken);
+      while (network.next(heard)) visemes.acceptEvidence(options.evidenceScale * (heard.classes.array().log().matrix() - logPriors));
+      while (visemes.next(shown)) ++frames;
+    }
+    benchmark::DoNotOptimize(frames);
+  }
+  state.counters["realtime_factor"] = benchmark::Counter(static_cast<double>(d.samples.size()) / 16000.0,
+                                                         benchmark::Counter::kIsIterationInvariantRate);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -143,6 +217,10 @@ int main(int argc, char** argv) {
         ->Unit(benchmark::kMillisecond)
         ->MinTime(minTime);
   }
+  benchmark::RegisterBenchmark("articulation/batch_16s", articulateBatch)->Unit(benchmark::kMillisecond)->MinTime(minTime);
+  benchmark::RegisterBenchmark("articulation/stream_16s", articulateStream)
+      ->Unit(benchmark::kMillisecond)
+      ->MinTime(minTime);
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();
   return 0;

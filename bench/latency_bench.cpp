@@ -21,7 +21,8 @@
 // response (when the offline jaw crosses, after the onset) and the pipeline (from the crossing instant's samples
 // entering to the frame that shows it rendered).
 // The baseline is the first live step (frames wait for the head; the offline mouth model, window 2, interpolated
-// display); its median is the ratios' base. Then the presets (pipeline/live_presets.h).
+// display); its median is the ratios' base. Then the presets (pipeline/live_presets.h), each with its articulation
+// (the lips closed and the visemes from the mouth network: frames wait for their class) and without it.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -35,6 +36,7 @@
 
 #include "animation/head_model.h"
 #include "animation/mouth_model.h"
+#include "animation/mouth_network.h"
 #include "audio/media_audio.h"
 #include "core/data_path.h"
 #include "core/statistics.h"
@@ -112,8 +114,9 @@ OnsetRecording buildOnsetRecording(std::size_t wanted) {
 
 // The jaw of every frame, the decoder run offline on the same samples.
 std::vector<double> offlineJaw(const std::vector<float>& samples, const th::animation::HeadModel& head,
-                               const th::animation::MouthModel& mouth, const LiveDecoderOptions& options) {
-  th::pipeline::LiveDecoder decoder(&head, &mouth, options);
+                               const th::animation::MouthModel& mouth, const LiveDecoderOptions& options,
+                               const th::animation::MouthNetwork* articulation) {
+  th::pipeline::LiveDecoder decoder(&head, &mouth, options, nullptr, articulation);
   decoder.acceptWaveform(samples);
   decoder.inputFinished();
   std::vector<double> jaw;
@@ -164,6 +167,7 @@ struct Setting {
   LiveDecoderOptions options;
   bool interpolate = false;
   const th::animation::MouthModel* mouth = nullptr;
+  const th::animation::MouthNetwork* articulation = nullptr;  // the preset's, or none
 };
 
 struct Result {
@@ -177,12 +181,14 @@ Result run(const Setting& setting, const OnsetRecording& recording, const th::an
            const th::face::FaceModel& face, th::render::FaceRenderer& renderer, const th::render::OrbitCamera& camera) {
   Result result;
   const th::animation::MouthModel& mouth = *setting.mouth;
-  const std::vector<double> reference = offlineJaw(recording.samples, head, mouth, setting.options);
+  const std::vector<double> reference =
+      offlineJaw(recording.samples, head, mouth, setting.options, setting.articulation);
   const std::vector<Crossing> expected = crossings(reference, recording.onsets);
   // Models differ in how far they open the jaw: an onset counts if it opens it by a quarter of the model's
   // usual range (5th to 95th percentile over the recording).
   const double jawRange = percentileOf(reference, 95.0) - percentileOf(reference, 5.0);
-  auto decoder = std::make_unique<th::pipeline::LiveDecoder>(&head, &mouth, setting.options);
+  auto decoder =
+      std::make_unique<th::pipeline::LiveDecoder>(&head, &mouth, setting.options, nullptr, setting.articulation);
   result.lookaheadMs = decoder->lookahead().totalMs;
   th::pipeline::LiveSession session(std::move(decoder));
   th::pipeline::Playout playout(th::pipeline::PlayoutOptions{.interpolate = setting.interpolate});
@@ -277,12 +283,15 @@ int main(int argc, char** argv) {
     // interpolated), then the presets of pipeline/live_presets.h.
     std::vector<th::animation::MouthModel> mouths;
     mouths.reserve(th::pipeline::kLivePresets.size());
+    std::vector<th::animation::MouthNetwork> articulations;
+    articulations.reserve(th::pipeline::kLivePresets.size());
     std::vector<Setting> settings;
     LiveDecoderOptions baseline;
     baseline.waitForHead = true;
     baseline.mouth.windowFrames = 2;
     for (const th::pipeline::LivePreset& preset : th::pipeline::kLivePresets) {
       mouths.push_back(th::animation::loadMouthModel(models / std::string(preset.mouthModelFile)));
+      articulations.push_back(th::animation::loadMouthNetwork(models / std::string(preset.articulationFile)));
       if (preset.name == "accurate")
         settings.push_back({"baseline: frames wait for the head (accurate's mouth)", baseline, true, &mouths.back()});
     }
@@ -294,10 +303,13 @@ int main(int argc, char** argv) {
       LiveDecoderOptions options;
       options.mouth.windowFrames = applied.streaming.window;
       const bool interpolate = applied.live.interpolate;
-      settings.push_back({"preset " + std::string(preset.name) + ": " + std::string(preset.mouthModelFile) +
-                              ", window " + std::to_string(applied.streaming.window) +
-                              (interpolate ? ", interpolated" : ", newest frame"),
-                          options, interpolate, &mouths[p]});
+      const std::string name = "preset " + std::string(preset.name) + ": " + std::string(preset.mouthModelFile) +
+                               ", window " + std::to_string(applied.streaming.window) +
+                               (interpolate ? ", interpolated" : ", newest frame");
+      settings.push_back({name + ", " + std::string(preset.articulationFile), options, interpolate, &mouths[p],
+                          &articulations[p]});
+      // The same without the articulation: what the preset was before it.
+      settings.push_back({name + ", no articulation", options, interpolate, &mouths[p], nullptr});
     }
     double baselineMedian = 0.0;
     for (const Setting& setting : settings) {

@@ -120,7 +120,8 @@ th_status th_stream_open(const th_stream_options* options, th_stream** stream) {
     th::pipeline::LiveDecoderOptions decoderOptions = settings.decoderOptions();
     decoderOptions.waitForHead = options != nullptr && options->wait_for_head != 0;
     auto decoder = std::make_unique<th::pipeline::LiveDecoder>(opened->models->head.get(), opened->models->mouth.get(),
-                                                               decoderOptions, opened->models->visemes.get());
+                                                               decoderOptions, opened->models->visemes.get(),
+                                                               opened->models->articulation.get());
     opened->lookahead = decoder->lookahead();
     if (rate == 16000.0)
       opened->decoder = std::move(decoder);

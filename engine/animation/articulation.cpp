@@ -14,6 +14,11 @@ constexpr int kJaw = 3;
 // The inner and outer lips' vertical FAPs, each positive towards the other lip.
 constexpr std::array<int, 6> kUpperLip{4, 8, 9, 51, 55, 56};
 constexpr std::array<int, 6> kLowerLip{5, 10, 11, 52, 57, 58};
+// The mouth's corners, inner and outer, each positive outwards.
+constexpr std::array<int, 4> kCorners{6, 7, 53, 54};
+bool shapesCorners(int mouthClass) {
+  return mouthClass == face::kOh || mouthClass == face::kOu || mouthClass == face::kE || mouthClass == face::kIh;
+}
 
 // Each row of faps: its index in the model's visual FAPs, or -1.
 std::vector<int> gradientRows(const MouthNetwork& model, const std::vector<int>& fapNumbers) {
@@ -57,7 +62,7 @@ void move(const LipGroup& group, double opening, Eigen::MatrixXd& faps, Eigen::I
 void ArticulationOptions::check() const {
   if (!(evidenceScale > 0.0 && evidenceScale <= 1.0)) throw Error("articulation: the evidence scale must be in (0, 1]");
   if (minHoldFrames < 1 || minHoldFrames > 15) throw Error("articulation: the minimum hold must be 1..15 frames");
-  for (const double share : {jawShare, lowerLipShare, ffShare})
+  for (const double share : {jawShare, lowerLipShare, ffShare, shapeShare})
     if (!(share >= 0.0 && share <= 1.0)) throw Error("articulation: shares must be in [0, 1]");
 }
 
@@ -99,9 +104,24 @@ void articulateLips(const MouthNetwork& model, const std::vector<int>& shown, co
   if (!upper.closes() && !lower.closes())
     throw Error("articulation: the FAPs have no lip FAP that closes the mouth (4, 5, 8-11, 51, 52, 55-58)");
 
+  // The corners' rows in faps and in the model's shapes.
+  std::vector<std::pair<Eigen::Index, int>> corners;
+  if (model.classShapes.cols() == face::kNumMouthClasses)
+    for (std::size_t i = 0; i < fapNumbers.size(); ++i)
+      if (std::find(kCorners.begin(), kCorners.end(), fapNumbers[i]) != kCorners.end() && rows[i] >= 0)
+        corners.emplace_back(static_cast<Eigen::Index>(i), rows[i]);
+  const Eigen::VectorXd mean = model.basis.mean();
+
   const Eigen::Index frames = std::min<Eigen::Index>(faps.cols(), static_cast<Eigen::Index>(shown.size()));
   for (Eigen::Index t = 0; t < frames; ++t) {
     const int mouthClass = shown[static_cast<std::size_t>(t)];
+    if (shapesCorners(mouthClass))
+      for (const auto& [row, shapeRow] : corners) {
+        const double offset = model.classShapes(shapeRow, mouthClass);
+        const double target = mean[shapeRow] + offset;
+        const double bounded = offset < 0.0 ? std::min(faps(row, t), target) : std::max(faps(row, t), target);
+        faps(row, t) += options.shapeShare * (bounded - faps(row, t));
+      }
     double gap = opening[t];
     if (gap <= 0.0) continue;
     if (mouthClass == face::kPp) {

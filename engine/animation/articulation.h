@@ -16,7 +16,11 @@
 // - Closures: on a frame shown as PP, the lips are brought together: the inner lips' opening, linear in the FAPs
 //   (MouthNetwork::openingGradient, measured on the face), is closed partly by raising the jaw (jawShare, never
 //   above rest) and the rest by the lips (the lower lip lowerLipShare of it). FF closes ffShare of the opening
-//   with the lower lip alone. Elsewhere the FAPs are the inversion's.
+//   with the lower lip alone.
+// - Rounding and spreading: on a frame shown as oh or ou the mouth's corners (FAPs 6, 7, 53, 54) are drawn in
+//   at least as far as the class's typical shape in the tracked training frames (MouthNetwork::classShapes,
+//   about the training mean); on E and ih they are spread at least as far. Elsewhere the FAPs are the
+//   inversion's.
 // Thread contract: pure functions.
 #pragma once
 
@@ -36,6 +40,7 @@ struct ArticulationOptions {
   double jawShare = 0.5;       // of a closure, how much the jaw makes (the lips the rest)
   double lowerLipShare = 0.6;  // of the lips' part, how much the lower lip makes
   double ffShare = 0.7;        // of the opening, how much the lower lip closes for F and V
+  double shapeShare = 1.0;     // how far the corners go to a rounded or spread class's typical shape
   void check() const;          // throws th::Error naming the bad option
 };
 
@@ -49,8 +54,8 @@ face::VisemeTrack networkVisemes(const MouthNetwork& model, const Eigen::MatrixX
 Eigen::RowVectorXd lipOpeningOf(const MouthNetwork& model, const std::vector<int>& fapNumbers,
                                 const Eigen::MatrixXd& faps);
 
-// Closes the lips on the frames shown as PP and raises the lower lip on FF (shown: one class per column of
-// faps; a shorter list leaves the rest). Throws th::Error if the model has no opening gradient or faps has no
+// Closes the lips on the frames shown as PP, raises the lower lip on FF, rounds oh and ou and spreads E and
+// ih (shown: one class per column of faps; a shorter list leaves the rest). Throws th::Error if the model has no opening gradient or faps has no
 // jaw or lip FAP the gradient moves.
 void articulateLips(const MouthNetwork& model, const std::vector<int>& shown, const std::vector<int>& fapNumbers,
                     Eigen::MatrixXd& faps, const ArticulationOptions& options);

@@ -219,6 +219,26 @@ MouthNetworkTraining trainMouthNetwork(const std::vector<NetworkRecording>& reco
   for (const NetworkRecording& r : recordings)
     if (!r.classes.empty()) labels.push_back(r.classes);
   model.sequence = classSequenceOf(labels);
+  // The classes' shapes: per class, the mean of its frames' FAPs less the mean over every labelled frame.
+  {
+    const auto rows = static_cast<Eigen::Index>(visualFaps.size());
+    Eigen::MatrixXd sums = Eigen::MatrixXd::Zero(rows, kClasses);
+    Eigen::VectorXd counts = Eigen::VectorXd::Zero(kClasses);
+    for (const NetworkRecording& r : recordings)
+      for (Eigen::Index t = 0; t < std::min<Eigen::Index>(r.faps.cols(), static_cast<Eigen::Index>(r.classes.size()));
+           ++t) {
+        const int c = r.classes[static_cast<std::size_t>(t)];
+        if (c < 0) continue;
+        sums.col(c) += r.faps.col(t);
+        counts[c] += 1.0;
+      }
+    model.classShapes = Eigen::MatrixXd::Zero(rows, kClasses);
+    if (counts.sum() > 0.0) {
+      const Eigen::VectorXd mean = sums.rowwise().sum() / counts.sum();
+      for (int c = 0; c < kClasses; ++c)
+        if (counts[c] > 0.0) model.classShapes.col(c) = sums.col(c) / counts[c] - mean;
+    }
+  }
 
   model.heads = headsFor(options.visualComponents);
   model.heads[kClassHead].weight = options.classWeight;
@@ -363,6 +383,7 @@ void saveMouthNetwork(const std::filesystem::path& path, const MouthNetwork& mod
                {"lip_shape_mean", vectorJson(model.shapeMean)},
                {"lip_shape_deviation", vectorJson(model.shapeDeviation)},
                {"class_priors", vectorJson(model.classPriors)},
+               {"class_shapes", matrixJson(model.classShapes)},
                {"class_sequence",
                 {{"mean_run", vectorJson(model.sequence.meanRun)},
                  {"bigrams", matrixJson(model.sequence.bigrams)},
@@ -381,7 +402,7 @@ MouthNetwork loadMouthNetwork(const std::filesystem::path& path) {
   fields.onlyKnownFields(json,
                          {"kind", "format_version", "classes", "past_subframes", "future_subframes",
                           "subframes_per_second", "speech_normalisation", "visual_faps", "visual_basis",
-                          "lip_shape_mean", "lip_shape_deviation", "class_priors", "class_sequence",
+                          "lip_shape_mean", "lip_shape_deviation", "class_priors", "class_shapes", "class_sequence",
                           "opening_gradient", "network"},
                          "");
   if (fields.string(fields.member(json, "kind", ""), "kind") != kKind)
@@ -433,6 +454,10 @@ MouthNetwork loadMouthNetwork(const std::filesystem::path& path) {
   model.classPriors = vectorOf(fields, fields.member(json, "class_priors", ""), "class_priors", kClasses);
   if ((model.classPriors.array() <= 0.0).any() || std::abs(model.classPriors.sum() - 1.0) > 1e-6)
     fields.fail("class_priors", "must be positive and sum to 1");
+  model.classShapes = matrixOf(fields, fields.member(json, "class_shapes", ""), "class_shapes");
+  if (model.classShapes.rows() != static_cast<Eigen::Index>(model.visualFaps.size()) ||
+      model.classShapes.cols() != kClasses)
+    fields.fail("class_shapes", "must be one row of 17 per visual FAP");
   const Json& sequence = fields.object(fields.member(json, "class_sequence", ""), "class_sequence");
   fields.onlyKnownFields(sequence, {"mean_run", "bigrams", "starts"}, "class_sequence");
   model.sequence.meanRun =

@@ -99,6 +99,9 @@ struct MouthNetwork {
   Eigen::Vector2d shapeMean{0.0, 0.0}, shapeDeviation{1.0, 1.0};  // of the lips' opening and width
   Eigen::VectorXd classPriors;                                    // the training frames' class shares (17)
   ClassSequence sequence;  // how the training frames' classes follow one another (the visemes' HMM)
+  // visualFaps x 17: each class's mean FAPs over the training frames that have both, less their mean (the
+  // lips' typical shape for the class: rounded for oh and ou, spread for E and ih; zero for a class never seen).
+  Eigen::MatrixXd classShapes;
   // d(inner-lip opening) / d(FAP) for each visual FAP, measured on the face the FAPs drive (eye-corner
   // distances per FAPU count; the trainer sets it, eval/mouth_scores.h openingGradient): how far the lips are
   // from meeting, for closing them. Empty: not known, and the lips cannot be closed by the articulation.

@@ -22,7 +22,8 @@ class ModelDecoder final : public FrameDecoder {
  public:
   ModelDecoder(std::shared_ptr<const AnimationModels> models, const LiveDecoderOptions& options)
       : models_(std::move(models)),
-        decoder_(models_->head.get(), models_->mouth.get(), options, models_->visemes.get()) {}
+        decoder_(models_->head.get(), models_->mouth.get(), options, models_->visemes.get(),
+                 models_->articulation.get()) {}
   void acceptWaveform(std::span<const float> samples16k) override { decoder_.acceptWaveform(samples16k); }
   void inputFinished() override { decoder_.inputFinished(); }
   bool next(AnimationFrame& frame) override { return decoder_.next(frame); }

@@ -31,7 +31,8 @@ features::FeatureOptions mouthFeatureOptions() {
 }  // namespace
 
 LiveDecoder::LiveDecoder(const animation::HeadModel* head, const animation::MouthModel* mouth,
-                         const LiveDecoderOptions& options, const animation::VisemeModel* visemes)
+                         const LiveDecoderOptions& options, const animation::VisemeModel* visemes,
+                         const animation::MouthNetwork* articulation)
     : mouth_(mouth),
       options_(options),
       // The features animate() gives each model: the prosody settings serve both (the energy's normalisation
@@ -55,7 +56,21 @@ LiveDecoder::LiveDecoder(const animation::HeadModel* head, const animation::Mout
     mouthStream_ = std::make_unique<animation::MouthSynthesiser>(*mouth, options.mouth);
     mouthFaps_ = animation::mouthFapNumbers(*mouth);
   }
-  if (visemes != nullptr) visemeStream_ = std::make_unique<animation::VisemeStream>(*visemes, options.visemeLagFrames);
+  if (articulation != nullptr) {
+    options.articulation.check();
+    if (options.articulationLagFrames < 0) throw Error("live decoder: the articulation's lag must be >= 0 frames");
+    if (mouth != nullptr && articulation->openingGradient.size() == 0)
+      throw Error("live decoder: the articulation has no opening gradient to close the lips with");
+    articulation_ = articulation;
+    networkExtractor_ = std::make_unique<features::OnlineFeatureExtractor>(animation::subframeFeatureOptions());
+    networkStream_ = std::make_unique<animation::MouthNetworkStream>(*articulation);
+    articulationClasses_ = animation::classHmm(articulation->sequence, options.articulation.minHoldFrames);
+    logPriors_ = articulation->classPriors.array().max(1e-12).log().matrix();
+    visemeStream_ = std::make_unique<animation::VisemeStream>(
+        articulationClasses_, options.articulation.minHoldFrames, options.articulationLagFrames);
+  } else if (visemes != nullptr) {
+    visemeStream_ = std::make_unique<animation::VisemeStream>(*visemes, options.visemeLagFrames);
+  }
   headDelayFrames_ = lookahead().headDelayFrames;
   row_.resize(static_cast<std::size_t>(prosodyExtractor_.layout().size()));
   mfccRow_.resize(static_cast<std::size_t>(mouthExtractor_.layout().numMfcc));
@@ -65,14 +80,20 @@ LiveDecoder::~LiveDecoder() = default;
 
 void LiveDecoder::acceptWaveform(std::span<const float> samples16k) {
   prosodyExtractor_.acceptWaveform(samples16k);
-  if (mouthStream_ || visemeStream_) mouthExtractor_.acceptWaveform(samples16k);
+  if (readsMouthExtractor()) mouthExtractor_.acceptWaveform(samples16k);
+  if (networkExtractor_) networkExtractor_->acceptWaveform(samples16k);
   pull();
 }
 
 void LiveDecoder::inputFinished() {
   prosodyExtractor_.inputFinished();
-  if (mouthStream_ || visemeStream_) mouthExtractor_.inputFinished();
+  if (readsMouthExtractor()) mouthExtractor_.inputFinished();
+  if (networkExtractor_) networkExtractor_->inputFinished();
   pull();
+  if (networkStream_) {
+    networkStream_->finish();
+    pull();
+  }
   if (headStream_) headStream_->finish();
   if (mouthStream_) mouthStream_->finish();
   if (visemeStream_) visemeStream_->finish();
@@ -98,14 +119,28 @@ void LiveDecoder::pull() {
     for (; headTaken_ < headStream_->numReady(); ++headTaken_)
       prosodyFrames_[static_cast<std::size_t>(headTaken_ - prosodyBase_)].headDegrees =
           headStream_->rotation(headTaken_);
-  if (mouthStream_ || visemeStream_) {
+  if (networkStream_) {
+    std::vector<float> row(animation::kNetworkMfcc);
+    Eigen::VectorXd mfcc(animation::kNetworkMfcc);
+    for (; subframesTaken_ < networkExtractor_->numBaseFramesReady(); ++subframesTaken_) {
+      networkExtractor_->getMfcc(subframesTaken_, row);
+      for (Eigen::Index k = 0; k < mfcc.size(); ++k) mfcc[k] = row[static_cast<std::size_t>(k)];
+      networkStream_->accept(networkExtractor_->getLevelDb(subframesTaken_), mfcc);
+    }
+    networkExtractor_->forgetBefore(subframesTaken_);
+    animation::MouthNetworkFrame heard;
+    while (networkStream_->next(heard))
+      visemeStream_->acceptEvidence(options_.articulation.evidenceScale *
+                                    (heard.classes.array().max(1e-12).log().matrix() - logPriors_));
+  }
+  if (readsMouthExtractor()) {
     Eigen::VectorXd mfcc(static_cast<Eigen::Index>(mfccRow_.size()));
     for (; mfccFrames_ < mouthExtractor_.numBaseFramesReady(); ++mfccFrames_) {
       mouthExtractor_.getMfcc(mfccFrames_, mfccRow_);
       for (Eigen::Index k = 0; k < mfcc.size(); ++k) mfcc[k] = mfccRow_[static_cast<std::size_t>(k)];
       const double levelDb = mouthExtractor_.getLevelDb(mfccFrames_);
       if (mouthStream_) mouthStream_->acceptFrame(levelDb, mfcc);
-      if (visemeStream_) visemeStream_->accept(levelDb, mfcc);
+      if (visemeStream_ && !networkStream_) visemeStream_->accept(levelDb, mfcc);
     }
   }
   if (visemeStream_) {
@@ -138,8 +173,11 @@ void LiveDecoder::pull() {
 }
 
 std::size_t LiveDecoder::framesHeld() const {
+  const std::size_t subframes =
+      networkStream_ ? networkExtractor_->framesHeld() + networkStream_->subframesHeld() : 0;
   return prosodyExtractor_.framesHeld() + mouthExtractor_.framesHeld() + (headStream_ ? headStream_->framesHeld() : 0) +
-         prosodyFrames_.size() + mouthFrames_.size() + visemeFrames_.size();
+         prosodyFrames_.size() + mouthFrames_.size() + visemeFrames_.size() +
+         subframes / animation::kSubframesPerFrame;
 }
 
 bool LiveDecoder::next(AnimationFrame& frame) {
@@ -148,6 +186,9 @@ bool LiveDecoder::next(AnimationFrame& frame) {
   if (mouthStream_) {
     if (mouthFrames_.empty()) return false;
     if (shown >= decided && !finished_) return false;  // its head is not decided yet
+    // With the articulation, its lips wait for its class.
+    if (networkStream_ && !finished_ && (visemeFrames_.empty() || visemeFrames_.back().index < nextIndex_))
+      return false;
   } else if (shown >= decided) {
     return false;  // the head alone sets the pace
   }
@@ -169,16 +210,6 @@ bool LiveDecoder::next(AnimationFrame& frame) {
     for (std::size_t i = 0; i < animation::kHeadFaps.size(); ++i)
       frame.faps[static_cast<std::size_t>(animation::kHeadFaps[i])] = faps(static_cast<Eigen::Index>(i), 0);
   }
-  if (mouthStream_) {
-    const MouthFrame mouth = mouthFrames_.front();
-    mouthFrames_.pop_front();
-    frame.energy = mouth.energy;
-    frame.levelDb = mouth.levelDb;
-    frame.mouthPosterior = mouth.posterior;
-    frame.mouthStates = std::min(mouthStream_->numStates(), AnimationFrame::kMaxMouthStates);
-    for (std::size_t i = 0; i < mouthFaps_.size(); ++i)
-      frame.faps[static_cast<std::size_t>(mouthFaps_[i])] = mouth.faps[static_cast<Eigen::Index>(i)];
-  }
   if (visemeStream_) {
     while (!visemeFrames_.empty() && visemeFrames_.front().index <= frame.index) {
       shownVisemes_ = std::move(visemeFrames_.front());
@@ -191,6 +222,21 @@ bool LiveDecoder::next(AnimationFrame& frame) {
         frame.visemeProbabilities[static_cast<std::size_t>(c)] =
             static_cast<float>(shownVisemes_.frame.probabilities[c]);
     }
+  }
+  if (mouthStream_) {
+    MouthFrame mouth = std::move(mouthFrames_.front());
+    mouthFrames_.pop_front();
+    if (networkStream_ && shownVisemes_.index == frame.index) {
+      Eigen::MatrixXd faps = mouth.faps;
+      animation::articulateLips(*articulation_, {frame.mouthClass}, mouthFaps_, faps, options_.articulation);
+      mouth.faps = faps.col(0);
+    }
+    frame.energy = mouth.energy;
+    frame.levelDb = mouth.levelDb;
+    frame.mouthPosterior = mouth.posterior;
+    frame.mouthStates = std::min(mouthStream_->numStates(), AnimationFrame::kMaxMouthStates);
+    for (std::size_t i = 0; i < mouthFaps_.size(); ++i)
+      frame.faps[static_cast<std::size_t>(mouthFaps_[i])] = mouth.faps[static_cast<Eigen::Index>(i)];
   }
   ++nextIndex_;
   // Prosody frames before the next frame's are not needed again.
@@ -217,6 +263,12 @@ DecoderLookahead LiveDecoder::lookahead() const {
   result.mouthFrames = mouthStream_ ? mouthStream_->lookaheadFrames() : 0;
   result.headMs = result.featuresMs + result.headFrames * kFrameMs;
   result.mouthMs = mouthStream_ ? result.mouthFeaturesMs + result.mouthFrames * kFrameMs : 0.0;
+  if (networkStream_) {
+    result.articulationMs = networkExtractor_->lookahead().mfccMs +
+                            1000.0 * articulation_->futureSubframes / animation::kSubframesPerSecond +
+                            options_.articulationLagFrames * kFrameMs;
+    if (mouthStream_) result.mouthMs = std::max(result.mouthMs, result.articulationMs);
+  }
   if (mouthStream_ && !options_.waitForHead) {
     result.headDelayFrames =
         std::max(0, static_cast<int>(std::ceil((result.headMs - result.mouthMs) / kFrameMs - 1e-9)));

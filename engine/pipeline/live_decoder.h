@@ -13,7 +13,10 @@
 // head (and F0) of frame i - headDelayFrames, decided by then (lookahead() says how many). With
 // `waitForHead`, a frame waits for its own head instead, and the frames are those of pipeline::animate() with
 // the same online options, frame for frame (tests/pipeline). A null model leaves its FAPs at 0. With a viseme
-// model, the MFCC extractor also feeds its stream, and each frame carries the newest visemes decided.
+// model, the MFCC extractor also feeds its stream, and each frame carries the newest visemes decided. With an
+// articulation (animation/articulation.h), a third extractor (90 frames a second) feeds the mouth network, its
+// classes are the visemes, and each frame waits for its own class, so that its lips are closed on PP and
+// raised on FF as offline: the face and the visemes say the same thing on every frame.
 //
 // Thread contract: one thread per instance; the models are shared read-only and must outlive it.
 #pragma once
@@ -22,6 +25,7 @@
 #include <memory>
 #include <span>
 
+#include "animation/articulation.h"
 #include "animation/head_model.h"
 #include "animation/mouth_model.h"
 #include "animation/prosody.h"
@@ -48,16 +52,21 @@ struct LiveDecoderOptions {
   // The viseme stream's decision lag beyond its context (animation/viseme_model.h). A frame never waits for its
   // visemes: it carries the newest decided (visemeIndex), a frame or two behind the mouth.
   int visemeLagFrames = 2;
+  // The articulation's class decoding: its decision lag (frames, beyond the network's look-ahead), and how it
+  // weighs the network and closes the lips.
+  int articulationLagFrames = 0;
+  animation::ArticulationOptions articulation{};
 };
 
 // How far past a frame's time the input must reach before the frame is out, part by part.
 struct DecoderLookahead {
   double featuresMs = 0.0;       // the prosody extractor's (F0 decision lag, MFCC window, deltas)
   double mouthFeaturesMs = 0.0;  // the MFCC extractor's (half its window)
+  double articulationMs = 0.0;   // the articulation's: half its window, the network's look-ahead, its lag
   int headFrames = 0;            // the head decoder's lag and trajectory look-ahead
   int mouthFrames = 0;           // the MFCC context and the inversion window
   double headMs = 0.0;           // features + head frames: when a frame's own head is decided
-  double mouthMs = 0.0;          // mouth features + mouth frames: when its mouth is
+  double mouthMs = 0.0;          // mouth features + mouth frames, or the articulation's if later: when its mouth is
   int headDelayFrames = 0;       // how late the head is shown (0 with waitForHead)
   double totalMs = 0.0;          // what a frame waits for in all
 };
@@ -67,7 +76,8 @@ class LiveDecoder : public FrameDecoder {
   // Throws th::Error if both models are null, the mouth model drives no FAPs (no FAP map and no visual FAPs), or an
   // option cannot stream (a batch head, maxLagFrames < 0, or a mouth window below 1).
   LiveDecoder(const animation::HeadModel* head, const animation::MouthModel* mouth, const LiveDecoderOptions& options,
-              const animation::VisemeModel* visemes = nullptr);
+              const animation::VisemeModel* visemes = nullptr,
+              const animation::MouthNetwork* articulation = nullptr);
   ~LiveDecoder() override;
   LiveDecoder(const LiveDecoder&) = delete;
   LiveDecoder& operator=(const LiveDecoder&) = delete;
@@ -85,6 +95,7 @@ class LiveDecoder : public FrameDecoder {
 
  private:
   void pull();
+  bool readsMouthExtractor() const { return mouthStream_ || (visemeStream_ && !networkStream_); }
 
   // What the prosody side has decided for one frame: its F0, energy and (with a head model) rotation.
   struct ProsodyFrame {
@@ -108,6 +119,13 @@ class LiveDecoder : public FrameDecoder {
   animation::ProsodyTracker prosody_;
   std::unique_ptr<animation::HeadSynthesiser> headStream_;
   std::unique_ptr<animation::MouthSynthesiser> mouthStream_;
+  // The articulation: its features, its network and the class HMM its visemes are decoded with.
+  const animation::MouthNetwork* articulation_ = nullptr;
+  std::unique_ptr<features::OnlineFeatureExtractor> networkExtractor_;
+  std::unique_ptr<animation::MouthNetworkStream> networkStream_;
+  hmm::HmmModel articulationClasses_;
+  Eigen::VectorXd logPriors_;
+  int subframesTaken_ = 0;
   std::unique_ptr<animation::VisemeStream> visemeStream_;
   struct VisemeDecision {
     int index = 0;

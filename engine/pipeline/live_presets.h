@@ -21,6 +21,8 @@ struct LivePreset {
   std::string_view name;
   std::string_view summary;
   std::string_view mouthModelFile;  // in models/: made by `talkinghead train mouth --context tc`
+  // in models/: made by `talkinghead train articulation --future N`, its look-ahead no longer than the mouth's
+  std::string_view articulationFile;
   std::array<PresetValue, 2> values;
 };
 
@@ -30,14 +32,17 @@ inline constexpr std::array<LivePreset, 3> kLivePresets{{
     {"default",
      "MFCC context +-1 frame, window 1, newest frame shown",
      "mouth_live.json",
+     "articulation_live.json",
      {{{"window", "1"}, {"interpolate", "false"}}}},
     {"low-latency",
      "no MFCC context (the mouth waits only for its MFCC window)",
      "mouth_instant.json",
+     "articulation_instant.json",
      {{{"window", "1"}, {"interpolate", "false"}}}},
     {"accurate",
      "the offline model (context +-2), window 2, interpolated 60 Hz motion",
      "mouth.json",
+     "articulation.json",
      {{{"window", "2"}, {"interpolate", "true"}}}},
 }};
 

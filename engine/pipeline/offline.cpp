@@ -8,6 +8,37 @@
 #include "core/error.h"
 
 namespace th::pipeline {
+namespace {
+
+// The articulation's classes as a stream decides them (LiveDecoder): the network from the training speech's
+// mean, the classes by the fixed-lag decoder.
+face::VisemeTrack streamedVisemes(const animation::MouthNetwork& articulation, const animation::SpeechFrames& subframes,
+                                  const AnimateOptions& options) {
+  options.articulation.check();
+  const animation::MouthNetworkOutput heard = animation::runMouthNetwork(articulation, subframes);
+  const hmm::HmmModel classes = animation::classHmm(articulation.sequence, options.articulation.minHoldFrames);
+  animation::VisemeStream stream(classes, options.articulation.minHoldFrames, options.articulationLagFrames);
+  const Eigen::VectorXd logPriors = articulation.classPriors.array().max(1e-12).log().matrix();
+  face::VisemeTrack track;
+  track.posteriors.resize(face::kNumMouthClasses, heard.numFrames());
+  animation::VisemeFrame frame;
+  const auto take = [&] {
+    while (stream.next(frame)) {
+      track.posteriors.col(static_cast<Eigen::Index>(track.classes.size())) = frame.probabilities;
+      track.classes.push_back(frame.mouthClass);
+    }
+  };
+  for (int t = 0; t < heard.numFrames(); ++t) {
+    stream.acceptEvidence(options.articulation.evidenceScale *
+                          (heard.classes.col(t).array().max(1e-12).log().matrix() - logPriors));
+    take();
+  }
+  stream.finish();
+  take();
+  return track;
+}
+
+}  // namespace
 
 face::FapTrack animate(std::span<const float> samples16k, const animation::HeadModel* head,
                        const animation::MouthModel* mouth, const AnimateOptions& options,
@@ -33,9 +64,13 @@ face::FapTrack animate(std::span<const float> samples16k, const animation::HeadM
   face::VisemeTrack articulated;
   if (articulation != nullptr) {
     const animation::SpeechFrames subframes = animation::speechSubframesOf(samples16k);
-    const Eigen::VectorXd ownMean = subframes.mfcc.rowwise().mean();
-    const animation::MouthNetworkOutput heardSounds = animation::runMouthNetwork(*articulation, subframes, &ownMean);
-    articulated = animation::networkVisemes(*articulation, heardSounds.classes, options.articulation);
+    if (options.articulationLagFrames < 0) {
+      const Eigen::VectorXd ownMean = subframes.mfcc.rowwise().mean();
+      const animation::MouthNetworkOutput heardSounds = animation::runMouthNetwork(*articulation, subframes, &ownMean);
+      articulated = animation::networkVisemes(*articulation, heardSounds.classes, options.articulation);
+    } else {
+      articulated = streamedVisemes(*articulation, subframes, options);
+    }
     if (articulated.classes.empty()) throw Error("animate: the recording is too short for the articulation");
     // As many frames as the other parts: the last repeated where the subframes end early.
     articulated.posteriors.conservativeResize(Eigen::NoChange, frames);

@@ -38,12 +38,15 @@ struct AnimateOptions {
   bool idle = true;                             // blinks, gaze shifts and the head at rest in silence
   animation::IdleMotionOptions idleOptions = {};
   animation::ArticulationOptions articulation = {};
+  // The articulation's classes: -1 decoded from the whole recording, its cepstral mean its own; ≥ 0 as a stream
+  // decodes them (live's LiveDecoder): the training speech's mean to start from, decided this many frames late.
+  int articulationLagFrames = -1;
 };
 
 // samples16k: mono at 16 kHz. Throws th::Error if both models are null, the mouth model drives no FAPs (no
 // FAP map and no visual FAPs), or the recording is shorter than one frame.
-// The articulation hears the whole recording: its running cepstral mean starts at the recording's own mean
-// (a stream starts at the training speech's and adapts within seconds).
+// The articulation hears the whole recording (unless articulationLagFrames ≥ 0): its running cepstral mean
+// starts at the recording's own mean (a stream starts at the training speech's and adapts within seconds).
 face::FapTrack animate(std::span<const float> samples16k, const animation::HeadModel* head,
                        const animation::MouthModel* mouth, const AnimateOptions& options = {},
                        const animation::VisemeModel* visemes = nullptr,

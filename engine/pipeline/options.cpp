@@ -16,18 +16,20 @@ void ModelOptions::visitOptions(OptionVisitor& v) {
   v.option(mouthModel,
            {.name = "mouth-model", .help = "Mouth model file (default: the shipped one in models/)", .panel = false});
   v.option(visemeModel, {.name = "viseme-model",
-                         .help = "Viseme model file (default: the shipped models/visemes.json; none: no visemes)",
+                         .help = "Viseme model file, the visemes' source with --articulation-model none (default: the "
+                                 "shipped models/visemes.json; none: no visemes)",
                          .panel = false});
   v.option(articulationModel,
            {.name = "articulation-model",
-            .help = "Articulation (the mouth network: visemes, closures) file (default: the shipped "
-                    "models/articulation.json; none: the mouth model's lips and the viseme model's visemes alone)",
+            .help = "Articulation file: the mouth network that gives the visemes and closes, rounds and spreads the "
+                    "lips (default: the shipped models/articulation.json, live the preset's; none: the mouth "
+                    "model's lips and the viseme model's visemes)",
             .panel = false});
 }
 
-std::filesystem::path ModelOptions::articulationModelPath() const {
+std::filesystem::path ModelOptions::articulationModelPath(std::string_view shipped) const {
   if (articulationModel == "none") return {};
-  return articulationModel.empty() ? shippedModel("articulation.json") : std::filesystem::path(articulationModel);
+  return articulationModel.empty() ? shippedModel(shipped) : std::filesystem::path(articulationModel);
 }
 
 std::filesystem::path ModelOptions::headModelPath() const {
@@ -163,6 +165,12 @@ std::filesystem::path LiveSettings::mouthModelPath() const {
   return models.mouthModelPath(file);
 }
 
+std::filesystem::path LiveSettings::articulationModelPath() const {
+  const LivePreset* preset = findLivePreset(live.preset);
+  return models.articulationModelPath(preset != nullptr ? preset->articulationFile
+                                                        : kLivePresets[0].articulationFile);
+}
+
 LiveDecoderOptions LiveSettings::decoderOptions() const {
   return decoderOptionsOf(models, head, idle, streaming, live);
 }
@@ -218,6 +226,7 @@ AnimateOptions animateOptionsOf(const ModelOptions& models, const HeadMotionOpti
   options.mouth.method = mouthMethodOf(models.mouth);
   options.mouth.start = start == "random" ? hmm::InversionStart::kRandom : hmm::InversionStart::kConditionalMean;
   options.mouth.windowFrames = online != nullptr ? online->window : 0;
+  options.articulationLagFrames = online != nullptr ? LiveDecoderOptions{}.articulationLagFrames : -1;
   options.idle = idle.idle;
   options.idleOptions = idle.motionOptions();
   return options;
@@ -251,6 +260,7 @@ AnimationModels loadModels(const ModelOptions& models, std::string_view shippedM
 AnimationModels loadModels(const LiveSettings& settings) {
   ModelOptions models = settings.models;
   if (models.mouth != "none") models.mouthModel = settings.mouthModelPath().string();
+  if (models.articulationModel != "none") models.articulationModel = settings.articulationModelPath().string();
   return loadModels(models);
 }
 

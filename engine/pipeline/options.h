@@ -43,7 +43,8 @@ struct ModelOptions {
   std::filesystem::path headModelPath() const;
   std::filesystem::path mouthModelPath(std::string_view shippedMouth = "mouth.json") const;
   std::filesystem::path visemeModelPath() const;        // empty for "none"
-  std::filesystem::path articulationModelPath() const;  // empty for "none"
+  // empty for "none"; shipped: the file in models/ (live: the preset's)
+  std::filesystem::path articulationModelPath(std::string_view shipped = "articulation.json") const;
 };
 
 struct HeadMotionOptions {
@@ -110,6 +111,7 @@ struct LiveSettings {
   void check();
   // The mouth model file: the one given, else the preset's (its _diagonal twin with covariance diagonal).
   std::filesystem::path mouthModelPath() const;
+  std::filesystem::path articulationModelPath() const;  // the one given, else the preset's; empty for "none"
   LiveDecoderOptions decoderOptions() const;
 };
 

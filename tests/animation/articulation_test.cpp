@@ -87,6 +87,29 @@ TEST(Articulation, AJawAtRestLeavesTheClosureToTheLipsAndClosedLipsAlone) {
   EXPECT_TRUE(faps.col(1).isApprox(before.col(1)));
 }
 
+TEST(Articulation, RoundsOhAndOuAndSpreadsEAndIhToTheirTypicalShape) {
+  MouthNetwork model = modelWithGradient();
+  Eigen::MatrixXd tracked = Eigen::MatrixXd::Random(static_cast<Eigen::Index>(kFaps.size()), 40) * 50.0;
+  model.basis = VisualBasis::fit(tracked, {.components = 2, .standardise = false});
+  const Eigen::VectorXd mean = model.basis.mean();
+  model.classShapes = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(kFaps.size()), face::kNumMouthClasses);
+  for (int fap : {6, 7, 53, 54}) {
+    model.classShapes(rowOf(fap), face::kOu) = -30.0;  // rounded: the corners in
+    model.classShapes(rowOf(fap), face::kE) = 20.0;    // spread: the corners out
+    model.classShapes(rowOf(fap), face::kAa) = -40.0;  // not a rounded class: left alone
+  }
+  Eigen::MatrixXd faps = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(kFaps.size()), 4);
+  for (int fap : {6, 7, 53, 54}) faps.row(rowOf(fap)) = mean[rowOf(fap)] * Eigen::RowVectorXd::Ones(4);
+  faps(rowOf(6), 1) = mean[rowOf(6)] - 50.0;  // already more rounded than the class's shape
+  const Eigen::MatrixXd before = faps;
+  articulateLips(model, {face::kOu, face::kOu, face::kE, face::kAa}, kFaps, faps, {});
+  EXPECT_NEAR(faps(rowOf(53), 0), mean[rowOf(53)] - 30.0, 1e-9);
+  EXPECT_EQ(faps(rowOf(6), 1), mean[rowOf(6)] - 50.0);
+  EXPECT_NEAR(faps(rowOf(7), 2), mean[rowOf(7)] + 20.0, 1e-9);
+  EXPECT_TRUE(faps.col(3).isApprox(before.col(3)));
+  EXPECT_EQ(faps(rowOf(3), 0), before(rowOf(3), 0));  // only the corners
+}
+
 TEST(Articulation, NeedsTheOpeningGradientAndLipFaps) {
   MouthNetwork model = modelWithGradient();
   Eigen::MatrixXd jawOnly = Eigen::MatrixXd::Constant(1, 2, 100.0);

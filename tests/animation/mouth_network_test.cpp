@@ -140,6 +140,12 @@ TEST(MouthNetwork, ItsFileKeepsItsAnswersAndBrokenFilesAreRefused) {
   EXPECT_EQ(back.visualFaps, model.visualFaps);
   EXPECT_EQ(back.lookaheadMs(), 33);
   EXPECT_TRUE(back.openingGradient.isApprox(model.openingGradient));
+  EXPECT_TRUE(back.classShapes.isApprox(model.classShapes));
+  // The classes' shapes are their frames' FAPs about the mean: aa opens the jaw most, silence least; classes the
+  // recording never shows have none.
+  EXPECT_GT(model.classShapes(0, th::face::kAa), model.classShapes(0, th::face::kSs));
+  EXPECT_LT(model.classShapes(0, th::face::kSilence), 0.0);
+  EXPECT_EQ(model.classShapes.col(th::face::kPp).norm(), 0.0);
   EXPECT_TRUE(back.sequence.bigrams.isApprox(model.sequence.bigrams));
   EXPECT_TRUE(back.sequence.meanRun.isApprox(model.sequence.meanRun));
 

@@ -25,6 +25,8 @@ struct Models {
       th::animation::loadHeadModel(std::string(TALKINGHEAD_SOURCE_DIR) + "/models/head.json");
   th::animation::MouthModel mouth =
       th::animation::loadMouthModel(std::string(TALKINGHEAD_SOURCE_DIR) + "/models/mouth.json");
+  th::animation::MouthNetwork articulation =
+      th::animation::loadMouthNetwork(std::string(TALKINGHEAD_SOURCE_DIR) + "/models/articulation_live.json");
 };
 
 const Models& models() {
@@ -96,6 +98,49 @@ TEST(LiveDecoder, GivesTheBatchAnimationFrameByFrameWhateverTheChunks) {
   }
 }
 
+// With the articulation, each frame waits for its own class; the visemes and the lips are animate()'s streaming
+// form's, frame for frame, and every frame shown as PP has the lips meeting.
+TEST(LiveDecoder, ArticulatesAsTheStreamingAnimationAndClosesTheLipsOnEveryPp) {
+  const std::vector<float> samples = speech(12.0);
+  const th::animation::MouthNetwork& articulation = models().articulation;
+  LiveDecoderOptions options;
+  options.waitForHead = true;
+  options.mouth.windowFrames = 1;
+  th::pipeline::AnimateOptions batchOptions{.head = options.head, .mouth = options.mouth, .idle = false};
+  batchOptions.articulationLagFrames = options.articulationLagFrames;
+  const th::face::FapTrack batch = th::pipeline::animate(samples, &models().head, &models().mouth, batchOptions,
+                                                         nullptr, &articulation);
+  LiveDecoder decoder(&models().head, &models().mouth, options, nullptr, &articulation);
+  const th::pipeline::DecoderLookahead lookahead = decoder.lookahead();
+  EXPECT_NEAR(lookahead.articulationMs, 12.5 + 1000.0 * articulation.futureSubframes / 90.0, 1e-9);
+  EXPECT_GE(lookahead.mouthMs, lookahead.articulationMs);
+  const std::vector<AnimationFrame> frames = decodeInRandomChunks(decoder, samples, 2000, 3);
+  ASSERT_EQ(static_cast<Eigen::Index>(frames.size()), batch.numFrames());
+  ASSERT_EQ(batch.visemes.numFrames(), batch.numFrames());
+  double largest = 0.0;
+  int shut = 0, pp = 0;
+  Eigen::MatrixXd mouth(static_cast<Eigen::Index>(batch.faps.size()), 1);
+  for (std::size_t f = 0; f < frames.size(); ++f) {
+    EXPECT_EQ(frames[f].visemeIndex, static_cast<int>(f)) << "a frame carries its own class";
+    EXPECT_EQ(frames[f].mouthClass, batch.visemes.classes[f]) << f;
+    for (int c = 0; c < th::face::kNumMouthClasses; ++c)
+      EXPECT_NEAR(frames[f].visemeProbabilities[static_cast<std::size_t>(c)],
+                  batch.visemes.posteriors(c, static_cast<Eigen::Index>(f)), 1e-4);
+    for (std::size_t c = 0; c < batch.faps.size(); ++c) {
+      mouth(static_cast<Eigen::Index>(c), 0) = frames[f].faps[static_cast<std::size_t>(batch.faps[c])];
+      largest = std::max(largest, std::abs(mouth(static_cast<Eigen::Index>(c), 0) -
+                                           batch.values(static_cast<Eigen::Index>(c), static_cast<Eigen::Index>(f))));
+    }
+    if (frames[f].mouthClass == th::face::kPp) {
+      ++pp;
+      shut += th::animation::lipOpeningOf(articulation, batch.faps, mouth)[0] < 1e-9 ? 1 : 0;
+    }
+  }
+  EXPECT_LT(largest, 1e-9);
+  EXPECT_GT(pp, 5) << "BEAT2's speech has closures";
+  EXPECT_EQ(shut, pp);
+}
+
 // By default the mouth sets the pace: frame i has the batch mouth of frame i and the batch head of frame
 // i - headDelayFrames, and frames come out as soon as the mouth's look-ahead allows.
 TEST(LiveDecoder, ShowsTheMouthAtOnceAndTheHeadLate) {
@@ -164,10 +209,11 @@ TEST(LiveDecoder, ShowsTheMouthAtOnceAndTheHeadLate) {
 }
 
 // An endless stream in bounded memory: three minutes of speech (the same 12 s over and over), and what the
-// decoder holds after one minute and after three is the same small number of frames.
+// decoder holds after one minute and after three is the same small number of frames (the articulation's
+// subframes included).
 TEST(LiveDecoder, HoldsOnlyTheRecentFramesOnALongStream) {
   const std::vector<float> samples = speech(12.0);
-  LiveDecoder decoder(&models().head, &models().mouth, {});
+  LiveDecoder decoder(&models().head, &models().mouth, {}, nullptr, &models().articulation);
   AnimationFrame frame;
   int frames = 0;
   std::size_t heldAfterAMinute = 0;

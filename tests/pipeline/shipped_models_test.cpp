@@ -13,6 +13,11 @@
 #include "audio/audio_file.h"
 #include "core/data_path.h"
 #include "face/feature_points.h"
+#include "animation/articulation.h"
+#include "audio/media_audio.h"
+#include "formats/arkit_format.h"
+#include "pipeline/live_presets.h"
+#include "pipeline/options.h"
 #include "pipeline/offline.h"
 
 namespace {
@@ -103,6 +108,61 @@ TEST(ShippedMouth, EveryPresetsModelDrivesTheJawAndTheLips) {
     streaming.mouth.windowFrames = 1;
     const std::vector<double> jaw = jawOf(animate(demoSpeech(), nullptr, &model, streaming));
     EXPECT_GT(percentile(jaw, 0.95) - percentile(jaw, 0.05), 100.0) << name << ": the jaw moves";
+  }
+}
+
+// The shipped articulation on a voice none of the models heard (GRID's speaker 2, "set white with p two soon"):
+// the face, the visemes and the ARKit weights say one thing, the /p/ is a closure, and at -20 dB nothing changes.
+TEST(ShippedArticulation, ClosesTheLipsWhereTheVisemesSayPpOnAnUnheardVoice) {
+  const std::filesystem::path clip = th::sharedDataPath("grid/samples/id2_vcd_swwp2s.mpg");
+  const std::vector<float> samples = th::audio::readRecording(clip).samples;
+  const MouthModel mouth = loadMouthModel(modelFile("mouth.json"));
+  const MouthNetwork articulation = loadMouthNetwork(modelFile("articulation.json"));
+  AnimateOptions options;
+  options.idle = false;
+  const th::face::FapTrack track = animate(samples, nullptr, &mouth, options, nullptr, &articulation);
+  ASSERT_EQ(track.visemes.numFrames(), track.numFrames());
+  const std::vector<int> numbers = mouthFapNumbers(mouth);
+  Eigen::MatrixXd faps(static_cast<Eigen::Index>(numbers.size()), track.numFrames());
+  for (std::size_t i = 0; i < numbers.size(); ++i) faps.row(static_cast<Eigen::Index>(i)) = track.values.row(track.rowOf(numbers[i]));
+  const Eigen::RowVectorXd opening = lipOpeningOf(articulation, numbers, faps);
+  const Eigen::MatrixXd arkit = th::formats::arkitWeights(track);
+  const int close = th::formats::arkitIndex("mouthClose");
+  int pp = 0;
+  for (int t = 0; t < track.numFrames(); ++t) {
+    if (track.visemes.classes[static_cast<std::size_t>(t)] != th::face::kPp) {
+      continue;
+    }
+    ++pp;
+    EXPECT_LT(opening[t], 1e-9) << "frame " << t << " is shown as PP: its lips meet";
+    EXPECT_GT(arkit(close, t), 0.0) << "and mouthClose says so";
+  }
+  // The /p/ of "p" (GRID's alignment: 1.22-1.44 s) is shown closed.
+  int closedInP = 0;
+  for (int t = 37; t <= 43; ++t) closedInP += track.visemes.classes[static_cast<std::size_t>(t)] == th::face::kPp;
+  EXPECT_GE(closedInP, 2);
+  EXPECT_LT(pp, track.numFrames() / 4) << "closures, not a shut mouth";
+  // The same speech 20 dB down: the same visemes on almost every frame.
+  std::vector<float> quiet(samples.size());
+  std::transform(samples.begin(), samples.end(), quiet.begin(), [](float x) { return 0.1F * x; });
+  const th::face::FapTrack softer = animate(quiet, nullptr, &mouth, options, nullptr, &articulation);
+  int same = 0;
+  for (int t = 0; t < track.numFrames(); ++t)
+    same += track.visemes.classes[static_cast<std::size_t>(t)] == softer.visemes.classes[static_cast<std::size_t>(t)];
+  EXPECT_GE(same, track.numFrames() - 3);
+}
+
+TEST(ShippedArticulation, EveryPresetsNetworkLooksNoFurtherAheadThanItsMouth) {
+  for (const th::pipeline::LivePreset& preset : th::pipeline::kLivePresets) {
+    const MouthModel mouth = loadMouthModel(modelFile(std::string(preset.mouthModelFile)));
+    const MouthNetwork articulation = loadMouthNetwork(modelFile(std::string(preset.articulationFile)));
+    EXPECT_EQ(articulation.openingGradient.size(), static_cast<Eigen::Index>(articulation.visualFaps.size()));
+    // The mouth model waits for its MFCC context and its inversion window; the network for its future
+    // subframes (90 a second).
+    th::pipeline::LiveSettings settings;
+    th::pipeline::applyLivePreset(settings, preset.name);
+    const int mouthFrames = mouth.contextFrames + settings.streaming.window - 1;
+    EXPECT_LE(articulation.futureSubframes / 90.0, mouthFrames / 30.0 + 1e-9) << preset.name;
   }
 }
 

@@ -85,6 +85,9 @@ struct Measures {
   // Decoded by the class HMM (animation/articulation.h networkVisemes), one per evidence scale.
   std::vector<eval::VisemeScores> hybrid = std::vector<eval::VisemeScores>(4);
   std::vector<std::vector<int>> hybridAll = std::vector<std::vector<int>>(4);
+  // As live decodes: the network from the training speech's mean, the classes by the stream (lag 0).
+  eval::VisemeScores streamed;
+  std::vector<int> streamedAll;
   // The mouth model's FAPs with the lips articulated on the decoded classes (the first scale): jaw, opening,
   // width; and on the phones' /p b m/ frames, how often the face's lips are shut (opening < the closed share).
   std::vector<double> fusedJaw, fusedOpen, fusedWidth;
@@ -102,6 +105,8 @@ struct Measures {
       hybrid[k].add(other.truthAll, other.hybridAll[k]);
       hybridAll[k].insert(hybridAll[k].end(), other.hybridAll[k].begin(), other.hybridAll[k].end());
     }
+    streamed.add(other.truthAll, other.streamedAll);
+    streamedAll.insert(streamedAll.end(), other.streamedAll.begin(), other.streamedAll.end());
     ppFaceFrames += other.ppFaceFrames, ppFaceShutHmm += other.ppFaceShutHmm, ppFaceShutFused += other.ppFaceShutFused;
     faceShutHmm += other.faceShutHmm, faceShutFused += other.faceShutFused, faceFrames += other.faceFrames;
   }
@@ -159,6 +164,18 @@ struct Measures {
                     100.0 * h(pp, pp) / std::max(h.row(pp).sum(), 1), 100.0 * h(pp, pp) / std::max(h.col(pp).sum(), 1),
                     100.0 * (h(oh, oh) + h(oh, ou) + h(ou, oh) + h(ou, ou)) / std::max(roundTruth, 1.0),
                     100.0 * hybrid[k].holds().shortRunShare(2));
+      text += cell;
+    }
+    if (streamed.oculusConfusion().sum() > 0) {
+      const Eigen::MatrixXi& h = streamed.oculusConfusion();
+      char cell[256];
+      std::snprintf(cell, sizeof cell,
+                    "      streamed (lag 0, prior mean, scale %.2f): oculus %5.1f%% rhubarb %5.1f%% PP R %5.1f%% P %5.1f%% "
+                    "round R %5.1f%%\n",
+                    animation::ArticulationOptions{}.evidenceScale, 100.0 * streamed.oculusAccuracy(),
+                    100.0 * streamed.rhubarbAccuracy(), 100.0 * h(pp, pp) / std::max(h.row(pp).sum(), 1),
+                    100.0 * h(pp, pp) / std::max(h.col(pp).sum(), 1),
+                    100.0 * (h(oh, oh) + h(oh, ou) + h(ou, oh) + h(ou, ou)) / std::max(roundTruth, 1.0));
       text += cell;
     }
     if (!fusedJaw.empty()) {
@@ -423,6 +440,25 @@ int main(int argc, char** argv) {
           path.resize(static_cast<std::size_t>(frames));
           m.hybrid[k].add(truth, path);
           m.hybridAll[k].insert(m.hybridAll[k].end(), path.begin(), path.end());
+        }
+        {
+          const animation::ArticulationOptions articulation;
+          const animation::MouthNetworkOutput fromPrior = animation::runMouthNetwork(trained.model, r->recording.subframes);
+          const hmm::HmmModel classes = animation::classHmm(trained.model.sequence, articulation.minHoldFrames);
+          animation::VisemeStream stream(classes, articulation.minHoldFrames, 0);
+          const Eigen::VectorXd logPriors = trained.model.classPriors.array().log().matrix();
+          std::vector<int> path;
+          animation::VisemeFrame decided;
+          for (int t = 0; t < fromPrior.numFrames(); ++t) {
+            stream.acceptEvidence(articulation.evidenceScale *
+                                  (fromPrior.classes.col(t).array().max(1e-12).log().matrix() - logPriors));
+            while (stream.next(decided)) path.push_back(decided.mouthClass);
+          }
+          stream.finish();
+          while (stream.next(decided)) path.push_back(decided.mouthClass);
+          path.resize(static_cast<std::size_t>(frames));
+          m.streamed.add(truth, path);
+          m.streamedAll.insert(m.streamedAll.end(), path.begin(), path.end());
         }
         m.truthAll.insert(m.truthAll.end(), truth.begin(), truth.end());
         m.decodedAll.insert(m.decodedAll.end(), decoded.begin(), decoded.end());
