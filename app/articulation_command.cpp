@@ -68,16 +68,19 @@ void addTrainArticulationCommand(CLI::App& train) {
       "articulation",
       "Speech -> mouth classes and lip closures (the default mouth's visemes and closures) from every shared corpus");
   command->add_option("-o,--output", arguments->output, "Model file to write")->capture_default_str();
-  command->add_option("--tracks", arguments->tracks,
-                      "Folder of the clips' tracks, made on first use (default: " +
-                          std::string(kMouthTrackFolderHelp) + ")");
+  command->add_option(
+      "--tracks", arguments->tracks,
+      "Folder of the clips' tracks, made on first use (default: " + std::string(kMouthTrackFolderHelp) + ")");
   command->add_option("--festival", arguments->festival,
                       "Folder of synthesised phone-aligned speech to train on too (tools/festival_speech.py)");
-  command->add_option("--future", arguments->futureSubframes,
-                      "Look-ahead in 90 fps subframes (9: 100 ms; the live presets' files use 3 and 0)")
+  command
+      ->add_option("--future", arguments->futureSubframes,
+                   "Look-ahead in 90 fps subframes (9: 100 ms; the live presets' files use 3 and 0)")
       ->check(CLI::Range(0, 45))
       ->capture_default_str();
-  command->add_option("--epochs", arguments->epochs, "Training epochs")->check(CLI::Range(1, 200))->capture_default_str();
+  command->add_option("--epochs", arguments->epochs, "Training epochs")
+      ->check(CLI::Range(1, 200))
+      ->capture_default_str();
   command->callback([arguments] { runTrain(*arguments); });
 }
 

@@ -10,13 +10,13 @@ void addFeaturesCommand(CLI::App& app);
 void addEvalCommand(CLI::App& app);
 void addHmmCommand(CLI::App& app);
 void addTrainCommand(CLI::App& app);
-void addEvalHeadCommand(CLI::App& eval);       // `eval head`, registered by addEvalCommand
-void addEvalMouthCommand(CLI::App& eval);      // `eval mouth`, likewise
-void addTrainMouthCommand(CLI::App& train);    // `train mouth`, registered by addTrainCommand
-void addTrainVisemesCommand(CLI::App& train);  // `train visemes`, likewise
+void addEvalHeadCommand(CLI::App& eval);            // `eval head`, registered by addEvalCommand
+void addEvalMouthCommand(CLI::App& eval);           // `eval mouth`, likewise
+void addTrainMouthCommand(CLI::App& train);         // `train mouth`, registered by addTrainCommand
+void addTrainVisemesCommand(CLI::App& train);       // `train visemes`, likewise
 void addTrainArticulationCommand(CLI::App& train);  // `train articulation`, likewise
-void addEvalVisemesCommand(CLI::App& eval);    // `eval visemes`, registered by addEvalCommand
-void addTrainVideoOptions(CLI::App& train);    // `train --video DIR`, likewise
+void addEvalVisemesCommand(CLI::App& eval);         // `eval visemes`, registered by addEvalCommand
+void addTrainVideoOptions(CLI::App& train);         // `train --video DIR`, likewise
 void addAnimateCommand(CLI::App& app);
 void addFaceCommands(CLI::App& app);  // render, poses, export
 void addShowCommand(CLI::App& app);

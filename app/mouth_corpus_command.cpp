@@ -436,7 +436,7 @@ void reportChinDrop(const std::vector<const Estimator*>& estimators) {
 }  // namespace
 
 eval::TalkingCorpus loadMouthCorpus(const std::vector<eval::TalkingFolder>& folders, const std::string& tracks,
-                               const face::FaceModel& face) {
+                                    const face::FaceModel& face) {
   tracking::VideoCorpusOptions options;
   options.trackFolder = tracks.empty() ? defaultMouthTrackFolder() : std::filesystem::path(tracks);
   options.synchronise = true;

@@ -159,14 +159,16 @@ void articulateStream(benchmark::State& state) {
     th::animation::VisemeFrame shown;
     int taken = 0, frames = 0;
     for (std::size_t at = 0; at < d.samples.size(); at += 160) {  // 10 ms blocks, as a sound device gives them
-      extractor.acceptWaveform(std::span<const float>(d.samples).subspan(at, std::min<std::size_t>(160, d.samples.size() - at)));
+      extractor.acceptWaveform(
+          std::span<const float>(d.samples).subspan(at, std::min<std::size_t>(160, d.samples.size() - at)));
       for (; taken < extractor.numBaseFramesReady(); ++taken) {
         extractor.getMfcc(taken, row);
         for (Eigen::Index k = 0; k < mfcc.size(); ++k) mfcc[k] = row[static_cast<std::size_t>(k)];
         network.accept(extractor.getLevelDb(taken), mfcc);
       }
       extractor.forgetBefore(taken);
-      while (network.next(heard)) visemes.acceptEvidence(options.evidenceScale * (heard.classes.array().log().matrix() - logPriors));
+      while (network.next(heard))
+        visemes.acceptEvidence(options.evidenceScale * (heard.classes.array().log().matrix() - logPriors));
       while (visemes.next(shown)) ++frames;
     }
     benchmark::DoNotOptimize(frames);
@@ -217,7 +219,9 @@ int main(int argc, char** argv) {
         ->Unit(benchmark::kMillisecond)
         ->MinTime(minTime);
   }
-  benchmark::RegisterBenchmark("articulation/batch_16s", articulateBatch)->Unit(benchmark::kMillisecond)->MinTime(minTime);
+  benchmark::RegisterBenchmark("articulation/batch_16s", articulateBatch)
+      ->Unit(benchmark::kMillisecond)
+      ->MinTime(minTime);
   benchmark::RegisterBenchmark("articulation/stream_16s", articulateStream)
       ->Unit(benchmark::kMillisecond)
       ->MinTime(minTime);

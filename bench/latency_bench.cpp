@@ -6,6 +6,7 @@
 //
 //   build/bench/latency_bench            # 70 onsets per setting, ~4 min (real time)
 //   build/bench/latency_bench --quick    # 6 onsets per setting, a smoke check
+//   build/bench/latency_bench --only default   # the baseline and the settings whose name holds "default"
 //
 // The recording: the first onset of each GRID clip (s1 and the other speakers' samples; "bin ...", "place ...",
 // "lay ...", "set ..."): the first
@@ -257,11 +258,14 @@ void printDistribution(const char* what, const std::vector<double>& ms) {
 
 int main(int argc, char** argv) {
   bool quick = false;
+  std::string only;
   for (int i = 1; i < argc; ++i) {
     if (std::strcmp(argv[i], "--quick") == 0) {
       quick = true;
+    } else if (std::strcmp(argv[i], "--only") == 0 && i + 1 < argc) {
+      only = argv[++i];
     } else {
-      std::fprintf(stderr, "latency_bench: unknown argument %s (only --quick)\n", argv[i]);
+      std::fprintf(stderr, "latency_bench: unknown argument %s (--quick, --only TEXT)\n", argv[i]);
       return 1;
     }
   }
@@ -306,13 +310,14 @@ int main(int argc, char** argv) {
       const std::string name = "preset " + std::string(preset.name) + ": " + std::string(preset.mouthModelFile) +
                                ", window " + std::to_string(applied.streaming.window) +
                                (interpolate ? ", interpolated" : ", newest frame");
-      settings.push_back({name + ", " + std::string(preset.articulationFile), options, interpolate, &mouths[p],
-                          &articulations[p]});
+      settings.push_back(
+          {name + ", " + std::string(preset.articulationFile), options, interpolate, &mouths[p], &articulations[p]});
       // The same without the articulation: what the preset was before it.
       settings.push_back({name + ", no articulation", options, interpolate, &mouths[p], nullptr});
     }
     double baselineMedian = 0.0;
     for (const Setting& setting : settings) {
+      if (!only.empty() && baselineMedian != 0.0 && setting.name.find(only) == std::string::npos) continue;
       const Result result = run(setting, recording, head, face, renderer, camera);
       const double median = percentileOf(result.sharpMs, 50);
       if (baselineMedian == 0.0) baselineMedian = median;

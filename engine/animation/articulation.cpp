@@ -23,8 +23,9 @@ bool shapesCorners(int mouthClass) {
 // Each row of faps: its index in the model's visual FAPs, or -1.
 std::vector<int> gradientRows(const MouthNetwork& model, const std::vector<int>& fapNumbers) {
   if (model.openingGradient.size() != static_cast<Eigen::Index>(model.visualFaps.size()))
-    throw Error("articulation: the mouth network has no opening gradient (train it with `talkinghead train "
-                "articulation`)");
+    throw Error(
+        "articulation: the mouth network has no opening gradient (train it with `talkinghead train "
+        "articulation`)");
   std::vector<int> rows;
   for (const int fap : fapNumbers) {
     const auto found = std::find(model.visualFaps.begin(), model.visualFaps.end(), fap);

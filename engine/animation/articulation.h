@@ -55,8 +55,8 @@ Eigen::RowVectorXd lipOpeningOf(const MouthNetwork& model, const std::vector<int
                                 const Eigen::MatrixXd& faps);
 
 // Closes the lips on the frames shown as PP, raises the lower lip on FF, rounds oh and ou and spreads E and
-// ih (shown: one class per column of faps; a shorter list leaves the rest). Throws th::Error if the model has no opening gradient or faps has no
-// jaw or lip FAP the gradient moves.
+// ih (shown: one class per column of faps; a shorter list leaves the rest). Throws th::Error if the model has no
+// opening gradient or faps has no jaw or lip FAP the gradient moves.
 void articulateLips(const MouthNetwork& model, const std::vector<int>& shown, const std::vector<int>& fapNumbers,
                     Eigen::MatrixXd& faps, const ArticulationOptions& options);
 

@@ -399,12 +399,12 @@ MouthNetwork loadMouthNetwork(const std::filesystem::path& path) {
   const Json json = readJsonFile(path, "mouth network");
   const JsonFields fields(path.string());
   fields.object(json, "");
-  fields.onlyKnownFields(json,
-                         {"kind", "format_version", "classes", "past_subframes", "future_subframes",
-                          "subframes_per_second", "speech_normalisation", "visual_faps", "visual_basis",
-                          "lip_shape_mean", "lip_shape_deviation", "class_priors", "class_shapes", "class_sequence",
-                          "opening_gradient", "network"},
-                         "");
+  fields.onlyKnownFields(
+      json,
+      {"kind", "format_version", "classes", "past_subframes", "future_subframes", "subframes_per_second",
+       "speech_normalisation", "visual_faps", "visual_basis", "lip_shape_mean", "lip_shape_deviation", "class_priors",
+       "class_shapes", "class_sequence", "opening_gradient", "network"},
+      "");
   if (fields.string(fields.member(json, "kind", ""), "kind") != kKind)
     fields.fail("kind", std::string("must be \"") + kKind + "\"");
   if (fields.integer(fields.member(json, "format_version", ""), "format_version") != kFormatVersion)

@@ -120,7 +120,7 @@ class VisemeStream {
   // lagFrames: how many frames after a frame its class is decided (beyond the context's tc).
   explicit VisemeStream(const VisemeModel& model, int lagFrames = 2);
   VisemeStream(const hmm::HmmModel& classes, int minHoldFrames, int lagFrames);
-  void accept(double levelDb, const Eigen::Ref<const Eigen::VectorXd>& mfcc);  // the viseme model's stream only
+  void accept(double levelDb, const Eigen::Ref<const Eigen::VectorXd>& mfcc);         // the viseme model's stream only
   void acceptEvidence(const Eigen::Ref<const Eigen::VectorXd>& classLogLikelihoods);  // kNumMouthClasses
   void finish();  // the input has ended: the frames still waiting are decided
   bool next(VisemeFrame& frame);

@@ -131,8 +131,7 @@ std::vector<CorpusRecording> synthesisedSpeech(const std::filesystem::path& fold
 std::vector<bool> gridHeldOut(const std::vector<CorpusRecording>& corpus) {
   std::map<std::string, int> seen;
   std::vector<bool> heldOut;
-  for (const CorpusRecording& r : corpus)
-    heldOut.push_back(r.recording.speaker == "grid-s1" && seen[r.set]++ % 5 == 4);
+  for (const CorpusRecording& r : corpus) heldOut.push_back(r.recording.speaker == "grid-s1" && seen[r.set]++ % 5 == 4);
   return heldOut;
 }
 

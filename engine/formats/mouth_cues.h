@@ -5,8 +5,8 @@
 //
 // Times are in centiseconds, Rhubarb's unit: a cue starts where its first frame's interval does (frame i is
 // centred at i / fps, as the speech features' frames are, and stands for half a frame either side), rounded to
-// the nearest centisecond, and ends where the next starts; the last ends at the animation's end, truncated to 0.01 s, as
-// Rhubarb truncates the recording's. Neighbouring classes with the same shape (DD then SS: both B) are one cue.
+// the nearest centisecond, and ends where the next starts; the last ends at the animation's end, truncated to 0.01 s,
+// as Rhubarb truncates the recording's. Neighbouring classes with the same shape (DD then SS: both B) are one cue.
 // Thread contract: pure functions.
 #pragma once
 

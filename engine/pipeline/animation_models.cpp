@@ -21,11 +21,11 @@ AnimationModels loadAnimationModels(const std::filesystem::path& headModel, cons
   if (!visemeModel.empty())
     models.visemes = std::make_unique<animation::VisemeModel>(animation::loadVisemeModel(visemeModel));
   if (!articulationModel.empty()) {
-    models.articulation =
-        std::make_unique<animation::MouthNetwork>(animation::loadMouthNetwork(articulationModel));
+    models.articulation = std::make_unique<animation::MouthNetwork>(animation::loadMouthNetwork(articulationModel));
     if (models.articulation->openingGradient.size() == 0)
-      throw fileError(articulationModel, "has no opening_gradient: the lips cannot be closed by it; make one with "
-                                         "`talkinghead train articulation`");
+      throw fileError(articulationModel,
+                      "has no opening_gradient: the lips cannot be closed by it; make one with "
+                      "`talkinghead train articulation`");
   }
   return models;
 }

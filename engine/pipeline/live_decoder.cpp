@@ -66,8 +66,8 @@ LiveDecoder::LiveDecoder(const animation::HeadModel* head, const animation::Mout
     networkStream_ = std::make_unique<animation::MouthNetworkStream>(*articulation);
     articulationClasses_ = animation::classHmm(articulation->sequence, options.articulation.minHoldFrames);
     logPriors_ = articulation->classPriors.array().max(1e-12).log().matrix();
-    visemeStream_ = std::make_unique<animation::VisemeStream>(
-        articulationClasses_, options.articulation.minHoldFrames, options.articulationLagFrames);
+    visemeStream_ = std::make_unique<animation::VisemeStream>(articulationClasses_, options.articulation.minHoldFrames,
+                                                              options.articulationLagFrames);
   } else if (visemes != nullptr) {
     visemeStream_ = std::make_unique<animation::VisemeStream>(*visemes, options.visemeLagFrames);
   }
@@ -173,11 +173,9 @@ void LiveDecoder::pull() {
 }
 
 std::size_t LiveDecoder::framesHeld() const {
-  const std::size_t subframes =
-      networkStream_ ? networkExtractor_->framesHeld() + networkStream_->subframesHeld() : 0;
+  const std::size_t subframes = networkStream_ ? networkExtractor_->framesHeld() + networkStream_->subframesHeld() : 0;
   return prosodyExtractor_.framesHeld() + mouthExtractor_.framesHeld() + (headStream_ ? headStream_->framesHeld() : 0) +
-         prosodyFrames_.size() + mouthFrames_.size() + visemeFrames_.size() +
-         subframes / animation::kSubframesPerFrame;
+         prosodyFrames_.size() + mouthFrames_.size() + visemeFrames_.size() + subframes / animation::kSubframesPerFrame;
 }
 
 bool LiveDecoder::next(AnimationFrame& frame) {

@@ -76,8 +76,7 @@ class LiveDecoder : public FrameDecoder {
   // Throws th::Error if both models are null, the mouth model drives no FAPs (no FAP map and no visual FAPs), or an
   // option cannot stream (a batch head, maxLagFrames < 0, or a mouth window below 1).
   LiveDecoder(const animation::HeadModel* head, const animation::MouthModel* mouth, const LiveDecoderOptions& options,
-              const animation::VisemeModel* visemes = nullptr,
-              const animation::MouthNetwork* articulation = nullptr);
+              const animation::VisemeModel* visemes = nullptr, const animation::MouthNetwork* articulation = nullptr);
   ~LiveDecoder() override;
   LiveDecoder(const LiveDecoder&) = delete;
   LiveDecoder& operator=(const LiveDecoder&) = delete;

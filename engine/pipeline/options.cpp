@@ -167,8 +167,7 @@ std::filesystem::path LiveSettings::mouthModelPath() const {
 
 std::filesystem::path LiveSettings::articulationModelPath() const {
   const LivePreset* preset = findLivePreset(live.preset);
-  return models.articulationModelPath(preset != nullptr ? preset->articulationFile
-                                                        : kLivePresets[0].articulationFile);
+  return models.articulationModelPath(preset != nullptr ? preset->articulationFile : kLivePresets[0].articulationFile);
 }
 
 LiveDecoderOptions LiveSettings::decoderOptions() const {

@@ -42,7 +42,7 @@ struct ModelOptions {
   // a part switched off ("none").
   std::filesystem::path headModelPath() const;
   std::filesystem::path mouthModelPath(std::string_view shippedMouth = "mouth.json") const;
-  std::filesystem::path visemeModelPath() const;        // empty for "none"
+  std::filesystem::path visemeModelPath() const;  // empty for "none"
   // empty for "none"; shipped: the file in models/ (live: the preset's)
   std::filesystem::path articulationModelPath(std::string_view shipped = "articulation.json") const;
 };

@@ -157,8 +157,7 @@ TEST(Articulation, TheStreamDecodesAsTheBatchWithALongLag) {
   const hmm::HmmModel classes = classHmm(model.sequence, options.minHoldFrames);
   VisemeStream stream(classes, options.minHoldFrames, 30);
   const Eigen::MatrixXd evidence =
-      options.evidenceScale *
-      (posteriors.array().log().colwise() - model.classPriors.array().log()).matrix();
+      options.evidenceScale * (posteriors.array().log().colwise() - model.classPriors.array().log()).matrix();
   std::vector<int> streamed;
   VisemeFrame frame;
   for (Eigen::Index t = 0; t < evidence.cols(); ++t) {

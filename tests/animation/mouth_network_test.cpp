@@ -169,7 +169,8 @@ TEST(MouthNetwork, ItsFileKeepsItsAnswersAndBrokenFilesAreRefused) {
   EXPECT_NE(failure("\"visual_faps\": [\n  3,\n  12\n ]", "\"visual_faps\": [12, 3]").find("visual_faps"),
             std::string::npos);
   EXPECT_NE(failure("\"format_version\": 2", "\"format_version\": 1").find("format_version"), std::string::npos);
-  EXPECT_NE(failure("\"opening_gradient\": [", "\"opening_gradient\": [1,").find("opening_gradient"), std::string::npos);
+  EXPECT_NE(failure("\"opening_gradient\": [", "\"opening_gradient\": [1,").find("opening_gradient"),
+            std::string::npos);
   EXPECT_NE(failure("\"mean_run\": [", "\"mean_run\": [-1,").find("class_sequence"), std::string::npos);
 }
 
@@ -195,7 +196,8 @@ TEST(MouthNetwork, TheStreamAnswersAsTheBatchFrameForFrame) {
     held = std::max(held, stream.subframesHeld());
     while (stream.next(frame)) check();
     // A frame is out as soon as its look-ahead has come.
-    EXPECT_EQ(frames, t >= model.futureSubframes ? (t - model.futureSubframes) / th::animation::kSubframesPerFrame + 1 : 0);
+    EXPECT_EQ(frames,
+              t >= model.futureSubframes ? (t - model.futureSubframes) / th::animation::kSubframesPerFrame + 1 : 0);
   }
   stream.finish();
   while (stream.next(frame)) check();

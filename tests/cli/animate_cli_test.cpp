@@ -230,9 +230,9 @@ TEST_F(AnimateCliTest, VisemesAndMouthCuesInEveryFormat) {
   EXPECT_GT(std::count(tsv.begin(), tsv.end(), '\n'), 10) << tsv;
   // Without the articulation, the viseme model's visemes: other cues from the same speech.
   const fs::path modelCues = out() / "model.tsv";
-  ASSERT_EQ(runCli({"animate", prompt.string(), "-o", modelCues.string(), "--articulation-model", "none"}, logs())
-                .exitCode,
-            0);
+  ASSERT_EQ(
+      runCli({"animate", prompt.string(), "-o", modelCues.string(), "--articulation-model", "none"}, logs()).exitCode,
+      0);
   EXPECT_EQ(th::test::readText(modelCues).rfind("0.00\tX\n", 0), 0U);
   EXPECT_NE(th::test::readText(modelCues), tsv);
   expectOneLineFailure(runCli({"animate", prompt.string(), "-o", (out() / "none.tsv").string(), "--viseme-model",
@@ -240,8 +240,8 @@ TEST_F(AnimateCliTest, VisemesAndMouthCuesInEveryFormat) {
                               logs()),
                        "none.tsv", "has no visemes");
   EXPECT_FALSE(fs::exists(out() / "none.tsv"));
-  expectOneLineFailure(runCli({"animate", prompt.string(), "-o", (out() / "bad.tsv").string(),
-                               "--articulation-model", (out() / "model.tsv").string()},
+  expectOneLineFailure(runCli({"animate", prompt.string(), "-o", (out() / "bad.tsv").string(), "--articulation-model",
+                               (out() / "model.tsv").string()},
                               logs()),
                        "model.tsv", "");
 }

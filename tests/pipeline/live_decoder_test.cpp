@@ -108,8 +108,8 @@ TEST(LiveDecoder, ArticulatesAsTheStreamingAnimationAndClosesTheLipsOnEveryPp) {
   options.mouth.windowFrames = 1;
   th::pipeline::AnimateOptions batchOptions{.head = options.head, .mouth = options.mouth, .idle = false};
   batchOptions.articulationLagFrames = options.articulationLagFrames;
-  const th::face::FapTrack batch = th::pipeline::animate(samples, &models().head, &models().mouth, batchOptions,
-                                                         nullptr, &articulation);
+  const th::face::FapTrack batch =
+      th::pipeline::animate(samples, &models().head, &models().mouth, batchOptions, nullptr, &articulation);
   LiveDecoder decoder(&models().head, &models().mouth, options, nullptr, &articulation);
   const th::pipeline::DecoderLookahead lookahead = decoder.lookahead();
   EXPECT_NEAR(lookahead.articulationMs, 12.5 + 1000.0 * articulation.futureSubframes / 90.0, 1e-9);

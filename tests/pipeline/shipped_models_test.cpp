@@ -9,16 +9,16 @@
 #include <string>
 #include <vector>
 
+#include "animation/articulation.h"
 #include "animation/mouth_model.h"
 #include "audio/audio_file.h"
+#include "audio/media_audio.h"
 #include "core/data_path.h"
 #include "face/feature_points.h"
-#include "animation/articulation.h"
-#include "audio/media_audio.h"
 #include "formats/arkit_format.h"
 #include "pipeline/live_presets.h"
-#include "pipeline/options.h"
 #include "pipeline/offline.h"
+#include "pipeline/options.h"
 
 namespace {
 
@@ -124,7 +124,8 @@ TEST(ShippedArticulation, ClosesTheLipsWhereTheVisemesSayPpOnAnUnheardVoice) {
   ASSERT_EQ(track.visemes.numFrames(), track.numFrames());
   const std::vector<int> numbers = mouthFapNumbers(mouth);
   Eigen::MatrixXd faps(static_cast<Eigen::Index>(numbers.size()), track.numFrames());
-  for (std::size_t i = 0; i < numbers.size(); ++i) faps.row(static_cast<Eigen::Index>(i)) = track.values.row(track.rowOf(numbers[i]));
+  for (std::size_t i = 0; i < numbers.size(); ++i)
+    faps.row(static_cast<Eigen::Index>(i)) = track.values.row(track.rowOf(numbers[i]));
   const Eigen::RowVectorXd opening = lipOpeningOf(articulation, numbers, faps);
   const Eigen::MatrixXd arkit = th::formats::arkitWeights(track);
   const int close = th::formats::arkitIndex("mouthClose");

@@ -72,7 +72,8 @@ constexpr double kScales[] = {0.3, 0.5, 0.75, 1.0};
 struct Measures {
   eval::VisemeScores visemes;
   std::vector<double> jawEstimate, jawTruth, openEstimate, openTruth, openFace, widthFace, widthTruth;
-  std::vector<double> hmmJaw, hmmOpen, hmmWidth, levelJaw, levelOpen;  // the mouth model's (HMM) and the level's, if asked
+  std::vector<double> hmmJaw, hmmOpen, hmmWidth, levelJaw,
+      levelOpen;  // the mouth model's (HMM) and the level's, if asked
   int shutTruthFrames = 0, shutHits = 0, shutShown = 0;
   int ppFrames = 0, ppShut = 0;  // PP-phone frames where the shut head says shut
   // PP by a threshold on P(PP) (rows) and on P(shut) (last row): truth hits, frames shown.
@@ -88,9 +89,9 @@ struct Measures {
   // As live decodes: the network from the training speech's mean, the classes by the stream (lag 0).
   eval::VisemeScores streamed;
   std::vector<int> streamedAll;
-  // The mouth model's FAPs with the lips articulated on the decoded classes (the first scale): jaw, opening,
+  // The mouth model's FAPs with the lips articulated on the decoded classes (the shipped scale): jaw, opening,
   // width; and on the phones' /p b m/ frames, how often the face's lips are shut (opening < the closed share).
-  std::vector<double> fusedJaw, fusedOpen, fusedWidth;
+  std::vector<double> fusedJaw, fusedOpen, fusedWidth, closedOnlyWidth;
   int ppFaceFrames = 0, ppFaceShutHmm = 0, ppFaceShutFused = 0, faceShutHmm = 0, faceShutFused = 0, faceFrames = 0;
   void pool(const Measures& other) {
     visemes.add(other.truthAll, other.decodedAll);
@@ -169,23 +170,26 @@ struct Measures {
     if (streamed.oculusConfusion().sum() > 0) {
       const Eigen::MatrixXi& h = streamed.oculusConfusion();
       char cell[256];
-      std::snprintf(cell, sizeof cell,
-                    "      streamed (lag 0, prior mean, scale %.2f): oculus %5.1f%% rhubarb %5.1f%% PP R %5.1f%% P %5.1f%% "
-                    "round R %5.1f%%\n",
-                    animation::ArticulationOptions{}.evidenceScale, 100.0 * streamed.oculusAccuracy(),
-                    100.0 * streamed.rhubarbAccuracy(), 100.0 * h(pp, pp) / std::max(h.row(pp).sum(), 1),
-                    100.0 * h(pp, pp) / std::max(h.col(pp).sum(), 1),
-                    100.0 * (h(oh, oh) + h(oh, ou) + h(ou, oh) + h(ou, ou)) / std::max(roundTruth, 1.0));
+      std::snprintf(
+          cell, sizeof cell,
+          "      streamed (lag 0, prior mean, scale %.2f): oculus %5.1f%% rhubarb %5.1f%% PP R %5.1f%% P %5.1f%% "
+          "round R %5.1f%%\n",
+          animation::ArticulationOptions{}.evidenceScale, 100.0 * streamed.oculusAccuracy(),
+          100.0 * streamed.rhubarbAccuracy(), 100.0 * h(pp, pp) / std::max(h.row(pp).sum(), 1),
+          100.0 * h(pp, pp) / std::max(h.col(pp).sum(), 1),
+          100.0 * (h(oh, oh) + h(oh, ou) + h(ou, oh) + h(ou, ou)) / std::max(roundTruth, 1.0));
       text += cell;
     }
     if (!fusedJaw.empty()) {
       char cell[320];
-      std::snprintf(cell, sizeof cell,
-                    "      mouth model + articulated lips: jaw rho %6.3f open rho %6.3f width rho %6.3f | face shut on "
-                    "/p b m/: %5.1f%% (mouth model %5.1f%%), on all frames %5.1f%% (%5.1f%%)\n",
-                    rho(fusedJaw, jawTruth), rho(fusedOpen, openTruth), rho(fusedWidth, widthTruth),
-                    100.0 * ppFaceShutFused / std::max(ppFaceFrames, 1), 100.0 * ppFaceShutHmm / std::max(ppFaceFrames, 1),
-                    100.0 * faceShutFused / std::max(faceFrames, 1), 100.0 * faceShutHmm / std::max(faceFrames, 1));
+      std::snprintf(
+          cell, sizeof cell,
+          "      mouth model + articulated lips: jaw rho %6.3f open rho %6.3f width rho %6.3f (closures alone %6.3f) | "
+          "face shut on /p b m/: %5.1f%% (mouth model %5.1f%%), on all frames %5.1f%% (%5.1f%%)\n",
+          rho(fusedJaw, jawTruth), rho(fusedOpen, openTruth), rho(fusedWidth, widthTruth),
+          rho(closedOnlyWidth, widthTruth), 100.0 * ppFaceShutFused / std::max(ppFaceFrames, 1),
+          100.0 * ppFaceShutHmm / std::max(ppFaceFrames, 1), 100.0 * faceShutFused / std::max(faceFrames, 1),
+          100.0 * faceShutHmm / std::max(faceFrames, 1));
       text += cell;
     }
     if (c.row(pp).sum() > 0) {
@@ -443,7 +447,8 @@ int main(int argc, char** argv) {
         }
         {
           const animation::ArticulationOptions articulation;
-          const animation::MouthNetworkOutput fromPrior = animation::runMouthNetwork(trained.model, r->recording.subframes);
+          const animation::MouthNetworkOutput fromPrior =
+              animation::runMouthNetwork(trained.model, r->recording.subframes);
           const hmm::HmmModel classes = animation::classHmm(trained.model.sequence, articulation.minHoldFrames);
           animation::VisemeStream stream(classes, articulation.minHoldFrames, 0);
           const Eigen::VectorXd logPriors = trained.model.classPriors.array().log().matrix();
@@ -478,14 +483,18 @@ int main(int argc, char** argv) {
               *hmm, animation::synthesiseMouth(*hmm, speech, {.method = animation::MouthMethod::kMmse}));
           const Eigen::MatrixXd levelFaps = level->predict(speech);
           const Eigen::MatrixXd hmmShape = shapes.of(hmmFaps, talking.faps);
-          // The lips articulated on the decoded classes (the first evidence scale, as the product would).
+          // The lips articulated on the decoded classes, as the product does (its evidence scale).
           animation::ArticulationOptions articulation;
-          articulation.evidenceScale = kScales[0];
           articulation.minHoldFrames = hold;
           const std::vector<int> shown = animation::networkVisemes(trained.model, out.classes, articulation).classes;
           Eigen::MatrixXd fusedFaps = hmmFaps;
           animation::articulateLips(trained.model, shown, talking.faps, fusedFaps, articulation);
           const Eigen::MatrixXd fusedShape = shapes.of(fusedFaps, talking.faps);
+          Eigen::MatrixXd closedFaps = hmmFaps;
+          animation::ArticulationOptions closuresAlone = articulation;
+          closuresAlone.shapeShare = 0.0;
+          animation::articulateLips(trained.model, shown, talking.faps, closedFaps, closuresAlone);
+          const Eigen::MatrixXd closedShape = shapes.of(closedFaps, talking.faps);
           const Eigen::MatrixXd levelShape = shapes.of(levelFaps, talking.faps);
           const auto jawRow = std::find(talking.faps.begin(), talking.faps.end(), 3) - talking.faps.begin();
           // The same frames as the network's below (the HMM's last frame held if it has fewer).
@@ -498,6 +507,7 @@ int main(int argc, char** argv) {
             m.fusedJaw.push_back(fusedFaps(jawRow, u));
             m.fusedOpen.push_back(fusedShape(0, u));
             m.fusedWidth.push_back(fusedShape(1, u));
+            m.closedOnlyWidth.push_back(closedShape(1, u));
             const bool shutHmm = hmmShape(0, u) < options.closedOpening;
             const bool shutFused = fusedShape(0, u) < options.closedOpening;
             ++m.faceFrames;
