@@ -56,8 +56,11 @@ th::pipeline::LiveSettings settingsOf(const th_stream_options* options) {
   };
   choose(options->head_model, settings.models.headModel, settings.models.head, "none");
   choose(options->mouth_model, settings.models.mouthModel, settings.models.mouth, "none");
-  if (options->viseme_model != nullptr)
+  if (options->viseme_model != nullptr) {
     settings.models.visemeModel = *options->viseme_model ? options->viseme_model : "none";
+    // The visemes come from the articulation unless it is off: a viseme model named, or none, turns it off.
+    settings.models.articulationModel = "none";
+  }
   return settings;
 }
 

@@ -14,8 +14,9 @@
 //   network/HMM decoder, as in speech recognition) decoded by the class HMM the network's training labels make
 //   (viseme_model.h classHmm: each class held at least minHoldFrames, runs and bigrams as in the labels).
 // - Closures: on a frame shown as PP, the lips are brought together: the inner lips' opening, linear in the FAPs
-//   (MouthNetwork::openingGradient, measured on the face), is closed partly by raising the jaw (jawShare, never
-//   above rest) and the rest by the lips (the lower lip lowerLipShare of it). FF closes ffShare of the opening
+//   (MouthNetwork::openingGradient, measured on the face), is closed by the lips (the lower lip lowerLipShare of
+//   it), and by raising the jaw if jawShare > 0 (never past rest). By default the jaw stays the mouth model's: a
+//   jaw held shut for the class's hold after a /b p/ onset opened later (bench/latency_bench, docs/mouth.md). FF closes ffShare of the opening
 //   with the lower lip alone.
 // - Rounding and spreading: on a frame shown as oh or ou the mouth's corners (FAPs 6, 7, 53, 54) are drawn in
 //   at least as far as the class's typical shape in the tracked training frames (MouthNetwork::classShapes,
@@ -37,7 +38,7 @@ struct ArticulationOptions {
   // context overlap from frame to frame, so each frame's evidence would otherwise be counted several times).
   double evidenceScale = 0.75;
   int minHoldFrames = 2;       // a class once shown stays this many frames (67 ms: a /p/'s closure is 50-100 ms)
-  double jawShare = 0.5;       // of a closure, how much the jaw makes (the lips the rest)
+  double jawShare = 0.0;       // of a closure, how much the jaw makes (the lips the rest; 0: the jaw untouched)
   double lowerLipShare = 0.6;  // of the lips' part, how much the lower lip makes
   double ffShare = 0.7;        // of the opening, how much the lower lip closes for F and V
   double shapeShare = 1.0;     // how far the corners go to a rounded or spread class's typical shape

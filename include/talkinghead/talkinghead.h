@@ -82,7 +82,8 @@ typedef struct th_frame {
 typedef struct th_stream_options {
   const char* head_model;   /* a model file; NULL: the installed one; "": no head motion */
   const char* mouth_model;  /* NULL: the installed live model; "": no mouth */
-  const char* viseme_model; /* NULL: the installed one; "": no visemes */
+  const char* viseme_model; /* NULL: the installed articulation's visemes (lips closed by the same classes);
+                               a file: that viseme model's, without the articulation; "": no visemes */
   double sample_rate_hz;    /* of the pushed samples, 8000..192000 (default 16000) */
   int wait_for_head;        /* 0: frames as soon as the mouth is decided (the head 12 frames late); 1: each frame
                                waits for its own head (~400 ms) */

@@ -49,7 +49,7 @@ TEST(Articulation, ClosesTheLipsOnPpByJawAndLips) {
   const Eigen::MatrixXd before = faps;
   const double open = lipOpeningOf(model, kFaps, faps)[1];
   const std::vector<int> shown{face::kAa, face::kPp, face::kAa};
-  articulateLips(model, shown, kFaps, faps, {});
+  articulateLips(model, shown, kFaps, faps, {.jawShare = 0.5});
   const Eigen::RowVectorXd opening = lipOpeningOf(model, kFaps, faps);
   EXPECT_GT(opening[0], 0.05);
   EXPECT_NEAR(opening[1], 0.0, 1e-9);  // the lips meet
@@ -62,6 +62,14 @@ TEST(Articulation, ClosesTheLipsOnPpByJawAndLips) {
   EXPECT_GT(faps(rowOf(5), 1), faps(rowOf(4), 1));
   EXPECT_GT(faps(rowOf(4), 1), 0.0);
   EXPECT_EQ(faps(rowOf(6), 1), -40.0);  // the mouth's width is not touched
+}
+
+TEST(Articulation, ByDefaultTheLipsAloneCloseAndTheJawIsTheMouthModels) {
+  const MouthNetwork model = modelWithGradient();
+  Eigen::MatrixXd faps = openMouth(1);
+  articulateLips(model, {face::kPp}, kFaps, faps, {});
+  EXPECT_NEAR(lipOpeningOf(model, kFaps, faps)[0], 0.0, 1e-9);
+  EXPECT_EQ(faps(rowOf(3), 0), 300.0);
 }
 
 TEST(Articulation, FfRaisesTheLowerLipOnly) {

@@ -24,6 +24,7 @@ quietly() {
 quietly cmake --install "$build" --prefix "$prefix"
 for file in include/talkinghead/talkinghead.h lib/libtalkinghead.so lib/pkgconfig/talkinghead.pc \
   lib/cmake/talkinghead/talkingheadConfig.cmake share/talkinghead/models/visemes.json \
+  share/talkinghead/models/articulation_live.json share/talkinghead/models/articulation.json \
   lib/python3/dist-packages/talkinghead/__init__.py; do
   [[ -e "$prefix/$file" ]] || { echo "not installed: $file"; exit 1; }
 done
