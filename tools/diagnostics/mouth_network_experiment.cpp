@@ -8,6 +8,7 @@
 //       [--past 24] [--future 9] [--components 6] [--class-weight 1] [--visual-weight 1] [--shape-weight 1]
 //       [--closure-weight 1] [--closed 0.04] [--dropout 0.2] [--noise 0.1] [--rate 1e-3] [--decay 1e-4]
 //       [--warps 0.9,1.1] [--balance 0.5] [--arabic SHARE] [--threads 2] [--groups NAME_GROUP.csv]
+//       [--hold 2] (the articulation's minimum hold, frames)
 //       [--arabic-faps 0] [--festival DIR]   (tools/festival_speech.py's phone-aligned synthetic voices, trained on in every fold)
 //       [--arabic-folds N [--speaker-groups 60] [--families 2]]   (the N largest anchor groups held out in turn,
 //       each with its family kept out of training: eval/speaker_groups.h; --groups-out FILE writes name,speaker,family)
