@@ -4,10 +4,14 @@
 // phone-aligned takes, and a folder of synthesised phone-aligned voices if given — with the face's
 // inner-lip opening gradient for the closures. How well it does on speakers it never heard:
 // tools/diagnostics/mouth_network_experiment and docs/mouth.md.
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <memory>
+#include <set>
+#include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "animation/mouth_network.h"
 #include "commands.h"
@@ -26,6 +30,7 @@ struct ArticulationArguments {
   std::string festival;  // tools/festival_speech.py's folder; empty: none
   int futureSubframes = animation::MouthNetworkOptions{}.futureSubframes;
   int epochs = 20;  // as measured in docs/mouth.md (the best epoch was the last or the one before in every fold)
+  std::vector<std::string> leftOut;  // speakers not to train on (to show or score the network on voices it never heard)
 };
 
 void runTrain(const ArticulationArguments& arguments) {
@@ -46,8 +51,17 @@ void runTrain(const ArticulationArguments& arguments) {
     if (r.set == "talking/arabic-news") r.recording.faps.resize(0, 0);
   const std::vector<bool> heldOut = eval::gridHeldOut(corpus);
   std::vector<animation::NetworkRecording> training;
-  for (std::size_t i = 0; i < corpus.size(); ++i)
-    if (!heldOut[i]) training.push_back(corpus[i].recording);
+  std::set<std::string> speakersLeftOut;
+  for (std::size_t i = 0; i < corpus.size(); ++i) {
+    const std::string& speaker = corpus[i].recording.speaker;
+    if (std::find(arguments.leftOut.begin(), arguments.leftOut.end(), speaker) != arguments.leftOut.end())
+      speakersLeftOut.insert(speaker);
+    else if (!heldOut[i])
+      training.push_back(corpus[i].recording);
+  }
+  for (const std::string& speaker : arguments.leftOut)
+    if (!speakersLeftOut.count(speaker))
+      throw std::runtime_error("--leave-out: no speaker '" + speaker + "' in the training corpora");
 
   animation::MouthNetworkOptions options;
   options.training.epochs = arguments.epochs;
@@ -81,6 +95,8 @@ void addTrainArticulationCommand(CLI::App& train) {
   command->add_option("--epochs", arguments->epochs, "Training epochs")
       ->check(CLI::Range(1, 200))
       ->capture_default_str();
+  command->add_option("--leave-out", arguments->leftOut,
+                      "Speaker not to train on (repeatable; BEAT2's is scott, StyleTalk's are their folder names)");
   command->callback([arguments] { runTrain(*arguments); });
 }
 
