@@ -98,7 +98,11 @@ const char* covarianceName(hmm::CovarianceType type) {
 std::string describeRecipe(const MouthCorpusArguments& a) {
   std::ostringstream text;
   text << a.model.states << " states x " << a.model.mixtures << " Gaussians (" << covarianceName(a.model.covariance)
-       << " covariance), MFCC context +-" << a.model.contextFrames << ", " << a.model.visualComponents
+       << " covariance), MFCC context "
+       << (a.model.futureContextFrames < 0 || a.model.futureContextFrames == a.model.contextFrames
+               ? "+-" + std::to_string(a.model.contextFrames)
+               : "-" + std::to_string(a.model.contextFrames) + "..+" + std::to_string(a.model.futureContextFrames))
+       << ", " << a.model.visualComponents
        << " visual components" << (a.model.visualDeltas ? " with deltas (MLPG)" : "")
        << (a.model.normaliseSpeech ? ", normalised speech" : ", raw MFCCs")
        << (a.model.varianceValidationEvery > 0 ? ", variance compensation" : "")

@@ -18,6 +18,8 @@
 // the same values, tests/pipeline). Onsets where the model opens the jaw by less than a quarter of its usual range (5th
 // to 95th percentile) are skipped (a closure like /m/ moves the lips, not the jaw).
 //
+// Before the settings, the speakers' own response: their tracked jaws, where `talkinghead train mouth` has left
+// the clips' tracks, crossing by the same rule (how late the speech itself moves the jaw).
 // Each setting reports the distribution (median, 10th and 90th percentiles, largest), split into the model's own
 // response (when the offline jaw crosses, after the onset) and the pipeline (from the crossing instant's samples
 // entering to the frame that shows it rendered).
@@ -28,6 +30,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <memory>
@@ -50,6 +53,7 @@
 #include "render/camera.h"
 #include "render/face_renderer.h"
 #include "render/gl_context.h"
+#include "tracking/track.h"
 
 namespace {
 
@@ -64,6 +68,8 @@ struct OnsetRecording {
   std::vector<float> samples;
   std::vector<std::size_t> onsets;  // sample of each onset
   std::vector<bool> sharp;          // rising 25 dB within 80 ms
+  std::vector<std::filesystem::path> clips;  // the clip each onset came from
+  std::vector<double> clipSeconds;           // and where in it
 };
 
 // Level in dB of 5 ms hops (10 ms windows).
@@ -109,6 +115,8 @@ OnsetRecording buildOnsetRecording(std::size_t wanted) {
                           x.begin() + static_cast<long>(onset + after));
     result.onsets.push_back(result.samples.size() - after);
     result.sharp.push_back(sharp);
+    result.clips.push_back(clip);
+    result.clipSeconds.push_back(static_cast<double>(onset) / kRate);
   }
   return result;
 }
@@ -254,6 +262,74 @@ void printDistribution(const char* what, const std::vector<double>& ms) {
               percentileOf(ms, 10), percentileOf(ms, 90), percentileOf(ms, 100));
 }
 
+// The speaker's own response to the same onsets: their tracked jaw (FAP 3 of `talkinghead track`'s fit, as the
+// mouth models train on it; the tracks the training commands keep in $XDG_CACHE_HOME/talkinghead/tracks), by
+// the same rule as the model's. How late a face that articulates like the speaker may move, before any
+// pipeline: a jaw that opens with the vowel after a /b/, an /s/ or an /l/ is late against the sound's onset.
+struct SpeakerResponse {
+  std::vector<double> allMs, sharpMs;
+  std::size_t withTrack = 0;
+};
+
+std::filesystem::path trackCacheFolder() {
+  if (const char* xdg = std::getenv("XDG_CACHE_HOME"); xdg != nullptr && *xdg != 0)
+    return std::filesystem::path(xdg) / "talkinghead" / "tracks";
+  const char* home = std::getenv("HOME");
+  return std::filesystem::path(home != nullptr ? home : ".") / ".cache" / "talkinghead" / "tracks";
+}
+
+SpeakerResponse speakerResponse(const OnsetRecording& recording) {
+  SpeakerResponse result;
+  std::vector<std::vector<double>> times, jaws;
+  std::vector<double> everyJaw;
+  std::vector<std::size_t> onsetOf;
+  for (std::size_t i = 0; i < recording.clips.size(); ++i) {
+    const std::filesystem::path& clip = recording.clips[i];
+    // The training commands keep a folder's tracks under its path with '/' as '_' ("grid_s1").
+    const std::filesystem::path track = trackCacheFolder() /
+                                        ("grid_" + clip.parent_path().filename().string()) /
+                                        (clip.filename().string() + ".csv");
+    if (!std::filesystem::exists(track)) continue;
+    const th::tracking::Track tracked = th::tracking::readTrackCsv(track);
+    if (tracked.fittedFaps.empty()) continue;
+    std::vector<double> t, jaw;
+    for (const th::tracking::TrackedFrame& frame : tracked.frames) {
+      t.push_back(frame.seconds);
+      jaw.push_back(frame.fit.faps[3]);
+    }
+    everyJaw.insert(everyJaw.end(), jaw.begin(), jaw.end());
+    times.push_back(std::move(t));
+    jaws.push_back(std::move(jaw));
+    onsetOf.push_back(i);
+  }
+  result.withTrack = onsetOf.size();
+  if (everyJaw.empty()) return result;
+  const double range = percentileOf(everyJaw, 95.0) - percentileOf(everyJaw, 5.0);
+  for (std::size_t k = 0; k < onsetOf.size(); ++k) {
+    const std::vector<double>& t = times[k];
+    const std::vector<double>& jaw = jaws[k];
+    const auto at = [&](double seconds) {  // linear between the video's frames
+      const auto upper = std::upper_bound(t.begin(), t.end(), seconds);
+      if (upper == t.begin()) return jaw.front();
+      if (upper == t.end()) return jaw.back();
+      const auto j = static_cast<std::size_t>(upper - t.begin());
+      const double w = (seconds - t[j - 1]) / (t[j] - t[j - 1]);
+      return jaw[j - 1] + w * (jaw[j] - jaw[j - 1]);
+    };
+    const double onset = recording.clipSeconds[onsetOf[k]];
+    const double rest = at(onset);
+    double peak = rest;
+    for (double s = onset; s <= onset + 0.5; s += 0.001) peak = std::max(peak, at(s));
+    if (peak - rest < 0.25 * range) continue;  // as for the models: the jaw hardly opens
+    const double threshold = rest + 0.25 * (peak - rest);
+    double s = onset;
+    while (s < onset + 0.5 && at(s) < threshold) s += 0.001;
+    result.allMs.push_back(1000.0 * (s - onset));
+    if (recording.sharp[onsetOf[k]]) result.sharpMs.push_back(result.allMs.back());
+  }
+  return result;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -275,6 +351,16 @@ int main(int argc, char** argv) {
     const OnsetRecording recording = buildOnsetRecording(quick ? 6 : 1000);
     std::printf("onset latency: %zu onsets in %.1f s of GRID speech, played at real-time pace in %zu-sample blocks\n",
                 recording.onsets.size(), static_cast<double>(recording.samples.size()) / kRate, kBlock);
+    const SpeakerResponse speaker = speakerResponse(recording);
+    if (speaker.allMs.empty()) {
+      std::printf("  the speakers' own jaws: no tracks in %s (made by `talkinghead train mouth`)\n",
+                  trackCacheFolder().c_str());
+    } else {
+      std::printf("  the speakers' own jaws (tracked video, the same rule; %zu onsets with a track, %zu opening):\n",
+                  speaker.withTrack, speaker.allMs.size());
+      printDistribution("  sharp onsets", speaker.sharpMs);
+      printDistribution("  all onsets", speaker.allMs);
+    }
 
     const th::face::FaceModel face = th::face::FaceModel::buildDefault();
     th::render::OffscreenContext context;

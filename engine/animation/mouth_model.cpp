@@ -30,7 +30,7 @@ MouthModelOptions videoMouthRecipe() {
 
 int MouthModel::speechRowsPerFrame() const {
   if (normalisation) return static_cast<int>(normalisation->priorMean.size()) + 1;
-  return hmm.block("audio").size / (2 * contextFrames + 1);
+  return hmm.block("audio").size / contextWidth();
 }
 
 Eigen::MatrixXd mouthAudioFrames(const MouthModel& model, const SpeechFrames& speech) {
@@ -43,6 +43,11 @@ Eigen::MatrixXd mouthAudioFrames(const MouthModel& model, const SpeechFrames& sp
 }
 
 namespace {
+
+// The model's audio frames with their context: D·(tc + tf + 1) x T.
+Eigen::MatrixXd stackedAudio(const MouthModel& model, const SpeechFrames& speech) {
+  return features::stackContext(mouthAudioFrames(model, speech), model.contextFrames, model.futureContextFrames);
+}
 
 // The model itself, on all the parts given: the visual basis, the speech normalisation's prior, Baum-Welch.
 MouthModel trainOnParts(const std::vector<MouthRecording>& parts, const std::vector<SpeechFrames>& speechOnly,
@@ -62,6 +67,7 @@ MouthModel trainOnParts(const std::vector<MouthRecording>& parts, const std::vec
   }
   MouthModel model;
   model.contextFrames = options.contextFrames;
+  model.futureContextFrames = options.futureContextFrames < 0 ? options.contextFrames : options.futureContextFrames;
   model.visualDeltas = options.visualDeltas;
   model.basis =
       VisualBasis::fit(allVisual, {.components = options.visualComponents, .standardise = options.standardiseVisual});
@@ -71,7 +77,7 @@ MouthModel trainOnParts(const std::vector<MouthRecording>& parts, const std::vec
   const int visualSize = options.visualComponents * (options.visualDeltas ? 2 : 1);
   std::vector<Eigen::MatrixXd> sequences;
   for (const auto& part : parts) {
-    const Eigen::MatrixXd audio = features::stackContext(mouthAudioFrames(model, part.speech), options.contextFrames);
+    const Eigen::MatrixXd audio = stackedAudio(model, part.speech);
     const Eigen::MatrixXd components = model.basis.transform(part.visual);
     Eigen::MatrixXd joint(audio.rows() + visualSize, part.numFrames());
     joint.topRows(audio.rows()) = audio;
@@ -90,7 +96,7 @@ MouthModel trainOnParts(const std::vector<MouthRecording>& parts, const std::vec
   model.iterations = static_cast<int>(result.history.size()) - 1;
   const int audioSize = static_cast<int>(sequences.front().rows()) - visualSize;
   model.hmm.blocks = {{"audio", 0, audioSize}, {"visual", audioSize, visualSize}};
-  const int rowsPerFrame = audioSize / (2 * options.contextFrames + 1);
+  const int rowsPerFrame = audioSize / model.contextWidth();
   for (int k = 0; k < audioSize; ++k) {
     const int row = k % rowsPerFrame;
     model.hmm.columnNames.push_back(
@@ -107,7 +113,7 @@ MouthModel trainOnParts(const std::vector<MouthRecording>& parts, const std::vec
     for (const Eigen::MatrixXd& sequence : sequences) audio.push_back(sequence.topRows(audioSize));
     for (const SpeechFrames& speech : speechOnly)
       if (speech.numFrames() > 0)
-        audio.push_back(features::stackContext(mouthAudioFrames(model, speech), options.contextFrames));
+        audio.push_back(stackedAudio(model, speech));
     model.hmm = hmm::retrainAudio(model.hmm, audio, {.iterations = options.speechOnlyIterations}).model;
   }
   model.hmm.check();
@@ -205,6 +211,7 @@ void saveMouthModel(const std::filesystem::path& path, const MouthModel& model, 
   nlohmann::json training;
   training["kind"] = "mouth";
   training["context_frames"] = model.contextFrames;
+  training["future_context_frames"] = model.futureContextFrames;
   training["visual_basis"] = {{"mean", vectorJson(model.basis.mean())},
                               {"scale", vectorJson(model.basis.scale())},
                               {"unmixing", matrixJson(model.basis.unmixing())},
@@ -250,6 +257,13 @@ MouthModel loadMouthModel(const std::filesystem::path& path) {
     throw fileError(path, "training.context_frames must be an integer 0..20");
   }
   model.contextFrames = training["context_frames"].get<int>();
+  model.futureContextFrames = model.contextFrames;  // files before the asymmetric context: symmetric
+  if (training.contains("future_context_frames")) {
+    const Json& future = training["future_context_frames"];
+    if (!future.is_number_integer() || future.get<int>() < 0 || future.get<int>() > 20)
+      throw fileError(path, "training.future_context_frames must be an integer 0..20");
+    model.futureContextFrames = future.get<int>();
+  }
   if (!training.contains("visual_basis") || !training["visual_basis"].is_object()) {
     throw fileError(path, "training.visual_basis is missing");
   }
@@ -315,9 +329,9 @@ MouthModel loadMouthModel(const std::filesystem::path& path) {
       throw fileError(path, "training.variance_scale must hold one positive factor per visual component (" +
                                 std::to_string(model.basis.components()) + ")");
   }
-  // The audio block holds 2tc + 1 frames of D values (D = the prior's MFCCs + the level, when normalised); the
+  // The audio block holds tc + tf + 1 frames of D values (D = the prior's MFCCs + the level, when normalised); the
   // visual block the basis's K components (and their deltas).
-  const int contextWidth = 2 * model.contextFrames + 1;
+  const int contextWidth = model.contextWidth();
   const int visualSize = model.basis.components() * (model.visualDeltas ? 2 : 1);
   int audioSize = -1;
   bool visualOk = false;
@@ -379,7 +393,7 @@ Eigen::MatrixXd generateComponents(const Eigen::MatrixXd& means, const std::vect
 
 Eigen::MatrixXd synthesiseMouth(const MouthModel& model, const SpeechFrames& speech,
                                 const MouthSynthesisOptions& options, int* iterations) {
-  const Eigen::MatrixXd audio = features::stackContext(mouthAudioFrames(model, speech), model.contextFrames);
+  const Eigen::MatrixXd audio = stackedAudio(model, speech);
   const hmm::HmmInverter inverter(model.hmm, {.maxIterations = options.maxIterations,
                                               .start = options.start,
                                               .seed = options.seed,
@@ -416,10 +430,10 @@ MouthSynthesiser::MouthSynthesiser(const MouthModel& model, const MouthSynthesis
                                                    : hmm::StreamingInverter::Method::kInversion,
               options.windowFrames),
       filter_(inverter_.audioModel()) {
-  const Eigen::Index width = 2 * model.contextFrames + 1;
+  const Eigen::Index width = model.contextWidth();
   if (inverter_.audioDimension() % width != 0)
     throw Error("mouth synthesis: the model's audio block is not " + std::to_string(width) + " frames of features");
-  stacker_.emplace(inverter_.audioDimension() / width, model.contextFrames);
+  stacker_.emplace(inverter_.audioDimension() / width, model.contextFrames, model.futureContextFrames);
   if (model.normalisation) {
     normaliser_.emplace(model.normalisation->options, kMouthFramesPerSecond, model.normalisation->priorMean);
     normalised_.resize(normaliser_->outputDimension());
@@ -429,7 +443,7 @@ MouthSynthesiser::MouthSynthesiser(const MouthModel& model, const MouthSynthesis
 void MouthSynthesiser::acceptFrame(double levelDb, const Eigen::Ref<const Eigen::VectorXd>& mfcc) {
   if (finished_) throw Error("mouth synthesis: speech frames after finish()");
   const Eigen::Index expected =
-      normaliser_ ? normaliser_->numMfcc() : stacker_->outputDimension() / (2 * model_.contextFrames + 1);
+      normaliser_ ? normaliser_->numMfcc() : stacker_->outputDimension() / model_.contextWidth();
   if (mfcc.size() != expected)
     throw Error("mouth synthesis: " + std::to_string(mfcc.size()) + " MFCCs a frame, the model has " +
                 std::to_string(expected));
@@ -466,7 +480,7 @@ int MouthSynthesiser::numStates() const {
 }
 
 int MouthSynthesiser::lookaheadFrames() const {
-  return model_.contextFrames + std::max(stream_.windowFrames(), 1) - 1;
+  return model_.futureContextFrames + std::max(stream_.windowFrames(), 1) - 1;
 }
 
 void MouthSynthesiser::invertFrame() {

@@ -40,7 +40,10 @@ struct MouthModelOptions {
   int states = 4;    // N
   int mixtures = 2;  // M
   hmm::CovarianceType covariance = hmm::CovarianceType::kFull;
-  int contextFrames = 3;          // tc
+  int contextFrames = 3;          // tc: the frames of speech heard before each frame (and after, by default)
+  // The frames heard after each frame; -1: tc, the paper's symmetric context. Fewer make a live model wait less
+  // (0: for no frame after its own) and hear less of what follows.
+  int futureContextFrames = -1;
   int visualComponents = 2;       // K
   bool standardiseVisual = true;  // scale each visual parameter to unit variance before PCA (BEAT2's mix of
                                   // degrees and coefficients); FAPs share one unit and keep their scales
@@ -76,10 +79,11 @@ struct MouthSpeechNormalisation {
 };
 
 struct MouthModel {
-  hmm::HmmModel hmm;  // blocks "audio" (D·(2tc+1), D = 11 MFCCs, or 12 with the level) and "visual" (K, or
-                      // 2K with deltas)
+  hmm::HmmModel hmm;  // blocks "audio" (D·(tc + tf + 1), D = 11 MFCCs, or 12 with the level) and "visual" (K,
+                      // or 2K with deltas)
   VisualBasis basis;
-  int contextFrames = 3;
+  int contextFrames = 3;        // tc: frames heard before each frame
+  int futureContextFrames = 3;  // tf: frames heard after it (tc unless trained otherwise)
   int iterations = 0;  // Baum-Welch iterations used
   // From the jaw opening to MPEG-4 FAPs (fap_mapping.h); `train mouth --beat2` measures it on the reference face
   // and stores it with the model, so the model file alone turns audio into FAPs. Absent in sweep models.
@@ -93,6 +97,7 @@ struct MouthModel {
   Eigen::VectorXd varianceScale;
 
   int speechRowsPerFrame() const;  // D: 11, or 12 with the level
+  int contextWidth() const { return contextFrames + futureContextFrames + 1; }
 };
 
 MouthModel trainMouthModel(const std::vector<MouthRecording>& parts, const MouthModelOptions& options,

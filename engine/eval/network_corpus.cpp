@@ -149,11 +149,12 @@ void startAtSpeakerMeans(std::vector<CorpusRecording>& corpus) {
   }
 }
 
-Eigen::VectorXd meanFaps(const std::vector<CorpusRecording>& corpus) {
+Eigen::VectorXd meanFaps(const std::vector<CorpusRecording>& corpus,
+                         const std::function<bool(const CorpusRecording&)>& include) {
   Eigen::VectorXd sum;
   double frames = 0.0;
   for (const CorpusRecording& r : corpus) {
-    if (r.recording.faps.cols() == 0) continue;
+    if (r.recording.faps.cols() == 0 || (include && !include(r))) continue;
     if (sum.size() == 0) sum = Eigen::VectorXd::Zero(r.recording.faps.rows());
     sum += r.recording.faps.rowwise().sum();
     frames += static_cast<double>(r.recording.faps.cols());

@@ -12,6 +12,7 @@
 // Thread contract: pure functions of files; networkRecordingsOf reads each clip's sound on a few threads.
 #pragma once
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -49,7 +50,9 @@ std::vector<bool> gridHeldOut(const std::vector<CorpusRecording>& corpus);
 // stream that has heard the speaker a while, or a whole recording, starts from.
 void startAtSpeakerMeans(std::vector<CorpusRecording>& corpus);
 
-// The mean of the recordings' tracked FAPs (rows: the corpus's FAPs): a typical open mouth.
-Eigen::VectorXd meanFaps(const std::vector<CorpusRecording>& corpus);
+// The mean of the recordings' tracked FAPs (rows: the corpus's FAPs): a typical open mouth. `include`, if given,
+// picks the recordings counted.
+Eigen::VectorXd meanFaps(const std::vector<CorpusRecording>& corpus,
+                         const std::function<bool(const CorpusRecording&)>& include = {});
 
 }  // namespace th::eval

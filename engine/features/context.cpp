@@ -7,7 +7,11 @@
 namespace th::features {
 
 Eigen::MatrixXd stackContext(const Eigen::MatrixXd& frames, int contextFrames) {
-  ContextStacker stacker(frames.rows(), contextFrames);
+  return stackContext(frames, contextFrames, contextFrames);
+}
+
+Eigen::MatrixXd stackContext(const Eigen::MatrixXd& frames, int pastFrames, int futureFrames) {
+  ContextStacker stacker(frames.rows(), pastFrames, futureFrames);
   Eigen::MatrixXd stacked(stacker.outputDimension(), frames.cols());
   Eigen::VectorXd column;
   Eigen::Index done = 0;
@@ -20,9 +24,13 @@ Eigen::MatrixXd stackContext(const Eigen::MatrixXd& frames, int contextFrames) {
   return stacked;
 }
 
-ContextStacker::ContextStacker(Eigen::Index dimension, int contextFrames) : contextFrames_(contextFrames) {
-  if (contextFrames < 0) throw Error("context stacking: the context must be >= 0 frames");
-  recent_.resize(dimension, 2 * contextFrames + 1);
+ContextStacker::ContextStacker(Eigen::Index dimension, int contextFrames)
+    : ContextStacker(dimension, contextFrames, contextFrames) {}
+
+ContextStacker::ContextStacker(Eigen::Index dimension, int pastFrames, int futureFrames)
+    : pastFrames_(pastFrames), futureFrames_(futureFrames) {
+  if (pastFrames < 0 || futureFrames < 0) throw Error("context stacking: the context must be >= 0 frames");
+  recent_.resize(dimension, pastFrames + futureFrames + 1);
 }
 
 void ContextStacker::acceptFrame(const Eigen::Ref<const Eigen::VectorXd>& frame) {
@@ -30,9 +38,9 @@ void ContextStacker::acceptFrame(const Eigen::Ref<const Eigen::VectorXd>& frame)
   if (frame.size() != recent_.rows())
     throw Error("context stacking: a frame of " + std::to_string(frame.size()) + " values; expected " +
                 std::to_string(recent_.rows()));
-  // The slot about to be written holds frame received_ - (2 tc + 1), the first that a frame still to be stacked
-  // may read.
-  if (received_ - stacked_ > contextFrames_)
+  // The slot about to be written holds frame received_ - (past + future + 1), the first that a frame still to be
+  // stacked may read.
+  if (received_ - stacked_ > futureFrames_)
     throw Error("context stacking: a frame in before the ready ones were taken (call next() until it is false)");
   recent_.col(received_ % recent_.cols()) = frame;
   ++received_;
@@ -43,14 +51,13 @@ void ContextStacker::inputFinished() {
 }
 
 bool ContextStacker::next(Eigen::VectorXd& stacked) {
-  // Frame t's context reaches t + tc; at the end, the last frame stands in for those after it.
-  if (stacked_ >= received_ || (!finished_ && stacked_ + contextFrames_ >= received_)) return false;
+  // Frame t's context reaches t + future; at the end, the last frame stands in for those after it.
+  if (stacked_ >= received_ || (!finished_ && stacked_ + futureFrames_ >= received_)) return false;
   const Eigen::Index rows = recent_.rows();
-  const int tc = contextFrames_;
   stacked.resize(outputDimension());
-  for (int offset = -tc; offset <= tc; ++offset) {
+  for (int offset = -pastFrames_; offset <= futureFrames_; ++offset) {
     const Eigen::Index source = contextSource(stacked_, offset, received_);
-    stacked.segment(rows * (offset + tc), rows) = recent_.col(source % recent_.cols());
+    stacked.segment(rows * (offset + pastFrames_), rows) = recent_.col(source % recent_.cols());
   }
   ++stacked_;
   return true;

@@ -9,6 +9,7 @@
 //   stacker.acceptFrame(mfcc.col(t));                                  // frames in order
 //   Eigen::VectorXd out;
 //   while (stacker.next(out)) use(out);                                // frame t once frame t + tc is in
+//   th::features::ContextStacker past(11, 2, 0);                       // a(t−2), a(t−1), a(t): no wait
 //   stacker.inputFinished();                                           // then the last tc frames
 //
 // Matrices hold one frame per column.
@@ -27,24 +28,30 @@ inline Eigen::Index contextSource(Eigen::Index t, int offset, Eigen::Index count
 
 // D x T in, D·(2 contextFrames + 1) x T out. Throws th::Error for contextFrames < 0.
 Eigen::MatrixXd stackContext(const Eigen::MatrixXd& frames, int contextFrames);
+// [a(t−past) … a(t) … a(t+future)]: D·(past + future + 1) x T. A live model that hears no future frames waits
+// for none (its look-ahead is the features' alone).
+Eigen::MatrixXd stackContext(const Eigen::MatrixXd& frames, int pastFrames, int futureFrames);
 
 class ContextStacker {
  public:
   ContextStacker(Eigen::Index dimension, int contextFrames);  // throws th::Error for contextFrames < 0
+  ContextStacker(Eigen::Index dimension, int pastFrames, int futureFrames);
 
-  // `dimension` values. Only the last 2 tc + 1 frames are kept: take the ready frames (next() until false)
+  // `dimension` values. Only the last past + future + 1 frames are kept: take the ready frames (next() until false)
   // before the next one, or this throws th::Error.
   void acceptFrame(const Eigen::Ref<const Eigen::VectorXd>& frame);
   void inputFinished();
   // The next stacked frame, in order, once its context has arrived (or the input has finished).
   bool next(Eigen::VectorXd& stacked);
 
-  int contextFrames() const { return contextFrames_; }
+  int pastFrames() const { return pastFrames_; }
+  int futureFrames() const { return futureFrames_; }
   Eigen::Index outputDimension() const { return recent_.rows() * recent_.cols(); }
 
  private:
-  int contextFrames_;
-  Eigen::MatrixXd recent_;  // the last 2 tc + 1 frames, circular by frame number
+  int pastFrames_;
+  int futureFrames_;
+  Eigen::MatrixXd recent_;  // the last past + future + 1 frames, circular by frame number
   Eigen::Index received_ = 0;
   Eigen::Index stacked_ = 0;
   bool finished_ = false;

@@ -150,8 +150,11 @@ TEST(Articulation, VisemesFollowTheEvidenceAndHoldAtLeastTheMinimum) {
   std::vector<int> blip(12, face::kAa);
   blip[6] = face::kPp;
   const face::VisemeTrack held = networkVisemes(model, posteriorsOf(blip, 0.6), {.minHoldFrames = 3});
-  for (const face::Run& run : face::runsOf(held.classes))
-    if (run.first > 0 && run.first + run.length < 12) EXPECT_GE(run.length, 3);
+  for (const face::Run& run : face::runsOf(held.classes)) {
+    if (run.first > 0 && run.first + run.length < 12) {
+      EXPECT_GE(run.length, 3);
+    }
+  }
 }
 
 TEST(Articulation, TheStreamDecodesAsTheBatchWithALongLag) {

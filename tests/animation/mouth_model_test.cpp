@@ -124,6 +124,33 @@ TEST(MouthSynthesiser, StreamsTheWindowedSynthesisFrameByFrame) {
   EXPECT_THROW(stream.acceptFrame(0.0, Eigen::VectorXd::Zero(5)), Error) << "MFCCs of the wrong size";
 }
 
+TEST(MouthSynthesiser, AModelThatHearsNoLaterFrameStreamsWithoutLookAhead) {
+  const MouthRecording train = synthetic(2000, 3);
+  const MouthRecording test = synthetic(200, 4);
+  const MouthModelOptions options{.states = 3, .mixtures = 1, .contextFrames = 2, .futureContextFrames = 0};
+  const MouthModel model = trainMouthModel({train}, options);
+  EXPECT_EQ(model.contextWidth(), 3);
+  EXPECT_EQ(model.hmm.block("audio").size, 3 * test.speech.mfcc.rows());
+  const MouthSynthesisOptions synthesis{.windowFrames = 1, .maxIterations = 20};
+  const Eigen::MatrixXd batch = synthesiseMouth(model, test.speech, synthesis);
+  MouthSynthesiser stream(model, synthesis);
+  EXPECT_EQ(stream.lookaheadFrames(), 0);
+  Eigen::VectorXd frame;
+  for (Eigen::Index t = 0; t < test.speech.numFrames(); ++t) {
+    stream.acceptFrame(0.0, test.speech.mfcc.col(t));
+    ASSERT_TRUE(stream.next(frame)) << "frame " << t << " is out as soon as it is in";
+    EXPECT_LT((frame - batch.col(t)).cwiseAbs().maxCoeff(), 1e-12) << "frame " << t;
+    EXPECT_FALSE(stream.next(frame));
+  }
+  // Its file keeps the asymmetric context (the shipped files, without the field, read as symmetric).
+  const TemporaryFile file(".json");
+  saveMouthModel(file.path(), model, options);
+  const MouthModel loaded = loadMouthModel(file.path());
+  EXPECT_EQ(loaded.contextFrames, 2);
+  EXPECT_EQ(loaded.futureContextFrames, 0);
+  EXPECT_EQ(synthesiseMouth(loaded, test.speech), synthesiseMouth(model, test.speech));
+}
+
 TEST(MouthModel, FileRoundTripAndRefusals) {
   const MouthModelOptions options{.states = 3, .mixtures = 1, .contextFrames = 1};
   const MouthModel model = trainMouthModel({synthetic(1500, 3)}, options);
@@ -131,6 +158,7 @@ TEST(MouthModel, FileRoundTripAndRefusals) {
   saveMouthModel(file.path(), model, options);
   const MouthModel loaded = loadMouthModel(file.path());
   EXPECT_EQ(loaded.contextFrames, 1);
+  EXPECT_EQ(loaded.futureContextFrames, 1);
   const MouthRecording test = synthetic(300, 4);
   EXPECT_EQ(synthesiseMouth(loaded, test.speech), synthesiseMouth(model, test.speech));
   EXPECT_EQ(loaded.basis.transform(test.visual), model.basis.transform(test.visual));

@@ -47,6 +47,38 @@ TEST(ContextStacking, TheStreamGivesTheBatchValuesFrameByFrame) {
   }
 }
 
+TEST(ContextStacking, APastOnlyContextWaitsForNoLaterFrame) {
+  Eigen::MatrixXd mfcc(2, 4);
+  mfcc << 1, 2, 3, 4, 10, 20, 30, 40;
+  // Frame 2 with two frames before and none after: [frame 0, frame 1, frame 2].
+  const Eigen::MatrixXd past = stackContext(mfcc, 2, 0);
+  ASSERT_EQ(past.rows(), 6);
+  EXPECT_EQ(past.col(2), (Eigen::VectorXd(6) << 1, 10, 2, 20, 3, 30).finished());
+  EXPECT_EQ(past.col(0), (Eigen::VectorXd(6) << 1, 10, 1, 10, 1, 10).finished()) << "the first frame repeats";
+  EXPECT_EQ(stackContext(mfcc, 1, 1), stackContext(mfcc, 1));
+  EXPECT_THROW(stackContext(mfcc, 1, -1), Error);
+
+  std::mt19937 random(5);
+  std::normal_distribution<double> normal;
+  const Eigen::MatrixXd frames = Eigen::MatrixXd::NullaryExpr(3, 30, [&] { return normal(random); });
+  for (const auto& [before, after] : {std::pair{2, 0}, std::pair{1, 2}, std::pair{0, 3}}) {
+    const Eigen::MatrixXd batch = stackContext(frames, before, after);
+    ContextStacker stacker(frames.rows(), before, after);
+    Eigen::VectorXd out;
+    Eigen::Index next = 0;
+    for (Eigen::Index t = 0; t < frames.cols(); ++t) {
+      stacker.acceptFrame(frames.col(t));
+      while (stacker.next(out)) {
+        EXPECT_EQ(next + after, t) << "frame " << next << " waits for its " << after << " later frames only";
+        EXPECT_EQ(out, batch.col(next++));
+      }
+    }
+    stacker.inputFinished();
+    while (stacker.next(out)) EXPECT_EQ(out, batch.col(next++));
+    EXPECT_EQ(next, frames.cols()) << before << " before, " << after << " after";
+  }
+}
+
 TEST(ContextStacking, AFrameInBeforeTheReadyOnesAreTakenIsRefused) {
   ContextStacker stacker(2, 1);
   stacker.acceptFrame(Eigen::Vector2d(1, 2));
