@@ -242,7 +242,8 @@ void runStage2(const animation::MouthModel& model, const animation::MouthRecordi
               eval::averageCorrelation(before, truth));
   for (const auto& set : sets) {
     std::vector<Eigen::MatrixXd> audio;
-    for (const auto& mfcc : set.mfcc) audio.push_back(features::stackContext(mfcc, model.contextFrames, model.futureContextFrames));
+    for (const auto& mfcc : set.mfcc)
+      audio.push_back(features::stackContext(mfcc, model.contextFrames, model.futureContextFrames));
     const hmm::AudioRetrainingResult retrained = hmm::retrainAudio(model.hmm, audio, {});
     animation::MouthModel adapted = model;
     adapted.hmm = retrained.model;
@@ -408,8 +409,9 @@ void addTrainMouthCommand(CLI::App& train) {
   mouth->add_option("--context", corpus->model.contextFrames, "MFCC context tc (frames either side)")
       ->check(CLI::Range(0, 10))
       ->capture_default_str();
-  mouth->add_option("--future-context", corpus->model.futureContextFrames,
-                    "MFCC context after each frame, if not tc (0: a live model that waits for no later frame)")
+  mouth
+      ->add_option("--future-context", corpus->model.futureContextFrames,
+                   "MFCC context after each frame, if not tc (0: a live model that waits for no later frame)")
       ->check(CLI::Range(0, 10));
   mouth->add_option("--components", corpus->model.visualComponents, "Visual components K")
       ->check(CLI::Range(1, 21))

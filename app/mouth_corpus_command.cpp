@@ -102,8 +102,8 @@ std::string describeRecipe(const MouthCorpusArguments& a) {
        << (a.model.futureContextFrames < 0 || a.model.futureContextFrames == a.model.contextFrames
                ? "+-" + std::to_string(a.model.contextFrames)
                : "-" + std::to_string(a.model.contextFrames) + "..+" + std::to_string(a.model.futureContextFrames))
-       << ", " << a.model.visualComponents
-       << " visual components" << (a.model.visualDeltas ? " with deltas (MLPG)" : "")
+       << ", " << a.model.visualComponents << " visual components"
+       << (a.model.visualDeltas ? " with deltas (MLPG)" : "")
        << (a.model.normaliseSpeech ? ", normalised speech" : ", raw MFCCs")
        << (a.model.varianceValidationEvery > 0 ? ", variance compensation" : "")
        << (a.stageTwo ? ", stage 2 on speech-only voices" : "")

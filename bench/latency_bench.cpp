@@ -66,8 +66,8 @@ constexpr double kFps = 30.0;
 
 struct OnsetRecording {
   std::vector<float> samples;
-  std::vector<std::size_t> onsets;  // sample of each onset
-  std::vector<bool> sharp;          // rising 25 dB within 80 ms
+  std::vector<std::size_t> onsets;           // sample of each onset
+  std::vector<bool> sharp;                   // rising 25 dB within 80 ms
   std::vector<std::filesystem::path> clips;  // the clip each onset came from
   std::vector<double> clipSeconds;           // and where in it
 };
@@ -286,9 +286,8 @@ SpeakerResponse speakerResponse(const OnsetRecording& recording) {
   for (std::size_t i = 0; i < recording.clips.size(); ++i) {
     const std::filesystem::path& clip = recording.clips[i];
     // The training commands keep a folder's tracks under its path with '/' as '_' ("grid_s1").
-    const std::filesystem::path track = trackCacheFolder() /
-                                        ("grid_" + clip.parent_path().filename().string()) /
-                                        (clip.filename().string() + ".csv");
+    const std::filesystem::path track =
+        trackCacheFolder() / ("grid_" + clip.parent_path().filename().string()) / (clip.filename().string() + ".csv");
     if (!std::filesystem::exists(track)) continue;
     const th::tracking::Track tracked = th::tracking::readTrackCsv(track);
     if (tracked.fittedFaps.empty()) continue;

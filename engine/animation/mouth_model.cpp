@@ -112,8 +112,7 @@ MouthModel trainOnParts(const std::vector<MouthRecording>& parts, const std::vec
     std::vector<Eigen::MatrixXd> audio;
     for (const Eigen::MatrixXd& sequence : sequences) audio.push_back(sequence.topRows(audioSize));
     for (const SpeechFrames& speech : speechOnly)
-      if (speech.numFrames() > 0)
-        audio.push_back(stackedAudio(model, speech));
+      if (speech.numFrames() > 0) audio.push_back(stackedAudio(model, speech));
     model.hmm = hmm::retrainAudio(model.hmm, audio, {.iterations = options.speechOnlyIterations}).model;
   }
   model.hmm.check();

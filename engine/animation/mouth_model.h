@@ -40,7 +40,7 @@ struct MouthModelOptions {
   int states = 4;    // N
   int mixtures = 2;  // M
   hmm::CovarianceType covariance = hmm::CovarianceType::kFull;
-  int contextFrames = 3;          // tc: the frames of speech heard before each frame (and after, by default)
+  int contextFrames = 3;  // tc: the frames of speech heard before each frame (and after, by default)
   // The frames heard after each frame; -1: tc, the paper's symmetric context. Fewer make a live model wait less
   // (0: for no frame after its own) and hear less of what follows.
   int futureContextFrames = -1;
@@ -84,7 +84,7 @@ struct MouthModel {
   VisualBasis basis;
   int contextFrames = 3;        // tc: frames heard before each frame
   int futureContextFrames = 3;  // tf: frames heard after it (tc unless trained otherwise)
-  int iterations = 0;  // Baum-Welch iterations used
+  int iterations = 0;           // Baum-Welch iterations used
   // From the jaw opening to MPEG-4 FAPs (fap_mapping.h); `train mouth --beat2` measures it on the reference face
   // and stores it with the model, so the model file alone turns audio into FAPs. Absent in sweep models.
   std::optional<MouthFapMap> fapMap;
