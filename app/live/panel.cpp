@@ -213,7 +213,9 @@ void LivePanel::outputsSection(const PanelView& view, PanelChanges& changes) {
     std::string& address;
     std::string_view fallback;
   };
-  for (const Row& row : {Row{"VMC (VSeeFace, VMagicMirror, ...)", "VMC", outputs.vmc, pipeline::kVmcDefault},
+  for (const Row& row : {Row{"VMC (VMagicMirror, EVMC4U, Warudo, VMC4B)", "VMC", outputs.vmc, pipeline::kVmcDefault},
+                         Row{"VMC assistant (VSeeFace, Virtual Motion Capture)", "VMC assistant", outputs.vmcAssistant,
+                             pipeline::kVmcAssistantDefault},
                          Row{"OSC (VRChat, TouchDesigner, Max)", "OSC", outputs.osc, pipeline::kOscDefault},
                          Row{"VTube Studio", "VTube Studio", outputs.vts, pipeline::kVtsDefault}}) {
     bool on = !row.address.empty();

@@ -20,8 +20,17 @@ std::vector<std::unique_ptr<LiveOutput>> openOutputs(const pipeline::OutputSetti
                                                      const std::vector<int>& faps,
                                                      std::function<void(const std::string&)> tokenIssued) {
   std::vector<std::unique_ptr<LiveOutput>> outputs;
+  VmcOptions vmc{.names = parseVmcNames(options.vmcNames, "--vmc-names"),
+                 .neckLength = static_cast<float>(options.vmcNeckLength),
+                 .headLength = static_cast<float>(options.vmcHeadLength),
+                 .neckShare = static_cast<float>(options.vmcNeckShare)};
   if (!options.vmc.empty())
-    outputs.push_back(std::make_unique<VmcOutput>(parseUdpEndpoint(options.vmc, 39539, "--vmc")));
+    outputs.push_back(std::make_unique<VmcOutput>(parseUdpEndpoint(options.vmc, 39539, "--vmc"), vmc));
+  if (!options.vmcAssistant.empty()) {
+    vmc.role = VmcRole::kAssistant;
+    outputs.push_back(
+        std::make_unique<VmcOutput>(parseUdpEndpoint(options.vmcAssistant, 39540, "--vmc-assistant"), vmc));
+  }
   if (!options.osc.empty())
     outputs.push_back(std::make_unique<OscOutput>(parseUdpEndpoint(options.osc, 9000, "--osc"), faps));
   if (!options.vts.empty())

@@ -101,7 +101,10 @@ OscSender::~OscSender() {
 }
 
 bool OscSender::send(const OscBundle& bundle) {
-  const std::vector<char> bytes = bundle.serialise();
+  return send(bundle.serialise());
+}
+
+bool OscSender::send(const std::vector<char>& bytes) {
   const ssize_t written = ::sendto(socket_, bytes.data(), bytes.size(), MSG_DONTWAIT,
                                    reinterpret_cast<const sockaddr*>(address_.data()), addressLength_);
   lastSent_ = written == static_cast<ssize_t>(bytes.size());

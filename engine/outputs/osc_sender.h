@@ -69,6 +69,7 @@ class OscSender {
   OscSender& operator=(const OscSender&) = delete;
 
   bool send(const OscBundle& bundle);  // false: dropped (the socket would block, or the receiver refused it)
+  bool send(const std::vector<char>& datagram);  // bytes already serialised
   const UdpEndpoint& endpoint() const { return endpoint_; }
   std::uint64_t sent() const { return sent_; }
   std::uint64_t dropped() const { return dropped_; }

@@ -1,39 +1,136 @@
 #include "outputs/vmc_output.h"
 
+#include <array>
+#include <cctype>
+
+#include "core/error.h"
 #include "formats/arkit_format.h"
 
 namespace th::outputs {
+namespace {
 
-void VmcOutput::fill(OscBundle& bundle, const AvatarFrame& frame) {
-  bundle.add("/VMC/Ext/OK").integer(1);
-  bundle.add("/VMC/Ext/T").real(static_cast<float>(frame.timeSeconds));
-  for (std::size_t k = 0; k < formats::kArkitNames.size(); ++k)
-    bundle.add("/VMC/Ext/Blend/Val").string(formats::kArkitNames[k]).real(frame.arkit[k]);
-  for (std::size_t k = 0; k < face::kVrmVowelNames.size(); ++k)
-    bundle.add("/VMC/Ext/Blend/Val").string(face::kVrmVowelNames[k]).real(frame.vrm[k]);
-  bundle.add("/VMC/Ext/Blend/Val").string("Blink_L").real(frame.blinkLeft());
-  bundle.add("/VMC/Ext/Blend/Val").string("Blink_R").real(frame.blinkRight());
-  bundle.add("/VMC/Ext/Blend/Apply");
-  const Eigen::Quaternionf q = frame.unityHeadRotation();
-  bundle.add("/VMC/Ext/Bone/Pos")
-      .string("Head")
-      .real(0.0f)
-      .real(0.0f)
-      .real(0.0f)
-      .real(q.x())
-      .real(q.y())
-      .real(q.z())
-      .real(q.w());
+std::size_t padded(std::size_t bytes) {
+  return (bytes + 3) / 4 * 4;
+}
+
+constexpr std::size_t kBundleHeaderBytes = 16;  // "#bundle\0" and the time tag
+
+constexpr std::array<std::string_view, 5> kVrm1Vowels{"aa", "ih", "ou", "ee", "oh"};
+
+std::string pascalCase(std::string_view apple) {
+  std::string name(apple);
+  name[0] = static_cast<char>(std::toupper(static_cast<unsigned char>(name[0])));
+  return name;
+}
+
+VmcMessage boneMessage(std::string name, const Eigen::Vector3f& position, const Eigen::Quaternionf& rotation) {
+  return {"/VMC/Ext/Bone/Pos",
+          {std::move(name), position.x(), position.y(), position.z(), rotation.x(), rotation.y(), rotation.z(),
+           rotation.w()}};
+}
+
+}  // namespace
+
+VmcNames parseVmcNames(std::string_view text, std::string_view option) {
+  if (text == "vrm0") return VmcNames::kVrm0;
+  if (text == "vrm1") return VmcNames::kVrm1;
+  if (text == "perfect-sync") return VmcNames::kPerfectSync;
+  if (text == "perfect-sync-apple") return VmcNames::kPerfectSyncApple;
+  throw Error(std::string(option) + ": '" + std::string(text) +
+              "' is not one of vrm0, vrm1, perfect-sync, perfect-sync-apple");
+}
+
+std::size_t VmcMessage::bytes() const {
+  std::size_t size = padded(path.size() + 1) + padded(arguments.size() + 2);  // path, ",TYPES"
+  for (const auto& argument : arguments)
+    size += std::holds_alternative<std::string>(argument) ? padded(std::get<std::string>(argument).size() + 1) : 4;
+  return size + 4;  // the bundle element's size prefix
+}
+
+std::vector<std::pair<std::string, float>> vmcBlendshapes(const AvatarFrame& frame, VmcNames names) {
+  std::vector<std::pair<std::string, float>> values;
+  switch (names) {
+    case VmcNames::kVrm0:
+      for (std::size_t k = 0; k < face::kVrmVowelNames.size(); ++k)
+        values.emplace_back(face::kVrmVowelNames[k], frame.vrm[k]);
+      values.emplace_back("Blink_L", frame.blinkLeft());
+      values.emplace_back("Blink_R", frame.blinkRight());
+      break;
+    case VmcNames::kVrm1:
+      for (std::size_t k = 0; k < kVrm1Vowels.size(); ++k) values.emplace_back(kVrm1Vowels[k], frame.vrm[k]);
+      values.emplace_back("blinkLeft", frame.blinkLeft());
+      values.emplace_back("blinkRight", frame.blinkRight());
+      break;
+    case VmcNames::kPerfectSync:
+    case VmcNames::kPerfectSyncApple:
+      for (std::size_t k = 0; k < formats::kArkitNames.size(); ++k)
+        values.emplace_back(names == VmcNames::kPerfectSync ? pascalCase(formats::kArkitNames[k])
+                                                             : std::string(formats::kArkitNames[k]),
+                            frame.arkit[k]);
+      break;
+  }
+  return values;
+}
+
+std::vector<std::vector<VmcMessage>> vmcDatagrams(const AvatarFrame& frame, const VmcOptions& options) {
+  std::vector<VmcMessage> messages;
+  if (options.role == VmcRole::kPerformer) {
+    messages.push_back({"/VMC/Ext/OK", {std::int32_t{1}}});
+    messages.push_back({"/VMC/Ext/T", {static_cast<float>(frame.timeSeconds)}});
+    messages.push_back({"/VMC/Ext/Root/Pos", {std::string("root"), 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 1.0f}});
+    // The head's rotation as two turns about the same axis, the neck's share first: together exactly the head's.
+    const Eigen::Quaternionf head = frame.unityHeadRotation();
+    const Eigen::Quaternionf neck = Eigen::Quaternionf::Identity().slerp(options.neckShare, head);
+    const Eigen::Quaternionf rest = (neck.conjugate() * head).normalized();
+    messages.push_back(boneMessage("Neck", {0.0f, options.neckLength, 0.0f}, neck));
+    messages.push_back(boneMessage("Head", {0.0f, options.headLength, 0.0f}, rest));
+  }
+  for (auto& [name, value] : vmcBlendshapes(frame, options.names))
+    messages.push_back({"/VMC/Ext/Blend/Val", {std::move(name), value}});
+  messages.push_back({"/VMC/Ext/Blend/Apply", {}});
+
+  std::vector<std::vector<VmcMessage>> datagrams(1);
+  std::size_t size = kBundleHeaderBytes;
+  for (VmcMessage& message : messages) {
+    const std::size_t bytes = message.bytes();
+    if (!datagrams.back().empty() && size + bytes > static_cast<std::size_t>(options.maxDatagramBytes)) {
+      datagrams.emplace_back();
+      size = kBundleHeaderBytes;
+    }
+    size += bytes;
+    datagrams.back().push_back(std::move(message));
+  }
+  return datagrams;
+}
+
+std::vector<std::vector<char>> vmcPackets(const AvatarFrame& frame, const VmcOptions& options) {
+  std::vector<std::vector<char>> packets;
+  for (const std::vector<VmcMessage>& datagram : vmcDatagrams(frame, options)) {
+    OscBundle bundle;
+    for (const VmcMessage& message : datagram) {
+      OscBundle::Message added = bundle.add(message.path);
+      for (const auto& argument : message.arguments) {
+        if (const auto* text = std::get_if<std::string>(&argument)) added.string(*text);
+        if (const auto* number = std::get_if<float>(&argument)) added.real(*number);
+        if (const auto* integer = std::get_if<std::int32_t>(&argument)) added.integer(*integer);
+      }
+    }
+    packets.push_back(bundle.serialise());
+  }
+  return packets;
 }
 
 void VmcOutput::send(const AvatarFrame& frame) {
-  OscBundle bundle;
-  fill(bundle, frame);
-  sender_.send(bundle);
+  bool whole = true;
+  for (const std::vector<char>& packet : vmcPackets(frame, options_)) whole = sender_.send(packet) && whole;
+  ++(whole ? framesSent_ : framesDropped_);
 }
 
 OutputStatus VmcOutput::status() const {
-  return sender_.statusAs("VMC");
+  OutputStatus status = sender_.statusAs(options_.role == VmcRole::kAssistant ? "VMC assistant" : "VMC");
+  status.framesSent = framesSent_;
+  status.framesDropped = framesDropped_;
+  return status;
 }
 
 }  // namespace th::outputs

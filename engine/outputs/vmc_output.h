@@ -1,29 +1,82 @@
-// The VMC protocol as a Performer (https://protocol.vmc.info): each frame one OSC bundle to the Marionette
-// (VSeeFace, VMagicMirror, Virtual Motion Capture, the Unity, Unreal and Blender receivers) holding
-//   /VMC/Ext/OK 1                               the avatar is loaded
-//   /VMC/Ext/T TIME                             the frame's time, seconds
-//   /VMC/Ext/Blend/Val NAME VALUE               ARKit's 52 (their names as Apple spells them, for "perfect
-//                                               sync" avatars), VRM's A I U E O, Blink_L, Blink_R
-//   /VMC/Ext/Blend/Apply                        apply the values above
-//   /VMC/Ext/Bone/Pos Head px py pz qx qy qz qw the head's rotation, local, in Unity's convention (left-handed,
-//                                               y up, z forward); position 0 (the avatar's rig places the head)
-// Thread contract: as LiveOutput.
+// The VMC protocol (https://protocol.vmc.info, github sh-akira/VirtualMotionCaptureProtocol), in either of the
+// two roles a face-only source can play:
+//
+// - Performer, to a Marionette (EVMC4U, VMagicMirror's VMC input, Warudo, VMC4B; port 39539), each frame
+//     /VMC/Ext/OK 1                                 the avatar is loaded
+//     /VMC/Ext/T TIME                               the frame's time, seconds (once a frame: EVMC4U drops a
+//                                                   Unity frame's packets after 30 of them)
+//     /VMC/Ext/Root/Pos root 0 0 0 0 0 0 1          the avatar where it stands
+//     /VMC/Ext/Bone/Pos Neck px py pz qx qy qz qw   local poses, in Unity's frame (left-handed, y up, the avatar
+//     /VMC/Ext/Bone/Pos Head px py pz qx qy qz qw   facing +z, x to its right; metres): the head's rotation
+//                                                   shared between the two, each at a standard humanoid's offset
+//                                                   from its parent (receivers such as EVMC4U apply positions:
+//                                                   at 0 the head would sink onto the neck's joint)
+//     /VMC/Ext/Blend/Val NAME VALUE ...             one name set (below), so nothing is driven twice
+//     /VMC/Ext/Blend/Apply
+// - Assistant, to a Performer's assistant input (VSeeFace, Virtual Motion Capture; port 39540): the blendshapes
+//   alone (Blend/Val, Apply), as the Performer specification takes them.
+//
+// Names are case-sensitive (VMagicMirror matches them exactly): VRM 0.x's A I U E O Blink_L Blink_R (every VRM
+// avatar has them; the specification asks senders for these), VRM 1.0's aa ih ou ee oh blinkLeft blinkRight,
+// or ARKit's 52 for "perfect sync" avatars, as their clips are named (JawOpen, EyeBlinkLeft) or as Apple spells
+// them (jawOpen). A frame is cut into bundles of at most 1,400 bytes (one datagram each, unfragmented on an
+// ordinary network), Apply in the last, after every value.
+// Thread contract: as LiveOutput; vmcMessages is a pure function.
 #pragma once
+
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <variant>
+#include <vector>
 
 #include "outputs/live_output.h"
 #include "outputs/osc_sender.h"
 
 namespace th::outputs {
 
+enum class VmcRole { kPerformer, kAssistant };
+enum class VmcNames { kVrm0, kVrm1, kPerfectSync, kPerfectSyncApple };
+
+// "vrm0", "vrm1", "perfect-sync", "perfect-sync-apple"; throws th::Error naming `option` for other text.
+VmcNames parseVmcNames(std::string_view text, std::string_view option);
+
+struct VmcOptions {
+  VmcRole role = VmcRole::kPerformer;
+  VmcNames names = VmcNames::kVrm0;
+  // The neck's joint above its parent's (the upper chest) and the head's above the neck's, metres: a standard
+  // humanoid's (the two avatars of the test data: 0.124 / 0.143 and 0.091 / 0.082).
+  float neckLength = 0.13f;
+  float headLength = 0.085f;
+  float neckShare = 0.4f;  // of the head's rotation turned at the neck, the rest at the head
+  int maxDatagramBytes = 1400;
+};
+
+// One OSC message as VMC sends it: int32, float32 and string arguments only (what receivers' uOSC parses).
+struct VmcMessage {
+  std::string path;
+  std::vector<std::variant<std::int32_t, float, std::string>> arguments;
+  std::size_t bytes() const;  // its size in a bundle, the size prefix included (OSC 1.0)
+};
+
+// A frame's messages, cut into datagrams (each one bundle of at most options.maxDatagramBytes bytes).
+std::vector<std::vector<VmcMessage>> vmcDatagrams(const AvatarFrame& frame, const VmcOptions& options);
+// The same as the bytes sent: one serialised OSC bundle a datagram.
+std::vector<std::vector<char>> vmcPackets(const AvatarFrame& frame, const VmcOptions& options);
+// The names sent, in order, and their values for a frame.
+std::vector<std::pair<std::string, float>> vmcBlendshapes(const AvatarFrame& frame, VmcNames names);
+
 class VmcOutput final : public LiveOutput {
  public:
-  explicit VmcOutput(UdpEndpoint endpoint) : sender_(std::move(endpoint)) {}
+  VmcOutput(UdpEndpoint endpoint, const VmcOptions& options) : sender_(std::move(endpoint)), options_(options) {}
   void send(const AvatarFrame& frame) override;
   OutputStatus status() const override;
-  static void fill(OscBundle& bundle, const AvatarFrame& frame);  // the bundle of one frame
 
  private:
   OscSender sender_;
+  VmcOptions options_;
+  std::uint64_t framesSent_ = 0;     // every datagram of the frame went out
+  std::uint64_t framesDropped_ = 0;  // one or more did not
 };
 
 }  // namespace th::outputs

@@ -1,5 +1,7 @@
 #include "pipeline/options.h"
 
+#include <array>
+
 #include "core/error.h"
 
 namespace th::pipeline {
@@ -137,9 +139,39 @@ void LiveSettings::visitOptions(OptionVisitor& v) {
 
 void OutputSettings::visitOptions(OptionVisitor& v) {
   v.option(vmc, {.name = "vmc",
-                 .help = "Send the face to a VMC receiver (VSeeFace, VMagicMirror, ...): [HOST:]PORT",
+                 .help = "Send the face and head to a VMC Marionette (VMagicMirror, EVMC4U, Warudo, VMC4B): [HOST:]PORT",
                  .panel = false,
                  .implicitValue = kVmcDefault});
+  v.option(vmcAssistant,
+           {.name = "vmc-assistant",
+            .help = "Send the face's blendshapes to a VMC Performer's assistant input (VSeeFace, Virtual Motion "
+                    "Capture): [HOST:]PORT",
+            .panel = false,
+            .implicitValue = kVmcAssistantDefault});
+  static constexpr std::array<std::string_view, 4> kVmcNames{"vrm0", "vrm1", "perfect-sync", "perfect-sync-apple"};
+  v.option(vmcNames, {.name = "vmc-names",
+                      .help = "VMC blendshape names: VRM 0.x (A I U E O Blink_L Blink_R), VRM 1.0 (aa ih ou ee oh "
+                              "blinkLeft blinkRight), ARKit's 52 as perfect-sync avatars name them (JawOpen) or "
+                              "as Apple spells them (jawOpen)",
+                      .choices = kVmcNames,
+                      .panel = false});
+  v.option(vmcNeckLength, {.name = "vmc-neck-length",
+                           .help = "VMC: the neck's joint above the upper chest's (the Neck bone's local position)",
+                           .unit = "m",
+                           .min = 0.0,
+                           .max = 1.0,
+                           .panel = false});
+  v.option(vmcHeadLength, {.name = "vmc-head-length",
+                           .help = "VMC: the head's joint above the neck's (the Head bone's local position)",
+                           .unit = "m",
+                           .min = 0.0,
+                           .max = 1.0,
+                           .panel = false});
+  v.option(vmcNeckShare, {.name = "vmc-neck-share",
+                          .help = "VMC: the share of the head's rotation turned at the neck (the rest at the head)",
+                          .min = 0.0,
+                          .max = 1.0,
+                           .panel = false});
   v.option(osc, {.name = "osc",
                  .help = "Send FAPs, visemes and the head as plain OSC (VRChat, TouchDesigner, Max): [HOST:]PORT",
                  .panel = false,

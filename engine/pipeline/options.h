@@ -71,13 +71,19 @@ struct StreamingOptions {
 
 // Where live sends the face besides its window (outputs/live_output.h): each empty when off.
 struct OutputSettings {
-  std::string vmc;       // the VMC protocol: [HOST:]PORT
-  std::string osc;       // plain OSC: [HOST:]PORT
+  std::string vmc;           // the VMC protocol as a Performer, to a Marionette: [HOST:]PORT
+  std::string vmcAssistant;  // as an Assistant, to a Performer (VSeeFace, Virtual Motion Capture): [HOST:]PORT
+  std::string vmcNames = "vrm0";  // the blendshapes' names (outputs/vmc_output.h)
+  double vmcNeckLength = 0.13;    // metres, the neck's joint above the upper chest's
+  double vmcHeadLength = 0.085;   // the head's above the neck's
+  double vmcNeckShare = 0.4;      // of the head's rotation turned at the neck
+  std::string osc;           // plain OSC: [HOST:]PORT
   std::string vts;       // VTube Studio's plugin API: ws://HOST:PORT
   std::string vtsToken;  // VTube Studio's authentication token, kept from the run that was issued it
   void visitOptions(OptionVisitor& v);
 };
 inline constexpr std::string_view kVmcDefault = "127.0.0.1:39539";
+inline constexpr std::string_view kVmcAssistantDefault = "127.0.0.1:39540";
 inline constexpr std::string_view kOscDefault = "127.0.0.1:9000";
 inline constexpr std::string_view kVtsDefault = "ws://localhost:8001";
 
