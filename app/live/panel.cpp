@@ -230,6 +230,9 @@ void LivePanel::outputsSection(const PanelView& view, PanelChanges& changes) {
                          static_cast<unsigned long long>(status.framesSent),
                          static_cast<unsigned long long>(status.framesDropped));
       if (!status.connected) ImGui::PopStyleColor();
+      // Refused by its user (VTube Studio's Deny): asked again only when they say so; opening the outputs again
+      // asks anew.
+      if (status.refused && ImGui::Button((std::string("Ask again##") + row.name).c_str())) changes.outputs = true;
     }
   }
 }

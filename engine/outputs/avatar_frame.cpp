@@ -25,6 +25,12 @@ float AvatarFrame::smile() const {
   return 0.5f * (arkit[static_cast<std::size_t>(left)] + arkit[static_cast<std::size_t>(right)]);
 }
 
+float AvatarFrame::frown() const {
+  static const int left = formats::arkitIndex("mouthFrownLeft");
+  static const int right = formats::arkitIndex("mouthFrownRight");
+  return 0.5f * (arkit[static_cast<std::size_t>(left)] + arkit[static_cast<std::size_t>(right)]);
+}
+
 Eigen::Quaternionf AvatarFrame::unityHeadRotation() const {
   constexpr double kRadians = 3.14159265358979323846 / 180.0;
   const Eigen::Matrix3d ours = (Eigen::AngleAxisd(headDegrees[1] * kRadians, Eigen::Vector3d::UnitY()) *

@@ -39,6 +39,7 @@ struct AvatarFrame {
   float blinkRight() const;  // eyeBlinkRight
   float jawOpen() const;
   float smile() const;  // the mean of mouthSmileLeft and mouthSmileRight
+  float frown() const;  // the mean of mouthFrownLeft and mouthFrownRight
   Eigen::Quaternionf unityHeadRotation() const;
 };
 

@@ -29,6 +29,7 @@ struct OutputStatus {
   std::string state;       // a few words for the panel: "sending", "waiting for VTube Studio to allow the plugin"
   std::uint64_t framesSent = 0;
   std::uint64_t framesDropped = 0;
+  bool refused = false;  // the receiver's user refused us: not asked again until the output is opened again
 };
 
 class LiveOutput {

@@ -23,7 +23,8 @@ std::vector<std::unique_ptr<LiveOutput>> openOutputs(const pipeline::OutputSetti
   VmcOptions vmc{.names = parseVmcNames(options.vmcNames, "--vmc-names"),
                  .neckLength = static_cast<float>(options.vmcNeckLength),
                  .headLength = static_cast<float>(options.vmcHeadLength),
-                 .neckShare = static_cast<float>(options.vmcNeckShare)};
+                 .neckShare = static_cast<float>(options.vmcNeckShare),
+                 .mirrorHead = options.mirrorHead};
   if (!options.vmc.empty())
     outputs.push_back(std::make_unique<VmcOutput>(parseUdpEndpoint(options.vmc, 39539, "--vmc"), vmc));
   if (!options.vmcAssistant.empty()) {
@@ -34,7 +35,8 @@ std::vector<std::unique_ptr<LiveOutput>> openOutputs(const pipeline::OutputSetti
   if (!options.osc.empty())
     outputs.push_back(std::make_unique<OscOutput>(parseUdpEndpoint(options.osc, 9000, "--osc"), faps));
   if (!options.vts.empty())
-    outputs.push_back(std::make_unique<VtsOutput>(parseVtsUrl(options.vts), options.vtsToken, std::move(tokenIssued)));
+    outputs.push_back(std::make_unique<VtsOutput>(parseVtsUrl(options.vts), options.vtsToken, std::move(tokenIssued),
+                                                  VtsOptions{.mirrorHead = options.mirrorHead}));
   return outputs;
 }
 

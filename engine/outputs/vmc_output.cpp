@@ -79,7 +79,8 @@ std::vector<std::vector<VmcMessage>> vmcDatagrams(const AvatarFrame& frame, cons
     messages.push_back({"/VMC/Ext/T", {static_cast<float>(frame.timeSeconds)}});
     messages.push_back({"/VMC/Ext/Root/Pos", {std::string("root"), 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 1.0f}});
     // The head's rotation as two turns about the same axis, the neck's share first: together exactly the head's.
-    const Eigen::Quaternionf head = frame.unityHeadRotation();
+    Eigen::Quaternionf head = frame.unityHeadRotation();
+    if (options.mirrorHead) head = Eigen::Quaternionf(head.w(), head.x(), -head.y(), -head.z());
     const Eigen::Quaternionf neck = Eigen::Quaternionf::Identity().slerp(options.neckShare, head);
     const Eigen::Quaternionf rest = (neck.conjugate() * head).normalized();
     messages.push_back(boneMessage("Neck", {0.0f, options.neckLength, 0.0f}, neck));

@@ -49,6 +49,9 @@ struct VmcOptions {
   float neckLength = 0.13f;
   float headLength = 0.085f;
   float neckShare = 0.4f;  // of the head's rotation turned at the neck, the rest at the head
+  // false: the avatar turns as the speaker does (to its own left when they turn to theirs); true: as their
+  // mirror image (the yaw and the roll the other way).
+  bool mirrorHead = false;
   int maxDatagramBytes = 1400;
 };
 

@@ -8,6 +8,7 @@
 #include <mutex>
 #include <nlohmann/json.hpp>
 #include <optional>
+#include <set>
 #include <thread>
 #include <utility>  // before Asio: Boost 1.74's awaitable.hpp uses std::exchange without it
 
@@ -46,14 +47,15 @@ VtsEndpoint parseVtsUrl(std::string_view url) {
   return endpoint;
 }
 
-std::vector<std::pair<std::string, double>> vtsParameters(const AvatarFrame& frame) {
+std::vector<std::pair<std::string, double>> vtsParameters(const AvatarFrame& frame, bool mirror) {
   const auto clamp = [](double value, double limit) { return std::clamp(value, -limit, limit); };
+  const double side = mirror ? -1.0 : 1.0;
   std::vector<std::pair<std::string, double>> parameters{
       {"MouthOpen", frame.jawOpen()},
-      {"MouthSmile", frame.smile()},
-      {"FaceAngleX", clamp(-frame.headDegrees[1], 30.0)},  // our yaw turns to the speaker's left
-      {"FaceAngleY", clamp(-frame.headDegrees[0], 30.0)},  // our pitch looks down
-      {"FaceAngleZ", clamp(frame.headDegrees[2], 90.0)},
+      {"MouthSmile", std::clamp(0.5 + 0.5 * (frame.smile() - frame.frown()), 0.0, 1.0)},
+      {"FaceAngleX", clamp(side * frame.headDegrees[1], 30.0)},  // our yaw: to the speaker's left +
+      {"FaceAngleY", clamp(-frame.headDegrees[0], 30.0)},        // our pitch looks down
+      {"FaceAngleZ", clamp(side * frame.headDegrees[2], 90.0)},
   };
   for (std::size_t k = 0; k < face::kVrmVowelNames.size(); ++k)
     parameters.emplace_back("Voice" + std::string(face::kVrmVowelNames[k]), frame.vrm[k]);
@@ -84,7 +86,8 @@ struct VtsOutput::Client {
             .connected = ready,
             .state = state,
             .framesSent = sent,
-            .framesDropped = dropped};
+            .framesDropped = dropped,
+            .refused = refused};
   }
 
   void start() {
@@ -108,6 +111,8 @@ struct VtsOutput::Client {
   void connect() {
     const unsigned generation = ++connection;
     busy = false;
+    missing.clear();  // a model loaded since may have them
+    listed = false;
     setState("connecting", false);
     socket = std::make_unique<websocket::stream<beast::tcp_stream>>(io);
     resolver.async_resolve(
@@ -172,6 +177,16 @@ struct VtsOutput::Client {
         });
   }
 
+  static constexpr int kTokenRequestDenied = 50;      // Files/ErrorID.cs: TokenRequestDenied
+  static constexpr int kParameterNotFound = 453;      // InjectDataParamNameNotFound
+
+  static int errorIdOf(const json& reply) {
+    const json data = reply.value("data", json::object());
+    return data.is_object() && data.contains("errorID") && data["errorID"].is_number_integer()
+               ? data["errorID"].get<int>()
+               : -1;
+  }
+
   static std::string errorOf(const json& reply) {
     const json data = reply.value("data", json::object());
     return data.is_object() ? data.value("message", std::string("an API error")) : std::string("an API error");
@@ -184,6 +199,17 @@ struct VtsOutput::Client {
               {{"pluginName", options.pluginName}, {"pluginDeveloper", options.pluginDeveloper}},
               [this, generation](const json& reply) {
                 const json data = reply.value("data", json::object());
+                if (reply["messageType"] == "APIError" && errorIdOf(reply) == kTokenRequestDenied) {
+                  // Asked again now, the question would be back in front of the user at once: wait until they
+                  // ask (the output opened again).
+                  {
+                    const std::lock_guard lock(mutex);
+                    refused = true;
+                  }
+                  ++connection;
+                  if (socket) beast::get_lowest_layer(*socket).close();
+                  return setState("VTube Studio's user denied the plugin; not asking again until asked", false);
+                }
                 if (reply["messageType"] != "AuthenticationTokenResponse" || !data.is_object() ||
                     !data.contains("authenticationToken") || !data["authenticationToken"].is_string())
                   return fail(generation, "no token: " + errorOf(reply));
@@ -225,12 +251,12 @@ struct VtsOutput::Client {
     }
     busy = true;
     json values = json::array();
-    for (const auto& [id, value] : vtsParameters(*frame)) values.push_back({{"id", id}, {"value", value}});
+    for (const auto& [id, value] : vtsParameters(*frame, options.mirrorHead))
+      if (!missing.count(id)) values.push_back({{"id", id}, {"value", value}});
     const unsigned generation = connection;
     request(generation, "InjectParameterDataRequest",
             {{"faceFound", true}, {"mode", "set"}, {"parameterValues", std::move(values)}},
             [this, generation](const json& reply) {
-              busy = false;
               {
                 const std::lock_guard lock(mutex);
                 if (reply["messageType"] == "InjectParameterDataResponse")
@@ -238,9 +264,48 @@ struct VtsOutput::Client {
                 else
                   ++dropped;
               }
-              if (reply["messageType"] == "APIError" && generation == connection) setState(errorOf(reply), true);
+              if (reply["messageType"] == "APIError" && generation == connection) {
+                if (errorIdOf(reply) == kParameterNotFound && !listed) return listParameters(generation);
+                setState(errorOf(reply), true);
+              }
+              busy = false;
               pump();
             });
+  }
+
+  // VTube Studio refused a parameter its model lacks (the whole request fails): ask it which it has, once a
+  // connection, and leave out the rest.
+  void listParameters(unsigned generation) {
+    listed = true;
+    request(generation, "InputParameterListRequest", json::object(), [this, generation](const json& reply) {
+      busy = false;
+      const json data = reply.value("data", json::object());
+      if (reply["messageType"] != "InputParameterListResponse" || !data.is_object()) {
+        setState("VTube Studio refused a parameter and did not list its own: " + errorOf(reply), true);
+        return pump();
+      }
+      std::set<std::string> has;
+      for (const char* list : {"defaultParameters", "customParameters"})
+        if (data.contains(list) && data[list].is_array())
+          for (const json& parameter : data[list])
+            if (parameter.is_object() && parameter.contains("name") && parameter["name"].is_string())
+              has.insert(parameter["name"].get<std::string>());
+      std::string lacking;
+      int kept = 0;
+      for (const auto& [id, value] : vtsParameters(AvatarFrame{})) {
+        if (has.count(id)) {
+          ++kept;
+          continue;
+        }
+        missing.insert(id);
+        lacking += (lacking.empty() ? "" : ", ") + id;
+      }
+      if (generation == connection)
+        setState("sending " + std::to_string(kept) + " parameters; VTube Studio has no " +
+                     (lacking.empty() ? std::string("parameter named in its error") : lacking),
+                 true);
+      pump();
+    });
   }
 
   VtsEndpoint endpoint;
@@ -257,12 +322,15 @@ struct VtsOutput::Client {
   std::thread thread;
   unsigned connection = 0;  // the current connection's number: older handlers see another and stop
   bool busy = false;        // a request is out
+  std::set<std::string> missing;  // parameters VTube Studio's model lacks, left out (this connection)
+  bool listed = false;            // its parameters were asked for (this connection)
   std::uint64_t requests = 0;
 
   mutable std::mutex mutex;  // guards what the display thread reads or leaves
   std::optional<AvatarFrame> pending;
   std::string state = "connecting";
   bool ready = false;
+  bool refused = false;  // the user denied the plugin
   std::uint64_t sent = 0, dropped = 0, connections = 0;
 };
 

@@ -172,6 +172,10 @@ void OutputSettings::visitOptions(OptionVisitor& v) {
                           .min = 0.0,
                           .max = 1.0,
                            .panel = false});
+  v.option(mirrorHead, {.name = "mirror-head",
+                        .help = "VMC and VTube Studio: the avatar turns as the speaker's mirror image (to its right "
+                                "when the speaker turns to their left), not as the speaker does",
+                        .panel = false});
   v.option(osc, {.name = "osc",
                  .help = "Send FAPs, visemes and the head as plain OSC (VRChat, TouchDesigner, Max): [HOST:]PORT",
                  .panel = false,

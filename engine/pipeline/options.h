@@ -77,6 +77,7 @@ struct OutputSettings {
   double vmcNeckLength = 0.13;    // metres, the neck's joint above the upper chest's
   double vmcHeadLength = 0.085;   // the head's above the neck's
   double vmcNeckShare = 0.4;      // of the head's rotation turned at the neck
+  bool mirrorHead = false;        // VMC and VTube Studio: the avatar as the speaker's mirror image
   std::string osc;           // plain OSC: [HOST:]PORT
   std::string vts;       // VTube Studio's plugin API: ws://HOST:PORT
   std::string vtsToken;  // VTube Studio's authentication token, kept from the run that was issued it

@@ -270,11 +270,12 @@ TEST_F(LiveOutputsTest, BadAddressesFailInOneLine) {
 // VTube Studio's side, played by vts_server.py.
 class VtsServer {
  public:
-  VtsServer(const fs::path& folder, int port = 0) : folder_(folder) {
+  // `extra`: more of vts_server.py's options ("--deny", "--parameters A,B").
+  VtsServer(const fs::path& folder, int port = 0, const std::string& extra = "") : folder_(folder) {
     const fs::path portFile = folder_ / "port";
     fs::remove(portFile);
     shell("/usr/bin/python3 " + std::string(TALKINGHEAD_TESTS_DIR) + "/cli/vts_server.py --port-file " +
-          portFile.string() + " --port " + std::to_string(port) + " --log " + log().string() + " > " +
+          portFile.string() + " --port " + std::to_string(port) + " --log " + log().string() + " " + extra + " > " +
           (folder_ / "server.txt").string() + " 2>&1 & echo $! > " + (folder_ / "server.pid").string());
     for (int i = 0; i < 200 && port_ == 0; ++i) {
       std::this_thread::sleep_for(std::chrono::milliseconds(50));
@@ -376,3 +377,42 @@ TEST_F(LiveOutputsTest, VtubeStudioRestartingIsConnectedToAgain) {
 }
 
 }  // namespace
+
+TEST_F(LiveOutputsTest, VtubeStudiosDenialIsAskedNoMoreUntilTheUserAsks) {
+  VtsServer server(out(), 0, "--deny");
+  ASSERT_GT(server.port(), 0) << th::test::readText(out() / "server.txt");
+  const CliResult result = runCli({"live", "--headless", "--input", prompt().string(), "--repeat-to", "8",
+                                   "--no-settings", "--vts", server.url()},
+                                  logs());
+  ASSERT_EQ(result.exitCode, 0) << result.err;
+  // Over 8 s (four of the old 2 s retries), one question put to the user, and the run's summary says why.
+  const std::vector<nlohmann::json> requests = server.requests();
+  EXPECT_EQ(countOf(requests, "AuthenticationTokenRequest"), 1);
+  EXPECT_EQ(countOf(requests, "InjectParameterDataRequest"), 0);
+  EXPECT_NE(result.out.find("denied the plugin"), std::string::npos) << result.out;
+}
+
+TEST_F(LiveOutputsTest, AVtubeStudioModelWithoutTheVoiceParametersGetsTheOthers) {
+  VtsServer server(out(), 0, "--parameters MouthOpen,MouthSmile,FaceAngleX,FaceAngleY,FaceAngleZ");
+  ASSERT_GT(server.port(), 0) << th::test::readText(out() / "server.txt");
+  const CliResult result =
+      runCli({"live", "--headless", "--input", prompt().string(), "--no-settings", "--vts", server.url()}, logs());
+  ASSERT_EQ(result.exitCode, 0) << result.err;
+  const std::vector<nlohmann::json> requests = server.requests();
+  // One request refused (453), the parameters asked for once, and from then on every frame taken.
+  EXPECT_EQ(countOf(requests, "InputParameterListRequest"), 1);
+  int refused = 0, taken = 0;
+  for (const nlohmann::json& request : requests) {
+    if (request["type"] != "InjectParameterDataRequest") continue;
+    if (request["problems"].empty()) {
+      ++taken;
+      EXPECT_EQ(request["request"]["data"]["parameterValues"].size(), 5U);
+    } else {
+      ++refused;
+    }
+  }
+  EXPECT_EQ(refused, 1);
+  EXPECT_GT(taken, 90);
+  EXPECT_NE(result.out.find("VTube Studio has no VoiceA, VoiceI, VoiceU, VoiceE, VoiceO"), std::string::npos)
+      << result.out;
+}

@@ -3,11 +3,14 @@
 output's tests: it speaks the API's documented JSON over WebSocket (python3-websockets), checks each request's
 shape and ranges, and logs every request and its verdict as a JSON line.
 
-  vts_server.py --port-file P --log L [--token T]
+  vts_server.py --port-file P --log L [--token T] [--deny] [--parameters NAME,NAME,...]
 
-It listens on 127.0.0.1 (a free port, written to P), issues token T on an AuthenticationTokenRequest, authenticates
-an AuthenticationRequest that carries it, and answers each InjectParameterDataRequest: InjectParameterDataResponse
-when it is well formed and the session authenticated, APIError otherwise (as VTube Studio does)."""
+It listens on 127.0.0.1 (a free port, written to P), issues token T on an AuthenticationTokenRequest (or, with
+--deny, answers it as VTube Studio does when its user clicks Deny: APIError 50), authenticates an
+AuthenticationRequest that carries it, and answers each InjectParameterDataRequest: InjectParameterDataResponse
+when it is well formed and the session authenticated, APIError otherwise (453 when a parameter is not the
+model's: the whole request fails, as VTube Studio's does). The model's parameters are --parameters (default:
+every default parameter the face drives); InputParameterListRequest lists them as defaultParameters."""
 
 import argparse
 import asyncio
@@ -38,7 +41,7 @@ def problems_of(request):
     return wrong
 
 
-def inject_problems(data):
+def inject_problems(data, model):
     wrong = []
     if data.get("mode") not in ("set", "add"):
         wrong.append("mode")
@@ -49,7 +52,7 @@ def inject_problems(data):
         return wrong + ["parameterValues"]
     for value in values:
         name, number = value.get("id"), value.get("value")
-        if name not in RANGES:
+        if name not in RANGES or name not in model:
             wrong.append("unknown parameter %r" % name)
         elif not isinstance(number, (int, float)) or not RANGES[name][0] <= number <= RANGES[name][1]:
             wrong.append("%s out of range: %r" % (name, number))
@@ -68,21 +71,31 @@ async def session(socket, options, log):
         kind = request.get("messageType")
         data = request.get("data") if isinstance(request.get("data"), dict) else {}
         wrong = problems_of(request)
+        model = options.parameters.split(",") if options.parameters else list(RANGES)
         if kind == "AuthenticationTokenRequest":
             if not data.get("pluginName") or not data.get("pluginDeveloper"):
                 wrong.append("plugin name or developer")
-            answer = reply(request, "AuthenticationTokenResponse", {"authenticationToken": options.token})
+            answer = (reply(request, "APIError", {"errorID": 50, "message": "User has denied API access for your plugin."})
+                      if options.deny else
+                      reply(request, "AuthenticationTokenResponse", {"authenticationToken": options.token}))
         elif kind == "AuthenticationRequest":
             authenticated = not wrong and data.get("authenticationToken") == options.token
             answer = reply(request, "AuthenticationResponse", {
                 "authenticated": authenticated,
                 "reason": "Token valid." if authenticated else "Token invalid."})
         elif kind == "InjectParameterDataRequest":
-            wrong += inject_problems(data)
+            wrong += inject_problems(data, model)
             if not authenticated:
                 wrong.append("not authenticated")
             answer = (reply(request, "InjectParameterDataResponse", {}) if not wrong else
                       reply(request, "APIError", {"errorID": 453, "message": "; ".join(wrong)}))
+        elif kind == "InputParameterListRequest":
+            if not authenticated:
+                wrong.append("not authenticated")
+            answer = reply(request, "InputParameterListResponse", {
+                "modelLoaded": True, "modelName": "stand-in", "modelID": "stand-in", "customParameters": [],
+                "defaultParameters": [{"name": name, "addedBy": "VTube Studio", "value": 0, "min": RANGES[name][0],
+                                       "max": RANGES[name][1], "defaultValue": 0} for name in model]})
         else:
             wrong.append("unknown messageType %r" % kind)
             answer = reply(request, "APIError", {"errorID": 2, "message": "unknown messageType"})
@@ -97,6 +110,8 @@ async def main():
     parser.add_argument("--port", type=int, default=0)
     parser.add_argument("--log", required=True)
     parser.add_argument("--token", default="talkinghead-test-token")
+    parser.add_argument("--deny", action="store_true")
+    parser.add_argument("--parameters", default="")
     options = parser.parse_args()
     with open(options.log, "a", encoding="utf-8") as log:
         async def handler(socket, path=None):
