@@ -14,6 +14,7 @@
 #include "formats/animation_format.h"
 #include "formats/arkit_format.h"
 #include "outputs/avatar_frame.h"
+#include "outputs/live_display.h"
 #include "pipeline/live_decoder.h"
 #include "pipeline/offline.h"
 #include "pipeline/options.h"
@@ -85,6 +86,8 @@ void copyFrame(const th::outputs::AvatarFrame& avatar, th_frame* frame) {
 struct th_stream {
   std::shared_ptr<const th::pipeline::AnimationModels> models;
   std::unique_ptr<th::pipeline::FrameDecoder> decoder;
+  // Blinks, gaze and the head at rest in pauses, as live's window and headless lay them over their frames.
+  std::unique_ptr<th::outputs::LiveDisplay> display;
   th::pipeline::DecoderLookahead lookahead;
   bool finished = false;
 };
@@ -126,6 +129,8 @@ th_status th_stream_open(const th_stream_options* options, th_stream** stream) {
                                                                decoderOptions, opened->models->visemes.get(),
                                                                opened->models->articulation.get());
     opened->lookahead = decoder->lookahead();
+    opened->display =
+        std::make_unique<th::outputs::LiveDisplay>(settings.idle, settings.live.blinks, settings.live.gaze);
     if (rate == 16000.0)
       opened->decoder = std::move(decoder);
     else
@@ -157,6 +162,7 @@ int th_stream_pull(th_stream* stream, th_frame* frame) {
   const th_status status = guarded(TH_ERROR_INTERNAL, [&] {
     th::pipeline::AnimationFrame decoded;
     if (!stream->decoder->next(decoded)) return;
+    stream->display->present(decoded, decoded.timeSeconds);  // the stream's own time: the same at any pace
     copyFrame(th::outputs::avatarFrameOf(decoded), frame);
     got = 1;
   });

@@ -16,8 +16,7 @@
 #include "formats/animation_format.h"
 #include "interrupt.h"
 #include "live/settings_file.h"
-#include "outputs/avatar_frame.h"
-#include "outputs/live_output.h"
+#include "outputs/live_display.h"
 #include "pipeline/live.h"
 
 namespace th::app {
@@ -89,8 +88,11 @@ void runHeadless(const HeadlessArguments& arguments, const pipeline::LiveSetting
   // A sound input that will not open at the start is an error, not something to wait for.
   if (!live.running()) throw Error(live.sourceError().empty() ? "live: the source did not start" : live.sourceError());
   const auto issuedToken = std::make_shared<outputs::IssuedToken>();
-  std::vector<std::unique_ptr<outputs::LiveOutput>> sinks = outputs::openOutputs(
-      settings.outputs, live.fapNumbers(), [issuedToken](const std::string& token) { issuedToken->set(token); });
+  // The idle motion and the outputs as the window has them; the idle clock is the stream's own time, so a
+  // recording played at any speed gives the same frames.
+  outputs::LiveDisplay display(settings.idle, settings.live.blinks, settings.live.gaze);
+  display.setOutputs(outputs::openOutputs(settings.outputs, live.fapNumbers(),
+                                          [issuedToken](const std::string& token) { issuedToken->set(token); }));
   const std::string sourceName =
       fromDevice ? live.sourceName() + " (" + std::to_string(static_cast<int>(live.rateHz())) + " Hz)"
                  : live.sourceName();
@@ -111,11 +113,8 @@ void runHeadless(const HeadlessArguments& arguments, const pipeline::LiveSetting
   const auto take = [&] {
     while (live.nextFrame(frame)) {
       decodeMs.add(static_cast<double>(frame.decodedNs - frame.inputReadNs) * 1e-6);
+      display.present(frame, frame.timeSeconds);
       if (!arguments.dump.empty()) shown.push_back(frame);
-      if (!sinks.empty()) {
-        const outputs::AvatarFrame avatar = outputs::avatarFrameOf(frame);
-        for (const auto& sink : sinks) sink->send(avatar);
-      }
       if (++framesShown == 60 * 30) minuteMegabytes = residentMegabytes();  // a minute of sound in
     }
   };
@@ -133,8 +132,9 @@ void runHeadless(const HeadlessArguments& arguments, const pipeline::LiveSetting
   take();
   const double runSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   std::vector<std::string> outputLines;
-  for (const auto& sink : sinks) outputLines.push_back(outputs::describe(sink->status(), runSeconds));
-  sinks.clear();  // VTube Studio's thread ends before its token is read
+  for (const outputs::OutputStatus& status : display.statuses())
+    outputLines.push_back(outputs::describe(status, runSeconds));
+  display.closeOutputs();  // VTube Studio's thread ends before its token is read
   const double endMegabytes = residentMegabytes();
   if (fromDevice) seconds = live.deviceSeconds();
 

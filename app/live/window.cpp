@@ -16,14 +16,13 @@
 #include <string>
 #include <thread>
 
-#include "animation/idle_motion.h"
 #include "audio/media_audio.h"
 #include "core/error.h"
 #include "interrupt.h"
 #include "live/frame_stats.h"
 #include "live/panel.h"
 #include "live/settings_file.h"
-#include "outputs/avatar_frame.h"
+#include "outputs/live_display.h"
 #include "outputs/live_output.h"
 #include "pipeline/live.h"
 #include "pipeline/playout.h"
@@ -120,7 +119,7 @@ class LiveWindow {
             model_, window_,
             {.width = 1280 - LivePanel::widthFor(1280), .height = 720, .samples = samplesFor(window_, arguments.msaa)}),
         playout_(pipeline::PlayoutOptions{.interpolate = settings_.live.interpolate}),
-        idle_(settings_.idle.motionOptions()) {
+        display_(settings_.idle, settings_.live.blinks, settings_.live.gaze) {
     models_ = loadModelsOf(settings_);  // a bad model file is an error before the window is of any use
     panel_.showModelPaths(settings_.models.headModelPath().string(), settings_.mouthModelPath().string());
     pipeline::LiveSource source;
@@ -236,8 +235,9 @@ class LiveWindow {
       }
     }
     const double secondsOpen = secondsSince(started);
-    for (const auto& output : outputs_) std::printf("%s\n", outputs::describe(output->status(), secondsOpen).c_str());
-    outputs_.clear();  // VTube Studio's thread ends before its token is read
+    for (const outputs::OutputStatus& status : display_.statuses())
+      std::printf("%s\n", outputs::describe(status, secondsOpen).c_str());
+    display_.closeOutputs();  // VTube Studio's thread ends before its token is read
     if (const std::string token = issuedToken_->get(); !token.empty()) settings_.outputs.vtsToken = token;
     saveLiveSettings(arguments_.settingsPath, settings_);
     stats_.printSummary(secondsOpen, panelDraws_);
@@ -258,6 +258,7 @@ class LiveWindow {
     if (live_->sessionsStarted() != sessionsSeen_) {  // a new stream: frame 0 again
       sessionsSeen_ = live_->sessionsStarted();
       playout_.reset();
+      display_.newStream();
     }
     const std::int64_t now = pipeline::steadyNanoseconds();
     pipeline::AnimationFrame frame;
@@ -316,14 +317,14 @@ class LiveWindow {
       // Half a second with no stream (a lost input): the face eases to neutral, the mouth closes.
       for (double& value : lastDecoded_) value *= 0.9;
     }
-    if (settings_.idle.idle)
-      idle_.apply(secondsSince(opened_), levelDb, {.blinks = settings_.live.blinks, .gaze = settings_.live.gaze}, faps);
-    if (shown && !outputs_.empty()) {  // the face as drawn, blinks and gaze included
-      pipeline::AnimationFrame drawn = sample.frame;
-      drawn.faps = faps;
-      const outputs::AvatarFrame avatar = outputs::avatarFrameOf(drawn);
-      for (const auto& output : outputs_) output->send(avatar);
-    }
+    // The idle motion, and the outputs sent the face as drawn (outputs/live_display.h: as headless and the
+    // library do).
+    pipeline::AnimationFrame drawn = shown ? sample.frame : pipeline::AnimationFrame{};
+    drawn.faps = faps;
+    drawn.levelDb = levelDb;
+    display_.setSwitches(settings_.live.blinks, settings_.live.gaze);
+    display_.present(drawn, secondsSince(opened_), shown);
+    faps = drawn.faps;
     const auto setupStart = std::chrono::steady_clock::now();
     face_.pose(faps);
     times.faceSetupMs = millisecondsBetween(setupStart, std::chrono::steady_clock::now());
@@ -346,7 +347,7 @@ class LiveWindow {
                                               .settings = settings_,
                                               .stats = stats_,
                                               .displayStarved = playout_.starvedSamples(),
-                                              .speaking = idle_.speaking(),
+                                              .speaking = display_.speaking(),
                                               .modelError = modelError_,
                                               .outputs = outputStatuses()},
                                              size, panelWidth_);
@@ -361,23 +362,19 @@ class LiveWindow {
 
   // The outputs the settings name, (re)opened; VTube Studio's token, once issued, is kept for the settings file.
   void openOutputs() {
-    outputs_.clear();
+    display_.closeOutputs();
     if (const std::string token = issuedToken_->get(); !token.empty()) settings_.outputs.vtsToken = token;
-    outputs_ = outputs::openOutputs(settings_.outputs, live_->fapNumbers(),
-                                    [token = issuedToken_](const std::string& issued) { token->set(issued); });
+    display_.setOutputs(outputs::openOutputs(settings_.outputs, live_->fapNumbers(),
+                                             [token = issuedToken_](const std::string& issued) { token->set(issued); }));
   }
 
-  std::vector<outputs::OutputStatus> outputStatuses() const {
-    std::vector<outputs::OutputStatus> statuses;
-    for (const auto& output : outputs_) statuses.push_back(output->status());
-    return statuses;
-  }
+  std::vector<outputs::OutputStatus> outputStatuses() const { return display_.statuses(); }
 
   void apply(const PanelChanges& changes) {
     if (changes.outputs) openOutputs();
     if (changes.newPlayout)
       playout_ = pipeline::Playout(pipeline::PlayoutOptions{.interpolate = settings_.live.interpolate});
-    if (changes.idle) idle_ = animation::IdleMotion(settings_.idle.motionOptions());
+    if (changes.idle) display_.setIdle(settings_.idle);
     if (changes.device) live_->selectDevice(settings_.live.deviceIndex());
     if (changes.reloadModels) {
       try {
@@ -428,11 +425,10 @@ class LiveWindow {
   render::WindowContext window_;
   render::AnimatedFace face_;
   pipeline::Playout playout_;
-  animation::IdleMotion idle_;
+  outputs::LiveDisplay display_;  // idle motion and outputs, as every live path
   std::chrono::steady_clock::time_point opened_ = std::chrono::steady_clock::now();
   std::shared_ptr<const pipeline::AnimationModels> models_;
   std::unique_ptr<pipeline::LivePipeline> live_;
-  std::vector<std::unique_ptr<outputs::LiveOutput>> outputs_;
   std::shared_ptr<outputs::IssuedToken> issuedToken_ = std::make_shared<outputs::IssuedToken>();
   std::uint64_t sessionsSeen_ = 0;
   std::string modelError_;

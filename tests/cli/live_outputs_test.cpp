@@ -135,7 +135,7 @@ TEST_F(LiveOutputsTest, VmcAndOscReceiversGetEveryFrameInTheProtocolsShapeAndItF
   const int assistantPort = startOscdump(assistantFile, "assistant");
   const CliResult result = runCli({"live", "--headless", "--input", prompt().string(), "--no-settings", "--vmc",
                                    "127.0.0.1:" + std::to_string(vmcPort), "--osc", std::to_string(oscPort),
-                                   "--vmc-assistant", std::to_string(assistantPort)},
+                                   "--vmc-assistant", std::to_string(assistantPort), "--blinks-per-minute", "40"},
                                   logs());
   ASSERT_EQ(result.exitCode, 0) << result.err;
   std::this_thread::sleep_for(std::chrono::milliseconds(300));  // the last datagrams printed
@@ -149,6 +149,7 @@ TEST_F(LiveOutputsTest, VmcAndOscReceiversGetEveryFrameInTheProtocolsShapeAndItF
   const std::vector<OscLine> vmc = readOscdump(vmcFile);
   std::map<std::string, int> count;
   std::vector<double> times, vowels;
+  double mostClosed = 0.0;
   for (const OscLine& line : vmc) {
     ++count[line.path];
     if (line.path == "/VMC/Ext/OK") {
@@ -165,6 +166,7 @@ TEST_F(LiveOutputsTest, VmcAndOscReceiversGetEveryFrameInTheProtocolsShapeAndItF
       EXPECT_GE(value, 0.0);
       EXPECT_LE(value, 1.0);
       if (line.arguments[0] == "\"A\"") vowels.push_back(value);
+      if (line.arguments[0] == "\"Blink_L\"") mostClosed = std::max(mostClosed, value);
       if (line.arguments[0] == "\"I\"" || line.arguments[0] == "\"U\"" || line.arguments[0] == "\"E\"" ||
           line.arguments[0] == "\"O\"")
         vowels.back() += value;
@@ -186,6 +188,7 @@ TEST_F(LiveOutputsTest, VmcAndOscReceiversGetEveryFrameInTheProtocolsShapeAndItF
   EXPECT_EQ(count["/VMC/Ext/Blend/Val"], 7 * shown) << "VRM's names alone: the mouth driven once";
   for (const char* name : {"\"A\"", "\"I\"", "\"U\"", "\"E\"", "\"O\"", "\"Blink_L\"", "\"Blink_R\""})
     EXPECT_EQ(count[std::string("name ") + name], shown) << name;
+  EXPECT_GT(mostClosed, 0.5) << "headless blinks as the window does (40 a minute here)";
   // The frames' times: 30 a second, in order.
   ASSERT_EQ(static_cast<int>(times.size()), shown);
   for (std::size_t i = 1; i < times.size(); ++i) EXPECT_NEAR(times[i] - times[i - 1], 1.0 / 30.0, 1e-4);
