@@ -216,7 +216,8 @@ void LivePanel::outputsSection(const PanelView& view, PanelChanges& changes) {
   for (const Row& row : {Row{"VMC (VMagicMirror, EVMC4U, Warudo, VMC4B)", "VMC", outputs.vmc, pipeline::kVmcDefault},
                          Row{"VMC assistant (VSeeFace, Virtual Motion Capture)", "VMC assistant", outputs.vmcAssistant,
                              pipeline::kVmcAssistantDefault},
-                         Row{"OSC (VRChat, TouchDesigner, Max)", "OSC", outputs.osc, pipeline::kOscDefault},
+                         Row{"VRChat (face-tracking avatars)", "VRChat", outputs.vrchat, pipeline::kVrchatDefault},
+                         Row{"OSC (TouchDesigner, Max, Pure Data)", "OSC", outputs.osc, pipeline::kOscDefault},
                          Row{"VTube Studio", "VTube Studio", outputs.vts, pipeline::kVtsDefault}}) {
     bool on = !row.address.empty();
     if (ImGui::Checkbox(row.label, &on)) {

@@ -3,6 +3,7 @@
 #include "outputs/live_output.h"
 #include "outputs/osc_output.h"
 #include "outputs/vmc_output.h"
+#include "outputs/vrchat_output.h"
 #include "outputs/vts_output.h"
 
 namespace th::outputs {
@@ -32,8 +33,12 @@ std::vector<std::unique_ptr<LiveOutput>> openOutputs(const pipeline::OutputSetti
     outputs.push_back(
         std::make_unique<VmcOutput>(parseUdpEndpoint(options.vmcAssistant, 39540, "--vmc-assistant"), vmc));
   }
+  if (!options.vrchat.empty())
+    outputs.push_back(std::make_unique<VrchatOutput>(parseUdpEndpoint(options.vrchat, 9000, "--vrchat"),
+                                                     VrchatOptions{.prefix = options.vrchatPrefix,
+                                                                   .bits = options.vrchatBits}));
   if (!options.osc.empty())
-    outputs.push_back(std::make_unique<OscOutput>(parseUdpEndpoint(options.osc, 9000, "--osc"), faps));
+    outputs.push_back(std::make_unique<OscOutput>(parseUdpEndpoint(options.osc, 9100, "--osc"), faps));
   if (!options.vts.empty())
     outputs.push_back(std::make_unique<VtsOutput>(parseVtsUrl(options.vts), options.vtsToken, std::move(tokenIssued),
                                                   VtsOptions{.mirrorHead = options.mirrorHead}));

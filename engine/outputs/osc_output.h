@@ -1,4 +1,5 @@
-// Plain OSC for anything else that listens (VRChat's OSC, TouchDesigner, Max, Pure Data): each frame one bundle
+// Plain OSC for anything else that listens (TouchDesigner, Max, Pure Data; VRChat has its own, vrchat_output.h):
+// each frame one bundle
 //   /talkinghead/time SECONDS
 //   /talkinghead/fap/N VALUE              each FAP the decoder sets (its value in FAP units, face/fap.h)
 //   /talkinghead/viseme/NAME WEIGHT       Oculus's 15 visemes (sil PP FF ... ou), when there is a viseme model

@@ -66,6 +66,60 @@ OscBundle::Message& OscBundle::Message::integer(std::int32_t value) {
   lo_message_add_int32(static_cast<lo_message>(message_), value);
   return *this;
 }
+OscBundle::Message& OscBundle::Message::boolean(bool value) {
+  if (value)
+    lo_message_add_true(static_cast<lo_message>(message_));
+  else
+    lo_message_add_false(static_cast<lo_message>(message_));
+  return *this;
+}
+
+namespace {
+std::size_t padded(std::size_t bytes) {
+  return (bytes + 3) / 4 * 4;
+}
+constexpr std::size_t kBundleHeaderBytes = 16;  // "#bundle\0" and the time tag
+}  // namespace
+
+std::size_t OscMessage::bytes() const {
+  std::size_t size = padded(path.size() + 1) + padded(arguments.size() + 2);  // path, ",TYPES"
+  for (const auto& argument : arguments) {
+    if (const auto* text = std::get_if<std::string>(&argument))
+      size += padded(text->size() + 1);
+    else if (!std::holds_alternative<bool>(argument))
+      size += 4;
+  }
+  return size + 4;  // the bundle element's size prefix
+}
+
+std::vector<std::vector<OscMessage>> cutIntoDatagrams(std::vector<OscMessage> messages, int maxBytes) {
+  std::vector<std::vector<OscMessage>> datagrams(1);
+  std::size_t size = kBundleHeaderBytes;
+  for (OscMessage& message : messages) {
+    const std::size_t bytes = message.bytes();
+    if (!datagrams.back().empty() && size + bytes > static_cast<std::size_t>(maxBytes)) {
+      datagrams.emplace_back();
+      size = kBundleHeaderBytes;
+    }
+    size += bytes;
+    datagrams.back().push_back(std::move(message));
+  }
+  return datagrams;
+}
+
+std::vector<char> serialiseBundle(const std::vector<OscMessage>& messages) {
+  OscBundle bundle;
+  for (const OscMessage& message : messages) {
+    OscBundle::Message added = bundle.add(message.path);
+    for (const auto& argument : message.arguments) {
+      if (const auto* text = std::get_if<std::string>(&argument)) added.string(*text);
+      if (const auto* number = std::get_if<float>(&argument)) added.real(*number);
+      if (const auto* integer = std::get_if<std::int32_t>(&argument)) added.integer(*integer);
+      if (const auto* flag = std::get_if<bool>(&argument)) added.boolean(*flag);
+    }
+  }
+  return bundle.serialise();
+}
 
 std::vector<char> OscBundle::serialise() const {
   const auto bundle = static_cast<lo_bundle>(bundle_);

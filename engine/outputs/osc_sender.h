@@ -16,6 +16,7 @@
 #include <memory>
 #include <string>
 #include <string_view>
+#include <variant>
 #include <vector>
 
 namespace th::outputs {
@@ -44,6 +45,7 @@ class OscBundle {
     Message& string(std::string_view value);
     Message& real(float value);
     Message& integer(std::int32_t value);
+    Message& boolean(bool value);  // OSC's T or F: a type tag, no bytes
 
    private:
     friend class OscBundle;
@@ -59,6 +61,19 @@ class OscBundle {
   void* bundle_;                   // lo_bundle
   std::deque<std::string> paths_;  // the paths stay where they are while the bundle lives (liblo may point to them)
 };
+
+// One OSC message as a value: int32, float32, string and boolean (T/F) arguments only, what the receivers' OSC
+// libraries read (uOSC, VRChat's).
+struct OscMessage {
+  std::string path;
+  std::vector<std::variant<std::int32_t, float, std::string, bool>> arguments;
+  std::size_t bytes() const;  // its size in a bundle, the size prefix included (OSC 1.0)
+};
+
+// Messages cut, in order, into bundles of at most maxBytes each (one datagram each: unfragmented under the
+// usual 1,500-byte MTU at 1,400), and serialised.
+std::vector<std::vector<OscMessage>> cutIntoDatagrams(std::vector<OscMessage> messages, int maxBytes);
+std::vector<char> serialiseBundle(const std::vector<OscMessage>& messages);
 
 class OscSender {
  public:

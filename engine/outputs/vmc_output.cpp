@@ -9,12 +9,6 @@
 namespace th::outputs {
 namespace {
 
-std::size_t padded(std::size_t bytes) {
-  return (bytes + 3) / 4 * 4;
-}
-
-constexpr std::size_t kBundleHeaderBytes = 16;  // "#bundle\0" and the time tag
-
 constexpr std::array<std::string_view, 5> kVrm1Vowels{"aa", "ih", "ou", "ee", "oh"};
 
 std::string pascalCase(std::string_view apple) {
@@ -23,7 +17,7 @@ std::string pascalCase(std::string_view apple) {
   return name;
 }
 
-VmcMessage boneMessage(std::string name, const Eigen::Vector3f& position, const Eigen::Quaternionf& rotation) {
+OscMessage boneMessage(std::string name, const Eigen::Vector3f& position, const Eigen::Quaternionf& rotation) {
   return {"/VMC/Ext/Bone/Pos",
           {std::move(name), position.x(), position.y(), position.z(), rotation.x(), rotation.y(), rotation.z(),
            rotation.w()}};
@@ -38,13 +32,6 @@ VmcNames parseVmcNames(std::string_view text, std::string_view option) {
   if (text == "perfect-sync-apple") return VmcNames::kPerfectSyncApple;
   throw Error(std::string(option) + ": '" + std::string(text) +
               "' is not one of vrm0, vrm1, perfect-sync, perfect-sync-apple");
-}
-
-std::size_t VmcMessage::bytes() const {
-  std::size_t size = padded(path.size() + 1) + padded(arguments.size() + 2);  // path, ",TYPES"
-  for (const auto& argument : arguments)
-    size += std::holds_alternative<std::string>(argument) ? padded(std::get<std::string>(argument).size() + 1) : 4;
-  return size + 4;  // the bundle element's size prefix
 }
 
 std::vector<std::pair<std::string, float>> vmcBlendshapes(const AvatarFrame& frame, VmcNames names) {
@@ -72,8 +59,8 @@ std::vector<std::pair<std::string, float>> vmcBlendshapes(const AvatarFrame& fra
   return values;
 }
 
-std::vector<std::vector<VmcMessage>> vmcDatagrams(const AvatarFrame& frame, const VmcOptions& options) {
-  std::vector<VmcMessage> messages;
+std::vector<std::vector<OscMessage>> vmcDatagrams(const AvatarFrame& frame, const VmcOptions& options) {
+  std::vector<OscMessage> messages;
   if (options.role == VmcRole::kPerformer) {
     messages.push_back({"/VMC/Ext/OK", {std::int32_t{1}}});
     messages.push_back({"/VMC/Ext/T", {static_cast<float>(frame.timeSeconds)}});
@@ -90,34 +77,12 @@ std::vector<std::vector<VmcMessage>> vmcDatagrams(const AvatarFrame& frame, cons
     messages.push_back({"/VMC/Ext/Blend/Val", {std::move(name), value}});
   messages.push_back({"/VMC/Ext/Blend/Apply", {}});
 
-  std::vector<std::vector<VmcMessage>> datagrams(1);
-  std::size_t size = kBundleHeaderBytes;
-  for (VmcMessage& message : messages) {
-    const std::size_t bytes = message.bytes();
-    if (!datagrams.back().empty() && size + bytes > static_cast<std::size_t>(options.maxDatagramBytes)) {
-      datagrams.emplace_back();
-      size = kBundleHeaderBytes;
-    }
-    size += bytes;
-    datagrams.back().push_back(std::move(message));
-  }
-  return datagrams;
+  return cutIntoDatagrams(std::move(messages), options.maxDatagramBytes);
 }
 
 std::vector<std::vector<char>> vmcPackets(const AvatarFrame& frame, const VmcOptions& options) {
   std::vector<std::vector<char>> packets;
-  for (const std::vector<VmcMessage>& datagram : vmcDatagrams(frame, options)) {
-    OscBundle bundle;
-    for (const VmcMessage& message : datagram) {
-      OscBundle::Message added = bundle.add(message.path);
-      for (const auto& argument : message.arguments) {
-        if (const auto* text = std::get_if<std::string>(&argument)) added.string(*text);
-        if (const auto* number = std::get_if<float>(&argument)) added.real(*number);
-        if (const auto* integer = std::get_if<std::int32_t>(&argument)) added.integer(*integer);
-      }
-    }
-    packets.push_back(bundle.serialise());
-  }
+  for (const std::vector<OscMessage>& datagram : vmcDatagrams(frame, options)) packets.push_back(serialiseBundle(datagram));
   return packets;
 }
 

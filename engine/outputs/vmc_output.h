@@ -27,7 +27,6 @@
 #include <cstdint>
 #include <string>
 #include <string_view>
-#include <variant>
 #include <vector>
 
 #include "outputs/live_output.h"
@@ -55,15 +54,8 @@ struct VmcOptions {
   int maxDatagramBytes = 1400;
 };
 
-// One OSC message as VMC sends it: int32, float32 and string arguments only (what receivers' uOSC parses).
-struct VmcMessage {
-  std::string path;
-  std::vector<std::variant<std::int32_t, float, std::string>> arguments;
-  std::size_t bytes() const;  // its size in a bundle, the size prefix included (OSC 1.0)
-};
-
 // A frame's messages, cut into datagrams (each one bundle of at most options.maxDatagramBytes bytes).
-std::vector<std::vector<VmcMessage>> vmcDatagrams(const AvatarFrame& frame, const VmcOptions& options);
+std::vector<std::vector<OscMessage>> vmcDatagrams(const AvatarFrame& frame, const VmcOptions& options);
 // The same as the bytes sent: one serialised OSC bundle a datagram.
 std::vector<std::vector<char>> vmcPackets(const AvatarFrame& frame, const VmcOptions& options);
 // The names sent, in order, and their values for a frame.

@@ -176,8 +176,23 @@ void OutputSettings::visitOptions(OptionVisitor& v) {
                         .help = "VMC and VTube Studio: the avatar turns as the speaker's mirror image (to its right "
                                 "when the speaker turns to their left), not as the speaker does",
                         .panel = false});
+  v.option(vrchat, {.name = "vrchat",
+                    .help = "Drive a VRChat avatar's face-tracking parameters (VRCFaceTracking's Unified "
+                            "Expressions: JawOpen, MouthClosed, LipFunnel, EyeLid...) over OSC: [HOST:]PORT",
+                    .panel = false,
+                    .implicitValue = kVrchatDefault});
+  v.option(vrchatPrefix, {.name = "vrchat-prefix",
+                          .help = "VRChat: the prefix of the avatar's face-tracking parameters (\"v2/\" for "
+                                  "avatars without VRCFaceTracking templates' \"FT/\")",
+                          .panel = false});
+  v.option(vrchatBits, {.name = "vrchat-bits",
+                        .help = "VRChat: binary parameters per value as the avatar syncs them (NAME1, NAME2, NAME4, "
+                                "... and NAMENegative; 0: floats only)",
+                        .min = 0,
+                        .max = 8,
+                        .panel = false});
   v.option(osc, {.name = "osc",
-                 .help = "Send FAPs, visemes and the head as plain OSC (VRChat, TouchDesigner, Max): [HOST:]PORT",
+                 .help = "Send FAPs, visemes and the head as plain OSC (TouchDesigner, Max, Pure Data): [HOST:]PORT",
                  .panel = false,
                  .implicitValue = kOscDefault});
   v.option(vts, {.name = "vts",

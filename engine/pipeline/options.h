@@ -78,6 +78,9 @@ struct OutputSettings {
   double vmcHeadLength = 0.085;   // the head's above the neck's
   double vmcNeckShare = 0.4;      // of the head's rotation turned at the neck
   bool mirrorHead = false;        // VMC and VTube Studio: the avatar as the speaker's mirror image
+  std::string vrchat;        // VRChat's OSC input, face-tracking avatar parameters: [HOST:]PORT
+  std::string vrchatPrefix = "FT/v2/";  // before each parameter's name, as the avatar has them
+  int vrchatBits = 0;                   // binary parameters per value (0: floats only)
   std::string osc;           // plain OSC: [HOST:]PORT
   std::string vts;       // VTube Studio's plugin API: ws://HOST:PORT
   std::string vtsToken;  // VTube Studio's authentication token, kept from the run that was issued it
@@ -85,7 +88,8 @@ struct OutputSettings {
 };
 inline constexpr std::string_view kVmcDefault = "127.0.0.1:39539";
 inline constexpr std::string_view kVmcAssistantDefault = "127.0.0.1:39540";
-inline constexpr std::string_view kOscDefault = "127.0.0.1:9000";
+inline constexpr std::string_view kVrchatDefault = "127.0.0.1:9000";  // VRChat's own input port
+inline constexpr std::string_view kOscDefault = "127.0.0.1:9100";     // beside VRChat's 9000 and 9001, not on them
 inline constexpr std::string_view kVtsDefault = "ws://localhost:8001";
 
 // Live's own.

@@ -101,7 +101,7 @@ std::vector<OscLine> readOscdump(const fs::path& file) {
     std::string argument;
     if (!(fields >> line.types)) line.types.clear();
     while (fields >> argument) line.arguments.push_back(argument);
-    if (!line.types.empty() && line.types.find_first_not_of("sfi") != std::string::npos) {
+    if (!line.types.empty() && line.types.find_first_not_of("sfiTF") != std::string::npos) {
       line.arguments.insert(line.arguments.begin(), line.types);  // no type tags: oscdump prints none
       line.types.clear();
     }
@@ -133,9 +133,12 @@ TEST_F(LiveOutputsTest, VmcAndOscReceiversGetEveryFrameInTheProtocolsShapeAndItF
   const int oscPort = startOscdump(oscFile, "osc");
   const fs::path assistantFile = out() / "assistant.txt";
   const int assistantPort = startOscdump(assistantFile, "assistant");
+  const fs::path vrchatFile = out() / "vrchat.txt";
+  const int vrchatPort = startOscdump(vrchatFile, "vrchat");
   const CliResult result = runCli({"live", "--headless", "--input", prompt().string(), "--no-settings", "--vmc",
                                    "127.0.0.1:" + std::to_string(vmcPort), "--osc", std::to_string(oscPort),
-                                   "--vmc-assistant", std::to_string(assistantPort), "--blinks-per-minute", "40"},
+                                   "--vmc-assistant", std::to_string(assistantPort), "--vrchat",
+                                   std::to_string(vrchatPort), "--blinks-per-minute", "40"},
                                   logs());
   ASSERT_EQ(result.exitCode, 0) << result.err;
   std::this_thread::sleep_for(std::chrono::milliseconds(300));  // the last datagrams printed
@@ -220,6 +223,18 @@ TEST_F(LiveOutputsTest, VmcAndOscReceiversGetEveryFrameInTheProtocolsShapeAndItF
   EXPECT_EQ(assistant["/VMC/Ext/Blend/Apply"], shown);
   EXPECT_EQ(assistant["/VMC/Ext/Blend/Val"], 7 * shown);
   EXPECT_EQ(assistant.size(), 2U) << "no bones, no time, no root to a Performer";
+
+  // VRChat: avatar parameters alone, one value a message, the face's changes.
+  std::map<std::string, int> vrchat;
+  for (const OscLine& line : readOscdump(vrchatFile)) {
+    ++vrchat[line.path];
+    EXPECT_EQ(line.path.rfind("/avatar/parameters/", 0), 0U) << line.path;
+    EXPECT_TRUE(line.types == "f" || line.types == "T") << line.path << " " << line.types;
+  }
+  EXPECT_GE(vrchat["/avatar/parameters/LipTrackingActive"], 1);
+  EXPECT_GT(vrchat["/avatar/parameters/FT/v2/JawOpen"], shown / 3) << "the jaw moves with the speech";
+  EXPECT_LE(vrchat["/avatar/parameters/FT/v2/JawOpen"], shown);
+  EXPECT_GE(vrchat["/avatar/parameters/FT/v2/EyeLidLeft"], 2) << "the blinks";
 
   // Plain OSC: a bundle per frame with the FAPs, the visemes, VRM's vowels and the head; the jaw opens with the
   // voice.

@@ -29,8 +29,8 @@ AvatarFrame turned(double yawDegrees, double rollDegrees = 0.0) {
 
 Eigen::Quaternionf vmcHead(const AvatarFrame& frame, const VmcOptions& options) {
   Eigen::Quaternionf neck = Eigen::Quaternionf::Identity(), head = Eigen::Quaternionf::Identity();
-  for (const std::vector<VmcMessage>& datagram : vmcDatagrams(frame, options))
-    for (const VmcMessage& m : datagram) {
+  for (const std::vector<OscMessage>& datagram : vmcDatagrams(frame, options))
+    for (const OscMessage& m : datagram) {
       if (m.path != "/VMC/Ext/Bone/Pos") continue;
       const auto f = [&](std::size_t k) { return std::get<float>(m.arguments[k]); };
       const Eigen::Quaternionf q(f(7), f(4), f(5), f(6));

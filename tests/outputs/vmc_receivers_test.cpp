@@ -24,87 +24,13 @@
 #include "core/error.h"
 #include "formats/arkit_format.h"
 #include "outputs/vmc_output.h"
+#include "outputs/osc_test_parser.h"
 
 namespace th::outputs {
 namespace {
 
-struct Argument {
-  char type = 0;
-  std::int32_t integer = 0;
-  float real = 0.0f;
-  std::string text;
-};
-
-struct Message {
-  std::string path;
-  std::vector<Argument> arguments;
-};
-
-// uOSC's parser: big-endian words, strings NUL-terminated and padded to 4 bytes. Returns false where uOSC would
-// misread (no type tags, a type it does not know, a message running past its element).
-class UoscParser {
- public:
-  explicit UoscParser(const std::vector<char>& bytes) : bytes_(bytes) {}
-  bool parse(std::vector<Message>& out) { return element(0, bytes_.size(), out); }
-
- private:
-  bool element(std::size_t at, std::size_t end, std::vector<Message>& out) {
-    std::string path;
-    std::size_t next = at;
-    if (!string(next, end, path)) return false;
-    if (path == "#bundle") {
-      next += 8;  // the time tag (uOSC ignores it)
-      while (next < end) {
-        std::int32_t size = 0;
-        if (!int32(next, end, size) || size < 0 || next + static_cast<std::size_t>(size) > end) return false;
-        if (!element(next, next + static_cast<std::size_t>(size), out)) return false;
-        next += static_cast<std::size_t>(size);
-      }
-      return true;
-    }
-    Message message{path, {}};
-    std::string types;
-    if (!string(next, end, types) || types.empty() || types[0] != ',') return false;
-    for (const char type : types.substr(1)) {
-      Argument argument;
-      argument.type = type;
-      if (type == 'i') {
-        if (!int32(next, end, argument.integer)) return false;
-      } else if (type == 'f') {
-        std::int32_t bits = 0;
-        if (!int32(next, end, bits)) return false;
-        std::memcpy(&argument.real, &bits, 4);
-      } else if (type == 's') {
-        if (!string(next, end, argument.text)) return false;
-      } else {
-        return false;  // uOSC does not advance past other types: the rest of the message is misread
-      }
-      message.arguments.push_back(argument);
-    }
-    out.push_back(std::move(message));
-    return next == end;
-  }
-  bool string(std::size_t& at, std::size_t end, std::string& text) {
-    const auto* begin = bytes_.data() + at;
-    const std::size_t length = strnlen(begin, end - at);
-    if (length == end - at) return false;
-    text.assign(begin, length);
-    at += (length + 4) / 4 * 4;
-    return at <= end;
-  }
-  bool int32(std::size_t& at, std::size_t end, std::int32_t& value) {
-    if (at + 4 > end) return false;
-    std::uint32_t word = 0;
-    for (int k = 0; k < 4; ++k) word = (word << 8) | static_cast<unsigned char>(bytes_[at + static_cast<std::size_t>(k)]);
-    value = static_cast<std::int32_t>(word);
-    at += 4;
-    return true;
-  }
-  const std::vector<char>& bytes_;
-};
-
-std::vector<Message> received(const std::vector<std::vector<char>>& packets) {
-  std::vector<Message> messages;
+std::vector<ParsedMessage> received(const std::vector<std::vector<char>>& packets) {
+  std::vector<ParsedMessage> messages;
   for (const std::vector<char>& packet : packets) {
     EXPECT_LE(packet.size(), 1400U) << "a datagram over the usual MTU is fragmented";
     EXPECT_TRUE(UoscParser(packet).parse(messages)) << "uOSC could not read a datagram";
@@ -125,8 +51,8 @@ struct Evmc4u {
   std::set<std::string> clips;  // lower-cased, as its table holds them
   std::set<std::string> applied;
 
-  void receive(const std::vector<Message>& messages) {
-    for (const Message& m : messages) {
+  void receive(const std::vector<ParsedMessage>& messages) {
+    for (const ParsedMessage& m : messages) {
       if (shutdown) return;
       const auto f = [&](std::size_t k) {
         if (k >= m.arguments.size() || m.arguments[k].type != 'f') shutdown = true;  // its exception, for good
@@ -151,8 +77,8 @@ struct VMagicMirror {
   explicit VMagicMirror(std::set<std::string> avatarClips) : clips(std::move(avatarClips)) {}
   std::set<std::string> clips;  // the avatar's clip names and VRM 0.x's presets
   std::set<std::string> applied, ignored;
-  void receive(const std::vector<Message>& messages) {
-    for (const Message& m : messages)
+  void receive(const std::vector<ParsedMessage>& messages) {
+    for (const ParsedMessage& m : messages)
       if (m.path == "/VMC/Ext/Blend/Val" && m.arguments.size() == 2 && m.arguments[1].type == 'f')
         (clips.count(m.arguments[0].text) ? applied : ignored).insert(m.arguments[0].text);
   }
@@ -184,18 +110,18 @@ TEST(VmcReceivers, EveryDatagramFitsTheMtuAndUoscReadsEveryMessage) {
   for (const VmcNames names : {VmcNames::kVrm0, VmcNames::kVrm1, VmcNames::kPerfectSync, VmcNames::kPerfectSyncApple}) {
     const VmcOptions options{.names = names};
     const std::vector<std::vector<char>> packets = vmcPackets(speakingFrame(), options);
-    const std::vector<Message> messages = received(packets);
+    const std::vector<ParsedMessage> messages = received(packets);
     ASSERT_FALSE(messages.empty());
     EXPECT_EQ(messages.back().path, "/VMC/Ext/Blend/Apply") << "applied after every value";
-    EXPECT_EQ(std::count_if(messages.begin(), messages.end(), [](const Message& m) { return m.path == "/VMC/Ext/T"; }),
+    EXPECT_EQ(std::count_if(messages.begin(), messages.end(), [](const ParsedMessage& m) { return m.path == "/VMC/Ext/T"; }),
               1)
         << "one time a frame (EVMC4U drops a Unity frame's packets after 30)";
     // The arithmetic that cuts the frame agrees with the bytes liblo writes.
-    const std::vector<std::vector<VmcMessage>> datagrams = vmcDatagrams(speakingFrame(), options);
+    const std::vector<std::vector<OscMessage>> datagrams = vmcDatagrams(speakingFrame(), options);
     ASSERT_EQ(datagrams.size(), packets.size());
     for (std::size_t d = 0; d < packets.size(); ++d) {
       std::size_t bytes = 16;
-      for (const VmcMessage& m : datagrams[d]) bytes += m.bytes();
+      for (const OscMessage& m : datagrams[d]) bytes += m.bytes();
       EXPECT_EQ(bytes, packets[d].size());
     }
   }
@@ -268,9 +194,9 @@ TEST(VmcReceivers, VMagicMirrorAppliesEveryNameOfTheSetChosenAndNothingIsDrivenT
 }
 
 TEST(VmcReceivers, AnAssistantSendsTheBlendshapesAloneToAPerformer) {
-  const std::vector<Message> messages =
+  const std::vector<ParsedMessage> messages =
       received(vmcPackets(speakingFrame(15.0), {.role = VmcRole::kAssistant, .names = VmcNames::kPerfectSync}));
-  for (const Message& m : messages)
+  for (const ParsedMessage& m : messages)
     EXPECT_TRUE(m.path == "/VMC/Ext/Blend/Val" || m.path == "/VMC/Ext/Blend/Apply") << m.path;
   EXPECT_EQ(messages.size(), 53U);
   EXPECT_EQ(messages.back().path, "/VMC/Ext/Blend/Apply");
