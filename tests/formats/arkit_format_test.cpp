@@ -62,6 +62,32 @@ TEST(Arkit, SymmetricLipsNeitherShiftTheMouthNorTellLeftFromRight) {
   EXPECT_DOUBLE_EQ(weight(w, 0, "mouthPucker"), 0.0);
 }
 
+TEST(Arkit, TheLipsRollAndFunnelAsTheirFapsShapeThem) {
+  const th::formats::ArkitScale scale;
+  // At rest: none of them.
+  const Eigen::MatrixXd rest = th::formats::arkitWeights(oneFrame({3, 4, 5, 51, 52}, {0, 0, 0, 0, 0}), scale);
+  for (const char* name : {"mouthRollLower", "mouthRollUpper", "mouthFunnel"})
+    EXPECT_EQ(weight(rest, 0, name), 0.0) << name;
+  // /p b m/: both lips close, neither rolled, no funnel.
+  const Eigen::MatrixXd closed =
+      th::formats::arkitWeights(oneFrame({3, 4, 5, 51, 52}, {300, 120, 120, 120, 120}), scale);
+  EXPECT_GT(weight(closed, 0, "mouthClose"), 0.3);
+  EXPECT_EQ(weight(closed, 0, "mouthRollLower"), 0.0);
+  EXPECT_EQ(weight(closed, 0, "mouthRollUpper"), 0.0);
+  EXPECT_EQ(weight(closed, 0, "mouthFunnel"), 0.0);
+  // /f v/: the lower lip raised to the upper teeth rolls in.
+  const Eigen::MatrixXd lower = th::formats::arkitWeights(oneFrame({3, 5, 52}, {200, 150, 150}), scale);
+  EXPECT_GT(weight(lower, 0, "mouthRollLower"), 0.4);
+  EXPECT_EQ(weight(lower, 0, "mouthRollUpper"), 0.0);
+  // /u o/: the corners drawn in with the lips apart make a funnel; drawn in and shut, a pucker alone.
+  const Eigen::MatrixXd round = th::formats::arkitWeights(oneFrame({3, 6, 7, 53, 54}, {500, -90, -90, -90, -90}), scale);
+  EXPECT_GT(weight(round, 0, "mouthFunnel"), 0.2);
+  EXPECT_GT(weight(round, 0, "mouthPucker"), 0.2);
+  const Eigen::MatrixXd kiss = th::formats::arkitWeights(oneFrame({6, 7, 53, 54}, {-90, -90, -90, -90}), scale);
+  EXPECT_EQ(weight(kiss, 0, "mouthFunnel"), 0.0);
+  EXPECT_GT(weight(kiss, 0, "mouthPucker"), 0.2);
+}
+
 TEST(Arkit, JawOpenIsFullAtTheReferenceFacesJawOpenShape) {
   const th::face::FaceModel face = th::face::FaceModel::buildDefault();
   const th::formats::ArkitScale scale = th::formats::arkitScaleFor(face);
