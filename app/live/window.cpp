@@ -364,8 +364,9 @@ class LiveWindow {
   void openOutputs() {
     display_.closeOutputs();
     if (const std::string token = issuedToken_->get(); !token.empty()) settings_.outputs.vtsToken = token;
-    display_.setOutputs(outputs::openOutputs(settings_.outputs, live_->fapNumbers(),
-                                             [token = issuedToken_](const std::string& issued) { token->set(issued); }));
+    display_.setOutputs(
+        outputs::openOutputs(settings_.outputs, live_->fapNumbers(),
+                             [token = issuedToken_](const std::string& issued) { token->set(issued); }));
   }
 
   std::vector<outputs::OutputStatus> outputStatuses() const { return display_.statuses(); }

@@ -30,7 +30,7 @@ class LiveDisplay {
   // does to the head FAPs. If `send`, a frame whose index was not sent before (since the last newStream) goes
   // to the outputs (false: a pose held while no stream comes).
   void present(pipeline::AnimationFrame& frame, double clockSeconds, bool send = true);
-  void newStream() { lastSent_ = -1; }  // frame 0 again
+  void newStream() { lastSent_ = -1; }              // frame 0 again
   void setIdle(const pipeline::IdleOptions& idle);  // anew, from now
   void setSwitches(bool blinks, bool gaze) { switches_ = {.blinks = blinks, .gaze = gaze}; }
 

@@ -34,9 +34,9 @@ std::vector<std::unique_ptr<LiveOutput>> openOutputs(const pipeline::OutputSetti
         std::make_unique<VmcOutput>(parseUdpEndpoint(options.vmcAssistant, 39540, "--vmc-assistant"), vmc));
   }
   if (!options.vrchat.empty())
-    outputs.push_back(std::make_unique<VrchatOutput>(parseUdpEndpoint(options.vrchat, 9000, "--vrchat"),
-                                                     VrchatOptions{.prefix = options.vrchatPrefix,
-                                                                   .bits = options.vrchatBits}));
+    outputs.push_back(
+        std::make_unique<VrchatOutput>(parseUdpEndpoint(options.vrchat, 9000, "--vrchat"),
+                                       VrchatOptions{.prefix = options.vrchatPrefix, .bits = options.vrchatBits}));
   if (!options.osc.empty())
     outputs.push_back(std::make_unique<OscOutput>(parseUdpEndpoint(options.osc, 9100, "--osc"), faps));
   if (!options.vts.empty())

@@ -83,7 +83,7 @@ class OscSender {
   OscSender(const OscSender&) = delete;
   OscSender& operator=(const OscSender&) = delete;
 
-  bool send(const OscBundle& bundle);  // false: dropped (the socket would block, or the receiver refused it)
+  bool send(const OscBundle& bundle);            // false: dropped (the socket would block, or the receiver refused it)
   bool send(const std::vector<char>& datagram);  // bytes already serialised
   const UdpEndpoint& endpoint() const { return endpoint_; }
   std::uint64_t sent() const { return sent_; }

@@ -52,7 +52,7 @@ std::vector<std::pair<std::string, float>> vmcBlendshapes(const AvatarFrame& fra
     case VmcNames::kPerfectSyncApple:
       for (std::size_t k = 0; k < formats::kArkitNames.size(); ++k)
         values.emplace_back(names == VmcNames::kPerfectSync ? pascalCase(formats::kArkitNames[k])
-                                                             : std::string(formats::kArkitNames[k]),
+                                                            : std::string(formats::kArkitNames[k]),
                             frame.arkit[k]);
       break;
   }
@@ -82,7 +82,8 @@ std::vector<std::vector<OscMessage>> vmcDatagrams(const AvatarFrame& frame, cons
 
 std::vector<std::vector<char>> vmcPackets(const AvatarFrame& frame, const VmcOptions& options) {
   std::vector<std::vector<char>> packets;
-  for (const std::vector<OscMessage>& datagram : vmcDatagrams(frame, options)) packets.push_back(serialiseBundle(datagram));
+  for (const std::vector<OscMessage>& datagram : vmcDatagrams(frame, options))
+    packets.push_back(serialiseBundle(datagram));
   return packets;
 }
 

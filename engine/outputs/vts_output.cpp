@@ -177,8 +177,8 @@ struct VtsOutput::Client {
         });
   }
 
-  static constexpr int kTokenRequestDenied = 50;      // Files/ErrorID.cs: TokenRequestDenied
-  static constexpr int kParameterNotFound = 453;      // InjectDataParamNameNotFound
+  static constexpr int kTokenRequestDenied = 50;  // Files/ErrorID.cs: TokenRequestDenied
+  static constexpr int kParameterNotFound = 453;  // InjectDataParamNameNotFound
 
   static int errorIdOf(const json& reply) {
     const json data = reply.value("data", json::object());
@@ -320,8 +320,8 @@ struct VtsOutput::Client {
   std::unique_ptr<websocket::stream<beast::tcp_stream>> socket;
   beast::flat_buffer buffer;
   std::thread thread;
-  unsigned connection = 0;  // the current connection's number: older handlers see another and stop
-  bool busy = false;        // a request is out
+  unsigned connection = 0;        // the current connection's number: older handlers see another and stop
+  bool busy = false;              // a request is out
   std::set<std::string> missing;  // parameters VTube Studio's model lacks, left out (this connection)
   bool listed = false;            // its parameters were asked for (this connection)
   std::uint64_t requests = 0;

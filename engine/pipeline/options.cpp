@@ -138,10 +138,11 @@ void LiveSettings::visitOptions(OptionVisitor& v) {
 }
 
 void OutputSettings::visitOptions(OptionVisitor& v) {
-  v.option(vmc, {.name = "vmc",
-                 .help = "Send the face and head to a VMC Marionette (VMagicMirror, EVMC4U, Warudo, VMC4B): [HOST:]PORT",
-                 .panel = false,
-                 .implicitValue = kVmcDefault});
+  v.option(vmc,
+           {.name = "vmc",
+            .help = "Send the face and head to a VMC Marionette (VMagicMirror, EVMC4U, Warudo, VMC4B): [HOST:]PORT",
+            .panel = false,
+            .implicitValue = kVmcDefault});
   v.option(vmcAssistant,
            {.name = "vmc-assistant",
             .help = "Send the face's blendshapes to a VMC Performer's assistant input (VSeeFace, Virtual Motion "
@@ -171,7 +172,7 @@ void OutputSettings::visitOptions(OptionVisitor& v) {
                           .help = "VMC: the share of the head's rotation turned at the neck (the rest at the head)",
                           .min = 0.0,
                           .max = 1.0,
-                           .panel = false});
+                          .panel = false});
   v.option(mirrorHead, {.name = "mirror-head",
                         .help = "VMC and VTube Studio: the avatar turns as the speaker's mirror image (to its right "
                                 "when the speaker turns to their left), not as the speaker does",

@@ -71,19 +71,19 @@ struct StreamingOptions {
 
 // Where live sends the face besides its window (outputs/live_output.h): each empty when off.
 struct OutputSettings {
-  std::string vmc;           // the VMC protocol as a Performer, to a Marionette: [HOST:]PORT
-  std::string vmcAssistant;  // as an Assistant, to a Performer (VSeeFace, Virtual Motion Capture): [HOST:]PORT
+  std::string vmc;                // the VMC protocol as a Performer, to a Marionette: [HOST:]PORT
+  std::string vmcAssistant;       // as an Assistant, to a Performer (VSeeFace, Virtual Motion Capture): [HOST:]PORT
   std::string vmcNames = "vrm0";  // the blendshapes' names (outputs/vmc_output.h)
   double vmcNeckLength = 0.13;    // metres, the neck's joint above the upper chest's
   double vmcHeadLength = 0.085;   // the head's above the neck's
   double vmcNeckShare = 0.4;      // of the head's rotation turned at the neck
   bool mirrorHead = false;        // VMC and VTube Studio: the avatar as the speaker's mirror image
-  std::string vrchat;        // VRChat's OSC input, face-tracking avatar parameters: [HOST:]PORT
+  std::string vrchat;             // VRChat's OSC input, face-tracking avatar parameters: [HOST:]PORT
   std::string vrchatPrefix = "FT/v2/";  // before each parameter's name, as the avatar has them
   int vrchatBits = 0;                   // binary parameters per value (0: floats only)
-  std::string osc;           // plain OSC: [HOST:]PORT
-  std::string vts;       // VTube Studio's plugin API: ws://HOST:PORT
-  std::string vtsToken;  // VTube Studio's authentication token, kept from the run that was issued it
+  std::string osc;                      // plain OSC: [HOST:]PORT
+  std::string vts;                      // VTube Studio's plugin API: ws://HOST:PORT
+  std::string vtsToken;                 // VTube Studio's authentication token, kept from the run that was issued it
   void visitOptions(OptionVisitor& v);
 };
 inline constexpr std::string_view kVmcDefault = "127.0.0.1:39539";

@@ -135,11 +135,11 @@ TEST_F(LiveOutputsTest, VmcAndOscReceiversGetEveryFrameInTheProtocolsShapeAndItF
   const int assistantPort = startOscdump(assistantFile, "assistant");
   const fs::path vrchatFile = out() / "vrchat.txt";
   const int vrchatPort = startOscdump(vrchatFile, "vrchat");
-  const CliResult result = runCli({"live", "--headless", "--input", prompt().string(), "--no-settings", "--vmc",
-                                   "127.0.0.1:" + std::to_string(vmcPort), "--osc", std::to_string(oscPort),
-                                   "--vmc-assistant", std::to_string(assistantPort), "--vrchat",
-                                   std::to_string(vrchatPort), "--blinks-per-minute", "40"},
-                                  logs());
+  const CliResult result =
+      runCli({"live", "--headless", "--input", prompt().string(), "--no-settings", "--vmc",
+              "127.0.0.1:" + std::to_string(vmcPort), "--osc", std::to_string(oscPort), "--vmc-assistant",
+              std::to_string(assistantPort), "--vrchat", std::to_string(vrchatPort), "--blinks-per-minute", "40"},
+             logs());
   ASSERT_EQ(result.exitCode, 0) << result.err;
   std::this_thread::sleep_for(std::chrono::milliseconds(300));  // the last datagrams printed
   std::printf("%s", result.out.c_str());
@@ -399,9 +399,9 @@ TEST_F(LiveOutputsTest, VtubeStudioRestartingIsConnectedToAgain) {
 TEST_F(LiveOutputsTest, VtubeStudiosDenialIsAskedNoMoreUntilTheUserAsks) {
   VtsServer server(out(), 0, "--deny");
   ASSERT_GT(server.port(), 0) << th::test::readText(out() / "server.txt");
-  const CliResult result = runCli({"live", "--headless", "--input", prompt().string(), "--repeat-to", "8",
-                                   "--no-settings", "--vts", server.url()},
-                                  logs());
+  const CliResult result = runCli(
+      {"live", "--headless", "--input", prompt().string(), "--repeat-to", "8", "--no-settings", "--vts", server.url()},
+      logs());
   ASSERT_EQ(result.exitCode, 0) << result.err;
   // Over 8 s (four of the old 2 s retries), one question put to the user, and the run's summary says why.
   const std::vector<nlohmann::json> requests = server.requests();

@@ -80,7 +80,8 @@ TEST(Arkit, TheLipsRollAndFunnelAsTheirFapsShapeThem) {
   EXPECT_GT(weight(lower, 0, "mouthRollLower"), 0.4);
   EXPECT_EQ(weight(lower, 0, "mouthRollUpper"), 0.0);
   // /u o/: the corners drawn in with the lips apart make a funnel; drawn in and shut, a pucker alone.
-  const Eigen::MatrixXd round = th::formats::arkitWeights(oneFrame({3, 6, 7, 53, 54}, {500, -90, -90, -90, -90}), scale);
+  const Eigen::MatrixXd round =
+      th::formats::arkitWeights(oneFrame({3, 6, 7, 53, 54}, {500, -90, -90, -90, -90}), scale);
   EXPECT_GT(weight(round, 0, "mouthFunnel"), 0.2);
   EXPECT_GT(weight(round, 0, "mouthPucker"), 0.2);
   const Eigen::MatrixXd kiss = th::formats::arkitWeights(oneFrame({6, 7, 53, 54}, {-90, -90, -90, -90}), scale);

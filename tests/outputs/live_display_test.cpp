@@ -55,9 +55,8 @@ TEST(LiveDisplay, BlinksLooksAroundRestsTheHeadInPausesAndSendsEachFrameOnce) {
   EXPECT_TRUE(gazeMoved);
   EXPECT_LT(std::abs(lastYaw), 1.0) << "the head came to rest in the pause";
   ASSERT_EQ(received.size(), 600U) << "each frame sent once, not at the display's rate";
-  const auto blinkSent = std::max_element(received.begin(), received.end(), [](const auto& a, const auto& b) {
-    return a.blinkLeft() < b.blinkLeft();
-  });
+  const auto blinkSent = std::max_element(received.begin(), received.end(),
+                                          [](const auto& a, const auto& b) { return a.blinkLeft() < b.blinkLeft(); });
   EXPECT_GT(blinkSent->blinkLeft(), 0.5f) << "the outputs see the blinks the face shows";
   // A stream that starts again (frame 0, its clock from 0) is sent again, its clock continuing.
   pipeline::AnimationFrame again = frameAt(0, -20.0, 0.0);

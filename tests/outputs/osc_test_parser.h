@@ -80,7 +80,8 @@ class UoscParser {
   bool int32(std::size_t& at, std::size_t end, std::int32_t& value) {
     if (at + 4 > end) return false;
     std::uint32_t word = 0;
-    for (int k = 0; k < 4; ++k) word = (word << 8) | static_cast<unsigned char>(bytes_[at + static_cast<std::size_t>(k)]);
+    for (int k = 0; k < 4; ++k)
+      word = (word << 8) | static_cast<unsigned char>(bytes_[at + static_cast<std::size_t>(k)]);
     value = static_cast<std::int32_t>(word);
     at += 4;
     return true;

@@ -23,8 +23,8 @@
 
 #include "core/error.h"
 #include "formats/arkit_format.h"
-#include "outputs/vmc_output.h"
 #include "outputs/osc_test_parser.h"
+#include "outputs/vmc_output.h"
 
 namespace th::outputs {
 namespace {
@@ -84,7 +84,7 @@ struct VMagicMirror {
   }
 };
 
-const std::set<std::string> kVrm0Presets{"A",   "I",    "U",      "E",   "O",      "Blink",  "Blink_L", "Blink_R",
+const std::set<std::string> kVrm0Presets{"A",   "I",     "U",      "E",   "O",      "Blink",    "Blink_L", "Blink_R",
                                          "Joy", "Angry", "Sorrow", "Fun", "LookUp", "LookDown", "Neutral"};
 
 std::set<std::string> perfectSyncAvatar() {  // a perfect-sync VRM: ARKit's 52 as clips named in PascalCase
@@ -113,8 +113,9 @@ TEST(VmcReceivers, EveryDatagramFitsTheMtuAndUoscReadsEveryMessage) {
     const std::vector<ParsedMessage> messages = received(packets);
     ASSERT_FALSE(messages.empty());
     EXPECT_EQ(messages.back().path, "/VMC/Ext/Blend/Apply") << "applied after every value";
-    EXPECT_EQ(std::count_if(messages.begin(), messages.end(), [](const ParsedMessage& m) { return m.path == "/VMC/Ext/T"; }),
-              1)
+    EXPECT_EQ(
+        std::count_if(messages.begin(), messages.end(), [](const ParsedMessage& m) { return m.path == "/VMC/Ext/T"; }),
+        1)
         << "one time a frame (EVMC4U drops a Unity frame's packets after 30)";
     // The arithmetic that cuts the frame agrees with the bytes liblo writes.
     const std::vector<std::vector<OscMessage>> datagrams = vmcDatagrams(speakingFrame(), options);

@@ -33,9 +33,12 @@ struct Avatar {
       EXPECT_EQ(m.path.rfind("/avatar/parameters/", 0), 0U) << m.path;
       ASSERT_EQ(m.arguments.size(), 1U) << "one value a message: " << m.path;
       const std::string name = m.path.substr(std::string("/avatar/parameters/").size());
-      if (m.arguments[0].type == 'f') floats[name] = m.arguments[0].real;
-      else if (m.arguments[0].type == 'T' || m.arguments[0].type == 'F') bools[name] = m.arguments[0].flag;
-      else ADD_FAILURE() << m.path << " has type " << m.arguments[0].type;
+      if (m.arguments[0].type == 'f')
+        floats[name] = m.arguments[0].real;
+      else if (m.arguments[0].type == 'T' || m.arguments[0].type == 'F')
+        bools[name] = m.arguments[0].flag;
+      else
+        ADD_FAILURE() << m.path << " has type " << m.arguments[0].type;
     }
   }
   float binary(const std::string& name, int bits) const {
