@@ -131,6 +131,8 @@ struct Row {
   double pauseRatio = 0.0;
   double jumpPercent = 0.0;
   double frechet = 0.0;
+  double beatAlign = 0.0;  // SadTalker's Beat Align with the speech's onsets
+  double diversity = 0.0;  // the pose's mean spread, degrees
   bool pauses = true;  // the speech has pauses (else pauseRatio means nothing)
 };
 
@@ -139,6 +141,8 @@ struct SpeakerTruth {
   double pauseRatio = 0.0;
   bool pauses = false;
   Eigen::Vector3d poseStd = Eigen::Vector3d::Zero();
+  double beatAlign = 0.0;
+  double diversity = 0.0;
   double frames = 0.0;
 };
 
@@ -153,6 +157,8 @@ SpeakerTruth truthOf(const std::vector<JudgedClip>& clips) {
     truth.speedP95 += w * s.speedP95;
     truth.pauseRatio += w * s.pauseSpeechRatio;
     truth.poseStd += w * s.poseStd;
+    truth.beatAlign += w * eval::beatAlign(eval::speechBeats(c.clip->levelDb), eval::motionBeats(c.truth));
+    truth.diversity += w * eval::poseDiversity(c.truth);
     truth.pauses = truth.pauses || c.pauses.sum() >= kFps;  // a second of pauses at least
   }
   return truth;
@@ -177,6 +183,8 @@ Row judge(const std::string& name, const std::vector<JudgedClip>& clips, const S
     row.speedRatio += w * s.speedP95 / truth.speedP95;
     row.pauseRatio += w * s.pauseSpeechRatio;
     row.jumpPercent += w * 100.0 * m.jumpRate;
+    row.beatAlign += w * eval::beatAlign(eval::speechBeats(c.clip->levelDb), eval::motionBeats(predicted));
+    row.diversity += w * eval::poseDiversity(predicted);
     predictions.push_back(predicted);
     truths.push_back(c.truth);
   }
@@ -191,17 +199,19 @@ std::string pauseText(bool pauses, double ratio) {
 }
 
 void printHeader(const SpeakerTruth& truth) {
-  std::printf("  %-44s %6s  %-17s  %-17s  %6s  %6s  %5s  %7s\n", "", "E", "corr p / y / r", "std ratio p/y/r", "p95 v",
-              "pause", "jump%", "FD");
-  std::printf("  %-44s %6s  %-17s  %5.1f %5.1f %5.1f  %6.1f  %s  %5s  %7s\n",
+  std::printf("  %-44s %6s  %-17s  %-17s  %6s  %6s  %5s  %7s  %5s  %5s\n", "", "E", "corr p / y / r",
+              "std ratio p/y/r", "p95 v", "pause", "jump%", "FD", "BA", "div");
+  std::printf("  %-44s %6s  %-17s  %5.1f %5.1f %5.1f  %6.1f  %s  %5s  %7s  %5.3f  %5.2f\n",
               "truth (std deg, p95 deg/s, pause/speech)", "", "", truth.poseStd[0], truth.poseStd[1], truth.poseStd[2],
-              truth.speedP95, pauseText(truth.pauses, truth.pauseRatio).c_str(), "", "");
+              truth.speedP95, pauseText(truth.pauses, truth.pauseRatio).c_str(), "", "", truth.beatAlign,
+              truth.diversity);
 }
 
 void printRow(const Row& r) {
-  std::printf("  %-44s %6.3f  %5.2f %5.2f %5.2f  %5.2f %5.2f %5.2f  %6.2f  %s  %5.1f  %7.1f\n", r.name.c_str(), r.error,
-              r.correlation[0], r.correlation[1], r.correlation[2], r.stdRatio[0], r.stdRatio[1], r.stdRatio[2],
-              r.speedRatio, pauseText(r.pauses, r.pauseRatio).c_str(), r.jumpPercent, r.frechet);
+  std::printf("  %-44s %6.3f  %5.2f %5.2f %5.2f  %5.2f %5.2f %5.2f  %6.2f  %s  %5.1f  %7.1f  %5.3f  %5.2f\n",
+              r.name.c_str(), r.error, r.correlation[0], r.correlation[1], r.correlation[2], r.stdRatio[0],
+              r.stdRatio[1], r.stdRatio[2], r.speedRatio, pauseText(r.pauses, r.pauseRatio).c_str(), r.jumpPercent,
+              r.frechet, r.beatAlign, r.diversity);
 }
 
 // Whether a row meets the targets, given the truth's pause ratio.
@@ -294,6 +304,8 @@ void evaluateSpeaker(const HeadCorpus& corpus, const std::string& speaker,
     walks.pauseRatio += walk.pauseRatio / kWalks;
     walks.jumpPercent += walk.jumpPercent / kWalks;
     walks.frechet += walk.frechet / kWalks;
+    walks.beatAlign += walk.beatAlign / kWalks;
+    walks.diversity += walk.diversity / kWalks;
   }
   walks.name = "random walk, matched statistics (mean of 10)";
   baselines.push_back(walks);

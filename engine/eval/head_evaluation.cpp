@@ -3,6 +3,7 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <random>
 #include <vector>
 
@@ -188,6 +189,77 @@ HeadMetrics evaluateHead(const Eigen::MatrixXd& predicted, const Eigen::MatrixXd
   for (Eigen::Index t = 0; t < predictedSteps.cols(); ++t) jumps += predictedSteps.col(t).norm() > jumpThreshold;
   metrics.jumpRate = static_cast<double>(jumps) / static_cast<double>(predictedSteps.cols());
   return metrics;
+}
+
+namespace {
+
+// Each value smoothed by a Gaussian of sigma frames (edges: the edge value repeated).
+std::vector<double> gaussianSmoothed(const std::vector<double>& values, double sigma) {
+  const int reach = static_cast<int>(std::ceil(4.0 * sigma));
+  std::vector<double> kernel;
+  double total = 0.0;
+  for (int k = -reach; k <= reach; ++k) total += kernel.emplace_back(std::exp(-0.5 * k * k / (sigma * sigma)));
+  const int n = static_cast<int>(values.size());
+  std::vector<double> out(values.size(), 0.0);
+  for (int t = 0; t < n; ++t) {
+    double sum = 0.0;
+    for (int k = -reach; k <= reach; ++k)
+      sum += kernel[static_cast<std::size_t>(k + reach)] * values[static_cast<std::size_t>(std::clamp(t + k, 0, n - 1))];
+    out[static_cast<std::size_t>(t)] = sum / total;
+  }
+  return out;
+}
+
+}  // namespace
+
+std::vector<int> motionBeats(const Eigen::MatrixXd& rotations, double sigmaFrames) {
+  // speed[t]: from frame t - 1 to frame t (Bailando's alignment); frame 0 takes frame 1's.
+  if (rotations.cols() < 4) return {};
+  std::vector<double> speed(static_cast<std::size_t>(rotations.cols()));
+  for (Eigen::Index t = 1; t < rotations.cols(); ++t)
+    speed[static_cast<std::size_t>(t)] = (rotations.col(t) - rotations.col(t - 1)).norm();
+  speed[0] = speed[1];
+  const std::vector<double> smooth = gaussianSmoothed(speed, sigmaFrames);
+  std::vector<int> beats;
+  for (std::size_t t = 1; t + 1 < smooth.size(); ++t)
+    if (smooth[t] < smooth[t - 1] && smooth[t] < smooth[t + 1]) beats.push_back(static_cast<int>(t));
+  return beats;
+}
+
+std::vector<int> speechBeats(const Eigen::RowVectorXd& levelDb, double minRiseDb, int minGapFrames) {
+  std::vector<double> rise(static_cast<std::size_t>(levelDb.size()), 0.0);
+  for (Eigen::Index t = 1; t < levelDb.size(); ++t)
+    rise[static_cast<std::size_t>(t)] = std::max(0.0, levelDb[t] - levelDb[t - 1]);
+  if (rise.size() < 3) return {};
+  const std::vector<double> smooth = gaussianSmoothed(rise, 1.0);
+  std::vector<int> beats;
+  for (std::size_t t = 1; t + 1 < smooth.size(); ++t) {
+    if (smooth[t] < minRiseDb || smooth[t] < smooth[t - 1] || smooth[t] <= smooth[t + 1]) continue;
+    const int frame = static_cast<int>(t);
+    if (!beats.empty() && frame - beats.back() < minGapFrames) {
+      if (smooth[t] > smooth[static_cast<std::size_t>(beats.back())]) beats.back() = frame;  // the larger kept
+      continue;
+    }
+    beats.push_back(frame);
+  }
+  return beats;
+}
+
+double beatAlign(const std::vector<int>& speech, const std::vector<int>& motion, double sigmaFrames) {
+  if (speech.empty() || motion.empty()) return 0.0;
+  double sum = 0.0;
+  for (const int beat : speech) {
+    int nearest = std::numeric_limits<int>::max();
+    for (const int m : motion) nearest = std::min(nearest, std::abs(m - beat));
+    sum += std::exp(-static_cast<double>(nearest) * nearest / (2.0 * sigmaFrames * sigmaFrames));
+  }
+  return sum / static_cast<double>(speech.size());
+}
+
+double poseDiversity(const Eigen::MatrixXd& rotations) {
+  if (rotations.cols() < 2) return 0.0;
+  const Eigen::MatrixXd centred = rotations.colwise() - rotations.rowwise().mean();
+  return (centred.rowwise().squaredNorm() / static_cast<double>(rotations.cols() - 1)).cwiseSqrt().mean();
 }
 
 }  // namespace th::eval

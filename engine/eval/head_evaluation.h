@@ -45,6 +45,21 @@ double frechetDistance(const std::vector<Eigen::MatrixXd>& a, const std::vector<
 Eigen::MatrixXd matchedRandomWalk(const Eigen::Vector3d& poseStd, const Eigen::Vector3d& stepStd, int numFrames,
                                   unsigned seed);
 
+// Beat Align as SadTalker reports it (after Bailando, Siyao et al. 2022): the mean over the speech's beats of
+// exp(−d² / 2σ²), d the frames from the beat to the nearest motion beat, σ = sigmaFrames (3 at 30 fps: 100 ms);
+// 0 without motion beats. Motion beats: the local minima of the head's angular speed ‖Δ(pitch, yaw, roll)‖
+// smoothed by a Gaussian of 5 frames (where one movement ends and the next begins). Speech beats: onsets, the
+// peaks of the level's rise (its frame-to-frame increase, half-wave rectified, smoothed by a Gaussian of one
+// frame) of at least minRiseDb, at least minGapFrames apart (the larger kept): syllables that start loud,
+// stressed ones and phrase starts, as an onset detector marks them.
+std::vector<int> motionBeats(const Eigen::MatrixXd& rotations, double sigmaFrames = 5.0);
+std::vector<int> speechBeats(const Eigen::RowVectorXd& levelDb, double minRiseDb = 2.0, int minGapFrames = 6);
+double beatAlign(const std::vector<int>& speech, const std::vector<int>& motion, double sigmaFrames = 3.0);
+
+// Diversity as SadTalker reports it: how far the head's pose spreads over a clip, the mean over the axes of its
+// standard deviation (degrees).
+double poseDiversity(const Eigen::MatrixXd& rotations);
+
 struct HeadMetrics {
   double error = 0.0;           // the paper's E
   Eigen::Vector3d correlation;  // per axis, Pearson (0 when either side is constant)

@@ -285,6 +285,33 @@ TEST(HeadEvaluation, SpeedPausesFrechetAndTheMatchedWalk) {
   EXPECT_GT(statistics.speedP95, 0.0);
 }
 
+TEST(HeadEvaluation, BeatAlignFindsMovementsThatStartOnTheSyllables) {
+  // Speech: a syllable every 12 frames (the level jumps 20 dB and decays); the head: a nod that ends and
+  // starts again on each syllable, the same nods half a period late, and a head that never moves.
+  const int frames = 300;
+  Eigen::RowVectorXd level(frames);
+  for (int t = 0; t < frames; ++t) level[t] = -50.0 + 20.0 * std::exp(-(t % 12) / 3.0);
+  const std::vector<int> syllables = th::eval::speechBeats(level);
+  ASSERT_GE(syllables.size(), 22U);
+  for (std::size_t k = 1; k < syllables.size(); ++k) EXPECT_EQ(syllables[k] - syllables[k - 1], 12);
+  const auto nods = [&](double shift) {
+    Eigen::MatrixXd rotations = Eigen::MatrixXd::Zero(3, frames);
+    for (int t = 0; t < frames; ++t) rotations(0, t) = 3.0 * std::sin(M_PI * (t - shift) / 12.0);
+    return rotations;
+  };
+  // The nod's speed is least where it turns (t = 6 + 12k + shift, between frames: no two frames tie); on the
+  // syllables with shift -5.7, half a period off with 0.3.
+  const double onBeat = th::eval::beatAlign(syllables, th::eval::motionBeats(nods(-5.7)));
+  const double late = th::eval::beatAlign(syllables, th::eval::motionBeats(nods(0.3)));
+  EXPECT_GT(onBeat, 0.9);
+  EXPECT_LT(late, 0.3);  // 5 frames off: exp(-25 / 18)
+  EXPECT_EQ(th::eval::beatAlign(syllables, th::eval::motionBeats(Eigen::MatrixXd::Zero(3, frames))), 0.0);
+  // Quiet speech has no beats; a beat needs a rise of 2 dB and 6 frames from the last.
+  EXPECT_TRUE(th::eval::speechBeats(Eigen::RowVectorXd::Constant(frames, -40.0)).empty());
+  // Diversity: the mean over the axes of the pose's spread.
+  EXPECT_NEAR(th::eval::poseDiversity(nods(0.0)), 3.0 / std::sqrt(2.0) / 3.0, 0.02);
+}
+
 TEST(HeadData, StyleTalkClipsHaveTheirSpeakersVoicingAndLevel) {
   const std::vector<HeadRecording> clips = th::eval::loadStyleTalkHeads();
   ASSERT_EQ(clips.size(), 6u);
