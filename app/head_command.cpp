@@ -133,7 +133,7 @@ struct Row {
   double frechet = 0.0;
   double beatAlign = 0.0;  // SadTalker's Beat Align with the speech's onsets
   double diversity = 0.0;  // the pose's mean spread, degrees
-  bool pauses = true;  // the speech has pauses (else pauseRatio means nothing)
+  bool pauses = true;      // the speech has pauses (else pauseRatio means nothing)
 };
 
 struct SpeakerTruth {
@@ -199,8 +199,8 @@ std::string pauseText(bool pauses, double ratio) {
 }
 
 void printHeader(const SpeakerTruth& truth) {
-  std::printf("  %-44s %6s  %-17s  %-17s  %6s  %6s  %5s  %7s  %5s  %5s\n", "", "E", "corr p / y / r",
-              "std ratio p/y/r", "p95 v", "pause", "jump%", "FD", "BA", "div");
+  std::printf("  %-44s %6s  %-17s  %-17s  %6s  %6s  %5s  %7s  %5s  %5s\n", "", "E", "corr p / y / r", "std ratio p/y/r",
+              "p95 v", "pause", "jump%", "FD", "BA", "div");
   std::printf("  %-44s %6s  %-17s  %5.1f %5.1f %5.1f  %6.1f  %s  %5s  %7s  %5.3f  %5.2f\n",
               "truth (std deg, p95 deg/s, pause/speech)", "", "", truth.poseStd[0], truth.poseStd[1], truth.poseStd[2],
               truth.speedP95, pauseText(truth.pauses, truth.pauseRatio).c_str(), "", "", truth.beatAlign,

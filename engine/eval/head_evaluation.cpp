@@ -204,7 +204,8 @@ std::vector<double> gaussianSmoothed(const std::vector<double>& values, double s
   for (int t = 0; t < n; ++t) {
     double sum = 0.0;
     for (int k = -reach; k <= reach; ++k)
-      sum += kernel[static_cast<std::size_t>(k + reach)] * values[static_cast<std::size_t>(std::clamp(t + k, 0, n - 1))];
+      sum +=
+          kernel[static_cast<std::size_t>(k + reach)] * values[static_cast<std::size_t>(std::clamp(t + k, 0, n - 1))];
     out[static_cast<std::size_t>(t)] = sum / total;
   }
   return out;
