@@ -4,7 +4,8 @@
 // pitch's spread (semitones, voiced frames), the level's spread in speech (dB) and the rate of onsets (a
 // second of speech; eval/head_evaluation.h's speechBeats). Then, each speaker left out in turn, the spread
 // predicted from the others: by their geometric mean (one size for everyone), and by a least-squares line of
-// the log spread on the voice's three. Not the product: a workbench for issue-sized decisions (docs/head.md).
+// the log spread on the voice's three; and the shipped head's spread on the same windows (the "ours" column),
+// alone and with one gain. Not the product: a workbench for the head's size (docs/head.md).
 //   head_liveliness [--groups 60] [--window 36] [--min-windows 4]
 // Sets: BEAT2's scott and StyleTalk's three (their recorded head poses), GRID's other speakers and the Arabic
 // news anchors (head rotation tracked by `talkinghead track`; the anchors grouped into speakers by
@@ -193,8 +194,8 @@ int main(int argc, char** argv) {
     }
     const int n = static_cast<int>(rows.size());
     std::printf("%d speakers with %d or more windows of %d frames of speech\n", n, minWindows, window);
-    std::printf("%-14s %-9s %7s %8s %8s %8s  %9s %9s\n", "speaker", "set", "spread", "pitch st", "level dB", "onsets/s",
-                "one size", "voice");
+    std::printf("%-14s %-9s %7s %7s %8s %8s %8s  %9s %9s\n", "speaker", "set", "spread", "ours", "pitch st", "level dB",
+                "onsets/s", "one size", "voice");
     // Leave one out: the geometric mean of the others, and log spread = a + b · voice fitted on the others.
     double errConst = 0.0, errVoice = 0.0;
     int withinConst = 0, withinVoice = 0;
@@ -226,8 +227,8 @@ int main(int argc, char** argv) {
       correlationX[k] = predicted;
       correlationY[k] = std::log(r.spread);
       if (r.set != "arabic" || k % 6 == 0)
-        std::printf("%-14s %-9s %7.2f %8.2f %8.2f %8.2f  %9.2f %9.2f\n", r.name.c_str(), r.set.c_str(), r.spread,
-                    r.voice[0], r.voice[1], r.voice[2], std::exp(lc), std::exp(lv));
+        std::printf("%-14s %-9s %7.2f %7.2f %8.2f %8.2f %8.2f  %9.2f %9.2f\n", r.name.c_str(), r.set.c_str(), r.spread,
+                    r.model, r.voice[0], r.voice[1], r.voice[2], std::exp(lc), std::exp(lv));
     }
     const auto corr = [](const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
       const Eigen::VectorXd ca = a.array() - a.mean(), cb = b.array() - b.mean();
