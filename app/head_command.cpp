@@ -131,9 +131,11 @@ struct Row {
   double pauseRatio = 0.0;
   double jumpPercent = 0.0;
   double frechet = 0.0;
-  double beatAlign = 0.0;  // SadTalker's Beat Align with the speech's onsets
-  double diversity = 0.0;  // the pose's mean spread, degrees
-  bool pauses = true;      // the speech has pauses (else pauseRatio means nothing)
+  double beatAlign = 0.0;    // SadTalker's Beat Align with the speech's onsets
+  double chanceAlign = 0.0;  // the same with the onsets moved 1-3 s
+  double beatRate = 0.0;     // motion beats a second
+  double diversity = 0.0;    // the pose's mean spread, degrees
+  bool pauses = true;        // the speech has pauses (else pauseRatio means nothing)
 };
 
 struct SpeakerTruth {
@@ -142,6 +144,8 @@ struct SpeakerTruth {
   bool pauses = false;
   Eigen::Vector3d poseStd = Eigen::Vector3d::Zero();
   double beatAlign = 0.0;
+  double chanceAlign = 0.0;
+  double beatRate = 0.0;
   double diversity = 0.0;
   double frames = 0.0;
 };
@@ -157,7 +161,10 @@ SpeakerTruth truthOf(const std::vector<JudgedClip>& clips) {
     truth.speedP95 += w * s.speedP95;
     truth.pauseRatio += w * s.pauseSpeechRatio;
     truth.poseStd += w * s.poseStd;
-    truth.beatAlign += w * eval::beatAlign(eval::speechBeats(c.clip->levelDb), eval::motionBeats(c.truth));
+    const std::vector<int> speech = eval::speechBeats(c.clip->levelDb), motion = eval::motionBeats(c.truth);
+    truth.beatAlign += w * eval::beatAlign(speech, motion);
+    truth.chanceAlign += w * eval::chanceBeatAlign(speech, motion, c.clip->numFrames());
+    truth.beatRate += static_cast<double>(motion.size()) / (truth.frames / kFps);
     truth.diversity += w * eval::poseDiversity(c.truth);
     truth.pauses = truth.pauses || c.pauses.sum() >= kFps;  // a second of pauses at least
   }
@@ -183,13 +190,40 @@ Row judge(const std::string& name, const std::vector<JudgedClip>& clips, const S
     row.speedRatio += w * s.speedP95 / truth.speedP95;
     row.pauseRatio += w * s.pauseSpeechRatio;
     row.jumpPercent += w * 100.0 * m.jumpRate;
-    row.beatAlign += w * eval::beatAlign(eval::speechBeats(c.clip->levelDb), eval::motionBeats(predicted));
+    const std::vector<int> speech = eval::speechBeats(c.clip->levelDb), motion = eval::motionBeats(predicted);
+    row.beatAlign += w * eval::beatAlign(speech, motion);
+    row.chanceAlign += w * eval::chanceBeatAlign(speech, motion, c.clip->numFrames());
+    row.beatRate += static_cast<double>(motion.size()) / (truth.frames / kFps);
     row.diversity += w * eval::poseDiversity(predicted);
     predictions.push_back(predicted);
     truths.push_back(c.truth);
   }
   row.frechet = eval::frechetDistance(predictions, truths, kFps);
   return row;
+}
+
+// The mean of rows of one estimator under different seeds.
+Row meanRow(const std::string& name, const std::vector<Row>& rows) {
+  Row mean;
+  mean.name = name;
+  mean.pauses = rows.front().pauses;
+  mean.correlation.setZero();
+  mean.stdRatio.setZero();
+  const double n = static_cast<double>(rows.size());
+  for (const Row& r : rows) {
+    mean.error += r.error / n;
+    mean.correlation += r.correlation / n;
+    mean.stdRatio += r.stdRatio / n;
+    mean.speedRatio += r.speedRatio / n;
+    mean.pauseRatio += r.pauseRatio / n;
+    mean.jumpPercent += r.jumpPercent / n;
+    mean.frechet += r.frechet / n;
+    mean.beatAlign += r.beatAlign / n;
+    mean.chanceAlign += r.chanceAlign / n;
+    mean.beatRate += r.beatRate / n;
+    mean.diversity += r.diversity / n;
+  }
+  return mean;
 }
 
 std::string pauseText(bool pauses, double ratio) {
@@ -199,19 +233,20 @@ std::string pauseText(bool pauses, double ratio) {
 }
 
 void printHeader(const SpeakerTruth& truth) {
-  std::printf("  %-44s %6s  %-17s  %-17s  %6s  %6s  %5s  %7s  %5s  %5s\n", "", "E", "corr p / y / r", "std ratio p/y/r",
-              "p95 v", "pause", "jump%", "FD", "BA", "div");
-  std::printf("  %-44s %6s  %-17s  %5.1f %5.1f %5.1f  %6.1f  %s  %5s  %7s  %5.3f  %5.2f\n",
+  std::printf("  %-44s %6s  %-17s  %-17s  %6s  %6s  %5s  %7s  %5s  %5s  %5s  %5s\n", "", "E", "corr p / y / r",
+              "std ratio p/y/r", "p95 v", "pause", "jump%", "FD", "BA", "(chance)", "beat/s", "div");
+  std::printf("  %-44s %6s  %-17s  %5.1f %5.1f %5.1f  %6.1f  %s  %5s  %7s  %5.3f  %5.3f  %5.2f  %5.2f\n",
               "truth (std deg, p95 deg/s, pause/speech)", "", "", truth.poseStd[0], truth.poseStd[1], truth.poseStd[2],
               truth.speedP95, pauseText(truth.pauses, truth.pauseRatio).c_str(), "", "", truth.beatAlign,
-              truth.diversity);
+              truth.chanceAlign, truth.beatRate, truth.diversity);
 }
 
 void printRow(const Row& r) {
-  std::printf("  %-44s %6.3f  %5.2f %5.2f %5.2f  %5.2f %5.2f %5.2f  %6.2f  %s  %5.1f  %7.1f  %5.3f  %5.2f\n",
-              r.name.c_str(), r.error, r.correlation[0], r.correlation[1], r.correlation[2], r.stdRatio[0],
-              r.stdRatio[1], r.stdRatio[2], r.speedRatio, pauseText(r.pauses, r.pauseRatio).c_str(), r.jumpPercent,
-              r.frechet, r.beatAlign, r.diversity);
+  std::printf(
+      "  %-44s %6.3f  %5.2f %5.2f %5.2f  %5.2f %5.2f %5.2f  %6.2f  %s  %5.1f  %7.1f  %5.3f  %5.3f  %5.2f  %5.2f\n",
+      r.name.c_str(), r.error, r.correlation[0], r.correlation[1], r.correlation[2], r.stdRatio[0], r.stdRatio[1],
+      r.stdRatio[2], r.speedRatio, pauseText(r.pauses, r.pauseRatio).c_str(), r.jumpPercent, r.frechet, r.beatAlign,
+      r.chanceAlign, r.beatRate, r.diversity);
 }
 
 // Whether a row meets the targets, given the truth's pause ratio.
@@ -258,9 +293,19 @@ void evaluateSpeaker(const HeadCorpus& corpus, const std::string& speaker,
       return animation::synthesiseHead(m, clips[i].clip->prosody, clips[i].clip->voiced, options);
     };
   };
-  rows.push_back(judge("trajectory (the default)", clips, truth, synthesise(model, {})));
-  rows.push_back(judge("trajectory, online (live, lag " + std::to_string(arguments.lagFrames) + ")", clips, truth,
-                       synthesise(model, {.maxLagFrames = arguments.lagFrames})));
+  // The residual motion is random: the trajectory's rows are the mean over kSeeds seeds.
+  constexpr unsigned kSeeds = 5;
+  const auto seeded = [&](const std::string& name, HeadSynthesisOptions options) {
+    std::vector<Row> runs;
+    for (unsigned seed = 1; seed <= kSeeds; ++seed) {
+      options.seed = seed;
+      runs.push_back(judge(name, clips, truth, synthesise(model, options)));
+    }
+    return meanRow(name + " (" + std::to_string(kSeeds) + " seeds)", runs);
+  };
+  rows.push_back(seeded("trajectory (the default)", {}));
+  rows.push_back(
+      seeded("online (live, lag " + std::to_string(arguments.lagFrames) + ")", {.maxLagFrames = arguments.lagFrames}));
   rows.push_back(
       judge("Viterbi state means (paper)", clips, truth, synthesise(model, {.variant = HeadVariant::kStateMeans})));
   rows.push_back(
@@ -290,24 +335,14 @@ void evaluateSpeaker(const HeadCorpus& corpus, const std::string& speaker,
     stepStd += self.truthVelocityStd / static_cast<double>(parts.size());
   }
   constexpr unsigned kWalks = 10;
-  Row walks;
-  walks.pauses = truth.pauses;
+  std::vector<Row> walkRuns;
   for (unsigned seed = 1; seed <= kWalks; ++seed) {
-    const Row walk = judge("", clips, truth, [&](std::size_t i) {
+    walkRuns.push_back(judge("", clips, truth, [&](std::size_t i) {
       return eval::matchedRandomWalk(poseStd, stepStd, clips[i].clip->numFrames(),
                                      seed * 100 + static_cast<unsigned>(i));
-    });
-    walks.error += walk.error / kWalks;
-    walks.correlation += walk.correlation / kWalks;
-    walks.stdRatio += walk.stdRatio / kWalks;
-    walks.speedRatio += walk.speedRatio / kWalks;
-    walks.pauseRatio += walk.pauseRatio / kWalks;
-    walks.jumpPercent += walk.jumpPercent / kWalks;
-    walks.frechet += walk.frechet / kWalks;
-    walks.beatAlign += walk.beatAlign / kWalks;
-    walks.diversity += walk.diversity / kWalks;
+    }));
   }
-  walks.name = "random walk, matched statistics (mean of 10)";
+  const Row walks = meanRow("random walk, matched statistics (mean of 10)", walkRuns);
   baselines.push_back(walks);
   for (const auto& row : baselines) printRow(row);
   double bestBaseline = 1e300;

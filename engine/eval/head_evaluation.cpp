@@ -257,6 +257,20 @@ double beatAlign(const std::vector<int>& speech, const std::vector<int>& motion,
   return sum / static_cast<double>(speech.size());
 }
 
+double chanceBeatAlign(const std::vector<int>& speech, const std::vector<int>& motion, int numFrames,
+                       double sigmaFrames) {
+  if (numFrames <= 0) return 0.0;
+  constexpr int kShifts[] = {30, 45, 60, 75, 90};
+  double sum = 0.0;
+  for (const int shift : kShifts) {
+    std::vector<int> moved;
+    moved.reserve(speech.size());
+    for (const int beat : speech) moved.push_back((beat + shift) % numFrames);
+    sum += beatAlign(moved, motion, sigmaFrames);
+  }
+  return sum / static_cast<double>(std::size(kShifts));
+}
+
 double poseDiversity(const Eigen::MatrixXd& rotations) {
   if (rotations.cols() < 2) return 0.0;
   const Eigen::MatrixXd centred = rotations.colwise() - rotations.rowwise().mean();

@@ -55,6 +55,11 @@ Eigen::MatrixXd matchedRandomWalk(const Eigen::Vector3d& poseStd, const Eigen::V
 std::vector<int> motionBeats(const Eigen::MatrixXd& rotations, double sigmaFrames = 5.0);
 std::vector<int> speechBeats(const Eigen::RowVectorXd& levelDb, double minRiseDb = 2.0, int minGapFrames = 6);
 double beatAlign(const std::vector<int>& speech, const std::vector<int>& motion, double sigmaFrames = 3.0);
+// Beat Align by chance for the same beats: the mean over the speech's beats moved by 1, 1.5, 2, 2.5 and 3 s (at
+// 30 fps; circularly within numFrames). Beat Align rises with the motion's beats per second whatever their
+// timing; the excess over this says how much of it is timing.
+double chanceBeatAlign(const std::vector<int>& speech, const std::vector<int>& motion, int numFrames,
+                       double sigmaFrames = 3.0);
 
 // Diversity as SadTalker reports it: how far the head's pose spreads over a clip, the mean over the axes of its
 // standard deviation (degrees).

@@ -312,6 +312,48 @@ TEST(HeadEvaluation, BeatAlignFindsMovementsThatStartOnTheSyllables) {
   EXPECT_NEAR(th::eval::poseDiversity(nods(0.0)), 3.0 / std::sqrt(2.0) / 3.0, 0.02);
 }
 
+TEST(HeadEvaluation, ChanceBeatAlignTellsTimingFromTheRateOfMovements) {
+  // Stressed syllables at irregular intervals (20 to 40 frames, as often as heads turn); a head whose every
+  // movement turns on one (a half-cosine from one to the next), and the same movements on another take's.
+  const int frames = 1800;
+  std::mt19937 random(3);
+  std::uniform_int_distribution<int> gap(20, 40);
+  const auto syllablesOf = [&] {
+    std::vector<int> at{5};
+    while (at.back() < frames - 20) at.push_back(at.back() + gap(random));
+    return at;
+  };
+  const auto levelOf = [&](const std::vector<int>& at) {
+    Eigen::RowVectorXd level = Eigen::RowVectorXd::Constant(frames, -50.0);
+    for (int t = 0; t < frames; ++t)
+      for (const int s : at)
+        if (s <= t) level[t] = -50.0 + 20.0 * std::exp(-(t - s) / 3.0);
+    return level;
+  };
+  const auto headTurningOn = [&](const std::vector<int>& at) {
+    Eigen::MatrixXd rotations = Eigen::MatrixXd::Zero(3, frames);
+    for (std::size_t k = 0; k + 1 < at.size(); ++k)
+      for (int t = at[k]; t < at[k + 1]; ++t)
+        rotations(0, t) = (k % 2 == 0 ? 3.0 : -3.0) * std::cos(M_PI * (t - at[k] + 0.5) / (at[k + 1] - at[k]));
+    return rotations;
+  };
+  const std::vector<int> take = syllablesOf(), other = syllablesOf();
+  const std::vector<int> beats = th::eval::speechBeats(levelOf(take));
+  ASSERT_GE(beats.size(), 40U);
+  const std::vector<int> locked = th::eval::motionBeats(headTurningOn(take));
+  const std::vector<int> unlocked = th::eval::motionBeats(headTurningOn(other));
+  const double onBeat = th::eval::beatAlign(beats, locked);
+  const double onBeatByChance = th::eval::chanceBeatAlign(beats, locked, frames);
+  const double elsewhere = th::eval::beatAlign(beats, unlocked);
+  const double elsewhereByChance = th::eval::chanceBeatAlign(beats, unlocked, frames);
+  EXPECT_GT(onBeat, 0.8);
+  EXPECT_LT(onBeatByChance, onBeat - 0.2) << "moved off the syllables, the same movements score less";
+  // Movements as frequent but timed by something else: about what chance gives them.
+  EXPECT_LT(elsewhere, onBeat - 0.2);
+  EXPECT_NEAR(elsewhere, elsewhereByChance, 0.12);
+  EXPECT_EQ(th::eval::chanceBeatAlign(beats, locked, 0), 0.0);
+}
+
 TEST(HeadData, StyleTalkClipsHaveTheirSpeakersVoicingAndLevel) {
   const std::vector<HeadRecording> clips = th::eval::loadStyleTalkHeads();
   ASSERT_EQ(clips.size(), 6u);

@@ -39,10 +39,25 @@ struct Speaker {
   std::vector<HeadRecording> recordings;
   std::vector<double> windowSpreads;  // degrees
   std::vector<double> modelSpreads;   // the shipped head model's, on the same windows
+  std::vector<Eigen::VectorXd>
+      windowVoice;                  // per window: level mean, level std, pitch std, voiced share, onsets, |dlevel|
+  std::vector<double> windowSpeed;  // per window: the head's mean angular speed
   std::vector<double> semitones, levels;
+  std::vector<double> tilt;        // c1 in speech frames: the spectrum's slope (vocal effort)
+  std::vector<double> levelSteps;  // |Δ level| in speech, dB a frame
+  double voicedSeconds = 0.0;
   double speechSeconds = 0.0;
   int onsets = 0;
+  // Beat locking: the truth's Beat Align on its own speech, and with the speech's beats moved by 1-3 s.
+  double beatAlign = 0.0, shiftedBeatAlign = 0.0;
+  Eigen::Vector2d pitchAlign = Eigen::Vector2d::Zero(), peakAlign = Eigen::Vector2d::Zero();  // own, moved
+  Eigen::Vector2d offsetAlign = Eigen::Vector2d::Zero(), modelAlign = Eigen::Vector2d::Zero();
+  int beatClips = 0;
+  Eigen::VectorXd speedAroundBeats = Eigen::VectorXd::Zero(31);  // lags -15..15, over mean speed
+  int beatsCounted = 0;
 };
+// c1 of every frame, per recording name (the head corpora keep prosody and level only).
+std::map<std::string, Eigen::RowVectorXd> g_tilt;
 
 double stddev(const std::vector<double>& v) {
   if (v.size() < 2) return 0.0;
@@ -55,6 +70,37 @@ double stddev(const std::vector<double>& v) {
 }
 
 void addRecording(Speaker& speaker, const HeadRecording& r, const Eigen::MatrixXd& synthesised, int window);
+
+// Local maxima of x (within ±3 frames) standing minRise above the lowest of ±8 frames, where allowed, ≥ 6 apart.
+std::vector<int> peaks(const Eigen::RowVectorXd& x, const Eigen::RowVectorXd& allowed, double minRise) {
+  std::vector<int> out;
+  const int n = static_cast<int>(x.size());
+  for (int t = 0; t < n; ++t) {
+    if (allowed[t] < 0.5) continue;
+    bool top = true;
+    double low = x[t];
+    for (int d = -8; d <= 8; ++d) {
+      const int u = t + d;
+      if (u < 0 || u >= n || allowed[u] < 0.5) continue;
+      if (std::abs(d) <= 3 && x[u] > x[t]) top = false;
+      low = std::min(low, x[u]);
+    }
+    if (!top || x[t] - low < minRise) continue;
+    if (!out.empty() && t - out.back() < 6) continue;
+    out.push_back(t);
+  }
+  return out;
+}
+
+Eigen::Vector2d ownAndMoved(const std::vector<int>& beats, const std::vector<int>& motion, int frames) {
+  double shifted = 0.0;
+  for (int shift : {30, 45, 60, 75, 90}) {
+    std::vector<int> moved;
+    for (int b : beats) moved.push_back((b + shift) % frames);
+    shifted += th::eval::beatAlign(moved, motion) / 5.0;
+  }
+  return {th::eval::beatAlign(beats, motion), shifted};
+}
 
 // A speaker's recordings one after the other (their prosody warm from the one before, as a long take's), the
 // head model's rotations for them, and each recording's windows and voice into the speaker's sums.
@@ -82,15 +128,67 @@ void addRecording(Speaker& speaker, const HeadRecording& r, const Eigen::MatrixX
   for (int start = 0; start + window <= r.numFrames(); start += window / 2) {
     if (pauses.segment(start, window).mean() > 0.5) continue;  // a window of speech
     speaker.windowSpreads.push_back(th::eval::poseDiversity(r.rotations.middleCols(start, window)));
+    {
+      std::vector<double> lv, st;
+      double voicedShare = 0.0, steps = 0.0, speed = 0.0;
+      for (int t = start; t < start + window; ++t) {
+        lv.push_back(r.levelDb[t]);
+        if (r.voiced[t] > 0.5) st.push_back(r.prosody(0, t));
+        voicedShare += r.voiced[t] / window;
+        if (t > start) {
+          steps += std::abs(r.levelDb[t] - r.levelDb[t - 1]) / window;
+          speed += (r.rotations.col(t) - r.rotations.col(t - 1)).norm() / window;
+        }
+      }
+      double lm = 0.0;
+      for (double x : lv) lm += x / lv.size();
+      int onsets = 0;
+      for (int b : th::eval::speechBeats(r.levelDb)) onsets += b >= start && b < start + window;
+      Eigen::VectorXd f(6);
+      f << lm, stddev(lv), stddev(st), voicedShare, onsets, steps;
+      speaker.windowVoice.push_back(f);
+      speaker.windowSpeed.push_back(speed);
+    }
     speaker.modelSpreads.push_back(th::eval::poseDiversity(synthesised.middleCols(start, window)));
   }
+  const auto tilt = g_tilt.find(r.name);
   for (int t = 0; t < r.numFrames(); ++t) {
     if (pauses[t] > 0.5) continue;
     speaker.levels.push_back(r.levelDb[t]);
+    if (t > 0) speaker.levelSteps.push_back(std::abs(r.levelDb[t] - r.levelDb[t - 1]));
+    if (tilt != g_tilt.end() && t < tilt->second.size()) speaker.tilt.push_back(tilt->second[t]);
+    if (r.voiced[t] > 0.5) speaker.voicedSeconds += 1.0 / r.framesPerSecond;
     speaker.speechSeconds += 1.0 / r.framesPerSecond;
     if (r.voiced[t] > 0.5) speaker.semitones.push_back(r.prosody(0, t));
   }
-  speaker.onsets += static_cast<int>(th::eval::speechBeats(r.levelDb).size());
+  const std::vector<int> beats = th::eval::speechBeats(r.levelDb);
+  speaker.onsets += static_cast<int>(beats.size());
+  if (r.numFrames() >= 60 && !beats.empty()) {
+    const std::vector<int> motion = th::eval::motionBeats(r.rotations);
+    speaker.beatAlign += th::eval::beatAlign(beats, motion);
+    double shifted = 0.0;
+    for (int shift : {30, 45, 60, 75, 90}) {
+      std::vector<int> moved;
+      for (int b : beats) moved.push_back((b + shift) % r.numFrames());
+      shifted += th::eval::beatAlign(moved, motion) / 5.0;
+    }
+    speaker.shiftedBeatAlign += shifted;
+    ++speaker.beatClips;
+    const Eigen::RowVectorXd speech = Eigen::RowVectorXd::Ones(r.numFrames()) - th::eval::pauseFrames(r.levelDb);
+    speaker.pitchAlign += ownAndMoved(peaks(r.prosody.row(0), r.voiced, 1.5), motion, r.numFrames());
+    speaker.peakAlign += ownAndMoved(peaks(r.levelDb, speech, 4.0), motion, r.numFrames());
+    speaker.offsetAlign += ownAndMoved(th::eval::speechBeats(-r.levelDb), motion, r.numFrames());
+    speaker.modelAlign += ownAndMoved(beats, th::eval::motionBeats(synthesised), r.numFrames());
+    Eigen::RowVectorXd speed = Eigen::RowVectorXd::Zero(r.numFrames());
+    for (int t = 1; t < r.numFrames(); ++t) speed[t] = (r.rotations.col(t) - r.rotations.col(t - 1)).norm();
+    const double meanSpeed = speed.mean();
+    if (meanSpeed > 0.0)
+      for (int b : beats) {
+        if (b < 15 || b + 15 >= r.numFrames()) continue;
+        for (int lag = -15; lag <= 15; ++lag) speaker.speedAroundBeats[lag + 15] += speed[b + lag] / meanSpeed;
+        ++speaker.beatsCounted;
+      }
+  }
 }
 
 // A tracked clip as a head recording at 30 fps: the track's head rotation (FAPs 48-50) resampled, its sound's
@@ -120,6 +218,8 @@ bool trackedHead(const th::eval::TalkingClip& clip, HeadRecording& out) {
   out.prosody = heard.prosody.leftCols(frames);
   out.voiced = heard.voiced.head(frames);
   out.levelDb = heard.speech.levelDb.head(frames);
+  out.name = clip.clip.video.string();
+  g_tilt[out.name] = heard.speech.mfcc.row(0).head(frames);
   return true;
 }
 
@@ -141,6 +241,12 @@ int main(int argc, char** argv) {
     };
     add("scott", "beat2", th::eval::loadBeat2Head());
     for (const HeadRecording& r : th::eval::loadStyleTalkHeads()) add(r.speaker, "styletalk", r);
+    for (auto& [name, s] : speakers)
+      for (const HeadRecording& r : s.recordings) {
+        const std::filesystem::path wav = name == "scott" ? th::sharedDataPath("beat2") / (r.name + ".wav")
+                                                          : th::sharedDataPath("talking/styletalk") / (r.name + ".wav");
+        g_tilt[r.name] = th::animation::analyseSpeech(th::audio::readRecording(wav).samples).speech.mfcc.row(0);
+      }
 
     const th::face::FaceModel face = th::face::FaceModel::buildDefault();
     const std::filesystem::path tracks =
@@ -175,7 +281,7 @@ int main(int argc, char** argv) {
       std::string name, set;
       double spread;
       double model;  // the shipped head's spread on the same windows
-      Eigen::Vector3d voice;
+      Eigen::VectorXd voice;
       int windows;
     };
     std::vector<Row> rows;
@@ -188,11 +294,128 @@ int main(int argc, char** argv) {
       }
       mean /= static_cast<double>(s.windowSpreads.size());
       modelMean /= static_cast<double>(s.windowSpreads.size());
-      rows.push_back({name, s.set, mean, modelMean,
-                      Eigen::Vector3d(stddev(s.semitones), stddev(s.levels), s.onsets / s.speechSeconds),
-                      static_cast<int>(s.windowSpreads.size())});
+      std::vector<double> sorted = s.semitones;
+      std::sort(sorted.begin(), sorted.end());
+      const double range = sorted.size() > 10 ? sorted[sorted.size() * 9 / 10] - sorted[sorted.size() / 10] : 0.0;
+      double tilt = 0.0, steps = 0.0;
+      for (double x : s.tilt) tilt += x / std::max<std::size_t>(s.tilt.size(), 1);
+      for (double x : s.levelSteps) steps += x / std::max<std::size_t>(s.levelSteps.size(), 1);
+      Eigen::VectorXd voice(7);
+      voice << stddev(s.semitones), stddev(s.levels), s.onsets / s.speechSeconds, tilt, steps,
+          s.voicedSeconds / s.speechSeconds, range;
+      rows.push_back({name, s.set, mean, modelMean, voice, static_cast<int>(s.windowSpreads.size())});
     }
     const int n = static_cast<int>(rows.size());
+    {
+      // Each cue set, each speaker left out in turn: log spread = a + b · cues, least squares on the others.
+      const char* names[] = {"pitch std", "level std", "onsets/s", "tilt c1", "|dlevel|", "voiced", "pitch range"};
+      const std::vector<std::vector<int>> sets = {
+          {}, {0, 1, 2}, {0}, {1}, {2}, {3}, {4}, {5}, {6}, {3, 4}, {0, 1, 2, 3, 4, 5, 6}};
+      for (const auto& set : sets) {
+        const int d = static_cast<int>(set.size()) + 1;
+        double err = 0.0;
+        int within = 0;
+        Eigen::VectorXd px(n), py(n);
+        for (int k = 0; k < n; ++k) {
+          Eigen::MatrixXd x(n - 1, d);
+          Eigen::VectorXd y(n - 1);
+          int m = 0;
+          // Standardise each cue on the others, so the ridge term treats them alike.
+          for (int i = 0; i < n; ++i) {
+            if (i == k) continue;
+            x(m, 0) = 1.0;
+            for (int c = 0; c < d - 1; ++c) x(m, c + 1) = rows[static_cast<std::size_t>(i)].voice[set[c]];
+            y[m++] = std::log(rows[static_cast<std::size_t>(i)].spread);
+          }
+          Eigen::VectorXd mu = x.colwise().mean(),
+                          sd = ((x.rowwise() - mu.transpose()).array().square().colwise().mean()).sqrt();
+          mu[0] = 0.0;
+          sd[0] = 1.0;
+          for (int c = 1; c < d; ++c)
+            if (sd[c] <= 0) sd[c] = 1.0;
+          const Eigen::MatrixXd z = (x.rowwise() - mu.transpose()).array().rowwise() / sd.transpose().array();
+          Eigen::MatrixXd ridge = 1.0 * Eigen::MatrixXd::Identity(d, d);
+          ridge(0, 0) = 0.0;
+          const Eigen::VectorXd beta = (z.transpose() * z + ridge).ldlt().solve(z.transpose() * y);
+          Eigen::VectorXd q(d);
+          q[0] = 1.0;
+          for (int c = 0; c < d - 1; ++c)
+            q[c + 1] = (rows[static_cast<std::size_t>(k)].voice[set[c]] - mu[c + 1]) / sd[c + 1];
+          const double lp = beta.dot(q) - std::log(rows[static_cast<std::size_t>(k)].spread);
+          err += std::abs(lp);
+          within += std::exp(lp) >= 0.8 && std::exp(lp) <= 1.25;
+          px[k] = beta.dot(q);
+          py[k] = std::log(rows[static_cast<std::size_t>(k)].spread);
+        }
+        const Eigen::VectorXd cx = px.array() - px.mean(), cy = py.array() - py.mean();
+        std::string label;
+        for (int c : set) label += std::string(label.empty() ? "" : " + ") + names[c];
+        std::printf("cues %-40s mean |log| %.3f  within %2d of %d  corr %.2f\n",
+                    label.empty() ? "(one size)" : label.c_str(), err / n, within, n,
+                    set.empty() ? 0.0 : cx.dot(cy) / std::sqrt(cx.squaredNorm() * cy.squaredNorm()));
+      }
+      // Within a speaker: do windows with more of the voice come with more head motion? Correlations of the
+      // window's log spread and log speed with each window cue, per long-take speaker.
+      std::printf(
+          "within speakers (windows of speech): correlation of log spread | log speed with level mean, level std, "
+          "pitch std, voiced, onsets, |dlevel|\n");
+      for (const auto& [name, sp] : speakers) {
+        const std::size_t w = sp.windowSpreads.size();
+        if (w < 20) continue;
+        std::printf("  %-14s %3zu windows:", name.c_str(), w);
+        for (int target = 0; target < 2; ++target) {
+          for (int c = 0; c < 6; ++c) {
+            Eigen::VectorXd a(w), b(w);
+            for (std::size_t i = 0; i < w; ++i) {
+              a[i] = sp.windowVoice[i][c];
+              b[i] = std::log(std::max(1e-6, target == 0 ? sp.windowSpreads[i] : sp.windowSpeed[i]));
+            }
+            const Eigen::VectorXd ca = a.array() - a.mean(), cb = b.array() - b.mean();
+            std::printf(" %5.2f", ca.dot(cb) / std::sqrt(std::max(1e-12, ca.squaredNorm() * cb.squaredNorm())));
+          }
+          std::printf(target == 0 ? "  |" : "\n");
+        }
+      }
+      // Whether heads move on the speech's beats: Beat Align of the truth on its own speech and shifted.
+      std::printf(
+          "beat locking (truth): speaker, BA on its speech, BA with the beats moved 1-3 s, speed around a beat (lag "
+          "-6..+6 over mean)\n");
+      double own = 0.0, moved = 0.0;
+      Eigen::Vector2d pitchSum = Eigen::Vector2d::Zero(), peakSum = Eigen::Vector2d::Zero();
+      Eigen::Vector2d offsetSum = Eigen::Vector2d::Zero(), modelSum = Eigen::Vector2d::Zero();
+      int counted = 0;
+      Eigen::VectorXd pooled = Eigen::VectorXd::Zero(31);
+      int pooledBeats = 0;
+      for (const auto& [name, s] : speakers) {
+        if (s.beatClips == 0) continue;
+        own += s.beatAlign / s.beatClips;
+        pitchSum += s.pitchAlign / s.beatClips;
+        peakSum += s.peakAlign / s.beatClips;
+        offsetSum += s.offsetAlign / s.beatClips;
+        modelSum += s.modelAlign / s.beatClips;
+        moved += s.shiftedBeatAlign / s.beatClips;
+        ++counted;
+        pooled += s.speedAroundBeats;
+        pooledBeats += s.beatsCounted;
+        if (s.set != "arabic") {
+          std::printf("  %-14s %.3f %.3f  pitch peaks %.3f %.3f  level peaks %.3f %.3f ", name.c_str(),
+                      s.beatAlign / s.beatClips, s.shiftedBeatAlign / s.beatClips, s.pitchAlign[0] / s.beatClips,
+                      s.pitchAlign[1] / s.beatClips, s.peakAlign[0] / s.beatClips, s.peakAlign[1] / s.beatClips);
+          std::printf(" offsets %.3f %.3f  ours %.3f %.3f ", s.offsetAlign[0] / s.beatClips,
+                      s.offsetAlign[1] / s.beatClips, s.modelAlign[0] / s.beatClips, s.modelAlign[1] / s.beatClips);
+          for (int lag = -6; lag <= 6; ++lag)
+            std::printf(" %.2f", s.speedAroundBeats[lag + 15] / std::max(1, s.beatsCounted));
+          std::printf("\n");
+        }
+      }
+      std::printf("  all %d speakers: %.3f %.3f  pitch peaks %.3f %.3f  level peaks %.3f %.3f ", counted, own / counted,
+                  moved / counted, pitchSum[0] / counted, pitchSum[1] / counted, peakSum[0] / counted,
+                  peakSum[1] / counted);
+      std::printf(" offsets %.3f %.3f  ours %.3f %.3f ", offsetSum[0] / counted, offsetSum[1] / counted,
+                  modelSum[0] / counted, modelSum[1] / counted);
+      for (int lag = -15; lag <= 15; ++lag) std::printf(" %.2f", pooled[lag + 15] / std::max(1, pooledBeats));
+      std::printf("\n");
+    }
     std::printf("%d speakers with %d or more windows of %d frames of speech\n", n, minWindows, window);
     std::printf("%-14s %-9s %7s %7s %8s %8s %8s  %9s %9s\n", "speaker", "set", "spread", "ours", "pitch st", "level dB",
                 "onsets/s", "one size", "voice");
@@ -208,14 +431,14 @@ int main(int argc, char** argv) {
       int m = 0;
       for (int i = 0; i < n; ++i) {
         if (i == k) continue;
-        x.row(m) << 1.0, rows[static_cast<std::size_t>(i)].voice.transpose();
+        x.row(m) << 1.0, rows[static_cast<std::size_t>(i)].voice.head(3).transpose();
         y[m++] = std::log(rows[static_cast<std::size_t>(i)].spread);
       }
       const double constant = y.mean();
       const Eigen::Vector4d beta =
           (x.transpose() * x + 1e-3 * Eigen::Matrix4d::Identity()).ldlt().solve(x.transpose() * y);
       const Row& r = rows[static_cast<std::size_t>(k)];
-      const double predicted = beta.dot((Eigen::Vector4d() << 1.0, r.voice).finished());
+      const double predicted = beta.dot((Eigen::Vector4d() << 1.0, r.voice.head(3)).finished());
       const double lc = constant - std::log(r.spread), lv = predicted - std::log(r.spread);
       errConst += std::abs(lc);
       errVoice += std::abs(lv);
