@@ -37,7 +37,7 @@ struct AnimateArguments {
   pipeline::HeadMotionOptions head;
   pipeline::IdleOptions idle;
   DecodingChoices decoding;
-  pipeline::StreamingOptions streaming{.lag = 6, .window = 30};  // --online: a second of inversion window
+  pipeline::StreamingOptions streaming{.window = 30};  // --online: a second of inversion window
 };
 
 void runAnimate(const AnimateArguments& arguments) {

@@ -6,7 +6,9 @@
 HEADPOSE.csv: 30 fps pitch/yaw/roll in degrees (BEAT2's neckhead_*_deg or StyleTalk's *_deg columns), shown
 about its own mean over the stretch. Each ANIMATION.csv is `talkinghead animate` output: FAPs 48-50 (head pitch,
 yaw, roll in 1e-5 rad) turned back into degrees. Pauses (frames 30 dB under the loud frames, as `eval head`
-counts them) are shaded. Needs python3-matplotlib, python3-numpy and python3-scipy (Debian packages).
+counts them) are shaded. A fourth panel marks the beats `eval head` scores Beat Align with: the speech's onsets
+(peaks of the level's rise, at least 2 dB and 6 frames apart) and each motion's beats (local minima of its
+angular speed smoothed over 5 frames). Needs python3-matplotlib, python3-numpy and python3-scipy (Debian packages).
 """
 import argparse
 import csv
@@ -35,7 +37,35 @@ def read_animation(path):
     return np.array([[float(r[f"fap{n}"]) * degrees for n in (48, 49, 50)] for r in rows])
 
 
-def pauses(wav, frames):
+def gaussian_smoothed(x, sigma):
+    radius = int(np.ceil(3 * sigma))
+    kernel = np.exp(-0.5 * (np.arange(-radius, radius + 1) / sigma) ** 2)
+    kernel /= kernel.sum()
+    return np.convolve(np.pad(x, radius, mode="edge"), kernel, mode="valid")
+
+
+def speech_beats(level, min_rise=2.0, min_gap=6):
+    rise = gaussian_smoothed(np.maximum(0.0, np.diff(level, prepend=level[0])), 1.0)
+    beats = []
+    for t in range(1, len(rise) - 1):
+        if rise[t] < min_rise or rise[t] < rise[t - 1] or rise[t] <= rise[t + 1]:
+            continue
+        if beats and t - beats[-1] < min_gap:
+            if rise[t] > rise[beats[-1]]:
+                beats[-1] = t
+            continue
+        beats.append(t)
+    return np.array(beats, dtype=int)
+
+
+def motion_beats(rotations):
+    speed = np.r_[0.0, np.linalg.norm(np.diff(rotations, axis=0), axis=1)]
+    smooth = gaussian_smoothed(speed, 5.0)
+    return np.array([t for t in range(1, len(smooth) - 1) if smooth[t] < smooth[t - 1] and smooth[t] <= smooth[t + 1]],
+                    dtype=int)
+
+
+def levels(wav, frames):
     rate, samples = wavfile.read(wav)
     samples = samples.astype(np.float64)
     if samples.ndim > 1:
@@ -46,7 +76,7 @@ def pauses(wav, frames):
         a, b = int(max(0, (t - 0.5) * hop)), int(min(len(samples), (t + 0.5) * hop))
         if b > a:
             level[t] = 10 * np.log10(np.mean(samples[a:b] ** 2) + 1e-12)
-    return level < np.percentile(level, 95) - 30.0
+    return level
 
 
 def main():
@@ -68,9 +98,10 @@ def main():
     first = int(args.start * 30)
     last = min(frames, int(args.end * 30))
     time = np.arange(first, last) / 30.0
-    quiet = pauses(args.speech, frames)[first:last]
+    level = levels(args.speech, frames)
+    quiet = (level < np.percentile(level, 95) - 30.0)[first:last]
 
-    fig, axes = plt.subplots(3, 1, figsize=(12, 6.5), sharex=True)
+    fig, axes = plt.subplots(4, 1, figsize=(12, 8), sharex=True, gridspec_kw={"height_ratios": [3, 3, 3, 1.6]})
     for axis, label in enumerate(["pitch", "yaw", "roll"]):
         ax = axes[axis]
         for t, q in zip(time, quiet):
@@ -81,8 +112,22 @@ def main():
             ax.plot(time, part - part.mean(), label=name, lw=1.2 if name == "the speaker" else 1.0)
         ax.set_ylabel(f"{label} (deg)")
         ax.grid(alpha=0.3)
+    beats = axes[3]
+    onsets = [b for b in speech_beats(level[:frames]) if first <= b < last]
+    for b in onsets:
+        for ax in axes:
+            ax.axvline(b / 30.0, color="0.75", lw=0.6, zorder=0)
+    rows = [("speech onsets", np.array(onsets))] + [(name, motion_beats(values[:frames])) for name, values in series]
+    for row, (name, marks) in enumerate(rows):
+        marks = marks[(marks >= first) & (marks < last)]
+        y = len(rows) - 1 - row
+        beats.plot(marks / 30.0, np.full(len(marks), y), "|" if row == 0 else "o", ms=8 if row == 0 else 4,
+                   color="0.3" if row == 0 else f"C{row - 1}")
+    beats.set_yticks(range(len(rows)), [name for name, _ in reversed(rows)], fontsize=8)
+    beats.set_ylim(-0.6, len(rows) - 0.4)
+    beats.set_ylabel("beats")
     axes[0].legend(loc="upper right", ncol=len(series), fontsize=9)
-    axes[-1].set_xlabel("time (s); grey: pauses")
+    axes[-1].set_xlabel("time (s); grey: pauses; lines: the speech's onsets")
     fig.tight_layout()
     fig.savefig(args.output, dpi=90)
     print(f"wrote {args.output}")

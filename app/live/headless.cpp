@@ -173,8 +173,8 @@ void runHeadless(const HeadlessArguments& arguments, const pipeline::LiveSetting
   if (!live.failure().empty()) throw Error(sourceName + ": " + live.failure() + "; no dump written");
 
   if (!arguments.dump.empty()) {
-    formats::writeAnimation(arguments.dump,
-                            trackOf(shown, live.fapNumbers(), std::filesystem::path(arguments.input).stem().string()));
+    formats::writeAnimation(arguments.dump, trackOf(shown, display.fapNumbers(live.fapNumbers()),
+                                                    std::filesystem::path(arguments.input).stem().string()));
     std::printf("wrote %s: %zu frames\n", arguments.dump.c_str(), shown.size());
   }
 }

@@ -78,6 +78,11 @@ HeadModel loadHeadModel(const std::filesystem::path& path);
 
 enum class HeadVariant { kStateMeans, kTrajectory, kPosteriorMeans };
 
+// The online decoder's decision lag that live use runs with, frames: on speakers never trained on, lags of 0
+// to 12 frames give the same spread, speed, jumps and distribution of motion (docs/head.md), so the live head
+// waits for the least that keeps its state decisions steady.
+inline constexpr int kLiveHeadLagFrames = 2;
+
 struct HeadSynthesisOptions {
   HeadVariant variant = HeadVariant::kTrajectory;
   int maxLagFrames = -1;              // < 0: batch (whole input); >= 0: online with this decoding lag

@@ -136,7 +136,6 @@ void addIdleMotion(face::FapTrack& animation, const Eigen::RowVectorXd& levelDb,
                    const IdleSwitches& switches) {
   if (levelDb.size() != 0 && levelDb.size() < animation.numFrames())
     throw Error("idle motion: fewer levels than animation frames");
-  constexpr int kIdleFaps[] = {19, 20, 23, 24, 25, 26};
   std::vector<int> numbers = animation.faps;
   for (const int fap : kIdleFaps)
     if (animation.rowOf(fap) < 0) numbers.push_back(fap);

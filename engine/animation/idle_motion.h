@@ -23,6 +23,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <array>
 #include <random>
 
 #include "face/face_model.h"
@@ -103,6 +104,9 @@ class IdleMotion {
   bool speaking_ = false;
   double headGain_ = 0.0;
 };
+
+// The FAPs the idle behaviour sets: the eyelids (19, 20) and the eyeballs (23–26).
+inline constexpr std::array<int, 6> kIdleFaps{19, 20, 23, 24, 25, 26};
 
 // The idle behaviour over a whole animation, frame i at i / fps, for the outputs made from files (animate,
 // export, render, sidebyside): the eyelid and eyeball FAPs (19, 20, 23–26) are added (or overlaid), and the head

@@ -1,5 +1,6 @@
 #include "outputs/live_display.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace th::outputs {
@@ -30,6 +31,15 @@ void LiveDisplay::present(pipeline::AnimationFrame& frame, double clockSeconds, 
   lastSent_ = frame.index;
   const AvatarFrame avatar = avatarFrameOf(frame);
   for (const auto& output : outputs_) output->send(avatar);
+}
+
+std::vector<int> LiveDisplay::fapNumbers(const std::vector<int>& decoded) const {
+  std::vector<int> numbers = decoded;
+  if (on_)
+    for (const int fap : animation::kIdleFaps)
+      if (std::find(numbers.begin(), numbers.end(), fap) == numbers.end()) numbers.push_back(fap);
+  std::sort(numbers.begin(), numbers.end());
+  return numbers;
 }
 
 std::vector<OutputStatus> LiveDisplay::statuses() const {

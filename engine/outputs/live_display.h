@@ -40,6 +40,8 @@ class LiveDisplay {
   void closeOutputs() { outputs_.clear(); }
 
   bool speaking() const { return idle_.speaking(); }
+  // The FAPs a presented frame carries: the decoder's, and the idle behaviour's while it is on (in order).
+  std::vector<int> fapNumbers(const std::vector<int>& decoded) const;
 
  private:
   bool on_;

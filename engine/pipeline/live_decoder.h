@@ -8,9 +8,9 @@
 //
 // Two feature extractors run on the same samples: the prosody one (F0, energy, deltas) feeds the head model's
 // online decoder → rotations → FAPs 48–50; an MFCC-only one (no pitch tracker to wait for) feeds the mouth
-// model's streaming inversion → jaw opening → FAP 3 and the lip FAPs. The head waits ~400 ms for its decision
-// lag, the mouth ~110 ms, so by default the mouth sets the pace: frame i carries the mouth of instant i and the
-// head (and F0) of frame i - headDelayFrames, decided by then (lookahead() says how many). With
+// model's streaming inversion → jaw opening → FAP 3 and the lip FAPs. The head waits ~280 ms for its pitch
+// tracker and decision lag, the mouth ~50 ms, so by default the mouth sets the pace: frame i carries the mouth of
+// instant i and the head (and F0) of frame i - headDelayFrames, decided by then (lookahead() says how many). With
 // `waitForHead`, a frame waits for its own head instead, and the frames are those of pipeline::animate() with
 // the same online options, frame for frame (tests/pipeline). A null model leaves its FAPs at 0. With a viseme
 // model, the MFCC extractor also feeds its stream, and each frame carries the newest visemes decided. With an
@@ -38,7 +38,8 @@ namespace th::pipeline {
 
 struct LiveDecoderOptions {
   // Online decoding: Viterbi with a bounded lag, then the smooth trajectory through the decided states.
-  animation::HeadSynthesisOptions head{.variant = animation::HeadVariant::kTrajectory, .maxLagFrames = 6};
+  animation::HeadSynthesisOptions head{.variant = animation::HeadVariant::kTrajectory,
+                                       .maxLagFrames = animation::kLiveHeadLagFrames};
   // Inversion on short windows: the window is look-ahead (pipeline/live_presets.h: 1 in the default preset).
   animation::MouthSynthesisOptions mouth{
       .method = animation::MouthMethod::kInversion, .windowFrames = 1, .maxIterations = 20};

@@ -64,8 +64,8 @@ struct IdleOptions {
 
 // The streaming decoders' decisions (animate --online, live).
 struct StreamingOptions {
-  int lag = 6;     // head: online Viterbi's decision lag, frames
-  int window = 1;  // mouth: inversion window, frames (window - 1 of them look-ahead)
+  int lag = animation::kLiveHeadLagFrames;  // head: online Viterbi's decision lag, frames
+  int window = 1;                           // mouth: inversion window, frames (window - 1 of them look-ahead)
   void visitOptions(OptionVisitor& v);
 };
 

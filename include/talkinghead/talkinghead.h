@@ -85,8 +85,8 @@ typedef struct th_stream_options {
   const char* viseme_model; /* NULL: the installed articulation's visemes (lips closed by the same classes);
                                a file: that viseme model's, without the articulation; "": no visemes */
   double sample_rate_hz;    /* of the pushed samples, 8000..192000 (default 16000) */
-  int wait_for_head;        /* 0: frames as soon as the mouth is decided (the head 12 frames late); 1: each frame
-                               waits for its own head (~400 ms) */
+  int wait_for_head;        /* 0: frames as soon as the mouth is decided (the head shown its own look-ahead
+                               late); 1: each frame waits for its own head (th_stream_latency_ms says how long) */
 } th_stream_options;
 
 TH_API void th_stream_options_init(th_stream_options* options);

@@ -4,10 +4,14 @@
 // and keeps its settings.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <tuple>
+#include <vector>
 
 #include "cli_runner.h"
 #include "core/data_path.h"
@@ -50,6 +54,57 @@ TEST_F(LiveCliTest, HeadlessGivesTheOnlineAnimationThroughTheThreads) {
   EXPECT_EQ((a.values - b.values).cwiseAbs().maxCoeff(), 0.0);
   EXPECT_GE(a.rowOf(3), 0);
   EXPECT_GT(a.values.row(a.rowOf(3)).maxCoeff(), 0.0);  // the jaw moves
+}
+
+// What a file of the speech has, live shows: `animate --online` and `live --headless` on the same recording
+// give the same blinks and gaze shifts, and the same head, shown as many frames late as live reports (the
+// mouth does not wait for it); without the idle behaviour's rests in pauses, exactly.
+TEST_F(LiveCliTest, TheHeadBlinksAndGazeAreTheFilesShownTheHeadsLookAheadLate) {
+  const auto run = [&](const std::vector<std::string>& idle, const std::string& tag) {
+    const fs::path file = out() / (tag + "_file.csv"), live = out() / (tag + "_live.csv");
+    std::vector<std::string> animate = {"animate", speech().string(), "-o", file.string(), "--online"};
+    std::vector<std::string> headless = {"live", "--headless", "--input", speech().string(), "--duration",
+                                         "12",   "--speed",    "0",       "--dump",          live.string()};
+    animate.insert(animate.end(), idle.begin(), idle.end());
+    headless.insert(headless.end(), idle.begin(), idle.end());
+    EXPECT_EQ(runCli(animate, logs()).exitCode, 0);
+    const CliResult result = runCli(headless, logs());
+    EXPECT_EQ(result.exitCode, 0) << result.err;
+    const std::string marker = "the head shown ";
+    const std::size_t at = result.out.find(marker);
+    EXPECT_NE(at, std::string::npos) << result.out;
+    const int late = at == std::string::npos ? 0 : std::stoi(result.out.substr(at + marker.size()));
+    return std::make_tuple(th::formats::readAnimation(file), th::formats::readAnimation(live), late);
+  };
+  {
+    const auto [file, live, late] = run({"--no-idle"}, "still");
+    ASSERT_GT(late, 0);
+    ASSERT_EQ(live.numFrames(), 360);
+    double largest = 0.0, moved = 0.0;
+    for (const int fap : {48, 49, 50}) {
+      ASSERT_GE(file.rowOf(fap), 0);
+      ASSERT_GE(live.rowOf(fap), 0);
+      for (Eigen::Index t = late; t < live.numFrames(); ++t) {
+        largest = std::max(largest, std::abs(live.values(live.rowOf(fap), t) - file.values(file.rowOf(fap), t - late)));
+        moved = std::max(moved, std::abs(file.values(file.rowOf(fap), t - late)));
+      }
+    }
+    EXPECT_LT(largest, 1e-3) << "FAP units";
+    EXPECT_GT(moved, 1000.0) << "the head moves";
+  }
+  const auto [file, live, late] = run({}, "idle");
+  for (const int fap : {19, 20, 23, 24, 25, 26}) {
+    ASSERT_GE(file.rowOf(fap), 0) << fap;
+    ASSERT_GE(live.rowOf(fap), 0) << fap << ": the dump has what the display showed";
+    EXPECT_EQ(live.values.row(live.rowOf(fap)), file.values.row(file.rowOf(fap)).head(live.numFrames())) << fap;
+  }
+  EXPECT_GT(file.values.row(file.rowOf(19)).maxCoeff(), 0.0) << "it blinks";
+  for (const int fap : {48, 49, 50}) {
+    const Eigen::RowVectorXd a = live.values.row(live.rowOf(fap)).segment(late, live.numFrames() - late);
+    const Eigen::RowVectorXd b = file.values.row(file.rowOf(fap)).head(live.numFrames() - late);
+    const Eigen::RowVectorXd ca = a.array() - a.mean(), cb = b.array() - b.mean();
+    EXPECT_GT(ca.dot(cb) / std::sqrt(ca.squaredNorm() * cb.squaredNorm()), 0.95) << fap;
+  }
 }
 
 // CPU overload: three busy loops on the two cores while 6 s of speech plays at real-time pace. No sample is
