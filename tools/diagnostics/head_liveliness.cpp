@@ -505,6 +505,14 @@ int main(int argc, char** argv) {
     double allGain = 0.0;
     for (const Row& r : rows) allGain += std::log(r.spread / r.model);
     std::printf("the gain over all %d speakers: %.2f\n", n, std::exp(allGain / n));
+    // The --head-amplitude that would give each speaker their own size: its spread of the people's.
+    std::vector<double> amplitudes;
+    for (const Row& r : rows) amplitudes.push_back(r.spread / r.model);
+    std::sort(amplitudes.begin(), amplitudes.end());
+    const auto at = [&](double q) { return amplitudes[static_cast<std::size_t>(q * (amplitudes.size() - 1) + 0.5)]; };
+    std::printf(
+        "--head-amplitude that matches a speaker: 10th percentile %.2f, 25th %.2f, median %.2f, 75th %.2f, 90th %.2f\n",
+        at(0.1), at(0.25), at(0.5), at(0.75), at(0.9));
   } catch (const std::exception& error) {
     std::fprintf(stderr, "head_liveliness: %s\n", error.what());
     return 1;
