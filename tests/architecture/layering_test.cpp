@@ -19,8 +19,8 @@ namespace {
 namespace fs = std::filesystem;
 
 // The stages from the lowest to the highest (DESIGN.md's order; docs/architecture.md).
-const std::vector<std::string> kOrder{"core",      "audio",  "hmm",      "nn",   "face",     "features", "formats",
-                                      "animation", "render", "tracking", "eval", "pipeline", "outputs"};
+const std::vector<std::string> kOrder{"core",      "audio",  "hmm",    "nn",       "face", "features", "formats",
+                                      "animation", "avatar", "render", "tracking", "eval", "pipeline", "outputs"};
 
 // stage -> the stages it declares it uses.
 std::map<std::string, std::set<std::string>> readGraph() {
