@@ -141,7 +141,7 @@ void addRecording(Speaker& speaker, const HeadRecording& r, const Eigen::MatrixX
         }
       }
       double lm = 0.0;
-      for (double x : lv) lm += x / lv.size();
+      for (double x : lv) lm += x / static_cast<double>(lv.size());
       int onsets = 0;
       for (int b : th::eval::speechBeats(r.levelDb)) onsets += b >= start && b < start + window;
       Eigen::VectorXd f(6);
@@ -298,8 +298,8 @@ int main(int argc, char** argv) {
       std::sort(sorted.begin(), sorted.end());
       const double range = sorted.size() > 10 ? sorted[sorted.size() * 9 / 10] - sorted[sorted.size() / 10] : 0.0;
       double tilt = 0.0, steps = 0.0;
-      for (double x : s.tilt) tilt += x / std::max<std::size_t>(s.tilt.size(), 1);
-      for (double x : s.levelSteps) steps += x / std::max<std::size_t>(s.levelSteps.size(), 1);
+      for (double x : s.tilt) tilt += x / static_cast<double>(std::max<std::size_t>(s.tilt.size(), 1));
+      for (double x : s.levelSteps) steps += x / static_cast<double>(std::max<std::size_t>(s.levelSteps.size(), 1));
       Eigen::VectorXd voice(7);
       voice << stddev(s.semitones), stddev(s.levels), s.onsets / s.speechSeconds, tilt, steps,
           s.voicedSeconds / s.speechSeconds, range;
@@ -509,7 +509,9 @@ int main(int argc, char** argv) {
     std::vector<double> amplitudes;
     for (const Row& r : rows) amplitudes.push_back(r.spread / r.model);
     std::sort(amplitudes.begin(), amplitudes.end());
-    const auto at = [&](double q) { return amplitudes[static_cast<std::size_t>(q * (amplitudes.size() - 1) + 0.5)]; };
+    const auto at = [&](double q) {
+      return amplitudes[static_cast<std::size_t>(q * static_cast<double>(amplitudes.size() - 1) + 0.5)];
+    };
     std::printf(
         "--head-amplitude that matches a speaker: 10th percentile %.2f, 25th %.2f, median %.2f, 75th %.2f, 90th %.2f\n",
         at(0.1), at(0.25), at(0.5), at(0.75), at(0.9));
