@@ -186,11 +186,7 @@ void FaceRenderer::createTargets() {
   }
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
   g.resolved = false;
-  backdrop_ = backdropPixels(w, h, options_.backgroundTop, options_.backgroundBottom);
-  std::vector<std::uint8_t> opaque(static_cast<std::size_t>(w) * static_cast<std::size_t>(h) * 4, 255);
-  for (std::size_t i = 0; i * 3 < backdrop_.size(); ++i) std::copy_n(&backdrop_[3 * i], 3, &opaque[4 * i]);
-  rgbaToYuv420(opaque.data(), w, h, false, backdropYuv_[0]);
-  rgbaToYuv420(opaque.data(), w, h, true, backdropYuv_[1]);
+  backdrop_ = makeBackdrop(w, h, options_.backgroundTop, options_.backgroundBottom);
   drawn_ = {0, 0, w, h};  // nothing read yet: a new target holds anything
 }
 
@@ -400,59 +396,12 @@ void FaceRenderer::readRaw(RawFrame& frame) {
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
 }
 
-// The CPU's share of a frame, over its region: the backdrop under the head, then FXAA if on (single-sample
-// targets only). FXAA's luma is taken row by row as the row is composited, while it is in cache.
-void FaceRenderer::prepare(RawFrame& frame) const {
-  const PixelRegion& r = frame.region;
-  const std::size_t regionPixels = static_cast<std::size_t>(r.width) * static_cast<std::size_t>(r.height);
-  const std::size_t pixels = static_cast<std::size_t>(options_.width) * static_cast<std::size_t>(options_.height);
-  if (frame.width != options_.width || frame.height != options_.height || r.left < 0 || r.top < 0 || r.width < 0 ||
-      r.height < 0 || r.left + r.width > frame.width || r.top + r.height > frame.height ||
-      frame.rgba.size() != regionPixels * 4 || backdrop_.size() != pixels * 3)
-    throw Error("FaceRenderer::finish: the frame is not one of this renderer's (" + std::to_string(frame.width) + "x" +
-                std::to_string(frame.height) + ")");
-  const bool fxaa = samples_ == 1 && options_.fxaa;
-  if (fxaa) frame.fxaa.luma.resize(regionPixels);
-  const std::size_t w = static_cast<std::size_t>(r.width);
-  const int bottomRow = frame.height - r.top - r.height;  // the region's first row in GL's order
-  for (int y = 0; y < r.height; ++y) {
-    std::uint8_t* row = frame.rgba.data() + static_cast<std::size_t>(y) * w * 4;
-    const std::uint8_t* under =
-        backdrop_.data() + (static_cast<std::size_t>(bottomRow + y) * static_cast<std::size_t>(frame.width) +
-                            static_cast<std::size_t>(r.left)) *
-                               3;
-    compositeUnder(row, under, w);
-    if (fxaa) fxaaLuma(row, w, frame.fxaa.luma.data() + static_cast<std::size_t>(y) * w);
-  }
-  if (fxaa) fxaaWithLuma(frame.rgba.data(), r.width, r.height, frame.fxaa);
-}
-
 void FaceRenderer::finish(RawFrame& frame, Image& image) const {
-  prepare(frame);
-  if (image.width != frame.width || image.height != frame.height) image.resize(frame.width, frame.height);
-  // Rows top-down (GL's run bottom-up): the backdrop, with the region's pixels in their place.
-  const PixelRegion& r = frame.region;
-  const std::size_t rowBytes = static_cast<std::size_t>(frame.width) * 3;
-  for (int y = 0; y < frame.height; ++y) {
-    std::uint8_t* out = image.pixel(0, y);
-    std::copy_n(backdrop_.data() + static_cast<std::size_t>(frame.height - 1 - y) * rowBytes, rowBytes, out);
-    if (y < r.top || y >= r.top + r.height) continue;
-    const std::uint8_t* in =
-        frame.rgba.data() + static_cast<std::size_t>(r.top + r.height - 1 - y) * static_cast<std::size_t>(r.width) * 4;
-    out += static_cast<std::size_t>(r.left) * 3;
-    for (int x = 0; x < r.width; ++x, in += 4, out += 3) {
-      out[0] = in[0];
-      out[1] = in[1];
-      out[2] = in[2];
-    }
-  }
+  finishFrame(frame, backdrop_, samples_ == 1 && options_.fxaa, image, "FaceRenderer");
 }
 
 void FaceRenderer::finish(RawFrame& frame, Yuv420Image& image, bool bt709) const {
-  prepare(frame);
-  image = backdropYuv_[bt709 ? 1 : 0];  // the same size every frame: a copy into the planes already there
-  rgbaToYuv420(frame.rgba.data(), frame.region.width, frame.region.height, bt709, image, frame.region.left,
-               frame.region.top);
+  finishFrame(frame, backdrop_, samples_ == 1 && options_.fxaa, image, bt709, "FaceRenderer");
 }
 
 Image FaceRenderer::renderImage(const OrbitCamera& camera) {

@@ -38,6 +38,7 @@
 #include "render/gl_context.h"
 #include "render/image.h"
 #include "render/normals.h"
+#include "render/raw_frame.h"
 #include "render/yuv.h"
 
 namespace th::render {
@@ -106,25 +107,6 @@ struct RenderOptions {
   Eigen::Vector3f backgroundBottom{0.13f, 0.14f, 0.17f};  // sRGB
   Lighting lighting{};
   Appearance appearance{};
-};
-
-// A rectangle of an image: columns [left, left + width), rows [top, top + height), rows counted from the top.
-struct PixelRegion {
-  int left = 0;
-  int top = 0;
-  int width = 0;
-  int height = 0;
-  bool operator==(const PixelRegion&) const = default;
-};
-
-// A frame as GL gives it back (premultiplied RGBA over a transparent background, bottom row first), before
-// the CPU finishes it: what a pipeline hands from the GL thread to another (see FaceRenderer::readRaw).
-struct RawFrame {
-  int width = 0;  // the whole frame's size
-  int height = 0;
-  PixelRegion region;              // the part GL drew in (RenderOptions::cropToHead); the backdrop elsewhere
-  std::vector<std::uint8_t> rgba;  // the region's pixels, 4 bytes each, bottom row first
-  FxaaScratch fxaa;  // working space, kept with the frame: finishing allocates nothing after the first time
 };
 
 class FaceRenderer {
@@ -196,7 +178,6 @@ class FaceRenderer {
   void drawFace(const OrbitCamera& camera, bool withBackdrop = false);
   enum class Backdrop { kUnder, kBehindDepth };
   void drawBackdrop(Backdrop how);  // the gradient, into the bound framebuffer
-  void prepare(RawFrame& frame) const;
 
   GlContext& context_;
   RenderOptions options_;
@@ -206,11 +187,10 @@ class FaceRenderer {
   Eigen::Matrix3Xf normals_;
   Eigen::VectorXf openness_;
   Eigen::VectorXf lipWeight_;
-  std::vector<float> vertexData_;           // interleaved position + normal, reused every frame
-  RawFrame raw_;                            // readPixels()' own
-  std::vector<std::uint8_t> backdrop_;      // RGB, GL's row order, for the size in use
-  std::array<Yuv420Image, 2> backdropYuv_;  // the backdrop in Y'CbCr: [0] BT.601, [1] BT.709
-  PixelRegion drawn_;                       // where the last render() drew
+  std::vector<float> vertexData_;  // interleaved position + normal, reused every frame
+  RawFrame raw_;                   // readPixels()' own
+  FrameBackdrop backdrop_;         // for the size in use
+  PixelRegion drawn_;              // where the last render() drew
   int trianglesDrawn_ = 0;
   std::unique_ptr<DrawList> drawList_;  // the draws, their materials and eyes (render/materials.h)
   std::unique_ptr<Culling> culling_;    // this frame's triangles of each draw (render/culling.h)

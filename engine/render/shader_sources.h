@@ -12,5 +12,7 @@ extern const char* const kBackground_frag;
 extern const char* const kDepth_vert;
 extern const char* const kDepth_frag;
 extern const char* const kLighting_glsl;
+extern const char* const kAvatar_vert;
+extern const char* const kAvatar_frag;
 
 }  // namespace th::render::shaders
