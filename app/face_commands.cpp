@@ -14,6 +14,8 @@
 #include <vector>
 
 #include "audio/media_audio.h"
+#include "avatar/avatar_model.h"
+#include "avatar/avatar_pose.h"
 #include "cli_options.h"
 #include "commands.h"
 #include "core/atomic_file.h"
@@ -32,6 +34,7 @@
 #include "pipeline/offline.h"
 #include "pipeline/options.h"
 #include "pipeline/video_export.h"
+#include "render/avatar_renderer.h"
 #include "render/camera.h"
 #include "render/face_renderer.h"
 #include "render/gl_context.h"
@@ -41,6 +44,23 @@
 namespace th::app {
 namespace {
 
+// The user's character, read and rigged before any work; what it lacks is said once on stderr.
+std::optional<avatar::Avatar> loadCharacter(const std::string& path) {
+  if (path.empty()) return std::nullopt;
+  avatar::Avatar character = avatar::loadAvatar(path);
+  const avatar::AvatarRig rig = avatar::rigAvatar(character);
+  std::cerr << character.name << ": " << avatar::schemeName(rig.scheme);
+  for (const std::string& missing : rig.missing) std::cerr << "; " << missing;
+  std::cerr << '\n';
+  return character;
+}
+
+void addAvatarOption(CLI::App& command, std::string& path) {
+  command.add_option("--avatar", path,
+                     "A character (.glb, .gltf, .vrm) to speak instead of our face: its ARKit, Oculus viseme or VRM "
+                     "morph targets, its neck, head and eye bones");
+}
+
 // ---- render ----
 
 struct RenderArguments {
@@ -49,6 +69,7 @@ struct RenderArguments {
   std::string size = "640x480";
   double fps = 0.0;  // 0: the animation's
   pipeline::IdleOptions idle;
+  std::string avatar;  // --avatar: the user's character instead of our face
 };
 
 // A file made elsewhere (or with --no-idle) may lack blinks and gaze: they are added unless it has its own
@@ -63,19 +84,32 @@ void runRender(const RenderArguments& arguments) {
   const auto [width, height] = parseSize(arguments.size);
   face::FapTrack animation = formats::readAnimation(arguments.animation);
   addIdleIfMissing(animation, arguments.idle);
+  const std::optional<avatar::Avatar> character = loadCharacter(arguments.avatar);
   const std::filesystem::path folder = arguments.output;
   std::error_code error;
   std::filesystem::create_directories(folder, error);
   if (!std::filesystem::is_directory(folder, error)) throw fileError(folder, "is not a folder and cannot be made one");
   const double fps = arguments.fps > 0.0 ? arguments.fps : animation.framesPerSecond;
   const auto frames = static_cast<int>(std::ceil(animation.durationSeconds() * fps - 1e-9));
-  OffscreenFace stage({.width = width, .height = height});
+  // Our face, or the user's character.
+  std::unique_ptr<OffscreenFace> stage;
+  std::unique_ptr<render::OffscreenContext> context;
+  std::unique_ptr<render::AnimatedAvatar> drawn;
+  if (character) {
+    context = std::make_unique<render::OffscreenContext>();
+    drawn = std::make_unique<render::AnimatedAvatar>(*character, *context,
+                                                     render::AvatarRenderOptions{.width = width, .height = height});
+  } else {
+    stage = std::make_unique<OffscreenFace>(render::RenderOptions{.width = width, .height = height});
+  }
   ProgressBar progress(frames, "render", std::cerr, progressAt(fps));
   char name[32];
   for (int frame = 0; frame < frames; ++frame) {
     InterruptGuard::check();
     std::snprintf(name, sizeof name, "frame_%06d.png", frame);
-    render::writePng(folder / name, stage.animated.draw(animation.at(frame / fps)));
+    const double seconds = frame / fps;
+    render::writePng(folder / name,
+                     drawn ? drawn->draw(animation, seconds) : stage->animated.draw(animation.at(seconds)));
     progress.update(frame + 1);
   }
   progress.finish();
@@ -182,6 +216,7 @@ struct ExportArguments {
   pipeline::IdleOptions idle;
   int crf = 20;
   std::string preset = "veryfast";
+  std::string avatar;  // --avatar: the user's character instead of our face
 };
 
 void runExport(const ExportArguments& arguments) {
@@ -195,6 +230,7 @@ void runExport(const ExportArguments& arguments) {
     checkOutputTarget(path);
   }
   if (!arguments.arkit.empty()) checkOutputTarget(arguments.arkit);
+  const std::optional<avatar::Avatar> character = loadCharacter(arguments.avatar);
 
   // The face model (about 0.2 s) is built on another thread while the recording is read and animated.
   std::future<face::FaceModel> building =
@@ -222,7 +258,8 @@ void runExport(const ExportArguments& arguments) {
                            .height = height,
                            .framesPerSecond = arguments.fps,
                            .crf = arguments.crf,
-                           .preset = arguments.preset},
+                           .preset = arguments.preset,
+                           .avatar = character ? &*character : nullptr},
                           {.progress = [&](int done, int) { progress.update(done); }, .check = InterruptGuard::check});
     progress.finish();
   }
@@ -244,6 +281,7 @@ void addFaceCommands(CLI::App& app) {
   render->add_option("--fps", renderArguments->fps, "Frames per second (default: the animation's)")
       ->check(CLI::Range(1.0, 240.0));
   addOptions(*render, renderArguments->idle);
+  addAvatarOption(*render, renderArguments->avatar);
   render->callback([renderArguments] { runRender(*renderArguments); });
 
   auto posesArguments = std::make_shared<PosesArguments>();
@@ -305,6 +343,7 @@ void addFaceCommands(CLI::App& app) {
       ->capture_default_str();
   exporter->add_option("--preset", exportArguments->preset, "x264 preset (ultrafast ... veryslow)")
       ->capture_default_str();
+  addAvatarOption(*exporter, exportArguments->avatar);
   exporter->callback([exportArguments] { runExport(*exportArguments); });
 }
 

@@ -93,6 +93,17 @@ AvatarInput avatarInputOf(const face::FapFrame& faps, const float* classProbabil
   return input;
 }
 
+AvatarInput avatarInputAt(const face::FapTrack& animation, double seconds) {
+  if (animation.visemes.empty()) return avatarInputOf(animation.at(seconds), nullptr);
+  const Eigen::MatrixXd& posteriors = animation.visemes.posteriors;
+  const auto frame = std::clamp(static_cast<Eigen::Index>(std::lround(seconds * animation.visemes.framesPerSecond)),
+                                Eigen::Index{0}, posteriors.cols() - 1);
+  std::array<float, face::kNumMouthClasses> classes{};
+  for (int c = 0; c < face::kNumMouthClasses && c < posteriors.rows(); ++c)
+    classes[static_cast<std::size_t>(c)] = static_cast<float>(posteriors(c, frame));
+  return avatarInputOf(animation.at(seconds), classes.data());
+}
+
 std::string schemeName(MorphScheme scheme) {
   switch (scheme) {
     case MorphScheme::kArkit:
@@ -179,9 +190,22 @@ void poseAvatar(const Avatar& avatar, const AvatarRig& rig, const AvatarInput& i
     std::copy(avatar.meshes[m].restWeights.begin(), avatar.meshes[m].restWeights.end(), weights.begin());
     for (std::size_t k = 0; k < 52; ++k)
       if (const int t = rig.arkitTargets[m][k]; t >= 0) weights[static_cast<std::size_t>(t)] = input.arkit[k];
-    if (input.hasVisemes)
-      for (std::size_t k = 0; k < rig.visemeTargets[m].size(); ++k)
-        if (const int t = rig.visemeTargets[m][k]; t >= 0) weights[static_cast<std::size_t>(t)] = input.oculus[k];
+    if (rig.scheme != MorphScheme::kOculusVisemes) continue;
+    // Without visemes (an animation file of FAPs alone), the visemes nearest to ARKit's mouth: the jaw's
+    // opening as aa, the lips pressed as PP, rounded as oh and ou.
+    std::array<float, face::kNumOculusVisemes> visemes = input.oculus;
+    if (!input.hasVisemes) {
+      const auto weight = [&](const char* name) {
+        return input.arkit[static_cast<std::size_t>(formats::arkitIndex(name))];
+      };
+      visemes.fill(0.0f);
+      visemes[10] = weight("jawOpen");      // aa
+      visemes[1] = weight("mouthClose");    // PP
+      visemes[13] = weight("mouthFunnel");  // oh
+      visemes[14] = weight("mouthPucker");  // ou
+    }
+    for (std::size_t k = 0; k < rig.visemeTargets[m].size(); ++k)
+      if (const int t = rig.visemeTargets[m][k]; t >= 0) weights[static_cast<std::size_t>(t)] = visemes[k];
   }
   if (rig.scheme == MorphScheme::kVrmExpressions) {
     const float blinkLeft = input.arkit[static_cast<std::size_t>(formats::arkitIndex("eyeBlinkLeft"))];
@@ -241,51 +265,116 @@ void poseAvatar(const Avatar& avatar, const AvatarRig& rig, const AvatarInput& i
   }
 }
 
-void deformAvatar(const Avatar& avatar, const AvatarPose& pose, std::vector<DeformedMesh>& meshes) {
+MovingVertices movingVertices(const Avatar& avatar, const AvatarRig& rig) {
+  // The bones the rig turns, and every node under them.
+  std::vector<bool> moves(avatar.nodes.size(), false);
+  for (const int bone : avatar.bones)
+    if (bone >= 0) moves[static_cast<std::size_t>(bone)] = true;
+  for (const int n : avatar.drawOrder) {
+    const int parent = avatar.nodes[static_cast<std::size_t>(n)].parent;
+    if (parent >= 0 && moves[static_cast<std::size_t>(parent)]) moves[static_cast<std::size_t>(n)] = true;
+  }
+  // The targets the rig can drive, per mesh.
+  std::vector<std::vector<bool>> driven(avatar.meshes.size());
+  for (std::size_t m = 0; m < avatar.meshes.size(); ++m) {
+    driven[m].assign(avatar.meshes[m].targetNames.size(), false);
+    for (const int t : rig.arkitTargets[m])
+      if (t >= 0) driven[m][static_cast<std::size_t>(t)] = true;
+    for (const int t : rig.visemeTargets[m])
+      if (t >= 0) driven[m][static_cast<std::size_t>(t)] = true;
+  }
+  if (rig.scheme == MorphScheme::kVrmExpressions)
+    for (const auto& [name, binds] : avatar.expressions)
+      for (const TargetBind& bind : binds)
+        if (bind.mesh >= 0 && bind.target >= 0 &&
+            bind.target < static_cast<int>(driven[static_cast<std::size_t>(bind.mesh)].size()))
+          driven[static_cast<std::size_t>(bind.mesh)][static_cast<std::size_t>(bind.target)] = true;
+  MovingVertices moving;
+  moving.vertices.resize(avatar.meshes.size());
+  for (std::size_t m = 0; m < avatar.meshes.size(); ++m) {
+    const MeshInstance& mesh = avatar.meshes[m];
+    const Skin* skin = mesh.skin >= 0 ? &avatar.skins[static_cast<std::size_t>(mesh.skin)] : nullptr;
+    const bool nodeMoves = skin == nullptr && moves[static_cast<std::size_t>(mesh.node)];
+    for (const Primitive& primitive : mesh.primitives) {
+      std::vector<std::uint32_t>& list = moving.vertices[m].emplace_back();
+      for (Eigen::Index v = 0; v < primitive.positions.cols(); ++v) {
+        bool moved = nodeMoves;
+        if (!moved && skin != nullptr && primitive.joints.cols() == primitive.positions.cols())
+          for (int k = 0; k < 4 && !moved; ++k)
+            moved =
+                primitive.weights(k, v) > 0.0f && moves[static_cast<std::size_t>(skin->joints[primitive.joints(k, v)])];
+        for (std::size_t t = 0; t < primitive.targetPositions.size() && !moved; ++t)
+          moved = driven[m][t] && primitive.targetPositions[t].col(v).squaredNorm() > 0.0f;
+        if (moved) list.push_back(static_cast<std::uint32_t>(v));
+      }
+      moving.count += list.size();
+    }
+  }
+  return moving;
+}
+
+namespace {
+
+// One vertex: its morph targets at their weights, then skinned (or moved with its node).
+void deformVertex(const Primitive& primitive, const std::vector<float>& weights, bool skinned,
+                  const std::vector<Eigen::Matrix4f>& joints, const Eigen::Matrix4f& node, Eigen::Index v,
+                  Eigen::Matrix3Xf& positions, Eigen::Matrix3Xf& normals) {
+  Eigen::Vector3f p = primitive.positions.col(v), n = primitive.normals.col(v);
+  for (std::size_t t = 0; t < primitive.targetPositions.size() && t < weights.size(); ++t) {
+    if (std::abs(weights[t]) < 1e-4f) continue;
+    p += weights[t] * primitive.targetPositions[t].col(v);
+    n += weights[t] * primitive.targetNormals[t].col(v);
+  }
+  Eigen::Matrix4f blend;
+  if (skinned) {
+    blend.setZero();
+    for (int k = 0; k < 4; ++k)
+      if (const float w = primitive.weights(k, v); w != 0.0f) blend += w * joints[primitive.joints(k, v)];
+  } else {
+    blend = node;
+  }
+  positions.col(v) = blend.topLeftCorner<3, 3>() * p + blend.topRightCorner<3, 1>();
+  normals.col(v) = (blend.topLeftCorner<3, 3>() * n).normalized();
+}
+
+}  // namespace
+
+void deformAvatar(const Avatar& avatar, const AvatarPose& pose, std::vector<DeformedMesh>& meshes,
+                  const MovingVertices* moving) {
   const std::vector<Eigen::Affine3f> global = globalTransforms(avatar, pose.locals);
+  if (meshes.size() != avatar.meshes.size()) moving = nullptr;  // nothing kept to start from
   meshes.resize(avatar.meshes.size());
-  std::vector<Eigen::Matrix4f> jointMatrices;
+  std::vector<Eigen::Matrix4f> joints;
   for (std::size_t m = 0; m < avatar.meshes.size(); ++m) {
     const MeshInstance& mesh = avatar.meshes[m];
     DeformedMesh& out = meshes[m];
-    out.positions.resize(mesh.primitives.size());
-    out.normals.resize(mesh.primitives.size());
+    if (out.positions.size() != mesh.primitives.size()) {
+      out.positions.resize(mesh.primitives.size());
+      out.normals.resize(mesh.primitives.size());
+      moving = nullptr;
+    }
     const bool skinned = mesh.skin >= 0;
     if (skinned) {
       const Skin& skin = avatar.skins[static_cast<std::size_t>(mesh.skin)];
-      jointMatrices.resize(skin.joints.size());
+      joints.resize(skin.joints.size());
       for (std::size_t j = 0; j < skin.joints.size(); ++j)
-        jointMatrices[j] = global[static_cast<std::size_t>(skin.joints[j])].matrix() * skin.inverseBind[j];
+        joints[j] = global[static_cast<std::size_t>(skin.joints[j])].matrix() * skin.inverseBind[j];
     }
-    const Eigen::Matrix4f nodeMatrix = global[static_cast<std::size_t>(mesh.node)].matrix();
-    const std::vector<float>& weights = pose.weights[m];
+    const Eigen::Matrix4f node = global[static_cast<std::size_t>(mesh.node)].matrix();
     for (std::size_t p = 0; p < mesh.primitives.size(); ++p) {
       const Primitive& primitive = mesh.primitives[p];
+      const bool skinThis = skinned && primitive.joints.cols() == primitive.positions.cols();
       Eigen::Matrix3Xf& positions = out.positions[p];
       Eigen::Matrix3Xf& normals = out.normals[p];
-      positions = primitive.positions;  // no allocation once sized
-      normals = primitive.normals;
-      for (std::size_t t = 0; t < primitive.targetPositions.size() && t < weights.size(); ++t) {
-        if (std::abs(weights[t]) < 1e-4f) continue;
-        positions += weights[t] * primitive.targetPositions[t];
-        normals += weights[t] * primitive.targetNormals[t];
+      if (moving != nullptr && positions.cols() == primitive.positions.cols()) {
+        for (const std::uint32_t v : moving->vertices[m][p])
+          deformVertex(primitive, pose.weights[m], skinThis, joints, node, v, positions, normals);
+        continue;
       }
-      const Eigen::Index vertices = positions.cols();
-      if (skinned && primitive.joints.cols() == vertices) {
-        for (Eigen::Index v = 0; v < vertices; ++v) {
-          Eigen::Matrix4f blend = Eigen::Matrix4f::Zero();
-          for (int k = 0; k < 4; ++k) {
-            const float w = primitive.weights(k, v);
-            if (w != 0.0f) blend += w * jointMatrices[primitive.joints(k, v)];
-          }
-          positions.col(v) = blend.topLeftCorner<3, 3>() * positions.col(v) + blend.topRightCorner<3, 1>();
-          normals.col(v) = (blend.topLeftCorner<3, 3>() * normals.col(v)).normalized();
-        }
-      } else {
-        positions = (nodeMatrix.topLeftCorner<3, 3>() * positions).colwise() + nodeMatrix.topRightCorner<3, 1>();
-        normals = nodeMatrix.topLeftCorner<3, 3>() * normals;
-        normals.colwise().normalize();
-      }
+      positions.resize(3, primitive.positions.cols());
+      normals.resize(3, primitive.positions.cols());
+      for (Eigen::Index v = 0; v < primitive.positions.cols(); ++v)
+        deformVertex(primitive, pose.weights[m], skinThis, joints, node, v, positions, normals);
     }
   }
 }

@@ -10,24 +10,29 @@
 //     th::avatar::deformAvatar(character, pose, meshes);       // no allocation after the first frame
 //
 // The morph targets, in the first scheme the character has (a scheme counts if it has at least a third of its
-// names, ARKit's only with a jawOpen that moves something; a target that moves nothing counts as absent): ARKit's 52
-// (our ARKit weights, formats/arkit_format.h), else the 15 Oculus visemes ("viseme_PP" ..., our viseme probabilities)
-// with ARKit's blinks, gaze and brows where present, else VRM's expressions (aa ih ou ee oh from our five vowel
-// weights, blink, blinkLeft, blinkRight). The head's rotation (pitch, yaw, roll in the BEAT2 convention,
-// avatar_frame.h's) is a rotation about the world's axes, neckShare of each angle on the neck bone and the rest on the
-// head (all on the head without a neck); a VRM 0.x character faces −z and gets it turned round. Eyes: the eyeLook*
-// targets where the scheme has them, else the eye bones (30° sideways, 25° up and down at full weight, ARKit's full
-// scale). Thread contract: values and pure functions (poseAvatar and deformAvatar write only their outputs).
+// names, ARKit's only with a jawOpen that moves something; a target that moves nothing counts as absent):
+// - ARKit's 52 (our ARKit weights, formats/arkit_format.h);
+// - else the 15 Oculus visemes ("viseme_PP" ...: our viseme probabilities, or without them the jaw's opening
+//   as aa, mouthClose as PP, mouthFunnel as oh and mouthPucker as ou), with ARKit's blinks, gaze and brows
+//   where present;
+// - else VRM's expressions (aa ih ou ee oh from our five vowel weights, blink, blinkLeft, blinkRight).
+// The head's rotation (pitch, yaw, roll in the BEAT2 convention, outputs/avatar_frame.h's) is a rotation about
+// the world's axes, neckShare of each angle on the neck bone and the rest on the head (all on the head without
+// a neck); a VRM 0.x character faces −z and gets it turned round. Eyes: the eyeLook* targets where the scheme
+// has them, else the eye bones (30° sideways, 25° up and down at full weight, ARKit's full scale).
+// Thread contract: values and pure functions (poseAvatar and deformAvatar write only their outputs).
 #pragma once
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <array>
+#include <cstdint>
 #include <string>
 #include <vector>
 
 #include "avatar/avatar_model.h"
 #include "face/fap.h"
+#include "face/fap_track.h"
 #include "face/visemes.h"
 
 namespace th::avatar {
@@ -44,6 +49,9 @@ struct AvatarInput {
 // From a frame's FAPs (ARKit's weights at the default scale, the head from FAPs 48–50) and, where there are
 // any, the mouth classes' probabilities (face::kNumMouthClasses; null: no visemes).
 AvatarInput avatarInputOf(const face::FapFrame& faps, const float* classProbabilities);
+// The same at a time of an animation: its FAPs there, and the visemes of its frame nearest in time where it
+// has visemes.
+AvatarInput avatarInputAt(const face::FapTrack& animation, double seconds);
 
 enum class MorphScheme { kArkit, kOculusVisemes, kVrmExpressions, kNone };
 
@@ -79,7 +87,18 @@ struct DeformedMesh {
   std::vector<Eigen::Matrix3Xf> normals;
 };
 
-void deformAvatar(const Avatar& avatar, const AvatarPose& pose, std::vector<DeformedMesh>& meshes);
+// Which vertices a rig can move: those weighted to the neck, the head, the eyes or a bone under them, and
+// those a driven morph target displaces; per mesh, per primitive. A character is mostly body, which stays put.
+struct MovingVertices {
+  std::vector<std::vector<std::vector<std::uint32_t>>> vertices;  // [mesh][primitive] -> vertex indices
+  std::size_t count = 0;                                          // of all of them
+};
+MovingVertices movingVertices(const Avatar& avatar, const AvatarRig& rig);
+
+// Every vertex of every mesh; or, with `moving` (and `meshes` deformed before by the same avatar), only the
+// vertices that can move, the rest kept as they were.
+void deformAvatar(const Avatar& avatar, const AvatarPose& pose, std::vector<DeformedMesh>& meshes,
+                  const MovingVertices* moving = nullptr);
 
 // The rest pose (every weight its rest value, every node at rest).
 AvatarPose restPose(const Avatar& avatar);

@@ -1,5 +1,6 @@
-// A talking face as a video file: an animation (FAP curves) played on the face model, rendered off-screen and
-// encoded with its sound track as MP4 (H.264 + AAC). What `talkinghead export` and bench/export_bench run.
+// A talking face as a video file: an animation (FAP curves) played on the face model, or on the user's own
+// character, rendered off-screen and encoded with its sound track as MP4 (H.264 + AAC). What `talkinghead export` and
+// bench/export_bench run.
 //
 //   const th::face::FaceModel face = th::face::FaceModel::buildDefault();
 //   th::pipeline::exportVideo(face, track, clip.samples, clip.sampleRateHz, "talk.mp4", {.width = 1280});
@@ -21,6 +22,7 @@
 #include <span>
 #include <string>
 
+#include "avatar/avatar_model.h"
 #include "face/face_model.h"
 #include "face/fap_track.h"
 
@@ -41,6 +43,8 @@ struct VideoExportOptions {
   // add contention: encoding in the finishing thread alone made the whole export about 10 % faster, with the
   // same output size (10 s of speech at 720p).
   int encoderThreads = 0;
+  // Draw this character (avatar/avatar_model.h) instead of our face, posed by the same frames; null: our face.
+  const avatar::Avatar* avatar = nullptr;
 };
 
 struct VideoExportHooks {

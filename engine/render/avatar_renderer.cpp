@@ -222,12 +222,15 @@ void AvatarRenderer::resize(int width, int height) {
   createTargets();
 }
 
-void AvatarRenderer::setMeshes(const std::vector<avatar::DeformedMesh>& meshes) {
+void AvatarRenderer::setMeshes(const std::vector<avatar::DeformedMesh>& meshes, const avatar::MovingVertices* moving) {
   if (meshes.size() != avatar_.meshes.size())
     throw Error("AvatarRenderer: " + std::to_string(meshes.size()) + " meshes for a character of " +
                 std::to_string(avatar_.meshes.size()));
   context_.makeCurrent();
   for (PrimitiveBuffers& b : gl_->primitives) {
+    if (moving != nullptr &&
+        moving->vertices[static_cast<std::size_t>(b.mesh)][static_cast<std::size_t>(b.primitive)].empty())
+      continue;
     const avatar::DeformedMesh& mesh = meshes[static_cast<std::size_t>(b.mesh)];
     const Eigen::Matrix3Xf& positions = mesh.positions[static_cast<std::size_t>(b.primitive)];
     const Eigen::Matrix3Xf& normals = mesh.normals[static_cast<std::size_t>(b.primitive)];
@@ -478,6 +481,7 @@ OrbitCamera frameAvatarHead(const avatar::Avatar& avatar, const std::vector<avat
 AnimatedAvatar::AnimatedAvatar(const avatar::Avatar& avatar, GlContext& context, const AvatarRenderOptions& options)
     : avatar_(avatar),
       rig_(avatar::rigAvatar(avatar)),
+      moving_(avatar::movingVertices(avatar, rig_)),
       renderer_(context, avatar, options),
       pose_(avatar::restPose(avatar)) {
   avatar::deformAvatar(avatar_, pose_, meshes_);
@@ -485,9 +489,20 @@ AnimatedAvatar::AnimatedAvatar(const avatar::Avatar& avatar, GlContext& context,
 }
 
 void AnimatedAvatar::pose(const face::FapFrame& faps, const float* classProbabilities) {
-  avatar::poseAvatar(avatar_, rig_, avatar::avatarInputOf(faps, classProbabilities), pose_);
-  avatar::deformAvatar(avatar_, pose_, meshes_);
-  renderer_.setMeshes(meshes_);
+  pose(avatar::avatarInputOf(faps, classProbabilities));
+}
+
+const Image& AnimatedAvatar::draw(const face::FapTrack& animation, double seconds) {
+  pose(avatar::avatarInputAt(animation, seconds));
+  render();
+  renderer_.readPixels(image_);
+  return image_;
+}
+
+void AnimatedAvatar::pose(const avatar::AvatarInput& input) {
+  avatar::poseAvatar(avatar_, rig_, input, pose_);
+  avatar::deformAvatar(avatar_, pose_, meshes_, &moving_);
+  renderer_.setMeshes(meshes_, &moving_);
 }
 
 const Image& AnimatedAvatar::draw(const face::FapFrame& faps, const float* classProbabilities) {

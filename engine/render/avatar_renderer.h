@@ -47,8 +47,9 @@ class AvatarRenderer {
   AvatarRenderer(const AvatarRenderer&) = delete;
   AvatarRenderer& operator=(const AvatarRenderer&) = delete;
 
-  // The posed meshes (as many as the avatar's, each with its primitives).
-  void setMeshes(const std::vector<avatar::DeformedMesh>& meshes);
+  // The posed meshes (as many as the avatar's, each with its primitives); with `moving`, only the primitives
+  // with a moving vertex are uploaded again.
+  void setMeshes(const std::vector<avatar::DeformedMesh>& meshes, const avatar::MovingVertices* moving = nullptr);
   void render(const OrbitCamera& camera);
   void readRaw(RawFrame& frame);
   void finish(RawFrame& frame, Image& image) const;
@@ -89,6 +90,9 @@ class AnimatedAvatar {
   AnimatedAvatar(const avatar::Avatar& avatar, GlContext& context, const AvatarRenderOptions& options = {});
   // The character posed by `faps` (and the mouth classes' probabilities, if any: visemes).
   void pose(const face::FapFrame& faps, const float* classProbabilities);
+  void pose(const avatar::AvatarInput& input);
+  // An animation at a time (its visemes too, where it has them).
+  const Image& draw(const face::FapTrack& animation, double seconds);
   void render() { renderer_.render(camera_); }
   const Image& draw(const face::FapFrame& faps, const float* classProbabilities);
   void resize(int width, int height);
@@ -101,6 +105,7 @@ class AnimatedAvatar {
  private:
   const avatar::Avatar& avatar_;
   avatar::AvatarRig rig_;
+  avatar::MovingVertices moving_;
   AvatarRenderer renderer_;
   avatar::AvatarPose pose_;
   std::vector<avatar::DeformedMesh> meshes_;
