@@ -293,8 +293,9 @@ int checkTracks(const tinygltf::Model& model, const GltfAnimationTracks& tracks,
 }
 
 // Appends `values` to the model's single buffer as a new view and a float accessor.
+// `target`: the view's GPU use (vertex data), 0 for animation data, which never goes to the GPU.
 int addFloatAccessor(tinygltf::Model& model, const std::vector<float>& values, int type, std::size_t count,
-                     std::vector<double> min = {}, std::vector<double> max = {}) {
+                     std::vector<double> min = {}, std::vector<double> max = {}, int target = 0) {
   if (model.buffers.empty()) model.buffers.emplace_back();
   Bytes& data = model.buffers.front().data;
   pad(data, 4);
@@ -302,6 +303,7 @@ int addFloatAccessor(tinygltf::Model& model, const std::vector<float>& values, i
   view.buffer = 0;
   view.byteOffset = data.size();
   view.byteLength = values.size() * sizeof(float);
+  view.target = target;
   const auto* raw = reinterpret_cast<const unsigned char*>(values.data());
   data.insert(data.end(), raw, raw + view.byteLength);
   model.bufferViews.push_back(view);
@@ -549,7 +551,9 @@ void writeAnimationOnly(const fs::path& avatar, const GltfAnimationTracks& track
   const std::vector<float> zeros(9, 0.0f);
   int corners = -1;
   for (const auto& track : tracks.morphs) {
-    if (corners < 0) corners = addFloatAccessor(model, zeros, TINYGLTF_TYPE_VEC3, 3, {0.0, 0.0, 0.0}, {0.0, 0.0, 0.0});
+    if (corners < 0)
+      corners = addFloatAccessor(model, zeros, TINYGLTF_TYPE_VEC3, 3, {0.0, 0.0, 0.0}, {0.0, 0.0, 0.0},
+                                 TINYGLTF_TARGET_ARRAY_BUFFER);
     const auto& from = source.meshes[static_cast<std::size_t>(source.nodes[static_cast<std::size_t>(track.node)].mesh)];
     const int targets = static_cast<int>(track.weights.rows());
     tinygltf::Mesh mesh;
