@@ -68,7 +68,7 @@ bool isGlb(const Bytes& bytes) {
 // EXT_meshopt_compression, decoded into its fallback buffers: tinygltf reads a GLB's BIN chunk into the first
 // buffer only, and the fallback buffers have no data of their own, so it refuses such a file. The decoded views are
 // appended to the BIN chunk, the views point there, and the extension is dropped from the file.
-Bytes decodeMeshopt(const fs::path& path, const Bytes& glb) {
+Bytes decodeMeshoptJson(const fs::path& path, const Bytes& glb) {
   const auto bad = [&](const std::string& what) { return fileError(path, "not a valid glTF binary: " + what); };
   const std::uint32_t total = readU32(glb, 8);
   if (total > glb.size() || glb.size() < 20) throw bad("shorter than its header says");
@@ -170,6 +170,15 @@ Bytes decodeMeshopt(const fs::path& path, const Bytes& glb) {
   appendU32(out, 0x004E4942u);
   out.insert(out.end(), bin.begin(), bin.end());
   return out;
+}
+
+Bytes decodeMeshopt(const fs::path& path, const Bytes& glb) {
+  try {
+    return decodeMeshoptJson(path, glb);
+  } catch (const nlohmann::json::exception& e) {
+    // A field missing or of the wrong type in the JSON that says where the compressed data is.
+    throw fileError(path, std::string("not a valid glTF binary: ") + e.what());
+  }
 }
 
 // The encoded bytes of every image, as found (tinygltf would otherwise decode them to pixels, which writing

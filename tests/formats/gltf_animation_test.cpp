@@ -222,6 +222,55 @@ INSTANTIATE_TEST_SUITE_P(Avatars, GltfAnimationWrite,
                            return name;
                          });
 
+// A .gltf avatar with its buffer and a texture as files beside it, and a binary one named .vrm: the written file
+// holds everything itself, the texture's bytes unchanged.
+TEST(GltfAvatarForms, GltfWithFilesBesideItAndVrm) {
+  TemporaryFolder folder;
+  const fs::path brunette = sharedDataPath("face/avatars/brunette-t.glb");
+  const GltfAnimationTracks tracks = speechTracks(readGltfAvatar(brunette), 5);
+  // brunette-t.glb through our writer (tinygltf reads that), then split into files by tinygltf.
+  const fs::path whole = folder.path() / "whole.glb";
+  writeAvatarAnimation(brunette, tracks, whole);
+  tinygltf::Model model = loadGltf(whole);
+  auto& image = model.images.at(0);
+  const auto& view = model.bufferViews.at(image.bufferView);
+  const std::string texture(
+      model.buffers[0].data.begin() + static_cast<std::ptrdiff_t>(view.byteOffset),
+      model.buffers[0].data.begin() + static_cast<std::ptrdiff_t>(view.byteOffset + view.byteLength));
+  std::ofstream(folder.path() / "skin.jpg", std::ios::binary) << texture;
+  image.uri = "skin.jpg";
+  image.bufferView = -1;
+  tinygltf::TinyGLTF writer;
+  writer.SetImageWriter(
+      [](const std::string*, const std::string*, const tinygltf::Image*, bool, std::string*, void*) { return false; },
+      nullptr);
+  const fs::path split = folder.path() / "split.gltf";
+  ASSERT_TRUE(writer.WriteGltfSceneToFile(&model, split.string(), false, false, true, false));
+  ASSERT_TRUE(fs::exists(folder.path() / "split.bin"));
+
+  const fs::path out = folder.path() / "out" / "talk.glb";
+  fs::create_directory(out.parent_path());
+  writeAvatarAnimation(split, tracks, out);
+  const tinygltf::Model written = loadGltf(out);
+  EXPECT_EQ(written.animations.size(), 2u);  // the one split.gltf had, and the new one
+  EXPECT_EQ(written.buffers.size(), 1u);
+  EXPECT_TRUE(written.buffers[0].uri.empty());
+  const auto& moved = written.images.at(0);
+  ASSERT_GE(moved.bufferView, 0);
+  EXPECT_EQ(moved.mimeType, "image/jpeg");
+  const auto& movedView = written.bufferViews.at(moved.bufferView);
+  EXPECT_EQ(std::string(written.buffers[0].data.begin() + static_cast<std::ptrdiff_t>(movedView.byteOffset),
+                        written.buffers[0].data.begin() +
+                            static_cast<std::ptrdiff_t>(movedView.byteOffset + movedView.byteLength)),
+            texture);
+
+  // A VRM is a GLB by another name: read by its bytes, written as .vrm (binary).
+  const fs::path vrm = folder.path() / "avatar.vrm";
+  fs::copy_file(brunette, vrm);
+  writeAvatarAnimation(vrm, tracks, folder.path() / "out" / "talk.vrm");
+  EXPECT_EQ(loadGltf(folder.path() / "out" / "talk.vrm").animations.size(), 1u);
+}
+
 TEST(GltfAvatar, ReadsNodesParentsAndTargetNames) {
   const GltfAvatar avatar = readGltfAvatar(sharedDataPath("face/avatars/brunette-t.glb"));
   const int head = avatar.findNode("Head");
