@@ -444,6 +444,11 @@ void writeModel(tinygltf::Model& model, const fs::path& out, Container container
   if (!model.buffers.empty()) pad(model.buffers.front().data, 4);
   AtomicFile file(out);
   tinygltf::TinyGLTF writer;
+  // Images are bytes in the buffer by now; should one still name a file, its uri is written as it was rather
+  // than tinygltf re-encoding pixels it never decoded.
+  writer.SetImageWriter(
+      [](const std::string*, const std::string*, const tinygltf::Image*, bool, std::string*, void*) { return false; },
+      nullptr);
   const bool binary = container == Container::kBinary;
   if (!writer.WriteGltfSceneToStream(&model, file.stream(), /*prettyPrint=*/!binary, binary))
     throw fileError(out, "cannot be written");
