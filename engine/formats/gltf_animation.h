@@ -45,7 +45,8 @@ struct GltfMorphTrack {
   Eigen::MatrixXf weights;
 };
 
-// A node's local rotation, one per frame (its translation and scale stay at rest).
+// A node's local rotation, one per frame, relative to its parent: it replaces the rest rotation (a turn away from
+// rest is GltfAvatarNode::rotation * turn). Its translation and scale stay at rest.
 struct GltfRotationTrack {
   int node = -1;
   std::vector<Eigen::Quaternionf> rotations;
