@@ -23,10 +23,24 @@ if ((${#packages[@]} == 0)); then
   exit 1
 fi
 
+# Names that an installed package provides count as installed (NodeSource's nodejs provides npm, and conflicts
+# with Debian's npm package: installing that would replace the node a machine already has).
+mapfile -t provided < <(dpkg-query -W -f='${Status}\t${Provides}\n' 2>/dev/null |
+  sed -n 's/^install ok installed\t//p' | tr ',' '\n' | sed -e 's/(.*)//' -e 's/[[:space:]]//g' | sed '/^$/d' | sort -u)
+installed() {
+  local status
+  status="$(dpkg-query -W -f='${Status}' "$1" 2>/dev/null || true)"
+  [[ "$status" == "install ok installed" ]] && return 0
+  local name
+  for name in "${provided[@]}"; do
+    [[ "$name" == "$1" ]] && return 0
+  done
+  return 1
+}
+
 missing=()
 for package in "${packages[@]}"; do
-  status="$(dpkg-query -W -f='${Status}' "$package" 2>/dev/null || true)"
-  if [[ "$status" != "install ok installed" ]]; then
+  if ! installed "$package"; then
     missing+=("$package")
   fi
 done
@@ -56,10 +70,11 @@ apt_options=(-y -q -o Dpkg::Options::=--force-confdef -o Dpkg::Options::=--force
   apt-get install "${apt_options[@]}" --no-install-recommends "${missing[@]}"
 
 # Check that the install did what we asked (a package name typo should fail here, not later in the build).
+mapfile -t provided < <(dpkg-query -W -f='${Status}\t${Provides}\n' 2>/dev/null |
+  sed -n 's/^install ok installed\t//p' | tr ',' '\n' | sed -e 's/(.*)//' -e 's/[[:space:]]//g' | sed '/^$/d' | sort -u)
 still_missing=()
 for package in "${missing[@]}"; do
-  status="$(dpkg-query -W -f='${Status}' "$package" 2>/dev/null || true)"
-  [[ "$status" == "install ok installed" ]] || still_missing+=("$package")
+  installed "$package" || still_missing+=("$package")
 done
 if ((${#still_missing[@]} > 0)); then
   echo "install-packages: still not installed after apt-get: ${still_missing[*]}" >&2

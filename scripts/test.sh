@@ -5,18 +5,20 @@
 #
 # Parts, in order (each is timed; a failed part does not stop the later independent ones):
 #   1. packages     scripts/install-packages.sh (no network when everything is installed)
-#   2. format       clang-format --dry-run over every C++ source: the tree is formatted (.clang-format)
-#   3. build        one build of everything (engine, app, tests, benchmarks, tools, fuzzers) in build-asan/ with
+#   2. node tools   scripts/install-node-tools.sh into build-asan/node: the Khronos glTF validator the
+#                   crosscheck tests run (no network when it is there)
+#   3. format       clang-format --dry-run over every C++ source: the tree is formatted (.clang-format)
+#   4. build        one build of everything (engine, app, tests, benchmarks, tools, fuzzers) in build-asan/ with
 #                   clang and lld, AddressSanitizer + UBSan, at -O1 with libstdc++'s assertions and -Werror: the
 #                   tests, the fuzzers and the benchmarks' smoke pass run on it. (The Release build, with GCC, is
 #                   scripts/setup.sh's.)
-#   4. tests        ctest --parallel (cores) --output-on-failure on it, every label (unit, accuracy, crosscheck, threads,
+#   5. tests        ctest --parallel (cores) --output-on-failure on it, every label (unit, accuracy, crosscheck, threads,
 #                   system), leak detection on; any sanitizer report fails its test
-#   5. tsan         ThreadSanitizer build in build-tsan/ of the tests labelled `threads` only (the thread
+#   6. tsan         ThreadSanitizer build in build-tsan/ of the tests labelled `threads` only (the thread
 #                   hand-offs: the export's pipeline, the live session's ring, worker and frame queue), then those
 #                   tests; any report fails them
-#   6. fuzz         scripts/fuzz.sh on build-asan/'s fuzzers for FUZZ_SECONDS (default 60)
-#   7. bench smoke  build-asan/bench/{features,animation,render,export}_bench --quick: one pass of every
+#   7. fuzz         scripts/fuzz.sh on build-asan/'s fuzzers for FUZZ_SECONDS (default 60)
+#   8. bench smoke  build-asan/bench/{features,animation,render,export}_bench --quick: one pass of every
 #                   benchmark (proves it runs, times nothing)
 # Then a summary of the parts; the last line is "N passed, M failed", the ctest results of both runs together.
 # Exits non-zero if any part failed.
@@ -145,6 +147,8 @@ export UBSAN_OPTIONS="${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}"
 export TSAN_OPTIONS="${TSAN_OPTIONS:-halt_on_error=1:second_deadlock_stack=1:suppressions=$repo/tests/tsan_suppressions.txt}"
 
 part "packages" bash scripts/install-packages.sh
+
+part "node tools" bash scripts/install-node-tools.sh "$asan_dir"
 
 part "format" check_format
 

@@ -1,0 +1,597 @@
+#include "formats/gltf_animation.h"
+
+#include <meshoptimizer.h>
+#include <tiny_gltf.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <fstream>
+#include <iterator>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <utility>
+
+#include "core/atomic_file.h"
+#include "core/error.h"
+
+namespace th::formats {
+namespace {
+
+namespace fs = std::filesystem;
+using Bytes = std::vector<unsigned char>;
+
+constexpr char kMeshopt[] = "EXT_meshopt_compression";
+
+std::string lowerExtension(const fs::path& path) {
+  std::string extension = path.extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return extension;
+}
+
+Bytes readBytes(const fs::path& path) {
+  std::error_code error;
+  if (!fs::exists(path, error)) throw fileError(path, "does not exist");
+  if (fs::is_directory(path, error)) throw fileError(path, "is a folder, not a glTF file");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw fileError(path, "cannot be read");
+  Bytes bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (in.bad()) throw fileError(path, "cannot be read");
+  return bytes;
+}
+
+std::uint32_t readU32(const Bytes& bytes, std::size_t at) {
+  std::uint32_t value = 0;
+  std::memcpy(&value, bytes.data() + at, 4);  // GLB is little-endian, as every machine this builds for
+  return value;
+}
+
+void appendU32(Bytes& bytes, std::uint32_t value) {
+  unsigned char raw[4];
+  std::memcpy(raw, &value, 4);
+  bytes.insert(bytes.end(), raw, raw + 4);
+}
+
+// Pads with zeros to a multiple of `alignment`: accessors need their component size, and 4 is glTF's rule for
+// bufferViews of vertex attributes; GLB chunks pad their JSON with spaces instead (the caller's `fill`).
+void pad(Bytes& bytes, std::size_t alignment, unsigned char fill = 0) {
+  while (bytes.size() % alignment != 0) bytes.push_back(fill);
+}
+
+bool isGlb(const Bytes& bytes) {
+  return bytes.size() >= 12 && std::memcmp(bytes.data(), "glTF", 4) == 0;
+}
+
+// EXT_meshopt_compression, decoded into its fallback buffers: tinygltf reads a GLB's BIN chunk into the first
+// buffer only, and the fallback buffers have no data of their own, so it refuses such a file. The decoded views are
+// appended to the BIN chunk, the views point there, and the extension is dropped from the file.
+Bytes decodeMeshoptJson(const fs::path& path, const Bytes& glb) {
+  const auto bad = [&](const std::string& what) { return fileError(path, "not a valid glTF binary: " + what); };
+  const std::uint32_t total = readU32(glb, 8);
+  if (total > glb.size() || glb.size() < 20) throw bad("shorter than its header says");
+  const std::uint32_t jsonLength = readU32(glb, 12);
+  if (readU32(glb, 16) != 0x4E4F534Au || 20ull + jsonLength > total) throw bad("no JSON chunk");
+  nlohmann::json json = nlohmann::json::parse(glb.begin() + 20, glb.begin() + 20 + jsonLength, nullptr, false);
+  if (json.is_discarded() || !json.is_object()) throw bad("its JSON chunk does not parse");
+
+  const auto usesMeshopt = [&] {
+    const auto used = json.find("extensionsUsed");
+    return used != json.end() && used->is_array() && std::find(used->begin(), used->end(), kMeshopt) != used->end();
+  };
+  if (!usesMeshopt()) return glb;
+
+  Bytes bin;
+  const std::size_t binAt = 20ull + jsonLength;
+  if (binAt + 8 <= total && readU32(glb, binAt + 4) == 0x004E4942u) {
+    const std::uint32_t binLength = readU32(glb, binAt);
+    if (binAt + 8 + binLength > total) throw bad("its BIN chunk is cut short");
+    bin.assign(glb.begin() + static_cast<std::ptrdiff_t>(binAt + 8),
+               glb.begin() + static_cast<std::ptrdiff_t>(binAt + 8 + binLength));
+  }
+  auto& buffers = json.at("buffers");
+  // Only the GLB's own buffer (the first, without a uri) is handled; a meshopt file whose compressed data lives in
+  // external files is beyond this reader.
+  for (std::size_t b = 0; b < buffers.size(); ++b) {
+    const auto& buffer = buffers[b];
+    const bool fallback = buffer.contains("extensions") && buffer["extensions"].contains(kMeshopt);
+    if (buffer.contains("uri") || (b > 0 && !fallback))
+      throw fileError(path, std::string(kMeshopt) + " with buffers outside the file is not supported");
+  }
+
+  // Where each fallback buffer's bytes start in the new BIN chunk.
+  std::map<std::size_t, std::size_t> fallbackAt;
+  const auto bufferLength = [&](std::size_t b) { return buffers[b].at("byteLength").get<std::size_t>(); };
+  for (std::size_t b = 1; b < buffers.size(); ++b) {
+    pad(bin, 16);
+    fallbackAt[b] = bin.size();
+    bin.resize(bin.size() + bufferLength(b), 0);
+  }
+  const std::size_t firstLength = bufferLength(0);
+
+  for (auto& view : json.at("bufferViews")) {
+    const std::size_t buffer = view.at("buffer").get<std::size_t>();
+    if (buffer > 0) {
+      if (!fallbackAt.count(buffer)) throw bad("a bufferView names a missing buffer");
+      view["buffer"] = 0;
+      view["byteOffset"] = view.value("byteOffset", std::size_t{0}) + fallbackAt[buffer];
+    }
+    if (!view.contains("extensions") || !view["extensions"].contains(kMeshopt)) continue;
+    const auto& meshopt = view["extensions"][kMeshopt];
+    const std::size_t source = meshopt.value("byteOffset", std::size_t{0});
+    const std::size_t sourceLength = meshopt.at("byteLength").get<std::size_t>();
+    const std::size_t count = meshopt.at("count").get<std::size_t>();
+    const std::size_t stride = meshopt.at("byteStride").get<std::size_t>();
+    const std::size_t target = view.value("byteOffset", std::size_t{0});
+    if (meshopt.value("buffer", std::size_t{0}) != 0 || source + sourceLength > firstLength ||
+        target + count * stride > bin.size())
+      throw bad(std::string(kMeshopt) + " data out of range");
+    unsigned char* destination = bin.data() + target;
+    const unsigned char* compressed = bin.data() + source;
+    const std::string mode = meshopt.at("mode").get<std::string>();
+    int status = -1;
+    if (mode == "ATTRIBUTES") {
+      status = meshopt_decodeVertexBuffer(destination, count, stride, compressed, sourceLength);
+      const std::string filter = meshopt.value("filter", std::string("NONE"));
+      if (status == 0 && filter == "OCTAHEDRAL") meshopt_decodeFilterOct(destination, count, stride);
+      if (status == 0 && filter == "QUATERNION") meshopt_decodeFilterQuat(destination, count, stride);
+      if (status == 0 && filter == "EXPONENTIAL") meshopt_decodeFilterExp(destination, count, stride);
+    } else if (mode == "TRIANGLES") {
+      status = meshopt_decodeIndexBuffer(destination, count, stride, compressed, sourceLength);
+    } else if (mode == "INDICES") {
+      status = meshopt_decodeIndexSequence(destination, count, stride, compressed, sourceLength);
+    }
+    if (status != 0) throw bad(std::string(kMeshopt) + " data that does not decode (mode " + mode + ")");
+    view["extensions"].erase(kMeshopt);
+    if (view["extensions"].empty()) view.erase("extensions");
+  }
+  buffers = nlohmann::json::array({{{"byteLength", bin.size()}}});
+  for (const char* list : {"extensionsUsed", "extensionsRequired"}) {
+    if (!json.contains(list)) continue;
+    auto& names = json[list];
+    names.erase(std::remove(names.begin(), names.end(), kMeshopt), names.end());
+    if (names.empty()) json.erase(list);
+  }
+
+  std::string text = json.dump();
+  while (text.size() % 4 != 0) text.push_back(' ');
+  pad(bin, 4);
+  Bytes out;
+  out.reserve(28 + text.size() + bin.size());
+  out.insert(out.end(), {'g', 'l', 'T', 'F'});
+  appendU32(out, 2);
+  appendU32(out, static_cast<std::uint32_t>(28 + text.size() + bin.size()));
+  appendU32(out, static_cast<std::uint32_t>(text.size()));
+  appendU32(out, 0x4E4F534Au);
+  out.insert(out.end(), text.begin(), text.end());
+  appendU32(out, static_cast<std::uint32_t>(bin.size()));
+  appendU32(out, 0x004E4942u);
+  out.insert(out.end(), bin.begin(), bin.end());
+  return out;
+}
+
+Bytes decodeMeshopt(const fs::path& path, const Bytes& glb) {
+  try {
+    return decodeMeshoptJson(path, glb);
+  } catch (const nlohmann::json::exception& e) {
+    // A field missing or of the wrong type in the JSON that says where the compressed data is.
+    throw fileError(path, std::string("not a valid glTF binary: ") + e.what());
+  }
+}
+
+// The encoded bytes of every image, as found (tinygltf would otherwise decode them to pixels, which writing
+// cannot use): indexed by image.
+struct ImageBytes {
+  std::vector<Bytes> images;
+};
+
+bool keepImageBytes(tinygltf::Image*, const int index, std::string*, std::string*, int, int, const unsigned char* bytes,
+                    int size, void* user) {
+  auto& images = static_cast<ImageBytes*>(user)->images;
+  if (index < 0) return false;
+  if (images.size() <= static_cast<std::size_t>(index)) images.resize(static_cast<std::size_t>(index) + 1);
+  images[static_cast<std::size_t>(index)].assign(bytes, bytes + size);
+  return true;
+}
+
+struct LoadedAvatar {
+  tinygltf::Model model;
+  ImageBytes images;
+};
+
+LoadedAvatar loadAvatar(const fs::path& path) {
+  Bytes bytes = readBytes(path);
+  LoadedAvatar loaded;
+  tinygltf::TinyGLTF loader;
+  loader.SetImageLoader(keepImageBytes, &loaded.images);
+  std::string error, warning;
+  const std::string folder = path.parent_path().string();
+  bool ok = false;
+  if (isGlb(bytes)) {
+    bytes = decodeMeshopt(path, bytes);
+    ok = loader.LoadBinaryFromMemory(&loaded.model, &error, &warning, bytes.data(),
+                                     static_cast<unsigned int>(bytes.size()), folder);
+  } else {
+    const auto first = std::find_if(bytes.begin(), bytes.end(), [](unsigned char c) { return !std::isspace(c); });
+    if (first == bytes.end() || *first != '{') throw fileError(path, "not a glTF file (neither glTF binary nor JSON)");
+    ok = loader.LoadASCIIFromString(&loaded.model, &error, &warning, reinterpret_cast<const char*>(bytes.data()),
+                                    static_cast<unsigned int>(bytes.size()), folder);
+  }
+  if (!ok) {
+    std::string what = error.empty() ? std::string("unreadable") : error;
+    std::replace(what.begin(), what.end(), '\n', ' ');
+    while (!what.empty() && what.back() == ' ') what.pop_back();
+    throw fileError(path, "not a readable glTF file: " + what);
+  }
+  return loaded;
+}
+
+int targetCountOf(const tinygltf::Model& model, int mesh) {
+  if (mesh < 0 || mesh >= static_cast<int>(model.meshes.size()) || model.meshes[mesh].primitives.empty()) return 0;
+  return static_cast<int>(model.meshes[mesh].primitives.front().targets.size());
+}
+
+std::vector<std::string> targetNamesOf(const tinygltf::Model& model, int mesh) {
+  std::vector<std::string> names;
+  if (mesh < 0 || mesh >= static_cast<int>(model.meshes.size())) return names;
+  const tinygltf::Value& extras = model.meshes[mesh].extras;
+  if (!extras.IsObject() || !extras.Has("targetNames")) return names;
+  const tinygltf::Value& list = extras.Get("targetNames");
+  if (!list.IsArray()) return names;
+  for (std::size_t i = 0; i < list.ArrayLen(); ++i)
+    names.push_back(list.Get(static_cast<int>(i)).IsString() ? list.Get(static_cast<int>(i)).Get<std::string>() : "");
+  return names;
+}
+
+std::string nodeLabel(const tinygltf::Model& model, int node) {
+  const std::string& name = model.nodes[node].name;
+  return "node " + std::to_string(node) + (name.empty() ? std::string() : " (" + name + ")");
+}
+
+// The frame count every track agrees on; throws th::Error naming `out` or `avatar`.
+int checkTracks(const tinygltf::Model& model, const GltfAnimationTracks& tracks, const fs::path& avatar,
+                const fs::path& out) {
+  if (!std::isfinite(tracks.framesPerSecond) || tracks.framesPerSecond <= 0)
+    throw fileError(out, "the frame rate must be positive and finite");
+  if (tracks.morphs.empty() && tracks.rotations.empty()) throw fileError(out, "no tracks to animate");
+  int frames = -1;
+  const auto sameFrames = [&](int count, const std::string& track) {
+    if (frames < 0) frames = count;
+    if (count != frames)
+      throw fileError(out, track + " has " + std::to_string(count) + " frames, the first track " +
+                               std::to_string(frames) + ": every track needs the same count");
+  };
+  const auto checkNode = [&](int node, const std::string& track) {
+    if (node < 0 || node >= static_cast<int>(model.nodes.size()))
+      throw fileError(avatar, track + " is on node " + std::to_string(node) + ", but the avatar has " +
+                                  std::to_string(model.nodes.size()) + " nodes");
+  };
+  std::set<int> morphed, rotated;
+  for (std::size_t i = 0; i < tracks.morphs.size(); ++i) {
+    const auto& track = tracks.morphs[i];
+    const std::string label = "morph track " + std::to_string(i);
+    checkNode(track.node, label);
+    const int targets = targetCountOf(model, model.nodes[track.node].mesh);
+    if (targets == 0) throw fileError(avatar, label + ": " + nodeLabel(model, track.node) + " has no morph targets");
+    if (track.weights.rows() != targets)
+      throw fileError(avatar, label + ": " + nodeLabel(model, track.node) + " has " + std::to_string(targets) +
+                                  " morph targets, the track " + std::to_string(track.weights.rows()) + " rows");
+    if (!morphed.insert(track.node).second)
+      throw fileError(out, label + ": " + nodeLabel(model, track.node) + " already has a morph track");
+    sameFrames(static_cast<int>(track.weights.cols()), label);
+    if (!track.weights.allFinite()) throw fileError(out, label + " has a weight that is not finite");
+  }
+  for (std::size_t i = 0; i < tracks.rotations.size(); ++i) {
+    const auto& track = tracks.rotations[i];
+    const std::string label = "rotation track " + std::to_string(i);
+    checkNode(track.node, label);
+    if (model.nodes[track.node].matrix.size() == 16)
+      throw fileError(
+          avatar, label + ": " + nodeLabel(model, track.node) + " is placed by a matrix, which glTF forbids animating");
+    if (!rotated.insert(track.node).second)
+      throw fileError(out, label + ": " + nodeLabel(model, track.node) + " already has a rotation track");
+    sameFrames(static_cast<int>(track.rotations.size()), label);
+    for (const auto& q : track.rotations)
+      if (!q.coeffs().allFinite() || q.coeffs().norm() < 1e-6f)
+        throw fileError(out, label + " has a rotation that is not finite or not a rotation (zero length)");
+  }
+  if (frames < 1) throw fileError(out, "the tracks have no frames");
+  return frames;
+}
+
+// Appends `values` to the model's single buffer as a new view and a float accessor.
+// `target`: the view's GPU use (vertex data), 0 for animation data, which never goes to the GPU.
+int addFloatAccessor(tinygltf::Model& model, const std::vector<float>& values, int type, std::size_t count,
+                     std::vector<double> min = {}, std::vector<double> max = {}, int target = 0) {
+  if (model.buffers.empty()) model.buffers.emplace_back();
+  Bytes& data = model.buffers.front().data;
+  pad(data, 4);
+  tinygltf::BufferView view;
+  view.buffer = 0;
+  view.byteOffset = data.size();
+  view.byteLength = values.size() * sizeof(float);
+  view.target = target;
+  const auto* raw = reinterpret_cast<const unsigned char*>(values.data());
+  data.insert(data.end(), raw, raw + view.byteLength);
+  model.bufferViews.push_back(view);
+
+  tinygltf::Accessor accessor;
+  accessor.bufferView = static_cast<int>(model.bufferViews.size()) - 1;
+  accessor.componentType = TINYGLTF_COMPONENT_TYPE_FLOAT;
+  accessor.type = type;
+  accessor.count = count;
+  accessor.minValues = std::move(min);
+  accessor.maxValues = std::move(max);
+  model.accessors.push_back(accessor);
+  return static_cast<int>(model.accessors.size()) - 1;
+}
+
+void addAnimation(tinygltf::Model& model, const GltfAnimationTracks& tracks, int frames) {
+  std::vector<float> times(static_cast<std::size_t>(frames));
+  for (int i = 0; i < frames; ++i) times[static_cast<std::size_t>(i)] = static_cast<float>(i / tracks.framesPerSecond);
+  // min and max as the floats stored, so that a reader comparing them with the data finds them equal.
+  const int input = addFloatAccessor(model, times, TINYGLTF_TYPE_SCALAR, times.size(), {times.front()}, {times.back()});
+
+  tinygltf::Animation animation;
+  animation.name = tracks.name;
+  const auto addChannel = [&](int node, const std::string& path, int output) {
+    tinygltf::AnimationSampler sampler;
+    sampler.input = input;
+    sampler.output = output;
+    sampler.interpolation = "LINEAR";
+    animation.samplers.push_back(sampler);
+    tinygltf::AnimationChannel channel;
+    channel.sampler = static_cast<int>(animation.samplers.size()) - 1;
+    channel.target_node = node;
+    channel.target_path = path;
+    animation.channels.push_back(channel);
+  };
+  for (const auto& track : tracks.morphs) {
+    // Frame-major: frame 0's weight for every target, then frame 1's, ...
+    std::vector<float> weights(static_cast<std::size_t>(track.weights.size()));
+    Eigen::Map<Eigen::MatrixXf>(weights.data(), track.weights.rows(), track.weights.cols()) = track.weights;
+    addChannel(track.node, "weights", addFloatAccessor(model, weights, TINYGLTF_TYPE_SCALAR, weights.size()));
+  }
+  for (const auto& track : tracks.rotations) {
+    std::vector<float> rotations;
+    rotations.reserve(4 * track.rotations.size());
+    Eigen::Vector4f previous = Eigen::Vector4f::Zero();
+    for (const auto& rotation : track.rotations) {
+      Eigen::Vector4f q = rotation.coeffs().normalized();  // Eigen's coefficients are x, y, z, w, as glTF's
+      // q and -q are one rotation; the one nearer the previous keyframe makes LINEAR (slerp) turn the short way.
+      if (q.dot(previous) < 0) q = -q;
+      previous = q;
+      rotations.insert(rotations.end(), q.data(), q.data() + 4);
+    }
+    addChannel(track.node, "rotation", addFloatAccessor(model, rotations, TINYGLTF_TYPE_VEC4, track.rotations.size()));
+  }
+  model.animations.push_back(std::move(animation));
+}
+
+std::string mimeTypeOf(const Bytes& bytes, const std::string& uri) {
+  const auto starts = [&](const char* magic, std::size_t at = 0) {
+    const std::size_t length = std::strlen(magic);
+    return bytes.size() >= at + length && std::memcmp(bytes.data() + at, magic, length) == 0;
+  };
+  if (starts("\x89PNG")) return "image/png";
+  if (starts("\xFF\xD8\xFF")) return "image/jpeg";
+  if (starts("RIFF") && starts("WEBP", 8)) return "image/webp";
+  if (starts("\xABKTX 20")) return "image/ktx2";
+  const std::size_t colon = uri.find(':'), semicolon = uri.find(';');
+  if (uri.rfind("data:", 0) == 0 && semicolon != std::string::npos) return uri.substr(colon + 1, semicolon - colon - 1);
+  return "application/octet-stream";
+}
+
+// One buffer (a GLB holds one; tinygltf writes the others of a .glb as data URIs), images in it: the written file
+// then stands alone, whatever the avatar had beside it.
+void gatherIntoOneBuffer(tinygltf::Model& model, const ImageBytes& images) {
+  if (model.buffers.size() > 1) {
+    Bytes all;
+    std::vector<std::size_t> start;
+    for (const auto& buffer : model.buffers) {
+      pad(all, 16);
+      start.push_back(all.size());
+      all.insert(all.end(), buffer.data.begin(), buffer.data.end());
+    }
+    for (auto& view : model.bufferViews) {
+      view.byteOffset += start.at(static_cast<std::size_t>(view.buffer));
+      view.buffer = 0;
+    }
+    model.buffers.resize(1);
+    model.buffers.front().data = std::move(all);
+  }
+  if (!model.buffers.empty()) {
+    model.buffers.front().uri.clear();
+    model.buffers.front().name.clear();
+  }
+  for (std::size_t i = 0; i < model.images.size(); ++i) {
+    auto& image = model.images[i];
+    if (image.bufferView >= 0) {
+      image.uri.clear();
+    } else if (i < images.images.size() && !images.images[i].empty()) {
+      const Bytes& bytes = images.images[i];
+      if (model.buffers.empty()) model.buffers.emplace_back();
+      Bytes& data = model.buffers.front().data;
+      pad(data, 4);
+      tinygltf::BufferView view;
+      view.buffer = 0;
+      view.byteOffset = data.size();
+      view.byteLength = bytes.size();
+      data.insert(data.end(), bytes.begin(), bytes.end());
+      model.bufferViews.push_back(view);
+      image.bufferView = static_cast<int>(model.bufferViews.size()) - 1;
+      image.mimeType = mimeTypeOf(bytes, image.uri);
+      image.uri.clear();
+    }
+    // Pixels tinygltf may have decoded are not written back (the bytes above are).
+    image.image.clear();
+  }
+}
+
+enum class Container { kBinary, kJson };
+
+Container containerFor(const fs::path& out, bool allowVrm) {
+  const std::string extension = lowerExtension(out);
+  if (extension == ".glb" || (allowVrm && extension == ".vrm")) return Container::kBinary;
+  if (extension == ".gltf") return Container::kJson;
+  throw fileError(out,
+                  std::string("the extension picks the container: .glb") + (allowVrm ? ", .vrm" : "") + " or .gltf");
+}
+
+void writeModel(tinygltf::Model& model, const fs::path& out, Container container) {
+  if (!model.buffers.empty()) pad(model.buffers.front().data, 4);
+  AtomicFile file(out);
+  tinygltf::TinyGLTF writer;
+  // Images are bytes in the buffer by now; should one still name a file, its uri is written as it was rather
+  // than tinygltf re-encoding pixels it never decoded.
+  writer.SetImageWriter(
+      [](const std::string*, const std::string*, const tinygltf::Image*, bool, std::string*, void*) { return false; },
+      nullptr);
+  const bool binary = container == Container::kBinary;
+  if (!writer.WriteGltfSceneToStream(&model, file.stream(), /*prettyPrint=*/!binary, binary))
+    throw fileError(out, "cannot be written");
+  file.commit();
+}
+
+void setAsset(tinygltf::Model& model) {
+  if (model.asset.version.empty()) model.asset.version = "2.0";
+  const std::string us = "talkinghead";
+  if (model.asset.generator.find(us) == std::string::npos)
+    model.asset.generator = model.asset.generator.empty() ? us : model.asset.generator + ", " + us;
+}
+
+}  // namespace
+
+int GltfAvatar::findNode(std::string_view name) const {
+  for (std::size_t i = 0; i < nodes.size(); ++i)
+    if (nodes[i].name == name) return static_cast<int>(i);
+  return -1;
+}
+
+std::vector<int> GltfAvatar::morphNodes() const {
+  std::vector<int> found;
+  for (std::size_t i = 0; i < nodes.size(); ++i)
+    if (nodes[i].targetCount > 0) found.push_back(static_cast<int>(i));
+  return found;
+}
+
+int GltfAvatar::targetIndex(int node, std::string_view target) const {
+  if (node < 0 || node >= static_cast<int>(nodes.size())) return -1;
+  const auto& names = nodes[static_cast<std::size_t>(node)].targetNames;
+  const auto at = std::find(names.begin(), names.end(), target);
+  return at == names.end() ? -1 : static_cast<int>(at - names.begin());
+}
+
+GltfAvatar readGltfAvatar(const fs::path& avatar) {
+  const tinygltf::Model model = loadAvatar(avatar).model;
+  GltfAvatar read;
+  read.nodes.resize(model.nodes.size());
+  for (std::size_t i = 0; i < model.nodes.size(); ++i) {
+    const auto& node = model.nodes[i];
+    auto& out = read.nodes[i];
+    out.name = node.name;
+    out.mesh = node.mesh;
+    out.targetCount = targetCountOf(model, node.mesh);
+    out.targetNames = targetNamesOf(model, node.mesh);
+    const auto f = [](double value) { return static_cast<float>(value); };
+    if (node.translation.size() == 3)
+      out.translation = {f(node.translation[0]), f(node.translation[1]), f(node.translation[2])};
+    if (node.rotation.size() == 4)
+      out.rotation =
+          Eigen::Quaternionf(f(node.rotation[3]), f(node.rotation[0]), f(node.rotation[1]), f(node.rotation[2]));
+    if (node.scale.size() == 3) out.scale = {f(node.scale[0]), f(node.scale[1]), f(node.scale[2])};
+    out.placedByMatrix = node.matrix.size() == 16;
+    for (const int child : node.children)
+      if (child >= 0 && child < static_cast<int>(model.nodes.size()))
+        read.nodes[static_cast<std::size_t>(child)].parent = static_cast<int>(i);
+  }
+  return read;
+}
+
+void writeAvatarAnimation(const fs::path& avatar, const GltfAnimationTracks& tracks, const fs::path& out) {
+  const Container container = containerFor(out, /*allowVrm=*/true);
+  checkOutputTarget(out);
+  LoadedAvatar loaded = loadAvatar(avatar);
+  tinygltf::Model& model = loaded.model;
+  const int frames = checkTracks(model, tracks, avatar, out);
+  gatherIntoOneBuffer(model, loaded.images);
+  addAnimation(model, tracks, frames);
+  setAsset(model);
+  writeModel(model, out, container);
+}
+
+void writeAnimationOnly(const fs::path& avatar, const GltfAnimationTracks& tracks, const fs::path& out) {
+  const Container container = containerFor(out, /*allowVrm=*/false);
+  checkOutputTarget(out);
+  const tinygltf::Model source = loadAvatar(avatar).model;
+  const int frames = checkTracks(source, tracks, avatar, out);
+
+  tinygltf::Model model;
+  model.asset.version = "2.0";
+  model.asset.generator = "talkinghead";
+  model.scenes = source.scenes;
+  for (auto& scene : model.scenes) {
+    scene.extensions.clear();
+    scene.extras = {};
+  }
+  model.defaultScene = source.defaultScene;
+  model.nodes.reserve(source.nodes.size());
+  for (const auto& from : source.nodes) {
+    tinygltf::Node node;
+    node.name = from.name;
+    node.children = from.children;
+    node.translation = from.translation;
+    node.rotation = from.rotation;
+    node.scale = from.scale;
+    node.matrix = from.matrix;
+    model.nodes.push_back(std::move(node));
+  }
+  if (model.scenes.empty()) {
+    // Without scenes every root is shown; one scene of the roots says the same to readers that want a scene.
+    std::vector<bool> child(model.nodes.size(), false);
+    for (const auto& node : model.nodes)
+      for (const int c : node.children) child.at(static_cast<std::size_t>(c)) = true;
+    tinygltf::Scene scene;
+    for (std::size_t i = 0; i < model.nodes.size(); ++i)
+      if (!child[i]) scene.nodes.push_back(static_cast<int>(i));
+    model.scenes.push_back(scene);
+    model.defaultScene = 0;
+  }
+
+  // The stand-in meshes' vertices: one triangle with every corner at the origin, shared by every target (which
+  // moves nothing): the weights are what is carried, not the shapes.
+  const std::vector<float> zeros(9, 0.0f);
+  int corners = -1;
+  for (const auto& track : tracks.morphs) {
+    if (corners < 0)
+      corners = addFloatAccessor(model, zeros, TINYGLTF_TYPE_VEC3, 3, {0.0, 0.0, 0.0}, {0.0, 0.0, 0.0},
+                                 TINYGLTF_TARGET_ARRAY_BUFFER);
+    const auto& from = source.meshes[static_cast<std::size_t>(source.nodes[static_cast<std::size_t>(track.node)].mesh)];
+    const int targets = static_cast<int>(track.weights.rows());
+    tinygltf::Mesh mesh;
+    mesh.name = from.name;
+    tinygltf::Primitive primitive;
+    primitive.attributes["POSITION"] = corners;
+    primitive.mode = TINYGLTF_MODE_TRIANGLES;
+    primitive.targets.assign(static_cast<std::size_t>(targets), {{"POSITION", corners}});
+    mesh.primitives.push_back(primitive);
+    mesh.weights = from.weights;
+    if (static_cast<int>(mesh.weights.size()) != targets) mesh.weights.assign(static_cast<std::size_t>(targets), 0.0);
+    const auto names = targetNamesOf(source, source.nodes[static_cast<std::size_t>(track.node)].mesh);
+    if (static_cast<int>(names.size()) == targets) {
+      tinygltf::Value::Array list;
+      for (const auto& name : names) list.emplace_back(name);
+      tinygltf::Value::Object extras;
+      extras["targetNames"] = tinygltf::Value(std::move(list));
+      mesh.extras = tinygltf::Value(std::move(extras));
+    }
+    model.meshes.push_back(std::move(mesh));
+    model.nodes[static_cast<std::size_t>(track.node)].mesh = static_cast<int>(model.meshes.size()) - 1;
+  }
+  addAnimation(model, tracks, frames);
+  writeModel(model, out, container);
+}
+
+}  // namespace th::formats
