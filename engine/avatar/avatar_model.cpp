@@ -5,10 +5,14 @@
 #include <functional>
 #include <string_view>
 
-#include "avatar/gltf_reading.h"
 #include "core/error.h"
+#include "formats/gltf_reading.h"
 
 namespace th::avatar {
+
+using formats::accessorFloats;
+using formats::accessorIndices;
+using formats::readGltf;
 
 int MeshInstance::targetIndex(const std::string& target) const {
   const auto found = std::find(targetNames.begin(), targetNames.end(), target);

@@ -1,6 +1,5 @@
 #include "formats/gltf_animation.h"
 
-#include <meshoptimizer.h>
 #include <tiny_gltf.h>
 
 #include <algorithm>
@@ -16,14 +15,13 @@
 
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "formats/gltf_reading.h"
 
 namespace th::formats {
 namespace {
 
 namespace fs = std::filesystem;
 using Bytes = std::vector<unsigned char>;
-
-constexpr char kMeshopt[] = "EXT_meshopt_compression";
 
 std::string lowerExtension(const fs::path& path) {
   std::string extension = path.extension().string();
@@ -32,199 +30,14 @@ std::string lowerExtension(const fs::path& path) {
   return extension;
 }
 
-Bytes readBytes(const fs::path& path) {
-  std::error_code error;
-  if (!fs::exists(path, error)) throw fileError(path, "does not exist");
-  if (fs::is_directory(path, error)) throw fileError(path, "is a folder, not a glTF file");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw fileError(path, "cannot be read");
-  Bytes bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (in.bad()) throw fileError(path, "cannot be read");
-  return bytes;
-}
-
-std::uint32_t readU32(const Bytes& bytes, std::size_t at) {
-  std::uint32_t value = 0;
-  std::memcpy(&value, bytes.data() + at, 4);  // GLB is little-endian, as every machine this builds for
-  return value;
-}
-
-void appendU32(Bytes& bytes, std::uint32_t value) {
-  unsigned char raw[4];
-  std::memcpy(raw, &value, 4);
-  bytes.insert(bytes.end(), raw, raw + 4);
-}
-
-// Pads with zeros to a multiple of `alignment`: accessors need their component size, and 4 is glTF's rule for
-// bufferViews of vertex attributes; GLB chunks pad their JSON with spaces instead (the caller's `fill`).
-void pad(Bytes& bytes, std::size_t alignment, unsigned char fill = 0) {
-  while (bytes.size() % alignment != 0) bytes.push_back(fill);
-}
-
-bool isGlb(const Bytes& bytes) {
-  return bytes.size() >= 12 && std::memcmp(bytes.data(), "glTF", 4) == 0;
-}
-
-// EXT_meshopt_compression, decoded into its fallback buffers: tinygltf reads a GLB's BIN chunk into the first
-// buffer only, and the fallback buffers have no data of their own, so it refuses such a file. The decoded views are
-// appended to the BIN chunk, the views point there, and the extension is dropped from the file.
-Bytes decodeMeshoptJson(const fs::path& path, const Bytes& glb) {
-  const auto bad = [&](const std::string& what) { return fileError(path, "not a valid glTF binary: " + what); };
-  const std::uint32_t total = readU32(glb, 8);
-  if (total > glb.size() || glb.size() < 20) throw bad("shorter than its header says");
-  const std::uint32_t jsonLength = readU32(glb, 12);
-  if (readU32(glb, 16) != 0x4E4F534Au || 20ull + jsonLength > total) throw bad("no JSON chunk");
-  nlohmann::json json = nlohmann::json::parse(glb.begin() + 20, glb.begin() + 20 + jsonLength, nullptr, false);
-  if (json.is_discarded() || !json.is_object()) throw bad("its JSON chunk does not parse");
-
-  const auto usesMeshopt = [&] {
-    const auto used = json.find("extensionsUsed");
-    return used != json.end() && used->is_array() && std::find(used->begin(), used->end(), kMeshopt) != used->end();
-  };
-  if (!usesMeshopt()) return glb;
-
-  Bytes bin;
-  const std::size_t binAt = 20ull + jsonLength;
-  if (binAt + 8 <= total && readU32(glb, binAt + 4) == 0x004E4942u) {
-    const std::uint32_t binLength = readU32(glb, binAt);
-    if (binAt + 8 + binLength > total) throw bad("its BIN chunk is cut short");
-    bin.assign(glb.begin() + static_cast<std::ptrdiff_t>(binAt + 8),
-               glb.begin() + static_cast<std::ptrdiff_t>(binAt + 8 + binLength));
-  }
-  auto& buffers = json.at("buffers");
-  // Only the GLB's own buffer (the first, without a uri) is handled; a meshopt file whose compressed data lives in
-  // external files is beyond this reader.
-  for (std::size_t b = 0; b < buffers.size(); ++b) {
-    const auto& buffer = buffers[b];
-    const bool fallback = buffer.contains("extensions") && buffer["extensions"].contains(kMeshopt);
-    if (buffer.contains("uri") || (b > 0 && !fallback))
-      throw fileError(path, std::string(kMeshopt) + " with buffers outside the file is not supported");
-  }
-
-  // Where each fallback buffer's bytes start in the new BIN chunk.
-  std::map<std::size_t, std::size_t> fallbackAt;
-  const auto bufferLength = [&](std::size_t b) { return buffers[b].at("byteLength").get<std::size_t>(); };
-  for (std::size_t b = 1; b < buffers.size(); ++b) {
-    pad(bin, 16);
-    fallbackAt[b] = bin.size();
-    bin.resize(bin.size() + bufferLength(b), 0);
-  }
-  const std::size_t firstLength = bufferLength(0);
-
-  for (auto& view : json.at("bufferViews")) {
-    const std::size_t buffer = view.at("buffer").get<std::size_t>();
-    if (buffer > 0) {
-      if (!fallbackAt.count(buffer)) throw bad("a bufferView names a missing buffer");
-      view["buffer"] = 0;
-      view["byteOffset"] = view.value("byteOffset", std::size_t{0}) + fallbackAt[buffer];
-    }
-    if (!view.contains("extensions") || !view["extensions"].contains(kMeshopt)) continue;
-    const auto& meshopt = view["extensions"][kMeshopt];
-    const std::size_t source = meshopt.value("byteOffset", std::size_t{0});
-    const std::size_t sourceLength = meshopt.at("byteLength").get<std::size_t>();
-    const std::size_t count = meshopt.at("count").get<std::size_t>();
-    const std::size_t stride = meshopt.at("byteStride").get<std::size_t>();
-    const std::size_t target = view.value("byteOffset", std::size_t{0});
-    if (meshopt.value("buffer", std::size_t{0}) != 0 || source + sourceLength > firstLength ||
-        target + count * stride > bin.size())
-      throw bad(std::string(kMeshopt) + " data out of range");
-    unsigned char* destination = bin.data() + target;
-    const unsigned char* compressed = bin.data() + source;
-    const std::string mode = meshopt.at("mode").get<std::string>();
-    int status = -1;
-    if (mode == "ATTRIBUTES") {
-      status = meshopt_decodeVertexBuffer(destination, count, stride, compressed, sourceLength);
-      const std::string filter = meshopt.value("filter", std::string("NONE"));
-      if (status == 0 && filter == "OCTAHEDRAL") meshopt_decodeFilterOct(destination, count, stride);
-      if (status == 0 && filter == "QUATERNION") meshopt_decodeFilterQuat(destination, count, stride);
-      if (status == 0 && filter == "EXPONENTIAL") meshopt_decodeFilterExp(destination, count, stride);
-    } else if (mode == "TRIANGLES") {
-      status = meshopt_decodeIndexBuffer(destination, count, stride, compressed, sourceLength);
-    } else if (mode == "INDICES") {
-      status = meshopt_decodeIndexSequence(destination, count, stride, compressed, sourceLength);
-    }
-    if (status != 0) throw bad(std::string(kMeshopt) + " data that does not decode (mode " + mode + ")");
-    view["extensions"].erase(kMeshopt);
-    if (view["extensions"].empty()) view.erase("extensions");
-  }
-  buffers = nlohmann::json::array({{{"byteLength", bin.size()}}});
-  for (const char* list : {"extensionsUsed", "extensionsRequired"}) {
-    if (!json.contains(list)) continue;
-    auto& names = json[list];
-    names.erase(std::remove(names.begin(), names.end(), kMeshopt), names.end());
-    if (names.empty()) json.erase(list);
-  }
-
-  std::string text = json.dump();
-  while (text.size() % 4 != 0) text.push_back(' ');
-  pad(bin, 4);
-  Bytes out;
-  out.reserve(28 + text.size() + bin.size());
-  out.insert(out.end(), {'g', 'l', 'T', 'F'});
-  appendU32(out, 2);
-  appendU32(out, static_cast<std::uint32_t>(28 + text.size() + bin.size()));
-  appendU32(out, static_cast<std::uint32_t>(text.size()));
-  appendU32(out, 0x4E4F534Au);
-  out.insert(out.end(), text.begin(), text.end());
-  appendU32(out, static_cast<std::uint32_t>(bin.size()));
-  appendU32(out, 0x004E4942u);
-  out.insert(out.end(), bin.begin(), bin.end());
-  return out;
-}
-
-Bytes decodeMeshopt(const fs::path& path, const Bytes& glb) {
-  try {
-    return decodeMeshoptJson(path, glb);
-  } catch (const nlohmann::json::exception& e) {
-    // A field missing or of the wrong type in the JSON that says where the compressed data is.
-    throw fileError(path, std::string("not a valid glTF binary: ") + e.what());
-  }
-}
-
-// The encoded bytes of every image, as found (tinygltf would otherwise decode them to pixels, which writing
-// cannot use): indexed by image.
-struct ImageBytes {
-  std::vector<Bytes> images;
-};
-
-bool keepImageBytes(tinygltf::Image*, const int index, std::string*, std::string*, int, int, const unsigned char* bytes,
-                    int size, void* user) {
-  auto& images = static_cast<ImageBytes*>(user)->images;
-  if (index < 0) return false;
-  if (images.size() <= static_cast<std::size_t>(index)) images.resize(static_cast<std::size_t>(index) + 1);
-  images[static_cast<std::size_t>(index)].assign(bytes, bytes + size);
-  return true;
-}
-
 struct LoadedAvatar {
   tinygltf::Model model;
-  ImageBytes images;
+  GltfImageBytes images;
 };
 
 LoadedAvatar loadAvatar(const fs::path& path) {
-  Bytes bytes = readBytes(path);
   LoadedAvatar loaded;
-  tinygltf::TinyGLTF loader;
-  loader.SetImageLoader(keepImageBytes, &loaded.images);
-  std::string error, warning;
-  const std::string folder = path.parent_path().string();
-  bool ok = false;
-  if (isGlb(bytes)) {
-    bytes = decodeMeshopt(path, bytes);
-    ok = loader.LoadBinaryFromMemory(&loaded.model, &error, &warning, bytes.data(),
-                                     static_cast<unsigned int>(bytes.size()), folder);
-  } else {
-    const auto first = std::find_if(bytes.begin(), bytes.end(), [](unsigned char c) { return !std::isspace(c); });
-    if (first == bytes.end() || *first != '{') throw fileError(path, "not a glTF file (neither glTF binary nor JSON)");
-    ok = loader.LoadASCIIFromString(&loaded.model, &error, &warning, reinterpret_cast<const char*>(bytes.data()),
-                                    static_cast<unsigned int>(bytes.size()), folder);
-  }
-  if (!ok) {
-    std::string what = error.empty() ? std::string("unreadable") : error;
-    std::replace(what.begin(), what.end(), '\n', ' ');
-    while (!what.empty() && what.back() == ' ') what.pop_back();
-    throw fileError(path, "not a readable glTF file: " + what);
-  }
+  loaded.model = readGltf(path, &loaded.images);
   return loaded;
 }
 
@@ -307,7 +120,7 @@ int addFloatAccessor(tinygltf::Model& model, const std::vector<float>& values, i
                      std::vector<double> min = {}, std::vector<double> max = {}, int target = 0) {
   if (model.buffers.empty()) model.buffers.emplace_back();
   Bytes& data = model.buffers.front().data;
-  pad(data, 4);
+  padBytes(data, 4);
   tinygltf::BufferView view;
   view.buffer = 0;
   view.byteOffset = data.size();
@@ -386,12 +199,12 @@ std::string mimeTypeOf(const Bytes& bytes, const std::string& uri) {
 
 // One buffer (a GLB holds one; tinygltf writes the others of a .glb as data URIs), images in it: the written file
 // then stands alone, whatever the avatar had beside it.
-void gatherIntoOneBuffer(tinygltf::Model& model, const ImageBytes& images) {
+void gatherIntoOneBuffer(tinygltf::Model& model, const GltfImageBytes& images) {
   if (model.buffers.size() > 1) {
     Bytes all;
     std::vector<std::size_t> start;
     for (const auto& buffer : model.buffers) {
-      pad(all, 16);
+      padBytes(all, 16);
       start.push_back(all.size());
       all.insert(all.end(), buffer.data.begin(), buffer.data.end());
     }
@@ -414,7 +227,7 @@ void gatherIntoOneBuffer(tinygltf::Model& model, const ImageBytes& images) {
       const Bytes& bytes = images.images[i];
       if (model.buffers.empty()) model.buffers.emplace_back();
       Bytes& data = model.buffers.front().data;
-      pad(data, 4);
+      padBytes(data, 4);
       tinygltf::BufferView view;
       view.buffer = 0;
       view.byteOffset = data.size();
@@ -441,7 +254,7 @@ Container containerFor(const fs::path& out, bool allowVrm) {
 }
 
 void writeModel(tinygltf::Model& model, const fs::path& out, Container container) {
-  if (!model.buffers.empty()) pad(model.buffers.front().data, 4);
+  if (!model.buffers.empty()) padBytes(model.buffers.front().data, 4);
   AtomicFile file(out);
   tinygltf::TinyGLTF writer;
   // Images are bytes in the buffer by now; should one still name a file, its uri is written as it was rather
