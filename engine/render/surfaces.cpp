@@ -175,7 +175,7 @@ Eigen::VectorXf lashOpacity(const face::Mesh& mesh, const SurfaceMap& map) {
     const bool lower = sum / count < eyeHeight;
     const double length = cardLength[card];
     const double along = length > 0.0 ? distance[i] / length : 0.0;
-    opacity[lashes[i]] = static_cast<float>((lower ? 0.3 : 0.7) * (1.0 - smoothstep(0.0, 0.8, along)));
+    opacity[lashes[i]] = static_cast<float>((lower ? 0.3 : 0.9) * (1.0 - smoothstep(0.1, 1.0, along)));
   }
   return opacity;
 }
