@@ -2,10 +2,10 @@
 // Shading of the head. The renderer compiles this source once per kind of surface, with one of SKIN, SCLERA,
 // IRIS, PLAIN or BROWS (the skin round the eyebrows) defined after the #version line (and lighting.glsl after
 // that): a software rasteriser (llvmpipe) runs every branch of a shader, so each program holds only what its
-// surface needs. Light is
-// summed in linear space and encoded as sRGB at the end. No textures: the look comes from the materials, the
-// per-vertex ambient openness (dark mouth, nostrils, sockets), the skin's texture coordinates (procedural
-// detail: face.vert's flush and sheen, the brows here) and, for the eyes, from the angle round each eye's axis.
+// surface needs. Light is summed in linear space and encoded as sRGB at the end. No textures: the look comes
+// from the materials, the per-vertex ambient openness (dark mouth, nostrils, sockets), the skin's markings
+// (measured once from its texture coordinates, render/surfaces.h), the brows (drawn here from them) and, for
+// the eyes, from the angle round each eye's axis.
 #if defined(BROWS)  // the skin round the eyebrows: skin, with the brows drawn over it per pixel
 #define SKIN 1
 #endif

@@ -68,22 +68,11 @@ vec3 shoulder(vec3 c) {
 
 vec3 finish(vec3 linear) { return toSrgb(shoulder(linear * uExposure)); }
 
-// Procedural skin detail, from texture coordinates (no textures: the look is drawn from the mesh's UVs).
-// A pseudo-random value in 0..1 per point, from arithmetic alone (no sine: cheaper in SIMD).
+// A pseudo-random value in 0..1 per point, for detail drawn from texture coordinates; from arithmetic alone
+// (no sine: cheaper in SIMD).
 float hash(vec2 p) {
   vec3 q = fract(vec3(p.xyx) * 0.1031);
   q += dot(q, q.yzx + 33.33);
   return fract((q.x + q.y) * q.z);
 }
 
-// Value noise, 0..1, smooth between the integer lattice's random values.
-float valueNoise(vec2 p) {
-  vec2 i = floor(p);
-  vec2 f = p - i;
-  f = f * f * (3.0 - 2.0 * f);
-  float a = hash(i);
-  float b = hash(i + vec2(1.0, 0.0));
-  float c = hash(i + vec2(0.0, 1.0));
-  float d = hash(i + vec2(1.0, 1.0));
-  return mix(mix(a, b, f.x), mix(c, d, f.x), f.y);
-}

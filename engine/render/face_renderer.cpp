@@ -34,7 +34,7 @@ struct FaceRenderer::Gl {
   GLuint vao = 0;
   GLuint emptyVao = 0;
   GLuint dynamicBuffer = 0;  // position + normal, per frame
-  GLuint staticBuffer = 0;   // openness + (lip weight or opacity) + texture coordinates
+  GLuint staticBuffer = 0;   // openness + (lip weight or opacity) + texture coordinates + skin markings
   GLuint indexBuffer = 0;    // the front-facing triangles, per frame
   GLuint backgroundProgram = 0;
   GLuint msaaFramebuffer = 0;
@@ -107,8 +107,8 @@ void FaceRenderer::createPrograms() {
 }
 
 // The vertex arrays and buffers: positions and normals (per frame), the per-vertex detail and texture
-// coordinates (`detail`, 4 floats a vertex: render/materials.h, VertexDetail::interleaved), the triangles drawn
-// (per frame).
+// coordinates (`detail`, kDetailFloats a vertex: render/materials.h, VertexDetail::interleaved), the triangles
+// drawn (per frame).
 void FaceRenderer::createBuffers(const std::vector<float>& detail) {
   Gl& g = *gl_;
   glGenVertexArrays(1, &g.vao);
@@ -126,10 +126,13 @@ void FaceRenderer::createBuffers(const std::vector<float>& detail) {
   glGenBuffers(1, &g.staticBuffer);
   glBindBuffer(GL_ARRAY_BUFFER, g.staticBuffer);
   glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(detail.size() * sizeof(float)), detail.data(), GL_STATIC_DRAW);
-  glVertexAttribPointer(2, 2, GL_FLOAT, GL_FALSE, 4 * sizeof(float), nullptr);
-  glVertexAttribPointer(3, 2, GL_FLOAT, GL_FALSE, 4 * sizeof(float), reinterpret_cast<const void*>(2 * sizeof(float)));
+  constexpr GLsizei stride = kDetailFloats * sizeof(float);
+  glVertexAttribPointer(2, 2, GL_FLOAT, GL_FALSE, stride, nullptr);
+  glVertexAttribPointer(3, 2, GL_FLOAT, GL_FALSE, stride, reinterpret_cast<const void*>(2 * sizeof(float)));
+  glVertexAttribPointer(4, 3, GL_FLOAT, GL_FALSE, stride, reinterpret_cast<const void*>(4 * sizeof(float)));
   glEnableVertexAttribArray(2);
   glEnableVertexAttribArray(3);
+  glEnableVertexAttribArray(4);
   glGenBuffers(1, &g.indexBuffer);
   glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, g.indexBuffer);
   const std::size_t numIndices = drawList_->indices.size();

@@ -236,14 +236,18 @@ VertexDetail measureVertexDetail(const face::Mesh& mesh, const SurfaceMap& map, 
   darkenMouthInterior(mesh, map, detail.openness);
   const Eigen::VectorXf opacity = lashOpacity(mesh, map);
 
+  const SkinMarkings markings = skinMarkings(mesh, map);
   const bool hasUv = mesh.uv.cols() == mesh.numVertices();
-  detail.interleaved.resize(numVertices * 4);
+  detail.interleaved.resize(numVertices * kDetailFloats);
   for (Eigen::Index v = 0; v < static_cast<Eigen::Index>(numVertices); ++v) {
-    float* out = &detail.interleaved[static_cast<std::size_t>(4 * v)];
+    float* out = &detail.interleaved[static_cast<std::size_t>(kDetailFloats * v)];
     out[0] = detail.openness[v];
     out[1] = map.ofVertex[static_cast<std::size_t>(v)] == Surface::kSkin ? detail.lipWeight[v] : opacity[v];
     out[2] = hasUv ? mesh.uv(0, v) : 0.0f;
     out[3] = hasUv ? mesh.uv(1, v) : 0.0f;
+    out[4] = markings.redness[v];
+    out[5] = markings.hair[v];
+    out[6] = markings.grain[v];
   }
   return detail;
 }

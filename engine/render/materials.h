@@ -93,11 +93,13 @@ DrawList buildDrawList(const face::Mesh& mesh, const SurfaceMap& map, const Appe
 struct VertexDetail {
   Eigen::VectorXf openness;   // ambient openness, 0..1 (darkened inside the mouth)
   Eigen::VectorXf lipWeight;  // render/surfaces.h: lipWeight()
-  // What the static vertex buffer holds, 4 floats a vertex: openness, then the lip weight on skin or the
+  // What the static vertex buffer holds, kDetailFloats a vertex: openness, then the lip weight on skin or the
   // opacity elsewhere (one channel serves both: no vertex is skin and lash at once), then the texture
-  // coordinates (zero if the mesh has none).
+  // coordinates (zero if the mesh has none), then the skin's markings (render/surfaces.h: SkinMarkings:
+  // redness, hair, grain).
   std::vector<float> interleaved;
 };
+inline constexpr int kDetailFloats = 7;
 
 // Ambient openness is measured on the GPU (render/occlusion.h), or read from the detail cache.
 VertexDetail measureVertexDetail(const face::Mesh& mesh, const SurfaceMap& map, const Eigen::Matrix3Xf& normals);
