@@ -73,7 +73,7 @@ void main() {
   // Skin's sheen is broken up by pores and fine lines: its strength varies from vertex to vertex (a few
   // millimetres apart); the lips are wet, with a tighter, brighter highlight; hair is matte.
   vec3 specular = specularLight(n, v, mix(uShininess, 70.0, lip), mix(uSpecular, vec3(0.06), lip)) * (open * open);
-  specular *= mix(0.45 + 0.9 * aSkin.z, 1.0, lip) * (1.0 - 0.6 * aSkin.y);
+  specular *= mix(0.6 + 0.6 * aSkin.z, 1.0, lip) * (1.0 - 0.6 * aSkin.y);
   vColour = vec4(finish(skinAlbedo(lip) * diffuse + specular), 1.0);
 #else
   vec3 specular = specularLight(n, v, uShininess, uSpecular) * (open * open);

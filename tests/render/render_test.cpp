@@ -182,12 +182,13 @@ TEST(FaceRenderer, NeutralHeadFillsTheFrameWithSkinAndLivelyEyes) {
   }
 }
 
-// The vertex whose texture coordinates lie nearest `uv` (ICT FaceKit's face tile: u 0..1, the face's left
-// at u > 0.5, up is +v).
+// The face's skin vertex whose texture coordinates lie nearest `uv` (ICT FaceKit's face tile: u 0..1, the
+// face's left at u > 0.5, up is +v; the eyes' thin layers share the tile, hence the material).
 int vertexNearUv(const th::face::Mesh& mesh, const Eigen::Vector2f& uv) {
-  Eigen::Index nearest = 0;
-  (mesh.uv.colwise() - uv).colwise().squaredNorm().minCoeff(&nearest);
-  return static_cast<int>(nearest);
+  int nearest = -1;
+  for (int v : mesh.verticesOf("M_Face"))
+    if (nearest < 0 || (mesh.uv.col(v) - uv).squaredNorm() < (mesh.uv.col(nearest) - uv).squaredNorm()) nearest = v;
+  return nearest;
 }
 
 // The mean colour of the 3x3 pixels round where a vertex lands.
@@ -313,6 +314,24 @@ TEST(FaceRenderer, PerVertexDetailDarkensCavitiesAndReddensTheLips) {
       EXPECT_GT(mesh.positions(1, v), -6.0) << v;
       EXPECT_LT(std::abs(mesh.positions(0, v)), 3.5) << v;
     }
+}
+
+TEST(SkinMarkings, HairOnTheScalpNotTheFaceAndFlushedCheeks) {
+  const th::face::Mesh& mesh = neutral();
+  const th::render::SurfaceMap map = th::render::classifySurfaces(mesh);
+  const th::render::SkinMarkings m = th::render::skinMarkings(mesh, map);
+  Eigen::Index crown = 0;
+  mesh.positions.row(1).maxCoeff(&crown);
+  EXPECT_GT(m.hair[crown], 0.9f);
+  const int cheek = vertexNearUv(mesh, {0.655f, 0.6f});
+  const int forehead = vertexNearUv(mesh, {0.5f, 0.87f});
+  EXPECT_EQ(m.hair[cheek], 0.0f);
+  EXPECT_EQ(m.hair[forehead], 0.0f);
+  EXPECT_GT(m.redness[cheek], m.redness[forehead] + 0.2f);
+  // The back of the neck and the chin are bare.
+  Eigen::Index chin = 0;
+  (mesh.positions.row(2).array() - 1e3 * (mesh.positions.row(1).array() + 7.5).abs()).maxCoeff(&chin);
+  EXPECT_LT(m.hair[chin], 0.01f);
 }
 
 TEST(EyeRig, FollowsARotatedHead) {
