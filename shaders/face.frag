@@ -1,13 +1,20 @@
 #version 330 core
 // Shading of the head. The renderer compiles this source once per kind of surface, with one of SKIN, SCLERA,
-// IRIS or PLAIN defined after the #version line (and lighting.glsl after that): a software rasteriser
-// (llvmpipe) runs every branch of a shader, so each program holds only what its surface needs. Light is
-// summed in linear space and encoded as sRGB at the end. No textures: the look comes from the materials, the
-// per-vertex ambient openness (dark mouth, nostrils, sockets) and, for the eyes, from the angle round each
-// eye's axis.
+// IRIS, PLAIN or BROWS (the skin round the eyebrows) defined after the #version line (and lighting.glsl after
+// that): a software rasteriser (llvmpipe) runs every branch of a shader, so each program holds only what its
+// surface needs. Light is summed in linear space and encoded as sRGB at the end. No textures: the look comes
+// from the materials, the per-vertex ambient openness (dark mouth, nostrils, sockets), the skin's markings
+// (measured once from its texture coordinates, render/surfaces.h), the brows (drawn here from them) and, for
+// the eyes, from the angle round each eye's axis.
+#if defined(BROWS)  // the skin round the eyebrows: skin, with the brows drawn over it per pixel
+#define SKIN 1
+#endif
 in vec3 vPosition;
 in vec3 vNormal;
 in vec2 vDetail;  // x: ambient openness (1 open, 0 enclosed)
+#if defined(BROWS)
+in vec2 vUv;  // texture coordinates
+#endif
 #if defined(SKIN) || defined(PLAIN)
 in vec4 vColour;  // lit and encoded per vertex (face.vert), premultiplied
 #endif
@@ -18,6 +25,7 @@ uniform vec3 uCameraPosition;
 uniform vec3 uAlbedo;      // linear
 uniform vec3 uSpecular;    // linear reflectance at normal incidence
 uniform float uShininess;  // Blinn-Phong exponent
+uniform vec3 uBrowTint;    // skin: the brows' colour over the skin's (sRGB), what they multiply it by
 
 // The eye of this draw (sclera and iris): its centre, its axis (where it looks) and the cosines of the
 // pupil's, the iris's and the cornea's angular radii seen from the centre.
@@ -27,8 +35,37 @@ uniform vec3 uEyeCosines;    // x pupil, y iris, z cornea
 uniform vec3 uIrisColour;    // linear
 uniform vec3 uScleraColour;  // linear
 
+#if defined(BROWS)
+// The eyebrows' cover, 0..1, drawn per pixel from the skin's texture coordinates, so they move with the brows.
+// Both at once, mirrored about the face tile's midline. Their line is a parabola through the UVs of ICT
+// FaceKit's brow landmarks (iBUG 17-26), lowered a little (those trace the brow's upper part); thick at the
+// inner end, tapering to the tail. Hairs: strokes that stand up at the inner end and lie outwards along the
+// rest, of random darkness and broken along their length; where a pixel spans several, their average.
+float browCover(vec2 uv) {
+  float x = abs(uv.x - 0.5);
+  float centre = 0.78687 + x * (0.39784 - 1.38716 * x) - 0.007;
+  float t = (x - 0.04) / 0.22;  // 0 at the inner end, 1 at the tail
+  float dy = uv.y - centre;
+  float halfHeight = mix(0.017, 0.0075, t) * (dy > 0.0 ? 1.0 : 0.8);
+  float across = 1.0 - smoothstep(0.35, 1.0, abs(dy) / halfHeight);
+  float along = smoothstep(-0.08, 0.1, t) * (1.0 - smoothstep(0.75, 1.08, t));
+  float angle = mix(1.3, 0.2, smoothstep(0.0, 0.5, t));
+  vec2 direction = vec2(cos(angle), sin(angle));
+  vec2 p = vec2(x, dy);
+  float lanes = dot(p, vec2(-direction.y, direction.x)) * 600.0;  // one hair per unit
+  float lane = floor(lanes);
+  float run = dot(p, direction) * 600.0 / 5.0 + hash(vec2(lane, 1.0)) * 7.0;
+  float hair = (1.0 - abs(fract(lanes) - 0.5) * 2.0) * (0.4 + 0.6 * hash(vec2(lane, 2.0)));
+  hair *= step(0.2, fract(run));
+  float resolved = 1.0 - smoothstep(0.4, 1.0, fwidth(lanes));  // strokes finer than a pixel average out
+  return across * along * mix(0.75, 0.45 + 0.55 * hair, resolved);
+}
+#endif
+
 void main() {
-#if defined(SKIN) || defined(PLAIN)
+#if defined(BROWS)
+  fragColour = vec4(vColour.rgb * mix(vec3(1.0), uBrowTint, browCover(vUv)), 1.0);
+#elif defined(SKIN) || defined(PLAIN)
   fragColour = vColour;
 #else
   vec3 n = normalize(vNormal);

@@ -67,3 +67,12 @@ vec3 shoulder(vec3 c) {
 }
 
 vec3 finish(vec3 linear) { return toSrgb(shoulder(linear * uExposure)); }
+
+// A pseudo-random value in 0..1 per point, for detail drawn from texture coordinates; from arithmetic alone
+// (no sine: cheaper in SIMD).
+float hash(vec2 p) {
+  vec3 q = fract(vec3(p.xyx) * 0.1031);
+  q += dot(q, q.yzx + 33.33);
+  return fract((q.x + q.y) * q.z);
+}
+

@@ -72,6 +72,9 @@ Mesh loadObjMesh(const std::filesystem::path& path) {
   }
   const int numVertices = mesh.numVertices();
   const int numMaterials = static_cast<int>(mesh.materials.size());
+  const std::vector<float>& texcoords = reader.GetAttrib().texcoords;
+  mesh.uv = Eigen::Matrix2Xf::Zero(2, numVertices);
+  std::vector<bool> hasUv(static_cast<std::size_t>(numVertices), false);
   for (const tinyobj::shape_t& shape : reader.GetShapes()) {
     const auto& indices = shape.mesh.indices;
     for (std::size_t f = 0; f < shape.mesh.num_face_vertices.size(); ++f) {
@@ -81,6 +84,13 @@ Mesh loadObjMesh(const std::filesystem::path& path) {
         const int vertex = indices[3 * f + static_cast<std::size_t>(k)].vertex_index;
         if (vertex < 0 || vertex >= numVertices) throw fileError(path, "a face refers to a vertex that does not exist");
         triangle[static_cast<std::size_t>(k)] = vertex;
+        const int texcoord = indices[3 * f + static_cast<std::size_t>(k)].texcoord_index;
+        if (texcoord >= 0 && 2 * static_cast<std::size_t>(texcoord) + 1 < texcoords.size() &&
+            !hasUv[static_cast<std::size_t>(vertex)]) {
+          mesh.uv(0, vertex) = texcoords[2 * static_cast<std::size_t>(texcoord)];
+          mesh.uv(1, vertex) = texcoords[2 * static_cast<std::size_t>(texcoord) + 1];
+          hasUv[static_cast<std::size_t>(vertex)] = true;
+        }
       }
       const int material = shape.mesh.material_ids[f];
       mesh.triangles.push_back(triangle);

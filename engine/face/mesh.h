@@ -1,4 +1,5 @@
-// Face meshes: an OBJ file (positions, triangles, a material per triangle) read with tinyobjloader, and
+// Face meshes: an OBJ file (positions, texture coordinates, triangles, a material per triangle) read with
+// tinyobjloader, and
 // blend shapes that share its vertex order.
 //
 //   th::face::Mesh neutral = th::face::loadObjMesh("assets/ict-facekit/generic_neutral_mesh.obj");
@@ -28,7 +29,12 @@ struct Material {
 };
 
 struct Mesh {
-  Eigen::Matrix3Xd positions;                 // 3 x V
+  Eigen::Matrix3Xd positions;  // 3 x V
+  // 2 x V: a vertex's texture coordinates (OBJ `vt`; zero if no face gives it one). An OBJ face corner names
+  // a position and a `vt` apart, so a vertex on a UV seam has several: it keeps the first its faces give, in
+  // the file's order (ICT FaceKit's seams lie on the borders between its UV tiles: the face's, the back of the
+  // head's, ...; within the face's tile every vertex has one).
+  Eigen::Matrix2Xf uv;
   std::vector<std::array<int, 3>> triangles;  // vertex indices, counter-clockwise seen from outside
   std::vector<int> triangleMaterial;          // per triangle, index into materials (-1: none)
   std::vector<Material> materials;

@@ -34,7 +34,7 @@ struct FaceRenderer::Gl {
   GLuint vao = 0;
   GLuint emptyVao = 0;
   GLuint dynamicBuffer = 0;  // position + normal, per frame
-  GLuint staticBuffer = 0;   // openness + (lip weight or opacity)
+  GLuint staticBuffer = 0;   // openness + (lip weight or opacity) + texture coordinates + skin markings
   GLuint indexBuffer = 0;    // the front-facing triangles, per frame
   GLuint backgroundProgram = 0;
   GLuint msaaFramebuffer = 0;
@@ -106,8 +106,9 @@ void FaceRenderer::createPrograms() {
                   glGetUniformLocation(g.backgroundProgram, "uAspect")};
 }
 
-// The vertex arrays and buffers: positions and normals (per frame), the per-vertex detail (`detail`, 2 floats a
-// vertex: render/materials.h, VertexDetail::interleaved), the triangles drawn (per frame).
+// The vertex arrays and buffers: positions and normals (per frame), the per-vertex detail and texture
+// coordinates (`detail`, kDetailFloats a vertex: render/materials.h, VertexDetail::interleaved), the triangles
+// drawn (per frame).
 void FaceRenderer::createBuffers(const std::vector<float>& detail) {
   Gl& g = *gl_;
   glGenVertexArrays(1, &g.vao);
@@ -125,8 +126,13 @@ void FaceRenderer::createBuffers(const std::vector<float>& detail) {
   glGenBuffers(1, &g.staticBuffer);
   glBindBuffer(GL_ARRAY_BUFFER, g.staticBuffer);
   glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(detail.size() * sizeof(float)), detail.data(), GL_STATIC_DRAW);
-  glVertexAttribPointer(2, 2, GL_FLOAT, GL_FALSE, 2 * sizeof(float), nullptr);
+  constexpr GLsizei stride = kDetailFloats * sizeof(float);
+  glVertexAttribPointer(2, 2, GL_FLOAT, GL_FALSE, stride, nullptr);
+  glVertexAttribPointer(3, 2, GL_FLOAT, GL_FALSE, stride, reinterpret_cast<const void*>(2 * sizeof(float)));
+  glVertexAttribPointer(4, 3, GL_FLOAT, GL_FALSE, stride, reinterpret_cast<const void*>(4 * sizeof(float)));
   glEnableVertexAttribArray(2);
+  glEnableVertexAttribArray(3);
+  glEnableVertexAttribArray(4);
   glGenBuffers(1, &g.indexBuffer);
   glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, g.indexBuffer);
   const std::size_t numIndices = drawList_->indices.size();
@@ -350,7 +356,7 @@ void FaceRenderer::drawFace(const OrbitCamera& camera, bool withBackdrop) {
       glEnable(GL_CULL_FACE);
     // Unsorted see-through cards and layers must not hide one another; the cornea may (it is one surface).
     glDepthMask(isTwoSided(draw.surface) ? GL_FALSE : GL_TRUE);
-    const FaceProgram& f = g.face[static_cast<int>(programOf(draw.surface))];
+    const FaceProgram& f = g.face[static_cast<int>(draw.program)];
     glUseProgram(f.id);
     setDrawUniforms(f, draw, drawList_->eyes, options_.appearance);
     glDrawRangeElements(GL_TRIANGLES, draw.lowest, draw.highest, visible.count, GL_UNSIGNED_INT,

@@ -65,12 +65,15 @@ struct Lighting {
 // Colours in sRGB (0..1), as one would pick them.
 struct Appearance {
   Eigen::Vector3f skin{0.85f, 0.65f, 0.56f};
-  Eigen::Vector3f lips{0.72f, 0.42f, 0.40f};
+  Eigen::Vector3f lips{0.62f, 0.27f, 0.27f};
+  // Drawn on the skin from its texture coordinates: the eyebrows, and cropped hair on the scalp.
+  Eigen::Vector3f brows{0.21f, 0.13f, 0.085f};
+  Eigen::Vector3f hair{0.16f, 0.11f, 0.08f};
   Eigen::Vector3f sclera{0.93f, 0.91f, 0.88f};
   Eigen::Vector3f iris{0.36f, 0.46f, 0.52f};  // grey-blue
   Eigen::Vector3f teeth{0.93f, 0.90f, 0.82f};
   Eigen::Vector3f gums{0.72f, 0.36f, 0.38f};  // gums and tongue
-  Eigen::Vector3f lashes{0.07f, 0.05f, 0.045f};
+  Eigen::Vector3f lashes{0.035f, 0.025f, 0.02f};
   // Angular radii of the pupil, the iris and the clear cornea, seen from the eyeball's centre (degrees). The
   // iris and cornea values are where ICT FaceKit's iris disc and corneal bulge end.
   float pupilDegrees = 8.5f;

@@ -144,6 +144,15 @@ Program programOf(Surface s) {
   }
 }
 
+bool touchesBrows(const face::Mesh& mesh, const std::array<int, 3>& triangle) {
+  if (mesh.uv.cols() != mesh.numVertices()) return false;
+  return std::any_of(triangle.begin(), triangle.end(), [&](int v) {
+    const float u = mesh.uv(0, v);
+    const float w = mesh.uv(1, v);
+    return u >= 0.0f && u <= 1.0f && std::abs(u - 0.5f) < 0.3f && w > 0.75f && w < 0.84f;
+  });
+}
+
 bool isBlended(Surface s) {
   return s == Surface::kSclera || s == Surface::kLashes || s == Surface::kEyeLayer;
 }
@@ -160,13 +169,20 @@ Eigen::Vector3f srgbToLinear(const Eigen::Vector3f& c) {
 
 DrawList buildDrawList(const face::Mesh& mesh, const SurfaceMap& map, const Appearance& look, bool simplifyEyeballs) {
   DrawList list;
-  // Triangles sorted into draw calls: by drawing rank, then material.
+  // Triangles sorted into draw calls: by drawing rank, then material; the skin round the brows apart.
   std::vector<std::size_t> order(mesh.triangles.size());
-  for (std::size_t t = 0; t < order.size(); ++t) order[t] = t;
+  std::vector<bool> brow(mesh.triangles.size());
+  for (std::size_t t = 0; t < order.size(); ++t) {
+    order[t] = t;
+    brow[t] = map.ofTriangle[t] == Surface::kSkin && touchesBrows(mesh, mesh.triangles[t]);
+  }
   std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
     const int ra = drawRank(map.ofTriangle[a]);
     const int rb = drawRank(map.ofTriangle[b]);
-    return ra != rb ? ra < rb : mesh.triangleMaterial[a] < mesh.triangleMaterial[b];
+    if (ra != rb) return ra < rb;
+    if (mesh.triangleMaterial[a] != mesh.triangleMaterial[b])
+      return mesh.triangleMaterial[a] < mesh.triangleMaterial[b];
+    return brow[a] < brow[b];
   });
   std::vector<std::uint32_t>& indices = list.indices;
   indices.reserve(order.size() * 3);
@@ -174,9 +190,10 @@ DrawList buildDrawList(const face::Mesh& mesh, const SurfaceMap& map, const Appe
   for (std::size_t i = 0; i < order.size();) {
     const int materialIndex = mesh.triangleMaterial[order[i]];
     const Surface surface = map.ofTriangle[order[i]];
+    const bool brows = brow[order[i]];
     std::size_t j = i;
     material.clear();
-    while (j < order.size() && mesh.triangleMaterial[order[j]] == materialIndex) {
+    while (j < order.size() && mesh.triangleMaterial[order[j]] == materialIndex && brow[order[j]] == brows) {
       for (int v : mesh.triangles[order[j]]) material.push_back(static_cast<std::uint32_t>(v));
       ++j;
     }
@@ -187,6 +204,7 @@ DrawList buildDrawList(const face::Mesh& mesh, const SurfaceMap& map, const Appe
       material = simplifyTriangles(material, mesh.positions, {.keep = 0.25f, .error = 0.002f});
     Draw draw;
     draw.surface = surface;
+    draw.program = brows ? Program::kBrows : programOf(surface);
     draw.firstIndex = indices.size();
     draw.count = static_cast<int>(material.size());
     indices.insert(indices.end(), material.begin(), material.end());
@@ -218,11 +236,18 @@ VertexDetail measureVertexDetail(const face::Mesh& mesh, const SurfaceMap& map, 
   darkenMouthInterior(mesh, map, detail.openness);
   const Eigen::VectorXf opacity = lashOpacity(mesh, map);
 
-  detail.interleaved.resize(numVertices * 2);
+  const SkinMarkings markings = skinMarkings(mesh, map);
+  const bool hasUv = mesh.uv.cols() == mesh.numVertices();
+  detail.interleaved.resize(numVertices * kDetailFloats);
   for (Eigen::Index v = 0; v < static_cast<Eigen::Index>(numVertices); ++v) {
-    detail.interleaved[static_cast<std::size_t>(2 * v)] = detail.openness[v];
-    detail.interleaved[static_cast<std::size_t>(2 * v + 1)] =
-        map.ofVertex[static_cast<std::size_t>(v)] == Surface::kSkin ? detail.lipWeight[v] : opacity[v];
+    float* out = &detail.interleaved[static_cast<std::size_t>(kDetailFloats * v)];
+    out[0] = detail.openness[v];
+    out[1] = map.ofVertex[static_cast<std::size_t>(v)] == Surface::kSkin ? detail.lipWeight[v] : opacity[v];
+    out[2] = hasUv ? mesh.uv(0, v) : 0.0f;
+    out[3] = hasUv ? mesh.uv(1, v) : 0.0f;
+    out[4] = markings.redness[v];
+    out[5] = markings.hair[v];
+    out[6] = markings.grain[v];
   }
   return detail;
 }
@@ -247,6 +272,8 @@ void linkFaceProgram(Program program, FaceProgram& f) {
   f.exposure = at("uExposure");
   f.albedo = at("uAlbedo");
   f.lipAlbedo = at("uLipAlbedo");
+  f.browTint = at("uBrowTint");
+  f.hairAlbedo = at("uHairAlbedo");
   f.specular = at("uSpecular");
   f.shininess = at("uShininess");
   f.opacity = at("uOpacity");
@@ -282,6 +309,9 @@ void setFrameUniforms(std::span<const FaceProgram> programs, const Eigen::Matrix
     setVector(f.groundAmbient, light.groundAmbient);
     glUniform1f(f.exposure, light.exposure);
     setVector(f.lipAlbedo, srgbToLinear(look.lips));
+    setVector(f.hairAlbedo, srgbToLinear(look.hair));
+    // The brows darken the finished skin colour (sRGB) by the ratio of their colour to the skin's.
+    setVector(f.browTint, look.brows.cwiseQuotient(look.skin.cwiseMax(0.01f)).cwiseMin(1.0f));
     setVector(f.irisColour, srgbToLinear(look.iris));
     setVector(f.scleraColour, srgbToLinear(look.sclera));
     glUniform3f(f.eyeCosines, cosDegrees(look.pupilDegrees), cosDegrees(look.irisDegrees),

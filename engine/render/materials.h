@@ -19,6 +19,7 @@
 #include <glad/gl.h>
 
 #include <Eigen/Core>
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <span>
@@ -32,12 +33,17 @@ namespace th::render {
 struct Appearance;
 struct Lighting;
 
-// The variants face.frag is compiled in (see its head comment).
-enum class Program : int { kSkin = 0, kSclera, kIris, kPlain };
-inline constexpr int kNumPrograms = 4;
-inline constexpr const char* kProgramDefine[kNumPrograms] = {"SKIN", "SCLERA", "IRIS", "PLAIN"};
+// The variants face.frag is compiled in (see its head comment). kBrows is the skin round the eyebrows, which
+// are drawn per pixel: the rest of the skin need not pay for them.
+enum class Program : int { kSkin = 0, kSclera, kIris, kPlain, kBrows };
+inline constexpr int kNumPrograms = 5;
+inline constexpr const char* kProgramDefine[kNumPrograms] = {"SKIN", "SCLERA", "IRIS", "PLAIN", "BROWS"};
 
 Program programOf(Surface s);
+
+// Whether a skin triangle may hold eyebrow: a vertex of it lies in the brows' box in ICT FaceKit's face UV tile
+// (face.frag, browCover(), draws them within it). False if the mesh has no texture coordinates.
+bool touchesBrows(const face::Mesh& mesh, const std::array<int, 3>& triangle);
 
 bool isBlended(Surface s);
 
@@ -62,6 +68,7 @@ struct Draw {
   std::uint32_t lowest = 0;  // vertex index range, so the driver need not scan the indices
   std::uint32_t highest = 0;
   int eye = -1;  // sclera and iris: index into DrawList::eyes
+  Program program = Program::kPlain;
   Shading shading;
 };
 
@@ -86,10 +93,13 @@ DrawList buildDrawList(const face::Mesh& mesh, const SurfaceMap& map, const Appe
 struct VertexDetail {
   Eigen::VectorXf openness;   // ambient openness, 0..1 (darkened inside the mouth)
   Eigen::VectorXf lipWeight;  // render/surfaces.h: lipWeight()
-  // What the static vertex buffer holds, 2 floats a vertex: openness, then the lip weight on skin or the
-  // opacity elsewhere (one channel serves both: no vertex is skin and lash at once).
+  // What the static vertex buffer holds, kDetailFloats a vertex: openness, then the lip weight on skin or the
+  // opacity elsewhere (one channel serves both: no vertex is skin and lash at once), then the texture
+  // coordinates (zero if the mesh has none), then the skin's markings (render/surfaces.h: SkinMarkings:
+  // redness, hair, grain).
   std::vector<float> interleaved;
 };
+inline constexpr int kDetailFloats = 7;
 
 // Ambient openness is measured on the GPU (render/occlusion.h), or read from the detail cache.
 VertexDetail measureVertexDetail(const face::Mesh& mesh, const SurfaceMap& map, const Eigen::Matrix3Xf& normals);
@@ -98,7 +108,8 @@ VertexDetail measureVertexDetail(const face::Mesh& mesh, const SurfaceMap& map, 
 struct FaceProgram {
   GLuint id = 0;
   GLint viewProjection, cameraPosition, lightDirection, lightColour, skyAmbient, groundAmbient, exposure;
-  GLint albedo, lipAlbedo, specular, shininess, opacity, eyeCentre, eyeAxis, eyeCosines, irisColour, scleraColour;
+  GLint albedo, lipAlbedo, browTint, hairAlbedo, specular, shininess, opacity, eyeCentre, eyeAxis, eyeCosines,
+      irisColour, scleraColour;
 };
 
 // Compiles and links `program` into `f` and finds its uniforms; throws th::Error with the driver's message

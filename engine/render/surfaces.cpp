@@ -19,6 +19,48 @@ double smoothstep(double edge0, double edge1, double x) {
   return t * t * (3.0 - 2.0 * t);
 }
 
+// A pseudo-random value in 0..1 per point of the plane.
+double hash(double x, double y) {
+  const auto fract = [](double a) { return a - std::floor(a); };
+  const double h = std::sin(x * 127.1 + y * 311.7) * 43758.5453;
+  return fract(h);
+}
+
+// Value noise, 0..1, smooth between the integer lattice's random values.
+double valueNoise(double x, double y) {
+  const double ix = std::floor(x);
+  const double iy = std::floor(y);
+  double fx = x - ix;
+  double fy = y - iy;
+  fx = fx * fx * (3.0 - 2.0 * fx);
+  fy = fy * fy * (3.0 - 2.0 * fy);
+  const double bottom = hash(ix, iy) + (hash(ix + 1.0, iy) - hash(ix, iy)) * fx;
+  const double top = hash(ix, iy + 1.0) + (hash(ix + 1.0, iy + 1.0) - hash(ix, iy + 1.0)) * fx;
+  return bottom + (top - bottom) * fy;
+}
+
+// Where blood shows through, 0..0.5 (the face's tile, mirrored about its midline u = 0.5): the cheeks below the
+// eyes and the nose's tip.
+double flush(double u, double v) {
+  const double cheekX = (std::abs(u - 0.5) - 0.155) / 0.06;
+  const double cheekY = (v - 0.6) / 0.045;
+  const double noseX = (u - 0.5) / 0.025;
+  const double noseY = (v - 0.612) / 0.025;
+  return 0.5 * std::exp(-(cheekX * cheekX + cheekY * cheekY)) + 0.3 * std::exp(-(noseX * noseX + noseY * noseY));
+}
+
+double hairCover(double u, double v) {
+  if (u < 1.0) {
+    double hairline = 0.95 - 0.12 * smoothstep(0.22, 0.42, std::abs(u - 0.5));
+    hairline += 0.004 * std::sin(u * 160.0) * std::sin(u * 37.0);  // not a ruled line
+    return smoothstep(hairline - 0.01, hairline + 0.01, v);
+  }
+  const double s = std::abs(u - 1.5);
+  const double nape = 0.4 + 1.8 * s * s;
+  const double scalp = smoothstep(nape - 0.02, nape + 0.02, v) * (1.0 - smoothstep(0.33, 0.36, s));
+  return scalp * (1.0 - smoothstep(0.215, 0.23, s) * smoothstep(0.78, 0.8, v));
+}
+
 std::vector<int> verticesWith(const SurfaceMap& map, Surface surface) {
   std::vector<int> out;
   for (std::size_t v = 0; v < map.ofVertex.size(); ++v)
@@ -175,7 +217,7 @@ Eigen::VectorXf lashOpacity(const face::Mesh& mesh, const SurfaceMap& map) {
     const bool lower = sum / count < eyeHeight;
     const double length = cardLength[card];
     const double along = length > 0.0 ? distance[i] / length : 0.0;
-    opacity[lashes[i]] = static_cast<float>((lower ? 0.3 : 0.7) * (1.0 - smoothstep(0.0, 0.8, along)));
+    opacity[lashes[i]] = static_cast<float>((lower ? 0.3 : 0.9) * (1.0 - smoothstep(0.1, 1.0, along)));
   }
   return opacity;
 }
@@ -256,6 +298,25 @@ Eigen::VectorXf lipWeight(const face::Mesh& mesh, const SurfaceMap& map, const E
     weight = sum.cwiseQuotient(count);
   }
   return weight;
+}
+
+SkinMarkings skinMarkings(const face::Mesh& mesh, const SurfaceMap& map) {
+  SkinMarkings m;
+  m.redness = Eigen::VectorXf::Zero(mesh.numVertices());
+  m.hair = Eigen::VectorXf::Zero(mesh.numVertices());
+  m.grain = Eigen::VectorXf::Zero(mesh.numVertices());
+  if (mesh.uv.cols() != mesh.numVertices()) return m;
+  for (int v = 0; v < mesh.numVertices(); ++v) {
+    if (map.ofVertex[static_cast<std::size_t>(v)] != Surface::kSkin) continue;
+    const double u = mesh.uv(0, v);
+    const double w = mesh.uv(1, v);
+    // Blood and pigment vary apart at the centimetre scale: blotches of red.
+    const double blotch = valueNoise(u * 30.0, w * 30.0) - 0.5;
+    m.redness[v] = static_cast<float>(flush(u, w) + 0.25 * blotch);
+    m.hair[v] = static_cast<float>(hairCover(u, w));
+    m.grain[v] = static_cast<float>(hash(u * 173.0, w * 173.0));
+  }
+  return m;
 }
 
 void darkenMouthInterior(const face::Mesh& mesh, const SurfaceMap& map, Eigen::VectorXf& openness) {

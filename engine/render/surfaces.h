@@ -60,6 +60,23 @@ Eigen::VectorXf lashOpacity(const face::Mesh& mesh, const SurfaceMap& map);
 // tapering to the corners. All zero if the mesh has no teeth to find the mouth by.
 Eigen::VectorXf lipWeight(const face::Mesh& mesh, const SurfaceMap& map, const Eigen::VectorXf& openness);
 
+// Per vertex, drawn on the skin from its texture coordinates (ICT FaceKit's UV tiles; zero elsewhere and
+// without UVs). Measured once, so the vertex shader need not redo it every frame.
+struct SkinMarkings {
+  // How much redder than the skin's colour, about 0..0.6: centimetre-scale blotches, the cheeks, the nose's tip.
+  Eigen::VectorXf redness;
+  // How much cropped hair covers it, 0..1: above a hairline across the top of the forehead that drops at the
+  // temples to sideburns in front of the ears (the face's tile, u 0..1); over the scalp from above the ears
+  // round to the nape (the back of the head's tile, u 1..2, whose outer parts are the neck and shoulders and
+  // whose top corners hold hidden patches inside the eye sockets).
+  Eigen::VectorXf hair;
+  // A random value per vertex, 0..1: the strength of the skin's sheen (broken up by pores, a few millimetres
+  // apart), the hair's shade.
+  Eigen::VectorXf grain;
+};
+
+SkinMarkings skinMarkings(const face::Mesh& mesh, const SurfaceMap& map);
+
 // Darkens the inside of the mouth (teeth, gums, tongue) with depth behind the front teeth: their occlusion is
 // measured among themselves only (the closed lips of a neutral mesh would black out the front teeth), and
 // little light reaches the back of a real mouth.

@@ -182,6 +182,53 @@ TEST(FaceRenderer, NeutralHeadFillsTheFrameWithSkinAndLivelyEyes) {
   }
 }
 
+// The face's skin vertex whose texture coordinates lie nearest `uv` (ICT FaceKit's face tile: u 0..1, the
+// face's left at u > 0.5, up is +v; the eyes' thin layers share the tile, hence the material).
+int vertexNearUv(const th::face::Mesh& mesh, const Eigen::Vector2f& uv) {
+  int nearest = -1;
+  for (int v : mesh.verticesOf("M_Face"))
+    if (nearest < 0 || (mesh.uv.col(v) - uv).squaredNorm() < (mesh.uv.col(nearest) - uv).squaredNorm()) nearest = v;
+  return nearest;
+}
+
+// The mean colour of the 3x3 pixels round where a vertex lands.
+Eigen::Vector3d colourAt(const Image& image, const OrbitCamera& camera, const Eigen::Vector3d& point) {
+  const auto [cx, cy] = project(camera, point, image.width, image.height);
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  for (int y = cy - 1; y <= cy + 1; ++y)
+    for (int x = cx - 1; x <= cx + 1; ++x)
+      for (int k = 0; k < 3; ++k) sum[k] += image.pixel(x, y)[k];
+  return sum / 9.0;
+}
+
+double luma(const Eigen::Vector3d& c) {
+  return 0.25 * c[0] + 0.625 * c[1] + 0.125 * c[2];
+}
+
+TEST(FaceRenderer, TheFaceHasDarkBrowsAndRedLips) {
+  Scene& s = scene();
+  const th::face::Mesh& mesh = neutral();
+  ASSERT_EQ(mesh.uv.cols(), mesh.numVertices());
+  s.renderer.setPositions(mesh.positions);
+  const Image image = s.renderer.renderImage(s.camera);
+  const auto at = [&](int vertex) { return colourAt(image, s.camera, mesh.positions.col(vertex)); };
+  for (const float side : {-1.0f, 1.0f}) {
+    // The middle of each brow (its line in UV space runs through the brow landmarks' UVs), and the forehead
+    // 2 cm above it.
+    const int brow = vertexNearUv(mesh, {0.5f + side * 0.147f, 0.808f});
+    const int forehead = vertexNearUv(mesh, {0.5f + side * 0.147f, 0.87f});
+    EXPECT_GT(mesh.positions(1, forehead), mesh.positions(1, brow) + 1.5);
+    EXPECT_LT(luma(at(brow)), luma(at(forehead)) - 40.0) << "side " << side;
+    // The lips' red against a cheek's: clearly redder (R/G; the cheek is flushed, the lips about twice as red).
+    const int cheek = vertexNearUv(mesh, {0.5f + side * 0.155f, 0.6f});
+    Eigen::Index lip = 0;
+    s.renderer.lipWeight().maxCoeff(&lip);
+    const Eigen::Vector3d lipColour = at(static_cast<int>(lip));
+    const Eigen::Vector3d cheekColour = at(cheek);
+    EXPECT_GT(lipColour[0] / lipColour[1], cheekColour[0] / cheekColour[1] + 0.8) << "side " << side;
+  }
+}
+
 TEST(FaceRenderer, OtherViewsShowTheHeadToo) {
   Scene& s = scene();
   s.renderer.setPositions(neutral().positions);
@@ -267,6 +314,24 @@ TEST(FaceRenderer, PerVertexDetailDarkensCavitiesAndReddensTheLips) {
       EXPECT_GT(mesh.positions(1, v), -6.0) << v;
       EXPECT_LT(std::abs(mesh.positions(0, v)), 3.5) << v;
     }
+}
+
+TEST(SkinMarkings, HairOnTheScalpNotTheFaceAndFlushedCheeks) {
+  const th::face::Mesh& mesh = neutral();
+  const th::render::SurfaceMap map = th::render::classifySurfaces(mesh);
+  const th::render::SkinMarkings m = th::render::skinMarkings(mesh, map);
+  Eigen::Index crown = 0;
+  mesh.positions.row(1).maxCoeff(&crown);
+  EXPECT_GT(m.hair[crown], 0.9f);
+  const int cheek = vertexNearUv(mesh, {0.655f, 0.6f});
+  const int forehead = vertexNearUv(mesh, {0.5f, 0.87f});
+  EXPECT_EQ(m.hair[cheek], 0.0f);
+  EXPECT_EQ(m.hair[forehead], 0.0f);
+  EXPECT_GT(m.redness[cheek], m.redness[forehead] + 0.2f);
+  // The back of the neck and the chin are bare.
+  Eigen::Index chin = 0;
+  (mesh.positions.row(2).array() - 1e3 * (mesh.positions.row(1).array() + 7.5).abs()).maxCoeff(&chin);
+  EXPECT_LT(m.hair[chin], 0.01f);
 }
 
 TEST(EyeRig, FollowsARotatedHead) {
