@@ -84,6 +84,46 @@ TEST_F(FaceCliTest, RenderWritesOnePngPerFrame) {
                        "missing.csv", "");
 }
 
+// A user's character instead of our face: in an export (its video as long as its sound) and in rendered frames,
+// where it moves; a file that is not one fails in one line, before any output.
+TEST_F(FaceCliTest, ExportAndRenderDrawTheUsersCharacter) {
+  const fs::path character = th::sharedDataPath("face/avatars/brunette-t.glb");
+  const fs::path input = th::test::readArcticPrompt().path;
+  const fs::path video = out() / "character.mp4";
+  CliResult result = runCli({"export", input.string(), "-o", video.string(), "--size", "160x120", "--fps", "25",
+                             "--avatar", character.string(), "--save-anim", (out() / "c.json").string()},
+                            logs());
+  ASSERT_EQ(result.exitCode, 0) << result.err;
+  EXPECT_NE(result.err.find("brunette-t: ARKit blendshapes"), std::string::npos) << result.err;
+  const Probe p = probe(video);
+  EXPECT_EQ(p.width, 160);
+  EXPECT_NEAR(p.videoSeconds, p.audioSeconds, 1.0 / 25 + 1e-3);
+  th::face::FapTrack anim;
+  anim.framesPerSecond = 10;
+  anim.faps = {3, 49};
+  anim.values = Eigen::MatrixXd::Zero(2, 4);
+  for (int t = 0; t < 4; ++t) anim.values(0, t) = 300.0 * t, anim.values(1, t) = 8000.0 * t;
+  th::formats::writeAnimation(out() / "a.csv", anim);
+  result = runCli({"render", (out() / "a.csv").string(), "-o", (out() / "frames").string(), "--size", "96x96",
+                   "--avatar", character.string()},
+                  logs());
+  ASSERT_EQ(result.exitCode, 0) << result.err;
+  EXPECT_FALSE(th::render::readPng(out() / "frames" / "frame_000000.png") ==
+               th::render::readPng(out() / "frames" / "frame_000003.png"))
+      << "the jaw opens and the head turns";
+  const fs::path text = out() / "me.glb";
+  std::ofstream(text) << "not a character\n";
+  expectOneLineFailure(
+      runCli({"render", (out() / "a.csv").string(), "-o", (out() / "never").string(), "--avatar", text.string()},
+             logs()),
+      "me.glb", "not a glTF file");
+  EXPECT_FALSE(fs::exists(out() / "never"));
+  expectOneLineFailure(
+      runCli({"export", input.string(), "-o", (out() / "never.mp4").string(), "--avatar", text.string()}, logs()),
+      "me.glb", "not a glTF file");
+  EXPECT_FALSE(fs::exists(out() / "never.mp4"));
+}
+
 TEST_F(FaceCliTest, PosesWritesAContactSheet) {
   const fs::path sheet = out() / "poses.png";
   const CliResult result = runCli({"poses", "-o", sheet.string(), "--tile", "96"}, logs());
