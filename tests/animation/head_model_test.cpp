@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <set>
@@ -320,7 +321,7 @@ TEST(HeadEvaluation, ChanceBeatAlignTellsTimingFromTheRateOfMovements) {
   std::uniform_int_distribution<int> gap(20, 40);
   const auto syllablesOf = [&] {
     std::vector<int> at{5};
-    while (at.back() < frames - 20) at.push_back(at.back() + gap(random));
+    while (at.back() + 40 < frames) at.push_back(at.back() + gap(random));
     return at;
   };
   const auto levelOf = [&](const std::vector<int>& at) {
@@ -333,7 +334,7 @@ TEST(HeadEvaluation, ChanceBeatAlignTellsTimingFromTheRateOfMovements) {
   const auto headTurningOn = [&](const std::vector<int>& at) {
     Eigen::MatrixXd rotations = Eigen::MatrixXd::Zero(3, frames);
     for (std::size_t k = 0; k + 1 < at.size(); ++k)
-      for (int t = at[k]; t < at[k + 1]; ++t)
+      for (int t = at[k]; t < std::min(at[k + 1], frames); ++t)
         rotations(0, t) = (k % 2 == 0 ? 3.0 : -3.0) * std::cos(M_PI * (t - at[k] + 0.5) / (at[k + 1] - at[k]));
     return rotations;
   };
