@@ -114,24 +114,29 @@ int checkTracks(const tinygltf::Model& model, const GltfAnimationTracks& tracks,
   return frames;
 }
 
-// Appends `values` to the model's single buffer as a new view and a float accessor.
-// `target`: the view's GPU use (vertex data), 0 for animation data, which never goes to the GPU.
-int addFloatAccessor(tinygltf::Model& model, const std::vector<float>& values, int type, std::size_t count,
-                     std::vector<double> min = {}, std::vector<double> max = {}, int target = 0) {
+// Appends `size` bytes to the model's single buffer as a new view (`target`: its GPU use, 0 for none); returns
+// the view's index.
+int appendView(tinygltf::Model& model, const unsigned char* bytes, std::size_t size, int target = 0) {
   if (model.buffers.empty()) model.buffers.emplace_back();
   Bytes& data = model.buffers.front().data;
   padBytes(data, 4);
   tinygltf::BufferView view;
   view.buffer = 0;
   view.byteOffset = data.size();
-  view.byteLength = values.size() * sizeof(float);
+  view.byteLength = size;
   view.target = target;
-  const auto* raw = reinterpret_cast<const unsigned char*>(values.data());
-  data.insert(data.end(), raw, raw + view.byteLength);
+  data.insert(data.end(), bytes, bytes + size);
   model.bufferViews.push_back(view);
+  return static_cast<int>(model.bufferViews.size()) - 1;
+}
 
+// Appends `values` to the model's single buffer as a new view and a float accessor.
+// `target`: the view's GPU use (vertex data), 0 for animation data, which never goes to the GPU.
+int addFloatAccessor(tinygltf::Model& model, const std::vector<float>& values, int type, std::size_t count,
+                     std::vector<double> min = {}, std::vector<double> max = {}, int target = 0) {
   tinygltf::Accessor accessor;
-  accessor.bufferView = static_cast<int>(model.bufferViews.size()) - 1;
+  accessor.bufferView =
+      appendView(model, reinterpret_cast<const unsigned char*>(values.data()), values.size() * sizeof(float), target);
   accessor.componentType = TINYGLTF_COMPONENT_TYPE_FLOAT;
   accessor.type = type;
   accessor.count = count;
@@ -225,16 +230,7 @@ void gatherIntoOneBuffer(tinygltf::Model& model, const GltfImageBytes& images) {
       image.uri.clear();
     } else if (i < images.images.size() && !images.images[i].empty()) {
       const Bytes& bytes = images.images[i];
-      if (model.buffers.empty()) model.buffers.emplace_back();
-      Bytes& data = model.buffers.front().data;
-      padBytes(data, 4);
-      tinygltf::BufferView view;
-      view.buffer = 0;
-      view.byteOffset = data.size();
-      view.byteLength = bytes.size();
-      data.insert(data.end(), bytes.begin(), bytes.end());
-      model.bufferViews.push_back(view);
-      image.bufferView = static_cast<int>(model.bufferViews.size()) - 1;
+      image.bufferView = appendView(model, bytes.data(), bytes.size());
       image.mimeType = mimeTypeOf(bytes, image.uri);
       image.uri.clear();
     }

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "core/error.h"
+#include "render/frame_targets.h"
 #include "render/gl_program.h"
 #include "render/materials.h"
 #include "render/shader_sources.h"
@@ -43,17 +44,10 @@ struct AvatarRenderer::Gl {
   GLuint emptyVao = 0;
   std::vector<PrimitiveBuffers> primitives;
   std::vector<GLuint> textures;
-  GLuint msaaFramebuffer = 0, msaaColour = 0, msaaDepth = 0;
-  GLuint resolveFramebuffer = 0, resolveColour = 0, resolveDepth = 0;
+  FrameTargets targets;
   bool resolved = true;
 
-  void releaseTargets() {
-    glDeleteFramebuffers(1, &msaaFramebuffer);
-    glDeleteFramebuffers(1, &resolveFramebuffer);
-    const GLuint renderbuffers[] = {msaaColour, msaaDepth, resolveColour, resolveDepth};
-    glDeleteRenderbuffers(4, renderbuffers);
-    msaaFramebuffer = msaaColour = msaaDepth = resolveFramebuffer = resolveColour = resolveDepth = 0;
-  }
+  void releaseTargets() { targets.release(); }
   void releaseAll() {
     releaseTargets();
     for (PrimitiveBuffers& p : primitives) {
@@ -171,41 +165,8 @@ AvatarRenderer::~AvatarRenderer() {
 
 void AvatarRenderer::createTargets() {
   Gl& g = *gl_;
-  GLint maxSamples = 1;
-  glGetIntegerv(GL_MAX_SAMPLES, &maxSamples);
-  samples_ = std::clamp(options_.samples, 1, std::max(1, maxSamples));
   const GLsizei w = options_.width, h = options_.height;
-  const std::string size = std::to_string(w) + "x" + std::to_string(h);
-  glGenFramebuffers(1, &g.resolveFramebuffer);
-  glBindFramebuffer(GL_FRAMEBUFFER, g.resolveFramebuffer);
-  glGenRenderbuffers(1, &g.resolveColour);
-  glBindRenderbuffer(GL_RENDERBUFFER, g.resolveColour);
-  glRenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, w, h);
-  glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, g.resolveColour);
-  if (samples_ == 1) {
-    glGenRenderbuffers(1, &g.resolveDepth);
-    glBindRenderbuffer(GL_RENDERBUFFER, g.resolveDepth);
-    glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT24, w, h);
-    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, g.resolveDepth);
-  }
-  if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
-    throw Error("AvatarRenderer: the " + size + " framebuffer is incomplete");
-  if (samples_ > 1) {
-    glGenFramebuffers(1, &g.msaaFramebuffer);
-    glBindFramebuffer(GL_FRAMEBUFFER, g.msaaFramebuffer);
-    glGenRenderbuffers(1, &g.msaaColour);
-    glBindRenderbuffer(GL_RENDERBUFFER, g.msaaColour);
-    glRenderbufferStorageMultisample(GL_RENDERBUFFER, samples_, GL_RGBA8, w, h);
-    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, g.msaaColour);
-    glGenRenderbuffers(1, &g.msaaDepth);
-    glBindRenderbuffer(GL_RENDERBUFFER, g.msaaDepth);
-    glRenderbufferStorageMultisample(GL_RENDERBUFFER, samples_, GL_DEPTH_COMPONENT24, w, h);
-    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, g.msaaDepth);
-    if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
-      throw Error("AvatarRenderer: the " + size + " framebuffer with " + std::to_string(samples_) +
-                  " samples is incomplete");
-  }
-  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  samples_ = g.targets.create(w, h, options_.samples, "AvatarRenderer");
   g.resolved = true;
   backdrop_ = makeBackdrop(w, h, options_.backgroundTop, options_.backgroundBottom);
 }
@@ -257,7 +218,7 @@ void AvatarRenderer::render(const OrbitCamera& camera) {
   const Eigen::Matrix4f view = camera.view();
   const Eigen::Matrix4f viewProjection = camera.projection(aspect) * view;
   const Eigen::Vector3f eye = camera.eye();
-  glBindFramebuffer(GL_FRAMEBUFFER, samples_ > 1 ? g.msaaFramebuffer : g.resolveFramebuffer);
+  glBindFramebuffer(GL_FRAMEBUFFER, samples_ > 1 ? g.targets.msaaFramebuffer : g.targets.resolveFramebuffer);
   glViewport(0, 0, options_.width, options_.height);
   glClearColor(0.0f, 0.0f, 0.0f, 0.0f);
   glClearDepth(1.0);
@@ -347,10 +308,7 @@ void AvatarRenderer::render(const OrbitCamera& camera) {
 void AvatarRenderer::resolve() {
   Gl& g = *gl_;
   if (g.resolved) return;
-  glBindFramebuffer(GL_READ_FRAMEBUFFER, g.msaaFramebuffer);
-  glBindFramebuffer(GL_DRAW_FRAMEBUFFER, g.resolveFramebuffer);
-  glBlitFramebuffer(0, 0, options_.width, options_.height, 0, 0, options_.width, options_.height, GL_COLOR_BUFFER_BIT,
-                    GL_NEAREST);
+  g.targets.resolve(options_.width, options_.height);
   g.resolved = true;
 }
 
@@ -360,7 +318,7 @@ void AvatarRenderer::readRaw(RawFrame& frame) {
   frame.width = options_.width;
   frame.height = options_.height;
   frame.region = {0, 0, options_.width, options_.height};
-  glBindFramebuffer(GL_READ_FRAMEBUFFER, gl_->resolveFramebuffer);
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, gl_->targets.resolveFramebuffer);
   glReadBuffer(GL_COLOR_ATTACHMENT0);
   glPixelStorei(GL_PACK_ALIGNMENT, 1);
   frame.rgba.resize(static_cast<std::size_t>(frame.width) * static_cast<std::size_t>(frame.height) * 4);
@@ -386,7 +344,7 @@ void AvatarRenderer::present(std::pair<int, int> framebufferSize, int left) {
   resolve();
   Gl& g = *gl_;
   // The backdrop under the character with GL's "under" blending, then the frame to the window.
-  glBindFramebuffer(GL_FRAMEBUFFER, g.resolveFramebuffer);
+  glBindFramebuffer(GL_FRAMEBUFFER, g.targets.resolveFramebuffer);
   glViewport(0, 0, options_.width, options_.height);
   glDisable(GL_DEPTH_TEST);
   glDisable(GL_CULL_FACE);
@@ -400,7 +358,7 @@ void AvatarRenderer::present(std::pair<int, int> framebufferSize, int left) {
   glDrawArrays(GL_TRIANGLES, 0, 3);
   glBindVertexArray(0);
   glDisable(GL_BLEND);
-  glBindFramebuffer(GL_READ_FRAMEBUFFER, g.resolveFramebuffer);
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, g.targets.resolveFramebuffer);
   glBindFramebuffer(GL_DRAW_FRAMEBUFFER, 0);
   const bool same = framebufferSize.first - left == options_.width && framebufferSize.second == options_.height;
   glBlitFramebuffer(0, 0, options_.width, options_.height, left, 0, framebufferSize.first, framebufferSize.second,

@@ -11,6 +11,7 @@
 #include "gl_program.h"
 #include "render/backdrop.h"
 #include "render/culling.h"
+#include "render/frame_targets.h"
 #include "render/fxaa.h"
 #include "render/materials.h"
 #include "render/surfaces.h"
@@ -37,28 +38,15 @@ struct FaceRenderer::Gl {
   GLuint staticBuffer = 0;   // openness + (lip weight or opacity) + texture coordinates + skin markings
   GLuint indexBuffer = 0;    // the front-facing triangles, per frame
   GLuint backgroundProgram = 0;
-  GLuint msaaFramebuffer = 0;
-  GLuint msaaColour = 0;
-  GLuint msaaDepth = 0;
-  GLuint resolveFramebuffer = 0;
-  GLuint resolveColour = 0;
-  GLuint resolveDepth = 0;  // only without MSAA or FXAA, when drawing straight into the resolve target
-  bool resolved = false;    // the resolve target holds the last render
+  FrameTargets targets;
+  bool resolved = false;  // the resolve target holds the last render
 
   FaceProgram face[kNumPrograms] = {};
   struct {
     GLint top, bottom, aspect;
   } background{};
 
-  void release() {
-    glDeleteFramebuffers(1, &msaaFramebuffer);
-    glDeleteRenderbuffers(1, &msaaColour);
-    glDeleteRenderbuffers(1, &msaaDepth);
-    glDeleteFramebuffers(1, &resolveFramebuffer);
-    glDeleteRenderbuffers(1, &resolveColour);
-    glDeleteRenderbuffers(1, &resolveDepth);
-    msaaFramebuffer = msaaColour = msaaDepth = resolveFramebuffer = resolveColour = resolveDepth = 0;
-  }
+  void release() { targets.release(); }
   void releaseAll() {
     release();
     for (FaceProgram& p : face) glDeleteProgram(p.id);
@@ -153,44 +141,9 @@ FaceRenderer::~FaceRenderer() {
 
 void FaceRenderer::createTargets() {
   Gl& g = *gl_;
-  GLint maxSamples = 1;
-  glGetIntegerv(GL_MAX_SAMPLES, &maxSamples);
-  samples_ = std::clamp(options_.samples, 1, std::max(1, maxSamples));
   const GLsizei w = options_.width;
   const GLsizei h = options_.height;
-  const std::string size = std::to_string(w) + "x" + std::to_string(h);
-
-  glGenFramebuffers(1, &g.resolveFramebuffer);
-  glBindFramebuffer(GL_FRAMEBUFFER, g.resolveFramebuffer);
-  glGenRenderbuffers(1, &g.resolveColour);
-  glBindRenderbuffer(GL_RENDERBUFFER, g.resolveColour);
-  glRenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, w, h);
-  glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, g.resolveColour);
-  if (samples_ == 1) {
-    glGenRenderbuffers(1, &g.resolveDepth);
-    glBindRenderbuffer(GL_RENDERBUFFER, g.resolveDepth);
-    glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT24, w, h);
-    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, g.resolveDepth);
-  }
-  if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
-    throw Error("FaceRenderer: the " + size + " framebuffer is incomplete");
-
-  if (samples_ > 1) {
-    glGenFramebuffers(1, &g.msaaFramebuffer);
-    glBindFramebuffer(GL_FRAMEBUFFER, g.msaaFramebuffer);
-    glGenRenderbuffers(1, &g.msaaColour);
-    glBindRenderbuffer(GL_RENDERBUFFER, g.msaaColour);
-    glRenderbufferStorageMultisample(GL_RENDERBUFFER, samples_, GL_RGBA8, w, h);
-    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, g.msaaColour);
-    glGenRenderbuffers(1, &g.msaaDepth);
-    glBindRenderbuffer(GL_RENDERBUFFER, g.msaaDepth);
-    glRenderbufferStorageMultisample(GL_RENDERBUFFER, samples_, GL_DEPTH_COMPONENT24, w, h);
-    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, g.msaaDepth);
-    if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
-      throw Error("FaceRenderer: the " + size + " framebuffer with " + std::to_string(samples_) +
-                  " samples is incomplete");
-  }
-  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  samples_ = g.targets.create(w, h, options_.samples, "FaceRenderer");
   g.resolved = false;
   backdrop_ = makeBackdrop(w, h, options_.backgroundTop, options_.backgroundBottom);
   drawn_ = {0, 0, w, h};  // nothing read yet: a new target holds anything
@@ -256,7 +209,7 @@ void FaceRenderer::setPupilScale(const std::array<double, 2>& scale) {
 void FaceRenderer::render(const OrbitCamera& camera) {
   context_.makeCurrent();
   Gl& g = *gl_;
-  glBindFramebuffer(GL_FRAMEBUFFER, samples_ > 1 ? g.msaaFramebuffer : g.resolveFramebuffer);
+  glBindFramebuffer(GL_FRAMEBUFFER, samples_ > 1 ? g.targets.msaaFramebuffer : g.targets.resolveFramebuffer);
   glViewport(0, 0, options_.width, options_.height);
   // Transparent: the backdrop goes under the head afterwards (render/backdrop.h). The whole target: llvmpipe
   // clears a tile with a memset, where a clear held to the head's region (a scissor) would be drawn as a quad,
@@ -372,10 +325,7 @@ void FaceRenderer::drawFace(const OrbitCamera& camera, bool withBackdrop) {
 void FaceRenderer::resolve() {
   Gl& g = *gl_;
   if (g.resolved) return;
-  glBindFramebuffer(GL_READ_FRAMEBUFFER, g.msaaFramebuffer);
-  glBindFramebuffer(GL_DRAW_FRAMEBUFFER, g.resolveFramebuffer);
-  glBlitFramebuffer(0, 0, options_.width, options_.height, 0, 0, options_.width, options_.height, GL_COLOR_BUFFER_BIT,
-                    GL_NEAREST);
+  g.targets.resolve(options_.width, options_.height);
   g.resolved = true;
 }
 
@@ -391,7 +341,7 @@ void FaceRenderer::readRaw(RawFrame& frame) {
   frame.height = options_.height;
   frame.region = drawn_;
   const PixelRegion& r = frame.region;
-  glBindFramebuffer(GL_READ_FRAMEBUFFER, gl_->resolveFramebuffer);
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, gl_->targets.resolveFramebuffer);
   glReadBuffer(GL_COLOR_ATTACHMENT0);
   glPixelStorei(GL_PACK_ALIGNMENT, 1);
   frame.rgba.resize(static_cast<std::size_t>(r.width) * static_cast<std::size_t>(r.height) * 4);
@@ -421,10 +371,10 @@ void FaceRenderer::present(std::pair<int, int> framebufferSize, int left) {
   context_.makeCurrent();
   resolve();
   // The backdrop under the head (a second present() of the same frame changes nothing).
-  glBindFramebuffer(GL_FRAMEBUFFER, gl_->resolveFramebuffer);
+  glBindFramebuffer(GL_FRAMEBUFFER, gl_->targets.resolveFramebuffer);
   glViewport(0, 0, options_.width, options_.height);
   drawBackdrop(Backdrop::kUnder);
-  glBindFramebuffer(GL_READ_FRAMEBUFFER, gl_->resolveFramebuffer);
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, gl_->targets.resolveFramebuffer);
   glBindFramebuffer(GL_DRAW_FRAMEBUFFER, 0);
   const bool same = framebufferSize.first - left == options_.width && framebufferSize.second == options_.height;
   glBlitFramebuffer(0, 0, options_.width, options_.height, left, 0, framebufferSize.first, framebufferSize.second,
