@@ -1,8 +1,9 @@
 // glTF animation checked by programs other than the one that wrote it: the Khronos glTF validator (npm's
 // gltf-validator, run by tools/gltf_validate.js on node) finds no errors in either form (the avatar with the
 // animation, the animation alone) written as .glb and .gltf for both real avatars, and assimp reads the written
-// files and counts the animation. Missing node, validator or assimp fail the test with what to install: these
-// tools are the point of the test, and scripts/test.sh installs them.
+// files and counts the animation; the same for what `talkinghead animate --avatar` writes from a recording. Missing
+// node, validator or assimp fail the test with what to install: these tools are the point of the test, and
+// scripts/test.sh installs them.
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
@@ -12,7 +13,10 @@
 #include <filesystem>
 #include <regex>
 #include <string>
+#include <utility>
+#include <vector>
 
+#include "cli/cli_runner.h"
 #include "core/data_path.h"
 #include "core/temporary_file.h"
 #include "formats/gltf_animation.h"
@@ -95,6 +99,26 @@ class GltfCrosscheck : public ::testing::Test {
     return files;
   }
 
+  // What the CLI writes from a recording: each avatar with its speech (.glb) and the animation alone (.gltf).
+  std::vector<fs::path> writeWithCli() {
+    std::vector<fs::path> files;
+    const fs::path logs = folder.path() / "logs";
+    fs::create_directories(logs);
+    for (const char* avatarName : {"brunette-t.glb", "vroid.glb"}) {
+      const std::string stem = fs::path(avatarName).stem().string();
+      for (const auto& [suffix, only] : {std::pair{"-cli-talk.glb", false}, std::pair{"-cli-animation.gltf", true}}) {
+        files.push_back(folder.path() / (stem + suffix));
+        std::vector<std::string> arguments{
+            "animate",  sharedDataPath("speech/arctic/arctic_a0001.wav").string(),         "-o", files.back().string(),
+            "--avatar", sharedDataPath("face/avatars/" + std::string(avatarName)).string()};
+        if (only) arguments.emplace_back("--animation-only");
+        const th::test::CliResult result = th::test::runCli(arguments, logs);
+        EXPECT_EQ(result.exitCode, 0) << result.err;
+      }
+    }
+    return files;
+  }
+
   TemporaryFolder folder;
 };
 
@@ -125,6 +149,27 @@ TEST_F(GltfCrosscheck, AssimpReadsTheWrittenFilesAndTheirAnimation) {
       EXPECT_EQ(std::stoi(match[1]), 1) << file.filename();
       std::cout << file.filename().string() << ": assimp: Animations: " << match[1] << "\n";
     }
+  }
+}
+
+TEST_F(GltfCrosscheck, TheClisFilesPassTheValidatorAndAssimpReadsThem) {
+  ASSERT_NO_FATAL_FAILURE(requireValidator());
+  ASSERT_NO_FATAL_FAILURE(requireAssimp());
+  for (const auto& file : writeWithCli()) {
+    ASSERT_TRUE(fs::exists(file)) << file;
+    const ProcessResult validated = validate(file);
+    const std::string summary = validated.output.substr(validated.output.rfind('\n', validated.output.size() - 2) + 1);
+    EXPECT_EQ(validated.exitCode, 0) << file.filename() << ":\n" << validated.output;
+    EXPECT_NE(summary.find(": 0 errors"), std::string::npos) << summary;
+    std::cout << summary;
+    const ProcessResult read = run("assimp info " + shellQuote(file.string()));
+    EXPECT_EQ(read.exitCode, 0) << file.filename() << ":\n" << read.output;
+    std::smatch match;
+    ASSERT_TRUE(std::regex_search(read.output, match, std::regex(R"(Animations:\s*(\d+))")))
+        << file.filename() << ": assimp printed no animation count:\n"
+        << read.output;
+    EXPECT_EQ(std::stoi(match[1]), 1) << file.filename();
+    std::cout << file.filename().string() << ": assimp: Animations: " << match[1] << "\n";
   }
 }
 
