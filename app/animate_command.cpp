@@ -58,20 +58,15 @@ bool isGltf(const std::string& path) {
 
 // The glTF output's arguments, checked before any work.
 void checkGltfArguments(const AnimateArguments& arguments) {
-  const bool gltf = isGltf(arguments.output);
-  if (gltf && arguments.avatar.empty())
-    throw fileError(arguments.output, "a glTF animation moves a character: give --avatar FILE");
-  if (!gltf && !arguments.avatar.empty())
-    throw fileError(arguments.output, "--avatar writes the character's animation as glTF: name a .glb, .gltf or .vrm");
-  if (arguments.animationOnly && arguments.avatar.empty())
-    throw fileError(arguments.output, "--animation-only is a character's animation alone: give --avatar FILE");
-  if (arguments.animationOnly && lowercaseExtension(arguments.output) == ".vrm")
-    throw fileError(arguments.output, "the animation alone is not a VRM character: name a .glb or .gltf");
-  if (lowercaseExtension(arguments.output) == ".vrm" && !arguments.avatar.empty() &&
-      lowercaseExtension(arguments.avatar) != ".vrm")
-    throw fileError(arguments.output,
-                    "a VRM is written from a VRM character (--avatar FILE.vrm): name a .glb or .gltf");
-  if (gltf && !arguments.format.empty())
+  if (arguments.avatar.empty()) {
+    if (isGltf(arguments.output))
+      throw fileError(arguments.output, "a glTF animation moves a character: give --avatar FILE");
+    if (arguments.animationOnly)
+      throw fileError(arguments.output, "--animation-only is a character's animation alone: give --avatar FILE");
+    return;
+  }
+  avatar::checkAvatarAnimationOutput(arguments.avatar, arguments.output, arguments.animationOnly);
+  if (!arguments.format.empty())
     throw fileError(arguments.output, "--format is for the other formats: a glTF animation's extension is its format");
 }
 

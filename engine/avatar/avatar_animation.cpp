@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "core/error.h"
+#include "core/text_files.h"
 
 namespace th::avatar {
 namespace {
@@ -54,6 +55,18 @@ std::vector<int> turnedBones(const Avatar& avatar, const AvatarRig& rig) {
 }
 
 }  // namespace
+
+void checkAvatarAnimationOutput(const std::filesystem::path& avatar, const std::filesystem::path& out,
+                                bool animationOnly) {
+  const std::string extension = lowercaseExtension(out);
+  if (extension != ".glb" && extension != ".gltf" && extension != ".vrm")
+    throw fileError(out, "a character's animation is glTF: name a .glb, .gltf or .vrm");
+  if (extension == ".vrm" && animationOnly)
+    throw fileError(out, "the animation alone is not a VRM character: name a .glb or .gltf");
+  if (extension == ".vrm" && lowercaseExtension(avatar) != ".vrm")
+    throw fileError(out, "a VRM is written from a VRM character (" + avatar.filename().string() +
+                             " is not .vrm): name a .glb or .gltf");
+}
 
 int avatarAnimationFrames(const face::FapTrack& speech, const AvatarAnimationOptions& options) {
   const double frames = std::ceil(speech.durationSeconds() * options.framesPerSecond - 1e-9);

@@ -18,6 +18,7 @@
 // Thread contract: a pure function.
 #pragma once
 
+#include <filesystem>
 #include <string>
 
 #include "avatar/avatar_model.h"
@@ -34,6 +35,11 @@ struct AvatarAnimationOptions {
 
 formats::GltfAnimationTracks avatarAnimation(const face::FapTrack& speech, const Avatar& avatar, const AvatarRig& rig,
                                              const AvatarAnimationOptions& options = {});
+
+// Where a character's animation can go, checked before any work: .glb or .gltf, or .vrm from a .vrm character
+// (the animation alone is never a VRM). Throws th::Error naming `out`.
+void checkAvatarAnimationOutput(const std::filesystem::path& avatar, const std::filesystem::path& out,
+                                bool animationOnly);
 
 // How many frames avatarAnimation makes of `speech` (at least one).
 int avatarAnimationFrames(const face::FapTrack& speech, const AvatarAnimationOptions& options = {});

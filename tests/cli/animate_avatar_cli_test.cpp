@@ -85,7 +85,8 @@ TEST_F(AnimateAvatarCli, WrongRequestsFailInOneLineAndLeaveNoFile) {
   const std::string glb = (out() / "x.glb").string(), csv = (out() / "x.csv").string();
   expectOneLineFailure(runCli({"animate", wav, "-o", glb}, logs()), glb,
                        "a glTF animation moves a character: give --avatar FILE");
-  expectOneLineFailure(runCli({"animate", wav, "-o", csv, "--avatar", brunette}, logs()), csv, "--avatar");
+  expectOneLineFailure(runCli({"animate", wav, "-o", csv, "--avatar", brunette}, logs()), csv,
+                       "a character's animation is glTF");
   expectOneLineFailure(runCli({"animate", wav, "-o", csv, "--animation-only"}, logs()), csv, "--avatar FILE");
   const std::string vrm = (out() / "x.vrm").string();
   expectOneLineFailure(runCli({"animate", wav, "-o", vrm, "--avatar", brunette, "--animation-only"}, logs()), vrm,
