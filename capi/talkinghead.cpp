@@ -1,6 +1,7 @@
 // libtalkinghead's C API (include/talkinghead/talkinghead.h) over the engine: a stream is the live decoder
 // (pipeline/live_decoder.h) behind a resampler; an animation is the offline path (pipeline/offline.h); frames
-// are the live outputs' AvatarFrame (outputs/avatar_frame.h) in C's shape. No C++ exception crosses the API.
+// are the live outputs' AvatarFrame (outputs/avatar_frame.h) in C's shape; an animation on a character is
+// avatar/avatar_animation.h's tracks written by formats/gltf_animation.h. No C++ exception crosses the API.
 #include "talkinghead/talkinghead.h"
 
 #include <cmath>
@@ -9,10 +10,12 @@
 #include <string>
 
 #include "audio/media_audio.h"
+#include "avatar/avatar_animation.h"
 #include "core/error.h"
 #include "face/face_model.h"
 #include "formats/animation_format.h"
 #include "formats/arkit_format.h"
+#include "formats/gltf_animation.h"
 #include "outputs/avatar_frame.h"
 #include "outputs/live_display.h"
 #include "pipeline/live_decoder.h"
@@ -225,6 +228,22 @@ th_status th_animation_write(const th_animation* animation, const char* path, co
   return guarded(TH_ERROR_FILE, [&] {
     th::formats::writeAnimation(path, animation->track,
                                 th::formats::formatForWriting(path, format != nullptr ? format : ""));
+  });
+}
+
+th_status th_animation_write_avatar(const th_animation* animation, const char* avatar, const char* path,
+                                    int animation_only) {
+  if (animation == nullptr || avatar == nullptr || path == nullptr)
+    return fail(TH_ERROR_ARGUMENT, "th_animation_write_avatar: a NULL argument");
+  return guarded(TH_ERROR_FILE, [&] {
+    th::avatar::checkAvatarAnimationOutput(avatar, path, animation_only != 0);
+    const th::avatar::Avatar character = th::avatar::loadAvatar(avatar);
+    const th::formats::GltfAnimationTracks tracks =
+        th::avatar::avatarAnimation(animation->track, character, th::avatar::rigAvatar(character));
+    if (animation_only != 0)
+      th::formats::writeAnimationOnly(avatar, tracks, path);
+    else
+      th::formats::writeAvatarAnimation(avatar, tracks, path);
   });
 }
 

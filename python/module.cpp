@@ -7,6 +7,7 @@
 //   animation = talkinghead.animate("speech.wav")
 //   animation.arrays()["arkit"]                 # (frames, 52)
 //   animation.write("speech.tsv")               # any format animate writes
+//   animation.write_avatar("talk.glb", "me.vrm")   # the character with the speech as its glTF animation
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
@@ -141,6 +142,10 @@ class Animation {
   void write(const std::string& path, const std::optional<std::string>& format) const {
     check(th_animation_write(animation_, path.c_str(), format ? format->c_str() : nullptr));
   }
+  void writeAvatar(const std::string& path, const std::string& avatar, bool animationOnly) const {
+    py::gil_scoped_release unlocked;  // reading the character and writing it take a while
+    check(th_animation_write_avatar(animation_, avatar.c_str(), path.c_str(), animationOnly ? 1 : 0));
+  }
 
  private:
   th_animation* animation_;
@@ -178,7 +183,11 @@ PYBIND11_MODULE(_talkinghead, module) {
       .def_property_readonly("frames", &Animation::frames)
       .def("arrays", &Animation::arrays, "A dict of arrays, one row per frame")
       .def("write", &Animation::write, py::arg("path"), py::arg("format") = py::none(),
-           "Write it in any format animate writes (by the extension, or named)");
+           "Write it in any format animate writes (by the extension, or named)")
+      .def("write_avatar", &Animation::writeAvatar, py::arg("path"), py::arg("avatar"),
+           py::arg("animation_only") = false,
+           "Write a character (.glb, .gltf, .vrm) with this speech as its glTF animation to path (.glb, .gltf, "
+           ".vrm); animation_only: the animation alone, with the character's nodes and morph target names");
 
   module.def(
       "animate",

@@ -112,6 +112,14 @@ TH_API th_status th_animation_frame(const th_animation* animation, int index, th
 /* Any format `talkinghead animate` writes: format NULL picks it by the extension (.csv .json .fap .tsv .xml
  * .dat), or one of th_format_name(i). Written atomically: the file is whole or absent. */
 TH_API th_status th_animation_write(const th_animation* animation, const char* path, const char* format);
+/* The animation on a character: `avatar` (a glTF .glb/.gltf or VRM file with ARKit, Oculus-viseme or VRM morph
+ * targets, and neck, head and eye bones) written to `path` (.glb, .gltf, or .vrm from a .vrm character) with the
+ * speech as one more glTF animation, "speech": its mouth's morph target weights and its bones' rotations, 30
+ * keyframes a second, as `talkinghead animate --avatar` writes it. animation_only non-zero: the animation alone
+ * (.glb or .gltf), with the character's node hierarchy and morph target names but no meshes, for tools that
+ * retarget by name. Written atomically: the file is whole or absent. */
+TH_API th_status th_animation_write_avatar(const th_animation* animation, const char* avatar, const char* path,
+                                           int animation_only);
 TH_API void th_animation_free(th_animation* animation);
 
 /* A recording rendered to MP4 (H.264 + AAC, the face speaking it, off-screen), as `talkinghead export` does. */
