@@ -24,8 +24,9 @@ TEST_F(CliReferenceTest, TheDocsReferenceIsWhatTheProgramWrites) {
     EXPECT_NE(result.out.find(command), std::string::npos) << command;
   // The reference is the same on every machine: no default is a path into this checkout or a home folder.
   EXPECT_EQ(result.out.find(TALKINGHEAD_SOURCE_DIR), std::string::npos) << "a default names this checkout's folder";
-  if (const char* home = std::getenv("HOME"); home != nullptr && std::string(home).size() > 1)
+  if (const char* home = std::getenv("HOME"); home != nullptr && std::string(home).size() > 1) {
     EXPECT_EQ(result.out.find(std::string(home) + "/"), std::string::npos) << "a default names " << home;
+  }
   // Every option says what it does: the last cell of each option's row is not empty.
   std::istringstream lines(result.out);
   int options = 0;
