@@ -13,14 +13,18 @@
 #include "avatar/avatar_pose.h"
 #include "core/data_path.h"
 #include "core/error.h"
+#include "core/temporary_file.h"
 #include "formats/arkit_format.h"
 #include "formats/gltf_animation.h"
+#include "formats/gltf_test_tracks.h"
+#include "glb_edit.h"
 
 namespace {
 
 namespace fs = std::filesystem;
 using th::avatar::Avatar;
 using th::formats::GltfAnimationTracks;
+using Json = nlohmann::json;
 
 constexpr double kRadians = M_PI / 180.0;
 
@@ -221,6 +225,109 @@ TEST(AvatarAnimation, VroidsVisemeTargetsMove) {
   const int jaw = mesh.targetIndex("jawOpen");
   ASSERT_GE(jaw, 0);
   EXPECT_TRUE((face->weights.row(jaw).array() == mesh.restWeights[static_cast<std::size_t>(jaw)]).all());
+}
+
+// Brunette made a VRM 0.x character whose only mouth is VRM's vowels (its ARKit and viseme names hidden), with eye
+// bones and no eyeLook* targets: the vowels' target moves, the meshes no expression binds get no track, the eye
+// bones turn with the gaze, and the file written is still a VRM.
+TEST(AvatarAnimation, AVrmCharactersVowelsAndEyeBonesAreAnimatedAndItStaysAVrm) {
+  const th::TemporaryFolder folder;
+  const fs::path vrm = folder.path() / "brunette.vrm";
+  int aa = -1;
+  th::test::rewriteGlb(avatarFile("brunette-t.glb"), vrm, [&](Json& json) {
+    int head = -1;
+    for (std::size_t m = 0; m < json["meshes"].size(); ++m)
+      if (json["meshes"][m].value("name", "") == "Wolf3D_Head") head = static_cast<int>(m);
+    aa = th::test::targetOf(json, head, "viseme_aa");
+    th::test::hideArkitAndVisemeNames(json);
+    const auto bone = [&](const char* name, const char* node) {
+      return Json{{"bone", name}, {"node", th::test::nodeNamed(json, node)}};
+    };
+    const auto vowel = [&](const char* name, const char* preset, int weight) {
+      return Json{{"name", name},
+                  {"presetName", preset},
+                  {"binds", Json::array({{{"mesh", head}, {"index", aa}, {"weight", weight}}})}};
+    };
+    json["extensions"]["VRM"] = {
+        {"humanoid",
+         {{"humanBones", Json::array({bone("head", "Head"), bone("neck", "Neck"), bone("leftEye", "LeftEye"),
+                                      bone("rightEye", "RightEye")})}}},
+        {"blendShapeMaster",
+         {{"blendShapeGroups", Json::array({vowel("A", "a", 100), vowel("I", "i", 50), vowel("U", "u", 50)})}}}};
+    json["extensionsUsed"] = Json::array({"VRM"});
+  });
+  ASSERT_GE(aa, 0);
+  const Avatar avatar = th::avatar::loadAvatar(vrm);
+  const th::avatar::AvatarRig rig = th::avatar::rigAvatar(avatar);
+  ASSERT_EQ(rig.scheme, th::avatar::MorphScheme::kVrmExpressions);
+  ASSERT_FALSE(rig.eyesByTargets);
+
+  // The mouth class shown as Oculus's aa for the middle half, silence around it; the eyes 10° to the speaker's
+  // left throughout (FAPs 23, 24: the eyeballs' yaw).
+  const int frames = 60;
+  th::face::FapTrack speech = jawTrack(frames);
+  speech.faps = {3, 23, 24};
+  speech.values.conservativeResize(3, frames);
+  speech.values.bottomRows(2).setConstant(10.0 * kRadians * 1e5);
+  int open = -1, closed = -1;
+  for (int c = 0; c < th::face::kNumMouthClasses; ++c) {
+    if (th::face::oculusVisemeOf(c) == 10 && open < 0) open = c;     // aa
+    if (th::face::oculusVisemeOf(c) == 0 && closed < 0) closed = c;  // sil
+  }
+  ASSERT_GE(open, 0);
+  ASSERT_GE(closed, 0);
+  speech.visemes.posteriors = Eigen::MatrixXd::Zero(th::face::kNumMouthClasses, frames);
+  for (int t = 0; t < frames; ++t) {
+    const int c = t >= frames / 4 && t < frames - frames / 4 ? open : closed;
+    speech.visemes.posteriors(c, t) = 1.0;
+    speech.visemes.classes.push_back(c);
+  }
+  const GltfAnimationTracks tracks = th::avatar::avatarAnimation(speech, avatar, rig);
+
+  ASSERT_EQ(tracks.morphs.size(), 1u) << "only the mesh the vowels bind";
+  const th::formats::GltfMorphTrack& face = tracks.morphs.front();
+  EXPECT_EQ(face.node, nodeNamed(avatar, "Wolf3D_Head"));
+  EXPECT_EQ(face.weights(aa, 0), 0.0f);
+  EXPECT_GT(face.weights(aa, frames / 2), 0.5f);
+  ASSERT_EQ(tracks.rotations.size(), 4u);  // neck, head and the two eyes
+  for (const char* name : {"LeftEye", "RightEye"}) {
+    const int eye = nodeNamed(avatar, name);
+    const th::formats::GltfRotationTrack* track = rotationTrackOn(tracks, eye);
+    ASSERT_NE(track, nullptr) << name;
+    for (const Eigen::Quaternionf& q : track->rotations)
+      EXPECT_NEAR(angleBetween(q, avatar.nodes[static_cast<std::size_t>(eye)].rotation), 10.0 * kRadians, 1e-4) << name;
+  }
+
+  const fs::path out = folder.path() / "talk.vrm";
+  th::avatar::checkAvatarAnimationOutput(vrm, out, false);
+  th::formats::writeAvatarAnimation(vrm, tracks, out);
+  const Json written = th::formats::test::glbJson(out);
+  EXPECT_TRUE(written["extensions"].contains("VRM"));
+  ASSERT_EQ(written["animations"].size(), 1u);
+  int weights = 0, rotations = 0;
+  for (const Json& channel : written["animations"][0]["channels"]) {
+    weights += channel["target"]["path"] == "weights";
+    rotations += channel["target"]["path"] == "rotation";
+  }
+  EXPECT_EQ(weights, 1);
+  EXPECT_EQ(rotations, 4);
+}
+
+TEST(AvatarAnimation, OutputsOtherThanGltfAndVrmFromVrmAreRefusedNamingTheFile) {
+  const auto refusal = [](const char* avatar, const char* out, bool animationOnly) {
+    try {
+      th::avatar::checkAvatarAnimationOutput(avatar, out, animationOnly);
+    } catch (const th::Error& error) {
+      return std::string(error.what());
+    }
+    return std::string();
+  };
+  EXPECT_EQ(refusal("me.glb", "talk.glb", false), "");
+  EXPECT_EQ(refusal("me.glb", "talk.GLTF", true), "");
+  EXPECT_EQ(refusal("me.vrm", "talk.vrm", false), "");
+  EXPECT_NE(refusal("me.glb", "talk.csv", false).find("talk.csv"), std::string::npos);
+  EXPECT_NE(refusal("me.glb", "talk.vrm", false).find("talk.vrm"), std::string::npos);
+  EXPECT_NE(refusal("me.vrm", "talk.vrm", true).find("talk.vrm"), std::string::npos);
 }
 
 }  // namespace

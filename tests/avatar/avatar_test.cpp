@@ -16,6 +16,7 @@
 #include "core/error.h"
 #include "core/temporary_file.h"
 #include "formats/arkit_format.h"
+#include "glb_edit.h"
 
 namespace {
 
@@ -25,6 +26,10 @@ using th::avatar::AvatarInput;
 using th::avatar::AvatarPose;
 using th::avatar::DeformedMesh;
 using Json = nlohmann::json;
+using th::test::hideArkitAndVisemeNames;
+using th::test::nodeNamed;
+using th::test::rewriteGlb;
+using th::test::targetOf;
 
 fs::path avatarFile(const std::string& name) {
   return th::sharedDataPath("face/avatars") / name;
@@ -77,48 +82,6 @@ Eigen::Vector3f centroid(const std::vector<DeformedMesh>& meshes, int mesh) {
     count += positions.cols();
   }
   return sum / static_cast<float>(count);
-}
-
-// A GLB's JSON, changed by `edit`, written back with the same binary chunk.
-void rewriteGlb(const fs::path& from, const fs::path& to, const std::function<void(Json&)>& edit) {
-  std::ifstream in(from, std::ios::binary);
-  const std::vector<char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  std::uint32_t jsonLength = 0;
-  std::memcpy(&jsonLength, bytes.data() + 12, 4);
-  Json json = Json::parse(bytes.begin() + 20, bytes.begin() + 20 + jsonLength);
-  edit(json);
-  std::string text = json.dump();
-  while (text.size() % 4 != 0) text.push_back(' ');
-  const std::vector<char> rest(bytes.begin() + 20 + jsonLength, bytes.end());
-  std::ofstream out(to, std::ios::binary);
-  const auto u32 = [&](std::uint32_t v) { out.write(reinterpret_cast<const char*>(&v), 4); };
-  u32(0x46546C67);
-  u32(2);
-  u32(static_cast<std::uint32_t>(12 + 8 + text.size() + rest.size()));
-  u32(static_cast<std::uint32_t>(text.size()));
-  u32(0x4E4F534A);
-  out.write(text.data(), static_cast<std::streamsize>(text.size()));
-  out.write(rest.data(), static_cast<std::streamsize>(rest.size()));
-}
-
-int nodeNamed(const Json& json, const std::string& name) {
-  for (std::size_t n = 0; n < json["nodes"].size(); ++n)
-    if (json["nodes"][n].value("name", "") == name) return static_cast<int>(n);
-  return -1;
-}
-
-// The character's face mesh's targets renamed so that no scheme but VRM's expressions finds them.
-void hideArkitAndVisemeNames(Json& json) {
-  for (Json& mesh : json["meshes"])
-    if (mesh.contains("extras") && mesh["extras"].contains("targetNames"))
-      for (Json& name : mesh["extras"]["targetNames"]) name = "x_" + name.get<std::string>();
-}
-
-int targetOf(const Json& json, int mesh, const std::string& name) {
-  const Json& names = json["meshes"][static_cast<std::size_t>(mesh)]["extras"]["targetNames"];
-  for (std::size_t t = 0; t < names.size(); ++t)
-    if (names[t] == name || names[t] == "x_" + name) return static_cast<int>(t);
-  return -1;
 }
 
 TEST(Avatar, ReadyPlayerMeCharacterHasItsMeshesBonesTexturesAndArkitShapes) {
