@@ -92,6 +92,8 @@ TEST_F(AnimateAvatarCli, WrongRequestsFailInOneLineAndLeaveNoFile) {
   expectOneLineFailure(runCli({"animate", wav, "-o", vrm, "--avatar", brunette, "--animation-only"}, logs()), vrm,
                        ".glb or .gltf");
   expectOneLineFailure(runCli({"animate", wav, "-o", vrm, "--avatar", brunette}, logs()), vrm, "from a VRM character");
+  expectOneLineFailure(runCli({"animate", wav, "-o", glb, "--avatar", brunette, "--format", "csv"}, logs()), glb,
+                       "--format is for the other formats");
   // A file that is not a character.
   const fs::path text = folder_.path() / "notes.glb";
   std::ofstream(text) << "not a character\n";
