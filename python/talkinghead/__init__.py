@@ -4,6 +4,7 @@
     animation = talkinghead.animate("speech.wav")          # a whole recording
     arrays = animation.arrays()                            # numpy: faps, arkit, visemes, vrm, head, ...
     animation.write("speech.tsv")                          # any format `talkinghead animate` writes
+    animation.write_avatar("talk.glb", "me.vrm")           # a character with the speech as its glTF animation
 
     stream = talkinghead.Stream(sample_rate=48000)         # live: samples in as they come
     stream.push(block)                                     # float32 mono
