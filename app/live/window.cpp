@@ -19,6 +19,7 @@
 
 #include "audio/media_audio.h"
 #include "avatar/avatar_model.h"
+#include "avatar/avatar_pose.h"
 #include "character.h"
 #include "core/error.h"
 #include "interrupt.h"
@@ -125,6 +126,7 @@ class LiveWindow {
     if (character_) {
       avatar_ = std::make_unique<render::AnimatedAvatar>(
           *character_, window_, render::AvatarRenderOptions{.width = width, .height = height, .samples = samples});
+      characterLine_ = character_->name + " (" + avatar::schemeName(avatar_->rig().scheme) + ")";
     } else {
       model_ = std::make_unique<face::FaceModel>(face::FaceModel::buildDefault());
       face_ = std::make_unique<render::AnimatedFace>(
@@ -371,7 +373,8 @@ class LiveWindow {
                                               .displayStarved = playout_.starvedSamples(),
                                               .speaking = display_.speaking(),
                                               .modelError = modelError_,
-                                              .outputs = outputStatuses()},
+                                              .outputs = outputStatuses(),
+                                              .character = characterLine_},
                                              size, panelWidth_);
     ImGui::Render();
     ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
@@ -449,6 +452,7 @@ class LiveWindow {
   std::unique_ptr<face::FaceModel> model_;
   std::unique_ptr<render::AnimatedFace> face_;      // our face, or
   std::unique_ptr<render::AnimatedAvatar> avatar_;  // the character
+  std::string characterLine_;                       // the panel's line about it
   pipeline::Playout playout_;
   outputs::LiveDisplay display_;  // idle motion and outputs, as every live path
   std::chrono::steady_clock::time_point opened_ = std::chrono::steady_clock::now();
