@@ -16,4 +16,10 @@ std::optional<avatar::Avatar> loadCharacter(const std::string& path) {
   return character;
 }
 
+void addAvatarOption(CLI::App& command, std::string& path) {
+  command.add_option("--avatar", path,
+                     "A character (.glb, .gltf, .vrm) to speak instead of our face: its ARKit, Oculus viseme or VRM "
+                     "morph targets, its neck, head and eye bones");
+}
+
 }  // namespace th::app

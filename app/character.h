@@ -1,11 +1,13 @@
-// The user's character as the commands that take --avatar load it (export, render, animate): read and rigged
-// before any work, its morph scheme and what it lacks said once on stderr ("brunette-t: ARKit blendshapes").
+// The user's character for the commands that draw one (`--avatar FILE` on live, show, render, export,
+// sidebyside and animate): the option, and the file read and rigged before any work starts, so that a bad
+// file is one line and no output.
 //
-//   const std::optional<th::avatar::Avatar> character = loadCharacter(arguments.avatar);   // "": none
-//
-// Errors (th::Error) name the file. Thread contract: none (the CLI's main thread).
+//   std::string path;
+//   th::app::addAvatarOption(command, path);
+//   const std::optional<th::avatar::Avatar> character = th::app::loadCharacter(path);   // nullopt: our face
 #pragma once
 
+#include <CLI/CLI.hpp>
 #include <optional>
 #include <string>
 
@@ -13,6 +15,10 @@
 
 namespace th::app {
 
+// Reads and rigs the character (throws th::Error naming the file if it cannot be read or nothing in it can be
+// driven); says on stderr what drives it and what it lacks. An empty path: none.
 std::optional<avatar::Avatar> loadCharacter(const std::string& path);
+
+void addAvatarOption(CLI::App& command, std::string& path);
 
 }  // namespace th::app

@@ -15,6 +15,7 @@
 
 #include "audio/media_audio.h"
 #include "avatar/avatar_model.h"
+#include "avatar/avatar_pose.h"
 #include "character.h"
 #include "cli_options.h"
 #include "commands.h"
@@ -43,12 +44,6 @@
 
 namespace th::app {
 namespace {
-
-void addAvatarOption(CLI::App& command, std::string& path) {
-  command.add_option("--avatar", path,
-                     "A character (.glb, .gltf, .vrm) to speak instead of our face: its ARKit, Oculus viseme or VRM "
-                     "morph targets, its neck, head and eye bones");
-}
 
 // ---- render ----
 
@@ -80,25 +75,14 @@ void runRender(const RenderArguments& arguments) {
   if (!std::filesystem::is_directory(folder, error)) throw fileError(folder, "is not a folder and cannot be made one");
   const double fps = arguments.fps > 0.0 ? arguments.fps : animation.framesPerSecond;
   const auto frames = static_cast<int>(std::ceil(animation.durationSeconds() * fps - 1e-9));
-  // Our face, or the user's character.
-  std::unique_ptr<OffscreenFace> stage;
-  std::unique_ptr<render::OffscreenContext> context;
-  std::unique_ptr<render::AnimatedAvatar> drawn;
-  if (character) {
-    context = std::make_unique<render::OffscreenContext>();
-    drawn = std::make_unique<render::AnimatedAvatar>(*character, *context,
-                                                     render::AvatarRenderOptions{.width = width, .height = height});
-  } else {
-    stage = std::make_unique<OffscreenFace>(render::RenderOptions{.width = width, .height = height});
-  }
+  OffscreenDrawing drawing(character ? &*character : nullptr, width, height);
   ProgressBar progress(frames, "render", std::cerr, progressAt(fps));
   char name[32];
   for (int frame = 0; frame < frames; ++frame) {
     InterruptGuard::check();
     std::snprintf(name, sizeof name, "frame_%06d.png", frame);
     const double seconds = frame / fps;
-    render::writePng(folder / name,
-                     drawn ? drawn->draw(animation, seconds) : stage->animated.draw(animation.at(seconds)));
+    render::writePng(folder / name, drawing.draw(animation, seconds));
     progress.update(frame + 1);
   }
   progress.finish();

@@ -1,7 +1,8 @@
 // `talkinghead show`: the face in a window. Drag to orbit, scroll to zoom; a Dear ImGui panel has a slider for
 // every FAP the face can show (grouped as the standard groups them), the key poses, and a player for an
-// animation file. `--screenshot PNG --frames N` saves the window after N frames and quits (for tests under Xvfb).
-// glad before GLFW: glad's header stands in for the system GL header that GLFW would otherwise pull in.
+// animation file. With --avatar, the user's character instead, moved by the same sliders and animation. `--screenshot
+// PNG --frames N` saves the window after N frames and quits (for tests under Xvfb). glad before GLFW: glad's header
+// stands in for the system GL header that GLFW would otherwise pull in.
 #include <glad/gl.h>
 #include <GLFW/glfw3.h>
 #include <imgui.h>
@@ -17,6 +18,8 @@
 #include <string>
 #include <vector>
 
+#include "avatar/avatar_pose.h"
+#include "character.h"
 #include "commands.h"
 #include "core/error.h"
 #include "face/face_model.h"
@@ -24,6 +27,7 @@
 #include "face/poses.h"
 #include "formats/animation_format.h"
 #include "render/animated_face.h"
+#include "render/avatar_renderer.h"
 #include "render/gl_context.h"
 #include "render/image.h"
 #include "window_capture.h"
@@ -33,6 +37,7 @@ namespace {
 
 struct ShowArguments {
   std::string animation;
+  std::string avatar;  // a character drawn instead of our face
   std::string screenshot;
   int frames = 3;
   int width = 1280, height = 720;
@@ -48,11 +53,19 @@ std::pair<float, float> sliderRange(const face::FapDefinition& fap) {
 void runShow(const ShowArguments& arguments) {
   std::optional<face::FapTrack> animation;
   if (!arguments.animation.empty()) animation = formats::readAnimation(arguments.animation);
-  const face::FaceModel face = face::FaceModel::buildDefault();
+  const std::optional<avatar::Avatar> character = loadCharacter(arguments.avatar);
+  const face::FaceModel face = face::FaceModel::buildDefault();  // its FAPs are the sliders, whoever is drawn
   render::WindowContext window(
       {.width = arguments.width, .height = arguments.height, .title = "talkinghead", .visible = true, .vsync = true});
-  render::AnimatedFace animated(face, window, {.width = arguments.width, .height = arguments.height});
-  render::OrbitCamera& camera = animated.camera();
+  std::unique_ptr<render::AnimatedFace> animated;
+  std::unique_ptr<render::AnimatedAvatar> drawnCharacter;
+  if (character)
+    drawnCharacter = std::make_unique<render::AnimatedAvatar>(
+        *character, window, render::AvatarRenderOptions{.width = arguments.width, .height = arguments.height});
+  else
+    animated = std::make_unique<render::AnimatedFace>(
+        face, window, render::RenderOptions{.width = arguments.width, .height = arguments.height});
+  render::OrbitCamera& camera = character ? drawnCharacter->camera() : animated->camera();
   const render::OrbitCamera home = camera;
 
   IMGUI_CHECKVERSION();
@@ -79,7 +92,11 @@ void runShow(const ShowArguments& arguments) {
     const auto size = window.framebufferSize();
     if (size.first <= 0 || size.second <= 0) continue;  // minimised
     if (size != lastSize) {
-      animated.renderer().resize(size.first, size.second);  // the orbit the user set stays
+      // The orbit the user set stays.
+      if (character)
+        drawnCharacter->renderer().resize(size.first, size.second);
+      else
+        animated->renderer().resize(size.first, size.second);
       lastSize = size;
     }
     ImGui_ImplOpenGL3_NewFrame();
@@ -93,12 +110,15 @@ void runShow(const ShowArguments& arguments) {
         camera.yawDegrees -= 0.3f * io.MouseDelta.x;
         camera.pitchDegrees = std::clamp(camera.pitchDegrees + 0.3f * io.MouseDelta.y, -80.0f, 80.0f);
       }
-      camera.distance = std::clamp(camera.distance * (1.0f - 0.1f * io.MouseWheel), 10.0f, 300.0f);
+      camera.distance =
+          std::clamp(camera.distance * (1.0f - 0.1f * io.MouseWheel), 0.25f * home.distance, 6.0f * home.distance);
     }
 
     ImGui::SetNextWindowPos(ImVec2(10, 10), ImGuiCond_FirstUseEver);
     ImGui::SetNextWindowSize(ImVec2(420, static_cast<float>(size.second) - 20), ImGuiCond_FirstUseEver);
     ImGui::Begin("Face");
+    if (character)
+      ImGui::Text("%s: %s", character->name.c_str(), avatar::schemeName(drawnCharacter->rig().scheme).c_str());
     if (ImGui::Button("Reset FAPs")) faps = {};
     ImGui::SameLine();
     if (ImGui::Button("Reset view")) camera = home;
@@ -115,8 +135,9 @@ void runShow(const ShowArguments& arguments) {
       if (ImGui::GetContentRegionAvail().x < 80) ImGui::NewLine();
       if (ImGui::SmallButton(pose.name.c_str())) faps = pose.faps, playing = false;
     }
+    double seconds = -1.0;  // of the animation playing
     if (playing && animation) {
-      const double seconds = std::fmod(glfwGetTime() - playStart, animation->durationSeconds());
+      seconds = std::fmod(glfwGetTime() - playStart, animation->durationSeconds());
       faps = animation->at(seconds);
     }
     // The jaw and the inner lip open at start.
@@ -142,10 +163,21 @@ void runShow(const ShowArguments& arguments) {
     ImGui::End();
     ImGui::Render();
 
-    animated.pose(faps);
-    animated.render();
-    window.makeCurrent();
-    animated.renderer().present(size);
+    if (character) {
+      // A playing animation with visemes drives a character's viseme targets; sliders and poses its FAPs.
+      if (seconds >= 0.0)
+        drawnCharacter->pose(avatar::avatarInputAt(*animation, seconds));
+      else
+        drawnCharacter->pose(faps, nullptr);
+      drawnCharacter->render();
+      window.makeCurrent();
+      drawnCharacter->renderer().present(size);
+    } else {
+      animated->pose(faps);
+      animated->render();
+      window.makeCurrent();
+      animated->renderer().present(size);
+    }
     ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
     if (!arguments.screenshot.empty() && ++frame >= arguments.frames) {
       render::writePng(arguments.screenshot, grabWindow(size));
@@ -166,6 +198,7 @@ void addShowCommand(CLI::App& app) {
   CLI::App* show =
       app.add_subcommand("show", "The face in a window: orbit it, move every FAP with sliders, play an animation");
   show->add_option("--anim", arguments->animation, "Animation to play (.csv, .json, .fap)");
+  addAvatarOption(*show, arguments->avatar);
   show->add_option("--screenshot", arguments->screenshot, "Save the window as PNG after --frames frames and quit");
   show->add_option("--frames", arguments->frames, "Frames before the screenshot")
       ->check(CLI::Range(1, 10000))

@@ -1,6 +1,7 @@
 // `talkinghead sidebyside CLIP -o OUT.mp4`: the original talking video on the left and our face on the right,
 // driven by the clip's sound alone (the mouth model, and the head model unless --head none), with the clip's
 // sound: for a person to judge a model trained from video (`train --video`) against the speaker it learnt.
+// With --avatar, the user's character on the right instead.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -8,8 +9,10 @@
 #include <iostream>
 #include <memory>
 #include <opencv2/imgproc.hpp>
+#include <optional>
 #include <string>
 
+#include "character.h"
 #include "cli_options.h"
 #include "commands.h"
 #include "core/atomic_file.h"
@@ -36,7 +39,8 @@ struct SideBySideArguments {
   pipeline::ModelOptions models;
   pipeline::HeadMotionOptions head;
   pipeline::IdleOptions idle;
-  int height = 0;  // 0: the clip's (made even)
+  int height = 0;      // 0: the clip's (made even)
+  std::string avatar;  // a character drawn instead of our face
   // A .png output: a film strip of the stretch [fromSeconds, fromSeconds + seconds), every `every`-th video frame,
   // the clip's mouth above the face's.
   double fromSeconds = 0.0;
@@ -58,14 +62,15 @@ struct ClipFrames {
 
 // Film strip: the speaker's mouth (a square round the lips, placed by the landmarks of the strip's first frame)
 // above our face's, framed as close.
-void writeStrip(const SideBySideArguments& arguments, tracking::VideoReader& clip, const face::FapTrack& animation) {
+void writeStrip(const SideBySideArguments& arguments, tracking::VideoReader& clip, const face::FapTrack& animation,
+                const avatar::Avatar* character) {
   const int height = (arguments.height > 0 ? arguments.height : 160) / 2 * 2;
   const int width = height;
   const double fps = clip.framesPerSecond();
   const int first = static_cast<int>(std::lround(arguments.fromSeconds * fps));
   const int count = std::max(1, static_cast<int>(std::floor(arguments.seconds * fps / arguments.every + 1e-9)));
-  OffscreenFace stage({.width = width, .height = height});
-  stage.animated.frameMouth();
+  OffscreenDrawing drawing(character, width, height);
+  drawing.frameMouth();
   cv::Rect box;
   const int labelHeight = 20;
   const int columns = std::min(count, 10);
@@ -93,7 +98,7 @@ void writeStrip(const SideBySideArguments& arguments, tracking::VideoReader& cli
     cv::cvtColor(scaled, rgb, cv::COLOR_BGR2RGB);
     const int left = i % columns * width, top = i / columns * rowHeight;
     for (int y = 0; y < height; ++y) std::copy_n(rgb.ptr<std::uint8_t>(y), width * 3, sheet.pixel(left, top + y));
-    const render::Image& face = stage.animated.draw(animation.at(f / fps));
+    const render::Image& face = drawing.draw(animation, f / fps);
     for (int y = 0; y < height; ++y) std::copy_n(face.pixel(0, y), width * 3, sheet.pixel(left, top + height + y));
     char label[32];
     std::snprintf(label, sizeof label, "%.2f", f / fps);
@@ -111,6 +116,7 @@ void runSideBySide(const SideBySideArguments& arguments) {
   if (!strip && lowercaseExtension(output) != ".mp4")
     throw fileError(output, "a side-by-side video is an .mp4 file (or a .png film strip)");
   checkOutputTarget(output);
+  const std::optional<avatar::Avatar> character = loadCharacter(arguments.avatar);
   const pipeline::AnimationModels models = pipeline::loadModels(arguments.models);
   tracking::VideoReader clip(arguments.clip);
   const audio::AudioClip sound = tracking::readClipSound(arguments.clip);
@@ -123,14 +129,14 @@ void runSideBySide(const SideBySideArguments& arguments) {
   }
 
   if (strip) {
-    writeStrip(arguments, clip, animation);
+    writeStrip(arguments, clip, animation, character ? &*character : nullptr);
     return;
   }
   // Both halves as high as the output, each as wide as the clip scaled to it.
   const int height = (arguments.height > 0 ? arguments.height : clip.height()) / 2 * 2;
   const int half = std::max(2, static_cast<int>(static_cast<double>(clip.width()) * height / clip.height()) / 2 * 2);
   const double fps = clip.framesPerSecond();
-  OffscreenFace stage({.width = half, .height = height});
+  OffscreenDrawing drawing(character ? &*character : nullptr, half, height);
   formats::Mp4Options mp4;
   mp4.width = 2 * half;
   mp4.height = height;
@@ -151,7 +157,7 @@ void runSideBySide(const SideBySideArguments& arguments) {
       cv::cvtColor(scaled, rgb, cv::COLOR_BGR2RGB);
     }
     for (int y = 0; y < height; ++y) std::copy_n(rgb.ptr<std::uint8_t>(y), half * 3, canvas.pixel(0, y));
-    const render::Image& face = stage.animated.draw(animation.at(static_cast<double>(f) / fps));
+    const render::Image& face = drawing.draw(animation, static_cast<double>(f) / fps);
     for (int y = 0; y < height; ++y) std::copy_n(face.pixel(0, y), half * 3, canvas.pixel(half, y));
     const int scale = height >= 480 ? 2 : 1;
     drawLabel(canvas, 6, 6, "video", scale);
@@ -184,6 +190,7 @@ void addSideBySideCommand(CLI::App& app) {
   addOptions(*command, arguments->models);  // --head none: the face's head still, the mouth alone
   addOptions(*command, arguments->head);
   addOptions(*command, arguments->idle);
+  addAvatarOption(*command, arguments->avatar);
   command->add_option("--height", arguments->height, "Output height in pixels (default: the clip's)")
       ->check(CLI::Range(64, 2160));
   command->callback([arguments] { runSideBySide(*arguments); });

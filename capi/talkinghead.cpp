@@ -7,10 +7,13 @@
 #include <cmath>
 #include <memory>
 #include <new>
+#include <optional>
 #include <string>
 
 #include "audio/media_audio.h"
 #include "avatar/avatar_animation.h"
+#include "avatar/avatar_model.h"
+#include "avatar/avatar_pose.h"
 #include "core/error.h"
 #include "face/face_model.h"
 #include "formats/animation_format.h"
@@ -252,17 +255,28 @@ void th_animation_free(th_animation* animation) {
 }
 
 th_status th_export_file(const char* recording, const char* mp4, int width, int height) {
+  return th_export_file_avatar(recording, mp4, width, height, nullptr);
+}
+
+th_status th_export_file_avatar(const char* recording, const char* mp4, int width, int height, const char* avatar) {
   if (recording == nullptr || mp4 == nullptr) return fail(TH_ERROR_ARGUMENT, "th_export_file: a NULL argument");
   if (width < 16 || height < 16 || width > 7680 || height > 4320 || width % 2 != 0 || height % 2 != 0)
     return fail(TH_ERROR_ARGUMENT, "th_export_file: the size must be even, 16x16 to 7680x4320");
   return guarded(TH_ERROR_FILE, [&] {
+    // The character first: a bad file fails before any work.
+    std::optional<th::avatar::Avatar> character;
+    if (avatar != nullptr) {
+      character = th::avatar::loadAvatar(avatar);
+      th::avatar::rigAvatar(*character);  // throws, naming it, when nothing in it can be driven
+    }
     const th::pipeline::LiveSettings settings;
     const th::pipeline::AnimationModels models = th::pipeline::loadModels(settings.models);
     th::audio::AudioClip clip;
     const th::face::FapTrack track = th::pipeline::animateRecording(
         recording, models, th::pipeline::animateOptionsOf(settings.models, settings.head, settings.idle), &clip);
     const th::face::FaceModel face = th::face::FaceModel::buildDefault();
-    th::pipeline::exportVideo(face, track, clip.samples, clip.sampleRateHz, mp4, {.width = width, .height = height});
+    th::pipeline::exportVideo(face, track, clip.samples, clip.sampleRateHz, mp4,
+                              {.width = width, .height = height, .avatar = character ? &*character : nullptr});
   });
 }
 

@@ -206,12 +206,14 @@ PYBIND11_MODULE(_talkinghead, module) {
       py::arg("viseme_model") = py::none(), "A recording animated offline");
   module.def(
       "export",
-      [](const std::string& recording, const std::string& mp4, int width, int height) {
+      [](const std::string& recording, const std::string& mp4, int width, int height,
+         std::optional<std::string> avatar) {
         py::gil_scoped_release unlocked;
-        check(th_export_file(recording.c_str(), mp4.c_str(), width, height));
+        check(th_export_file_avatar(recording.c_str(), mp4.c_str(), width, height, avatar ? avatar->c_str() : nullptr));
       },
       py::arg("recording"), py::arg("mp4"), py::arg("width") = 1280, py::arg("height") = 720,
-      "The face speaking a recording, rendered off-screen to MP4");
+      py::arg("avatar") = py::none(),
+      "The face speaking a recording, rendered off-screen to MP4; avatar: a character (.glb, .gltf, .vrm) instead");
   module.def(
       "formats", [] { return namesOf(th_format_name); }, "The animation formats' names");
   module.def(

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "audio/capture.h"
+#include "character.h"
 #include "cli_options.h"
 #include "commands.h"
 #include "core/error.h"
@@ -68,6 +69,10 @@ void runLive(LiveArguments& arguments, const CLI::App& command) {
     if (input.empty() && !typedDevice)
       throw Error("live --headless: give the sound either as --input FILE or as --device (default or a number)");
     if (!arguments.window.screenshot.empty()) throw Error("live: --screenshot is for the window, not --headless");
+    if (!arguments.window.avatar.empty())
+      throw Error(
+          "live: --avatar is drawn in the window; --headless draws nothing (its outputs drive a character "
+          "in the program that receives them)");
     // Headless reads nothing else of the window's settings, only VTube Studio's token (and keeps a new one).
     arguments.run.settingsPath = settingsPathOf(arguments);
     pipeline::LiveSettings base;
@@ -120,6 +125,7 @@ void addLiveCommand(CLI::App& app) {
   live->add_option("--frames", arguments->window.frames, "Window: frames before the screenshot")
       ->check(CLI::Range(1, 100000))
       ->capture_default_str();
+  addAvatarOption(*live, arguments->window.avatar);
   live->add_option("--msaa", arguments->window.msaa,
                    "Window: MSAA samples (0: 4 on a GPU, 1 = none on a software renderer)")
       ->check(CLI::Range(0, 16))

@@ -254,6 +254,7 @@ void LivePanel::settingsSection(const PanelView& view, PanelChanges& changes) {
     changes.reloadModels = true;
   }
   if (!view.modelError.empty()) ImGui::TextColored(kErrorColour, "%s", view.modelError.c_str());
+  if (!view.character.empty()) ImGui::TextWrapped("character: %s", view.character.c_str());
 }
 
 // A column per frame, a row per state, brighter for more probable.

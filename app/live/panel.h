@@ -49,6 +49,7 @@ struct PanelView {
   bool speaking = false;                            // the idle behaviour hears speech
   const std::string& modelError;                    // the last model file that would not load (the running ones stay)
   std::vector<outputs::OutputStatus> outputs = {};  // the open outputs', in the order VMC, OSC, VTube Studio
+  std::string character = {};                       // the character drawn and what drives it ("" : our face)
 };
 
 class LivePanel {

@@ -13,10 +13,14 @@
 #include <cstdio>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <string>
 #include <thread>
 
 #include "audio/media_audio.h"
+#include "avatar/avatar_model.h"
+#include "avatar/avatar_pose.h"
+#include "character.h"
 #include "core/error.h"
 #include "interrupt.h"
 #include "live/frame_stats.h"
@@ -27,6 +31,7 @@
 #include "pipeline/live.h"
 #include "pipeline/playout.h"
 #include "render/animated_face.h"
+#include "render/avatar_renderer.h"
 #include "render/gl_context.h"
 #include "render/image.h"
 #include "window_capture.h"
@@ -112,14 +117,21 @@ class LiveWindow {
   LiveWindow(const LiveWindowArguments& arguments, pipeline::LiveSettings settings)
       : arguments_(arguments),
         settings_(std::move(settings)),
-        model_(face::FaceModel::buildDefault()),
+        character_(loadCharacter(arguments.avatar)),  // a bad file is an error before a window opens
         window_(
             {.width = 1280, .height = 720, .title = "talkinghead live", .visible = true, .vsync = true, .depth = true}),
-        face_(
-            model_, window_,
-            {.width = 1280 - LivePanel::widthFor(1280), .height = 720, .samples = samplesFor(window_, arguments.msaa)}),
         playout_(pipeline::PlayoutOptions{.interpolate = settings_.live.interpolate}),
         display_(settings_.idle, settings_.live.blinks, settings_.live.gaze) {
+    const int width = 1280 - LivePanel::widthFor(1280), height = 720, samples = samplesFor(window_, arguments.msaa);
+    if (character_) {
+      avatar_ = std::make_unique<render::AnimatedAvatar>(
+          *character_, window_, render::AvatarRenderOptions{.width = width, .height = height, .samples = samples});
+      characterLine_ = character_->name + " (" + avatar::schemeName(avatar_->rig().scheme) + ")";
+    } else {
+      model_ = std::make_unique<face::FaceModel>(face::FaceModel::buildDefault());
+      face_ = std::make_unique<render::AnimatedFace>(
+          *model_, window_, render::RenderOptions{.width = width, .height = height, .samples = samples});
+    }
     models_ = loadModelsOf(settings_);  // a bad model file is an error before the window is of any use
     panel_.showModelPaths(settings_.models.headModelPath().string(), settings_.mouthModelPath().string());
     pipeline::LiveSource source;
@@ -186,7 +198,10 @@ class LiveWindow {
       const bool resized = size != lastSize;
       if (resized) {
         panelWidth_ = LivePanel::widthFor(size.first);
-        face_.resize(size.first - panelWidth_, size.second);
+        if (avatar_)
+          avatar_->resize(size.first - panelWidth_, size.second);
+        else
+          face_->resize(size.first - panelWidth_, size.second);
         lastSize = size;
         keptColumn_.again();  // new buffers: check again
       }
@@ -326,14 +341,23 @@ class LiveWindow {
     display_.present(drawn, secondsSince(opened_), shown);
     faps = drawn.faps;
     const auto setupStart = std::chrono::steady_clock::now();
-    face_.pose(faps);
+    if (avatar_) {
+      // The character's mouth by the visemes where the decoder has them (its viseme targets), else by the FAPs.
+      avatar_->pose(faps, drawn.visemeIndex >= 0 ? drawn.visemeProbabilities.data() : nullptr);
+      times.faceSetupMs = millisecondsBetween(setupStart, std::chrono::steady_clock::now());
+      avatar_->render();
+      window_.makeCurrent();
+      avatar_->renderer().present(window_.framebufferSize(), panelWidth_);
+      return;
+    }
+    face_->pose(faps);
     times.faceSetupMs = millisecondsBetween(setupStart, std::chrono::steady_clock::now());
-    render::FaceRenderer& renderer = face_.renderer();
+    render::FaceRenderer& renderer = face_->renderer();
     if (renderer.options().samples <= 1) {
-      renderer.renderToWindow(face_.camera(),
+      renderer.renderToWindow(face_->camera(),
                               panelWidth_);  // no target of its own to copy: the fastest way on llvmpipe
     } else {
-      face_.render();
+      face_->render();
       window_.makeCurrent();
       renderer.present(window_.framebufferSize(), panelWidth_);
     }
@@ -349,7 +373,8 @@ class LiveWindow {
                                               .displayStarved = playout_.starvedSamples(),
                                               .speaking = display_.speaking(),
                                               .modelError = modelError_,
-                                              .outputs = outputStatuses()},
+                                              .outputs = outputStatuses(),
+                                              .character = characterLine_},
                                              size, panelWidth_);
     ImGui::Render();
     ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
@@ -422,9 +447,12 @@ class LiveWindow {
 
   LiveWindowArguments arguments_;
   pipeline::LiveSettings settings_;
-  face::FaceModel model_;
+  std::optional<avatar::Avatar> character_;  // --avatar: the user's character, drawn instead of our face
   render::WindowContext window_;
-  render::AnimatedFace face_;
+  std::unique_ptr<face::FaceModel> model_;
+  std::unique_ptr<render::AnimatedFace> face_;      // our face, or
+  std::unique_ptr<render::AnimatedAvatar> avatar_;  // the character
+  std::string characterLine_;                       // the panel's line about it
   pipeline::Playout playout_;
   outputs::LiveDisplay display_;  // idle motion and outputs, as every live path
   std::chrono::steady_clock::time_point opened_ = std::chrono::steady_clock::now();

@@ -18,6 +18,7 @@
 namespace th::app {
 
 struct LiveWindowArguments {
+  std::string avatar;                  // a character (.glb, .gltf, .vrm) drawn instead of our face
   std::string input;                   // a recording, played in a loop and aloud, instead of a sound input
   std::filesystem::path settingsPath;  // saved here when the window closes (empty: not saved)
   std::string screenshot;              // save the window as PNG after `frames` frames and quit

@@ -478,3 +478,54 @@ void AnimatedAvatar::resize(int width, int height) {
 }
 
 }  // namespace th::render
+
+namespace th::render {
+
+Eigen::Vector3f avatarMouthCentre(const avatar::Avatar& avatar, const std::vector<avatar::DeformedMesh>& meshes) {
+  // The mouth's opening target, as the rig would pick it: ARKit's jawOpen, the aa viseme, VRM's aa.
+  std::vector<avatar::TargetBind> opening;
+  for (const char* name : {"jawOpen", "viseme_aa"}) {
+    for (std::size_t m = 0; m < avatar.meshes.size(); ++m)
+      if (const int t = avatar.meshes[m].targetIndex(name); t >= 0)
+        opening.push_back({.mesh = static_cast<int>(m), .target = t});
+    // The first name with a target that moves something.
+    const bool moves = std::any_of(opening.begin(), opening.end(), [&](const avatar::TargetBind& bind) {
+      for (const avatar::Primitive& primitive : avatar.meshes[static_cast<std::size_t>(bind.mesh)].primitives)
+        if (primitive.targetPositions[static_cast<std::size_t>(bind.target)].cwiseAbs().maxCoeff() > 0.0f) return true;
+      return false;
+    });
+    if (moves) break;
+    opening.clear();
+  }
+  if (opening.empty())
+    if (const auto found = avatar.expressions.find("aa"); found != avatar.expressions.end()) opening = found->second;
+  // The vertices it moves most (the lips and the chin), where they are drawn now.
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  double count = 0.0;
+  for (const avatar::TargetBind& bind : opening) {
+    const avatar::MeshInstance& mesh = avatar.meshes[static_cast<std::size_t>(bind.mesh)];
+    for (std::size_t p = 0; p < mesh.primitives.size(); ++p) {
+      const Eigen::Matrix3Xf& moved = mesh.primitives[p].targetPositions[static_cast<std::size_t>(bind.target)];
+      if (moved.cols() == 0) continue;
+      const Eigen::VectorXf distance = moved.colwise().norm().transpose();
+      const float most = distance.maxCoeff();
+      if (most <= 0.0f) continue;
+      const Eigen::Matrix3Xf& drawn = meshes[static_cast<std::size_t>(bind.mesh)].positions[p];
+      for (Eigen::Index v = 0; v < distance.size(); ++v)
+        if (distance(v) > 0.3f * most) {
+          sum += drawn.col(v).cast<double>();
+          count += 1.0;
+        }
+    }
+  }
+  return count > 0.0 ? Eigen::Vector3f((sum / count).cast<float>()) : Eigen::Vector3f::Constant(NAN);
+}
+
+void AnimatedAvatar::frameMouth() {
+  const Eigen::Vector3f mouth = avatarMouthCentre(avatar_, meshes_);
+  if (!mouth.allFinite()) return;  // no mouth target: the head stays framed
+  camera_.target = mouth;
+  camera_.distance *= 0.3f;
+}
+
+}  // namespace th::render

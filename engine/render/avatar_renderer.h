@@ -84,6 +84,10 @@ class AvatarRenderer {
 OrbitCamera frameAvatarHead(const avatar::Avatar& avatar, const std::vector<avatar::DeformedMesh>& meshes,
                             double aspect);
 
+// Where the mouth is drawn now: the mean of the vertices its opening target (jawOpen, else viseme_aa, else VRM's
+// aa) moves most; NaN without one.
+Eigen::Vector3f avatarMouthCentre(const avatar::Avatar& avatar, const std::vector<avatar::DeformedMesh>& meshes);
+
 // The character as every program shows it: rig, renderer and a camera on the head, posed by one frame at a time.
 class AnimatedAvatar {
  public:
@@ -96,6 +100,9 @@ class AnimatedAvatar {
   void render() { renderer_.render(camera_); }
   const Image& draw(const face::FapFrame& faps, const float* classProbabilities);
   void resize(int width, int height);
+  // The camera close on the lips (film strips): the mouth and the chin, where its opening target moves them;
+  // the head stays framed if it has none.
+  void frameMouth();
 
   const avatar::Avatar& avatar() const { return avatar_; }
   const avatar::AvatarRig& rig() const { return rig_; }

@@ -124,6 +124,12 @@ TH_API void th_animation_free(th_animation* animation);
 
 /* A recording rendered to MP4 (H.264 + AAC, the face speaking it, off-screen), as `talkinghead export` does. */
 TH_API th_status th_export_file(const char* recording, const char* mp4, int width, int height);
+/* The same with the user's character instead of our face: a .glb, .gltf or .vrm file whose ARKit, Oculus viseme
+ * or VRM morph targets and neck, head and eye bones the speech moves (avatar NULL: our face), as `talkinghead
+ * export --avatar` does. A character that cannot be read, or has nothing the speech can move, fails with
+ * TH_ERROR_FILE naming it, and no video is written. */
+TH_API th_status th_export_file_avatar(const char* recording, const char* mp4, int width, int height,
+                                       const char* avatar);
 
 TH_API const char* th_arkit_name(int index);
 TH_API const char* th_viseme_name(int index);

@@ -301,4 +301,39 @@ TEST(Avatar, BadFilesFailInOneLineNamingThem) {
   }
 }
 
+// What a character lacks is said, and it is still driven by what it has: morph targets we do not know leave
+// the head turning; no head bone leaves the mouth speaking.
+TEST(AvatarRig, ACharacterWithoutKnownTargetsOrWithoutAHeadBoneFallsBackToWhatItHas) {
+  Avatar renamed = brunette();
+  for (th::avatar::MeshInstance& mesh : renamed.meshes)
+    for (std::string& name : mesh.targetNames) name = "custom_" + name;
+  const th::avatar::AvatarRig headOnly = th::avatar::rigAvatar(renamed);
+  EXPECT_EQ(headOnly.scheme, th::avatar::MorphScheme::kNone);
+  EXPECT_NE(
+      std::find(headOnly.missing.begin(), headOnly.missing.end(), "no morph targets we know (the mouth stays still)"),
+      headOnly.missing.end());
+  AvatarInput turned;
+  turned.headDegrees = {0.0, 20.0, 0.0};
+  th::avatar::AvatarPose pose;
+  th::avatar::poseAvatar(renamed, headOnly, turned, pose);
+  const int head = renamed.bones[th::avatar::kHead];
+  const Eigen::Matrix3f rest = renamed.nodes[static_cast<std::size_t>(head)].local().rotation();
+  EXPECT_FALSE(pose.locals[static_cast<std::size_t>(head)].rotation().isApprox(rest, 1e-4f)) << "the head turns";
+
+  Avatar headless = brunette();
+  headless.bones[th::avatar::kHead] = -1;
+  headless.bones[th::avatar::kNeck] = -1;
+  const th::avatar::AvatarRig mouthOnly = th::avatar::rigAvatar(headless);
+  EXPECT_EQ(mouthOnly.scheme, th::avatar::MorphScheme::kArkit);
+  EXPECT_NE(std::find(mouthOnly.missing.begin(), mouthOnly.missing.end(), "no head bone (the head stays still)"),
+            mouthOnly.missing.end());
+  AvatarInput open;
+  open.arkit[static_cast<std::size_t>(th::formats::arkitIndex("jawOpen"))] = 1.0f;
+  th::avatar::poseAvatar(headless, mouthOnly, open, pose);
+  const int face = meshNamed(headless, "Wolf3D_Head");
+  ASSERT_GE(face, 0);
+  const int jaw = headless.meshes[static_cast<std::size_t>(face)].targetIndex("jawOpen");
+  EXPECT_FLOAT_EQ(pose.weights[static_cast<std::size_t>(face)][static_cast<std::size_t>(jaw)], 1.0f);
+}
+
 }  // namespace

@@ -259,4 +259,63 @@ TEST_F(FaceCliTest, ShowDrawsTheFaceAndItsPanelInAWindow) {
   EXPECT_GT(skin, 60);
 }
 
+// The viewer with --avatar: the character, playing an animation, beside the panel that names it.
+TEST_F(FaceCliTest, ShowDrawsTheUsersCharacterInAWindow) {
+  const fs::path character = th::sharedDataPath("face/avatars/vroid.glb");
+  th::face::FapTrack anim;
+  anim.framesPerSecond = 10;
+  anim.faps = {3};
+  anim.values = Eigen::MatrixXd::Constant(1, 20, 400.0);
+  th::formats::writeAnimation(out() / "open.csv", anim);
+  const fs::path shot = out() / "show_character.png";
+  const std::string command = "ASAN_OPTIONS=detect_leaks=0 xvfb-run -a -s '-screen 0 1280x800x24' " +
+                              std::string(TALKINGHEAD_CLI) + " show --avatar " + character.string() + " --anim " +
+                              (out() / "open.csv").string() + " --screenshot " + shot.string() + " --frames 3 > " +
+                              (logs() / "show_character.txt").string() + " 2>&1";
+  ASSERT_EQ(std::system(command.c_str()), 0) << th::test::readText(logs() / "show_character.txt");
+  EXPECT_NE(th::test::readText(logs() / "show_character.txt").find("vroid: Oculus visemes"), std::string::npos);
+  const th::render::Image image = th::render::readPng(shot);
+  ASSERT_EQ(image.width, 1280);
+  // Its pale skin and white hair right of the panel.
+  int skin = 0, white = 0;
+  for (int y = 0; y < 720; y += 4)
+    for (int x = 560; x < 1100; x += 4) {
+      const std::uint8_t* q = image.pixel(x, y);
+      skin += (q[0] > 180 && q[0] > q[1] + 10 && q[1] > q[2]) ? 1 : 0;
+      white += (q[0] > 225 && q[1] > 225 && q[2] > 225) ? 1 : 0;
+    }
+  EXPECT_GT(skin, 800);
+  EXPECT_GT(white, 800);
+}
+
+// sidebyside --avatar: the film strip's lower row is the character's mouth, and it moves with the clip's sound.
+TEST_F(FaceCliTest, SideBySideDrawsTheUsersCharacter) {
+  const fs::path character = th::sharedDataPath("face/avatars/brunette-t.glb");
+  const fs::path clip = th::sharedDataPath("grid/samples/id2_vcd_swwp2s.mpg");
+  const fs::path strip = out() / "strip.png";
+  const CliResult result = runCli({"sidebyside", clip.string(), "-o", strip.string(), "--from", "0.8", "--seconds",
+                                   "1.2", "--every", "3", "--height", "96", "--avatar", character.string()},
+                                  logs());
+  ASSERT_EQ(result.exitCode, 0) << result.err;
+  const th::render::Image image = th::render::readPng(strip);
+  const int tile = 96;  // --height 96: square tiles, the clip's mouth above the character's
+  ASSERT_EQ(image.width, 10 * tile);
+  // Each tile's lower half is the character's lips: red lips (R well above G) in every one, and not the same
+  // picture twice in a row throughout.
+  int changed = 0;
+  for (int i = 0; i < 10; ++i) {
+    int red = 0;
+    long difference = 0;
+    for (int y = tile; y < 2 * tile; ++y)
+      for (int x = 0; x < tile; ++x) {
+        const std::uint8_t* p = image.pixel(i * tile + x, y);
+        red += (p[0] > 140 && p[0] > p[1] + 50) ? 1 : 0;
+        if (i > 0) difference += std::abs(p[0] - image.pixel((i - 1) * tile + x, y)[0]);
+      }
+    EXPECT_GT(red, 30) << "tile " << i;
+    changed += difference > tile * tile * 2L ? 1 : 0;
+  }
+  EXPECT_GE(changed, 5) << "the mouth moves from tile to tile";
+}
+
 }  // namespace

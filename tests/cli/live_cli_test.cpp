@@ -1,7 +1,7 @@
 // `talkinghead live` as a user meets it: --headless, a recording played through the live pipeline's threads,
 // at real-time pace or at full speed, gives the same frames (tests/pipeline holds the decoder to `animate`);
 // bad input fails in one line and leaves no dump behind; the window draws the face and its panel under Xvfb
-// and keeps its settings.
+// and keeps its settings, or draws the user's character instead.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -205,6 +205,42 @@ TEST_F(LiveCliTest, TheWindowDrawsTheFaceAndThePanelAndKeepsItsSettings) {
   const std::string again = th::test::readText(logs() / "again.txt");
   EXPECT_NE(again.find("head paper"), std::string::npos) << again;
   EXPECT_NE(again.find("window 3"), std::string::npos) << again;
+}
+
+// --avatar: the user's character in the window instead of our face, beside the same panel; --headless, which
+// draws nothing, refuses it in one line.
+TEST_F(LiveCliTest, TheWindowDrawsTheUsersCharacter) {
+  const fs::path character = th::sharedDataPath("face/avatars/brunette-t.glb");
+  const fs::path shot = out() / "character.png";
+  const std::string command = "ASAN_OPTIONS=detect_leaks=0 timeout 120 xvfb-run -a -s '-screen 0 1280x800x24' " +
+                              std::string(TALKINGHEAD_CLI) + " live --input " + speech().string() +
+                              " --no-settings --avatar " + character.string() + " --screenshot " + shot.string() +
+                              " --frames 20 > " + (logs() / "character.txt").string() + " 2>&1";
+  ASSERT_EQ(std::system(command.c_str()), 0) << th::test::readText(logs() / "character.txt");
+  const std::string log = th::test::readText(logs() / "character.txt");
+  EXPECT_NE(log.find("brunette-t: ARKit blendshapes"), std::string::npos) << log;
+  const th::render::Image image = th::render::readPng(shot);
+  ASSERT_EQ(image.width, 1280);
+  ASSERT_EQ(image.height, 720);
+  // The panel on the left; the character's face in the middle of the rest: skin, red above green above blue
+  // (the backdrop is blue-grey), below its dark hair.
+  int panel = 0, skin = 0, dark = 0;
+  for (int y = 100; y < 700; y += 4) {
+    const std::uint8_t* p = image.pixel(200, y);
+    panel += (p[0] < 60 && p[2] > p[0] && p[2] < 120) ? 1 : 0;
+  }
+  for (int y = 0; y < 720; y += 4)
+    for (int x = 700; x < 1060; x += 4) {
+      const std::uint8_t* q = image.pixel(x, y);
+      skin += (q[0] > 150 && q[0] > q[1] + 20 && q[1] > q[2]) ? 1 : 0;
+      dark += (q[0] < 50 && q[1] < 50 && q[2] < 50) ? 1 : 0;
+    }
+  EXPECT_GT(panel, 25);
+  EXPECT_GT(skin, 800) << "the face fills the middle of the frame";
+  EXPECT_GT(dark, 400) << "its hair";
+  expectOneLineFailure(
+      runCli({"live", "--headless", "--input", speech().string(), "--avatar", character.string()}, logs()), "--avatar",
+      "--headless");
 }
 
 }  // namespace

@@ -100,3 +100,19 @@ def test_errors_are_exceptions_naming_the_file(tmp_path):
         talkinghead.Stream(viseme_model=str(text))
     with pytest.raises(talkinghead.Error, match="one-dimensional"):
         talkinghead.Stream().push(np.zeros((2, 2), dtype=np.float32))
+
+
+def test_export_draws_our_face_or_the_users_character(prompt, data, tmp_path):
+    face = tmp_path / "face.mp4"
+    talkinghead.export(prompt, str(face), 160, 120)
+    character = tmp_path / "character.mp4"
+    talkinghead.export(prompt, str(character), 160, 120, avatar=os.path.join(data, "face", "avatars", "vroid.glb"))
+    for video in (face, character):
+        assert video.stat().st_size > 10000
+    assert face.read_bytes() != character.read_bytes()
+    text = tmp_path / "me.glb"
+    text.write_text("not a character")
+    never = tmp_path / "never.mp4"
+    with pytest.raises(talkinghead.Error, match="me.glb.*not a glTF file"):
+        talkinghead.export(prompt, str(never), 160, 120, avatar=str(text))
+    assert not never.exists()

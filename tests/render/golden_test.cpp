@@ -1,4 +1,5 @@
-// Golden images: the face in its key poses, rendered off-screen, against reference PNGs in tests/render/golden.
+// Golden images: the face in its key poses, rendered off-screen, against reference PNGs in tests/render/golden;
+// and the two test characters (../shared/data/face/avatars) in the same poses, as `--avatar` draws them.
 //
 // Tolerance: llvmpipe renders the same scene the same way on the same Mesa, but another CPU (vector width) or
 // Mesa version may round differently at edges. A pose passes when the mean absolute difference over all pixels
@@ -10,10 +11,17 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
 
+#include "avatar/avatar_model.h"
+#include "core/data_path.h"
 #include "face/face_model.h"
 #include "face/poses.h"
 #include "render/animated_face.h"
+#include "render/avatar_renderer.h"
 #include "render/gl_context.h"
 #include "render/image.h"
 
@@ -86,5 +94,69 @@ TEST_P(Golden, MatchesItsReferenceImage) {
 
 INSTANTIATE_TEST_SUITE_P(Poses, Golden, ::testing::ValuesIn(th::face::goldenPoses()),
                          [](const auto& test) { return test.param.name; });
+
+// A character in a key pose: the references are named CHARACTER_POSE.png.
+struct CharacterPose {
+  std::string character;  // the file's stem in face/avatars
+  th::face::Pose pose;
+};
+
+std::vector<CharacterPose> characterPoses() {
+  std::vector<CharacterPose> poses;
+  for (const std::string character : {"brunette-t", "vroid"})
+    for (const th::face::Pose& pose : th::face::goldenPoses()) {
+      // The VRoid character's mouth runs on its visemes, which have no smile.
+      if (character == "vroid" && pose.name == "smile") continue;
+      poses.push_back({character, pose});
+    }
+  return poses;
+}
+
+class GoldenCharacter : public ::testing::TestWithParam<CharacterPose> {
+ protected:
+  struct Scene {
+    th::avatar::Avatar avatar;
+    th::render::OffscreenContext context;
+    th::render::AnimatedAvatar animated{avatar, context, {.width = kSize, .height = kSize}};
+    explicit Scene(const std::string& name)
+        : avatar(th::avatar::loadAvatar(th::sharedDataPath("face/avatars/" + name + ".glb"))) {}
+  };
+  static Scene& scene(const std::string& name) {
+    static std::map<std::string, std::unique_ptr<Scene>> built;
+    std::unique_ptr<Scene>& scene = built[name];
+    if (!scene) scene = std::make_unique<Scene>(name);
+    return *scene;
+  }
+  static std::filesystem::path reference(const std::string& name) {
+    return std::filesystem::path(TALKINGHEAD_SOURCE_DIR) / "tests" / "render" / "golden" / (name + ".png");
+  }
+};
+
+TEST_P(GoldenCharacter, MatchesItsReferenceImage) {
+  const CharacterPose& shown = GetParam();
+  const std::string name = shown.character + "_" + shown.pose.name;
+  const th::render::Image image = scene(shown.character).animated.draw(shown.pose.faps, nullptr);
+  const char* update = std::getenv("TALKINGHEAD_UPDATE_GOLDEN");
+  if (update != nullptr && std::string(update) == "1") {
+    th::render::writePng(reference(name), image);
+    GTEST_SKIP() << "rewrote " << reference(name);
+  }
+  const Difference d = compare(image, th::render::readPng(reference(name)));
+  EXPECT_LE(d.mean, kMeanTolerance) << name;
+  EXPECT_LE(d.outliers, kOutlierShare) << name;
+  if (shown.pose.name != "neutral") {
+    const Difference fromNeutral = compare(image, th::render::readPng(reference(shown.character + "_neutral")));
+    // A character's face is a smaller part of the frame than ours (the VRoid character's mouth opens over about
+    // 150 pixels): it must differ from the rest pose over a fifth of the tolerance's share.
+    EXPECT_GT(fromNeutral.outliers, kOutlierShare / 5) << name << " looks like the character at rest";
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Characters, GoldenCharacter, ::testing::ValuesIn(characterPoses()), [](const auto& test) {
+  std::string name = test.param.character + "_" + test.param.pose.name;
+  for (char& c : name)
+    if (c == '-') c = '_';
+  return name;
+});
 
 }  // namespace
