@@ -506,13 +506,12 @@ Eigen::Vector3f avatarMouthCentre(const avatar::Avatar& avatar, const std::vecto
     const avatar::MeshInstance& mesh = avatar.meshes[static_cast<std::size_t>(bind.mesh)];
     for (std::size_t p = 0; p < mesh.primitives.size(); ++p) {
       const Eigen::Matrix3Xf& moved = mesh.primitives[p].targetPositions[static_cast<std::size_t>(bind.target)];
-      if (moved.cols() == 0) continue;
-      const Eigen::VectorXf distance = moved.colwise().norm().transpose();
-      const float most = distance.maxCoeff();
+      float most = 0.0f;
+      for (Eigen::Index v = 0; v < moved.cols(); ++v) most = std::max(most, moved.col(v).norm());
       if (most <= 0.0f) continue;
       const Eigen::Matrix3Xf& drawn = meshes[static_cast<std::size_t>(bind.mesh)].positions[p];
-      for (Eigen::Index v = 0; v < distance.size(); ++v)
-        if (distance(v) > 0.3f * most) {
+      for (Eigen::Index v = 0; v < moved.cols(); ++v)
+        if (moved.col(v).norm() > 0.3f * most) {
           sum += drawn.col(v).cast<double>();
           count += 1.0;
         }
