@@ -179,9 +179,13 @@ void addRecording(Speaker& speaker, const HeadRecording& r, const Eigen::MatrixX
     speaker.peakAlign += ownAndMoved(peaks(r.levelDb, speech, 4.0), motion, r.numFrames());
     speaker.offsetAlign += ownAndMoved(th::eval::speechBeats(-r.levelDb), motion, r.numFrames());
     speaker.modelAlign += ownAndMoved(beats, th::eval::motionBeats(synthesised), r.numFrames());
+    // Summed in the loop: GCC's -Wnull-dereference flags Eigen's reduction over a vector that could be empty.
     Eigen::RowVectorXd speed = Eigen::RowVectorXd::Zero(r.numFrames());
-    for (int t = 1; t < r.numFrames(); ++t) speed[t] = (r.rotations.col(t) - r.rotations.col(t - 1)).norm();
-    const double meanSpeed = speed.mean();
+    double meanSpeed = 0.0;
+    for (int t = 1; t < r.numFrames(); ++t) {
+      speed[t] = (r.rotations.col(t) - r.rotations.col(t - 1)).norm();
+      meanSpeed += speed[t] / r.numFrames();
+    }
     if (meanSpeed > 0.0)
       for (int b : beats) {
         if (b < 15 || b + 15 >= r.numFrames()) continue;
@@ -341,7 +345,8 @@ int main(int argc, char** argv) {
           q[0] = 1.0;
           for (int c = 0; c < d - 1; ++c)
             q[c + 1] = (rows[static_cast<std::size_t>(k)].voice[set[c]] - mu[c + 1]) / sd[c + 1];
-          const double lp = beta.dot(q) - std::log(rows[static_cast<std::size_t>(k)].spread);
+          double lp = -std::log(rows[static_cast<std::size_t>(k)].spread);
+          for (int c = 0; c < d; ++c) lp += beta[c] * q[c];
           err += std::abs(lp);
           within += std::exp(lp) >= 0.8 && std::exp(lp) <= 1.25;
           px[k] = beta.dot(q);
