@@ -341,12 +341,12 @@ int main(int argc, char** argv) {
           Eigen::MatrixXd ridge = 1.0 * Eigen::MatrixXd::Identity(d, d);
           ridge(0, 0) = 0.0;
           const Eigen::VectorXd beta = (z.transpose() * z + ridge).ldlt().solve(z.transpose() * y);
-          Eigen::VectorXd q(d);
-          q[0] = 1.0;
+          std::vector<double> q(static_cast<std::size_t>(d), 1.0);  // the intercept's 1, then the cues
           for (int c = 0; c < d - 1; ++c)
-            q[c + 1] = (rows[static_cast<std::size_t>(k)].voice[set[c]] - mu[c + 1]) / sd[c + 1];
+            q[static_cast<std::size_t>(c) + 1] =
+                (rows[static_cast<std::size_t>(k)].voice[set[c]] - mu[c + 1]) / sd[c + 1];
           double lp = -std::log(rows[static_cast<std::size_t>(k)].spread);
-          for (int c = 0; c < d; ++c) lp += beta[c] * q[c];
+          for (int c = 0; c < d; ++c) lp += beta[c] * q[static_cast<std::size_t>(c)];
           err += std::abs(lp);
           within += std::exp(lp) >= 0.8 && std::exp(lp) <= 1.25;
           px[k] = beta.dot(q);
