@@ -345,11 +345,12 @@ int main(int argc, char** argv) {
           for (int c = 0; c < d - 1; ++c)
             q[static_cast<std::size_t>(c) + 1] =
                 (rows[static_cast<std::size_t>(k)].voice[set[c]] - mu[c + 1]) / sd[c + 1];
-          double lp = -std::log(rows[static_cast<std::size_t>(k)].spread);
-          for (int c = 0; c < d; ++c) lp += beta[c] * q[static_cast<std::size_t>(c)];
+          double predicted = 0.0;
+          for (int c = 0; c < d; ++c) predicted += beta[c] * q[static_cast<std::size_t>(c)];
+          const double lp = predicted - std::log(rows[static_cast<std::size_t>(k)].spread);
           err += std::abs(lp);
           within += std::exp(lp) >= 0.8 && std::exp(lp) <= 1.25;
-          px[k] = beta.dot(q);
+          px[k] = predicted;
           py[k] = std::log(rows[static_cast<std::size_t>(k)].spread);
         }
         const Eigen::VectorXd cx = px.array() - px.mean(), cy = py.array() - py.mean();
