@@ -122,7 +122,9 @@ class GoldenCharacter : public ::testing::TestWithParam<CharacterPose> {
         : avatar(th::avatar::loadAvatar(th::sharedDataPath("face/avatars/" + name + ".glb"))) {}
   };
   static Scene& scene(const std::string& name) {
-    static std::map<std::string, std::unique_ptr<Scene>> built;
+    // Never destroyed: a map made before the first scene would be destroyed at exit after Mesa has torn itself
+    // down (exit handlers run in reverse), and a renderer's destructor then crashes in OSMesaMakeCurrent.
+    static auto& built = *new std::map<std::string, std::unique_ptr<Scene>>;
     std::unique_ptr<Scene>& scene = built[name];
     if (!scene) scene = std::make_unique<Scene>(name);
     return *scene;
