@@ -110,6 +110,15 @@ bool meetsFrustum(const Eigen::AlignedBox3f& box, const std::array<Eigen::Vector
   return true;
 }
 
+// The smallest region holding both (an empty one holds nothing).
+PixelRegion unite(const PixelRegion& a, const PixelRegion& b) {
+  if (a.width <= 0 || a.height <= 0) return b;
+  if (b.width <= 0 || b.height <= 0) return a;
+  const int left = std::min(a.left, b.left), top = std::min(a.top, b.top);
+  const int right = std::max(a.left + a.width, b.left + b.width), bottom = std::max(a.top + a.height, b.top + b.height);
+  return {left, top, right - left, bottom - top};
+}
+
 void measure(Cluster& cluster, const std::vector<std::uint32_t>& indices, const Eigen::Matrix3Xf& positions) {
   cluster.bounds.setEmpty();
   for (std::uint32_t i = cluster.first; i < cluster.first + cluster.count; ++i)
@@ -182,8 +191,19 @@ struct AvatarRenderer::Gl {
   std::vector<GLuint> textures;
   FrameTargets targets;
   bool resolved = true;
+  // The opaque clusters that never move, drawn once for a camera and copied under each frame (render() with
+  // one sample): a character framed on its head shows its still shoulders and arms in every frame.
+  FrameTargets still;
+  bool stillValid = false;
+  Eigen::Matrix4f stillViewProjection = Eigen::Matrix4f::Zero();
+  Eigen::Vector3f stillEye = Eigen::Vector3f::Zero();
+  PixelRegion stillRegion;
 
-  void releaseTargets() { targets.release(); }
+  void releaseTargets() {
+    targets.release();
+    still.release();
+    stillValid = false;
+  }
   void releaseAll() {
     releaseTargets();
     for (PrimitiveBuffers& p : primitives) {
@@ -308,6 +328,8 @@ void AvatarRenderer::createTargets() {
   Gl& g = *gl_;
   const GLsizei w = options_.width, h = options_.height;
   samples_ = g.targets.create(w, h, options_.samples, "AvatarRenderer");
+  if (samples_ == 1 && options_.cull) g.still.create(w, h, 1, "AvatarRenderer");
+  g.stillValid = false;
   g.resolved = true;
   drawn_ = {0, 0, w, h};  // nothing read yet: a new target holds anything
   backdrop_ = makeBackdrop(w, h, options_.backgroundTop, options_.backgroundBottom);
@@ -326,6 +348,7 @@ void AvatarRenderer::resize(int width, int height) {
 }
 
 void AvatarRenderer::setMovingVertices(const avatar::MovingVertices& moving) {
+  gl_->stillValid = false;
   std::vector<bool> moves;
   for (PrimitiveBuffers& b : gl_->primitives) {
     const avatar::Primitive& primitive =
@@ -360,6 +383,7 @@ void AvatarRenderer::setMeshes(const std::vector<avatar::DeformedMesh>& meshes, 
         moving != nullptr ? &moving->vertices[static_cast<std::size_t>(b.mesh)][static_cast<std::size_t>(b.primitive)]
                           : nullptr;
     if (list != nullptr && list->empty()) continue;
+    if (list == nullptr) gl_->stillValid = false;
     glBindBuffer(GL_ARRAY_BUFFER, b.dynamicBuffer);
     const auto upload = [&](std::uint32_t from, std::uint32_t to) {  // vertices [from, to)
       upload_.resize(static_cast<std::size_t>(to - from) * 6);
@@ -392,7 +416,7 @@ void AvatarRenderer::setMeshes(const std::vector<avatar::DeformedMesh>& meshes, 
   glBindBuffer(GL_ARRAY_BUFFER, 0);
 }
 
-void AvatarRenderer::selectVisible(const Eigen::Matrix4f& viewProjection, const Eigen::Vector3f& eye) {
+void AvatarRenderer::selectVisible(const Eigen::Matrix4f& viewProjection, const Eigen::Vector3f& eye, Layer layer) {
   const std::array<Eigen::Vector4f, 6> planes = frustumPlanes(viewProjection);
   float lowX = 1e30f, highX = -1e30f, lowY = 1e30f, highY = -1e30f;
   bool behind = false;  // a box reaches behind the camera: its projection says nothing
@@ -401,6 +425,8 @@ void AvatarRenderer::selectVisible(const Eigen::Matrix4f& viewProjection, const 
   order.clear();
   for (const PrimitiveBuffers& b : gl_->primitives) {
     for (const Cluster& cluster : b.clusters) {
+      const bool still = !b.blended && !cluster.moves;
+      if ((layer == Layer::kStill && !still) || (layer == Layer::kMoving && still)) continue;
       if (options_.cull && !meetsFrustum(cluster.bounds, planes)) continue;
       if (b.blended || !options_.cull)
         order.add(&b, cluster);
@@ -444,15 +470,45 @@ void AvatarRenderer::selectVisible(const Eigen::Matrix4f& viewProjection, const 
 void AvatarRenderer::render(const OrbitCamera& camera) {
   context_.makeCurrent();
   Gl& g = *gl_;
-  glBindFramebuffer(GL_FRAMEBUFFER, samples_ > 1 ? g.targets.msaaFramebuffer : g.targets.resolveFramebuffer);
-  glViewport(0, 0, options_.width, options_.height);
-  glClearColor(0.0f, 0.0f, 0.0f, 0.0f);
-  glClearDepth(1.0);
-  glDepthMask(GL_TRUE);
-  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-  drawCharacter(camera, false);
+  const bool layered = samples_ == 1 && options_.cull;
+  if (layered) drawStillLayer(camera);  // (leaves the target bound, holding the still layer)
+  if (!layered) {
+    glBindFramebuffer(GL_FRAMEBUFFER, samples_ > 1 ? g.targets.msaaFramebuffer : g.targets.resolveFramebuffer);
+    glViewport(0, 0, options_.width, options_.height);
+    glClearColor(0.0f, 0.0f, 0.0f, 0.0f);
+    glClearDepth(1.0);
+    glDepthMask(GL_TRUE);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  }
+  drawCharacter(camera, false, layered ? Layer::kMoving : Layer::kAll);
+  if (layered) drawn_ = unite(drawn_, g.stillRegion);
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
   g.resolved = samples_ == 1;
+}
+
+void AvatarRenderer::drawStillLayer(const OrbitCamera& camera) {
+  Gl& g = *gl_;
+  const float aspect = static_cast<float>(options_.width) / static_cast<float>(options_.height);
+  const Eigen::Matrix4f viewProjection = camera.projection(aspect) * camera.view();
+  if (!g.stillValid || viewProjection != g.stillViewProjection || camera.eye() != g.stillEye) {
+    glBindFramebuffer(GL_FRAMEBUFFER, g.still.resolveFramebuffer);
+    glViewport(0, 0, options_.width, options_.height);
+    glClearColor(0.0f, 0.0f, 0.0f, 0.0f);
+    glClearDepth(1.0);
+    glDepthMask(GL_TRUE);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    drawCharacter(camera, false, Layer::kStill);
+    g.stillRegion = drawn_;
+    g.stillViewProjection = viewProjection;
+    g.stillEye = camera.eye();
+    g.stillValid = true;
+  }
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, g.still.resolveFramebuffer);
+  glBindFramebuffer(GL_DRAW_FRAMEBUFFER, g.targets.resolveFramebuffer);
+  glBlitFramebuffer(0, 0, options_.width, options_.height, 0, 0, options_.width, options_.height,
+                    GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT, GL_NEAREST);
+  glBindFramebuffer(GL_FRAMEBUFFER, g.targets.resolveFramebuffer);
+  glViewport(0, 0, options_.width, options_.height);
 }
 
 void AvatarRenderer::renderToWindow(const OrbitCamera& camera, int left) {
@@ -486,13 +542,13 @@ void AvatarRenderer::drawBackdropBehind() {
   glDepthFunc(GL_LESS);
 }
 
-void AvatarRenderer::drawCharacter(const OrbitCamera& camera, bool withBackdrop) {
+void AvatarRenderer::drawCharacter(const OrbitCamera& camera, bool withBackdrop, Layer layer) {
   Gl& g = *gl_;
   const float aspect = static_cast<float>(options_.width) / static_cast<float>(options_.height);
   const Eigen::Matrix4f view = camera.view();
   const Eigen::Matrix4f viewProjection = camera.projection(aspect) * view;
   const Eigen::Vector3f eye = camera.eye();
-  selectVisible(viewProjection, eye);
+  selectVisible(viewProjection, eye, layer);
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);
   const Lighting& light = options_.lighting;

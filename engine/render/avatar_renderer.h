@@ -17,8 +17,10 @@
 // the view are given to GL: a whole-body character framed on its head is mostly off-screen. llvmpipe's cost
 // is then the pixels it shades: the opaque clusters go from the nearest to the farthest, after a pass that
 // writes their depth alone, so that each pixel is shaded once; each kind of material has a shader of its own
-// (llvmpipe runs both sides of a branch). The frame is read back and finished only within the boxes'
-// projection (8 pixels wider: FXAA's reach); the rest is the backdrop.
+// (llvmpipe runs both sides of a branch). With one sample, the opaque clusters no vertex of which moves (the
+// shoulders, the arms) are drawn once for a camera into a target of their own and copied, colour and depth,
+// under each frame. The frame is read back and finished only within the boxes' projection (8 pixels wider:
+// FXAA's reach); the rest is the backdrop.
 // Thread contract: belongs to its context's thread; the context and the avatar must outlive it.
 #pragma once
 
@@ -43,9 +45,9 @@ struct AvatarRenderOptions {
   int samples = 4;    // MSAA; 1 disables it
   bool fxaa = false;  // with samples = 1, smooth edges on the CPU as the face's renderer does
   // Draw only the clusters of triangles in view, the opaque ones from the nearest and their depth first (each
-  // pixel shaded once), and read back only the pixels they may cover: the same picture (but where two surfaces
-  // lie at exactly the same depth) for a fraction of the work. false: every triangle in the file's order, the
-  // whole frame read back (tests compare the two).
+  // pixel shaded once), keep what never moves from frame to frame, and read back only the pixels they may
+  // cover: the same picture (but where two surfaces lie at exactly the same depth) for a fraction of the work.
+  // false: every triangle in the file's order each frame, the whole frame read back (tests compare the two).
   bool cull = true;
   Eigen::Vector3f backgroundTop{0.36f, 0.40f, 0.46f};  // sRGB, the face's backdrop
   Eigen::Vector3f backgroundBottom{0.13f, 0.14f, 0.17f};
@@ -87,19 +89,25 @@ class AvatarRenderer {
 
   const AvatarRenderOptions& options() const { return options_; }
   int samples() const { return samples_; }
-  int trianglesDrawn() const { return trianglesDrawn_; }     // given to GL by the last render()
+  int trianglesDrawn() const { return trianglesDrawn_; }     // given to GL by the last render() (not the kept ones)
   const PixelRegion& drawnRegion() const { return drawn_; }  // what the last render() may have drawn in
 
  private:
   struct Gl;
   void createTargets();
   void resolve();
-  // The clusters in view of `viewProjection` into each primitive's runs (the opaque ones' from the nearest to
-  // `eye`), and the pixels they may cover.
-  void selectVisible(const Eigen::Matrix4f& viewProjection, const Eigen::Vector3f& eye);
+  // What a pass draws: every cluster, the opaque ones no vertex of which moves (the still layer, kept between
+  // frames), or the rest.
+  enum class Layer { kAll, kStill, kMoving };
+  // The clusters of `layer` in view of `viewProjection` into this frame's draw order (the opaque ones' from
+  // the nearest to `eye`), and the pixels they may cover (drawn_).
+  void selectVisible(const Eigen::Matrix4f& viewProjection, const Eigen::Vector3f& eye, Layer layer);
   // Into the bound framebuffer, after its clear; with the backdrop between the opaque and the blended surfaces
   // if asked.
-  void drawCharacter(const OrbitCamera& camera, bool withBackdrop);
+  void drawCharacter(const OrbitCamera& camera, bool withBackdrop, Layer layer = Layer::kAll);
+  // The still layer for `camera` into its own target, unless it holds it already; then copied (colour and
+  // depth) into the single-sample target.
+  void drawStillLayer(const OrbitCamera& camera);
   void drawBackdropBehind();
 
   GlContext& context_;
