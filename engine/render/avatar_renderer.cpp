@@ -137,15 +137,15 @@ const avatar::Material& materialOf(const avatar::Avatar& avatar, int material) {
              : plain;
 }
 
-// The fragment shader's variants (shaders/avatar.frag): by alpha mode, texture and unlit shading; each also
-// as a depth-only pass (kDepthOnly further on).
-constexpr int kDepthOnly = 3 * 2 * 2;
+// The fragment shader's variants (shaders/avatar.frag): by alpha mode, roughness 1, texture and unlit shading
+// (alpha mode * 8 + rough * 4 + textured * 2 + unlit); each also as a depth-only pass (kDepthOnly further on).
+constexpr int kDepthOnly = 3 * 2 * 2 * 2;
 constexpr int kNumVariants = 2 * kDepthOnly;
 int variantOf(const avatar::Material& material, bool textured) {
   const int alpha = material.alpha == avatar::AlphaMode::kOpaque ? 0
                     : material.alpha == avatar::AlphaMode::kMask ? 1
                                                                  : 2;
-  return alpha * 4 + (textured ? 2 : 0) + (material.unlit ? 1 : 0);
+  return alpha * 8 + (material.roughness == 1.0f ? 4 : 0) + (textured ? 2 : 0) + (material.unlit ? 1 : 0);
 }
 
 struct AvatarProgram {
@@ -157,7 +157,8 @@ struct AvatarProgram {
 
 void linkVariant(int variant, AvatarProgram& program) {
   const int shading = variant % kDepthOnly;
-  const std::string defines = "#define ALPHA_MODE " + std::to_string(shading / 4) + "\n#define TEXTURED " +
+  const std::string defines = "#define ALPHA_MODE " + std::to_string(shading / 8) + "\n#define ROUGH " +
+                              std::to_string(shading / 4 % 2) + "\n#define TEXTURED " +
                               std::to_string(shading / 2 % 2) + "\n#define UNLIT " + std::to_string(shading % 2) +
                               "\n#define DEPTH_ONLY " + std::to_string(variant / kDepthOnly) + "\n";
   const std::string vertex = withLighting(shaders::kAvatar_vert),
