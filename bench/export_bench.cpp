@@ -1,8 +1,11 @@
 // Speed of the MP4 export at 640x480 and 1280x720, 30 fps: the whole export on 10 s of real speech (animation,
-// off-screen rendering, encoding: export/face/...), and its encoding alone, H.264 (libx264, the default preset
-// and quality) + AAC through Mp4Writer, on synthetic frames (export/WxH/gradient|textured/...).
+// off-screen rendering, encoding: export/face/...), the same at 1280x720 with each test character instead of our
+// face (../shared/data/face/avatars: export/character/brunette|vroid/..., the character read from its file in
+// each pass, as `talkinghead export --avatar` does), and its encoding alone, H.264 (libx264, the default preset
+// and quality) + AAC through Mp4Writer, on synthetic frames (export/WxH/gradient|textured/...). At the end, each
+// character's export time over our face's at 1280x720 ("ratio").
 //
-//   build/bench/export_bench            # ~1 min; NOT pinned to one core: x264 is multi-threaded
+//   build/bench/export_bench            # ~3 min; NOT pinned to one core: x264 is multi-threaded
 //   build/bench/export_bench --quick    # one short pass, a smoke check
 //
 // realtime_factor = seconds of video per wall-clock second (UseRealTime: libx264 runs its own threads), for
@@ -16,16 +19,21 @@
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <filesystem>
 #include <future>
+#include <map>
 #include <numbers>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
 
 #include "audio/media_audio.h"
+#include "avatar/avatar_model.h"
 #include "bench_arguments.h"
 #include "core/cpu_time.h"
 #include "core/data_path.h"
@@ -130,11 +138,19 @@ void exportClip(benchmark::State& state, const Case& c, double seconds) {
   state.counters["kbit_per_s"] = static_cast<double>(bytes) * 8.0 / 1000.0 / videoSeconds;
 }
 
+// Seconds a pass of the whole export, by case name, for the ratios printed at the end.
+std::map<std::string, double>& exportSeconds() {
+  static std::map<std::string, double> seconds;
+  return seconds;
+}
+
 // The whole export as `talkinghead export` runs it, on real speech: the face model built (on another thread)
 // while the animation comes from the shipped models, every frame rendered off-screen (llvmpipe), finished and encoded
 // (exportVideo, with its default settings: FXAA, x264 veryfast with subme=1, CRF 20). Only reading the recording is
-// left out. realtime_factor: seconds of video per wall-clock second.
-void exportFace(benchmark::State& state, int width, int height, double seconds) {
+// left out. With `character` (a file in ../shared/data/face/avatars), that character is read and drawn instead of
+// our face. realtime_factor: seconds of video per wall-clock second.
+void exportFace(benchmark::State& state, int width, int height, double seconds, const std::string& character,
+                const std::string& name) {
   th::audio::AudioClip clip = th::audio::readRecording(th::sharedDataPath("beat2/audio_only/2_scott_0_2_2.wav"));
   clip.samples.resize(std::min(clip.samples.size(), static_cast<std::size_t>(seconds * clip.sampleRateHz)));
   const auto head = th::animation::loadHeadModel(std::string(TALKINGHEAD_SOURCE_DIR) + "/models/head.json");
@@ -142,23 +158,40 @@ void exportFace(benchmark::State& state, int width, int height, double seconds) 
   th::TemporaryFolder folder;
   double cpuSeconds = 0.0;
   int frames = 0;
+  const auto wallStart = std::chrono::steady_clock::now();
   for (auto _ : state) {
     const double cpuBefore = th::processCpuSeconds();
     // As `talkinghead export` does: the face model built on another thread while the recording is animated.
     std::future<th::face::FaceModel> building =
         std::async(std::launch::async, [] { return th::face::FaceModel::buildDefault(); });
+    std::optional<th::avatar::Avatar> avatar;
+    if (!character.empty()) avatar = th::avatar::loadAvatar(th::sharedDataPath("face/avatars") / character);
     const th::face::FapTrack animation = th::pipeline::animate(clip.samples, &head, &mouth, {});
     const th::face::FaceModel face = building.get();
     frames = th::pipeline::exportVideo(face, animation, clip.samples, clip.sampleRateHz, folder.path() / "face.mp4",
-                                       {.width = width, .height = height});
+                                       {.width = width, .height = height, .avatar = avatar ? &*avatar : nullptr});
     cpuSeconds += th::processCpuSeconds() - cpuBefore;
   }
+  const double wallSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - wallStart).count();
+  exportSeconds()[name] = wallSeconds / static_cast<double>(std::max<benchmark::IterationCount>(state.iterations(), 1));
   const double videoSeconds = static_cast<double>(frames) / kFps;
   state.counters["realtime_factor"] = benchmark::Counter(videoSeconds, benchmark::Counter::kIsIterationInvariantRate);
   state.counters["fps"] =
       benchmark::Counter(static_cast<double>(frames), benchmark::Counter::kIsIterationInvariantRate);
   state.counters["realtime_factor_per_core"] =
       videoSeconds * static_cast<double>(state.iterations()) / std::max(cpuSeconds, 1e-9);
+}
+
+void printRatios(double seconds) {
+  const auto& times = exportSeconds();
+  const std::string speech = "/1280x720/speech/" + std::to_string(static_cast<int>(seconds)) + "s";
+  const auto face = times.find("export/face" + speech + "/export_defaults");
+  if (face == times.end()) return;
+  std::printf("export of %.0f s of speech at 1280x720: our face %.2f s", seconds, face->second);
+  for (const char* character : {"brunette", "vroid"})
+    if (const auto it = times.find(std::string("export/character/") + character + speech); it != times.end())
+      std::printf("; %s %.2f s, ratio %.2f", character, it->second, it->second / face->second);
+  std::printf("\n");
 }
 
 }  // namespace
@@ -185,12 +218,21 @@ int main(int argc, char** argv) {
   for (const auto& [width, height] : {std::pair{640, 480}, std::pair{1280, 720}}) {
     const std::string name = "export/face/" + std::to_string(width) + "x" + std::to_string(height) + "/speech/" +
                              std::to_string(static_cast<int>(seconds)) + "s/export_defaults";
-    benchmark::RegisterBenchmark(name.c_str(), exportFace, width, height, seconds)
+    benchmark::RegisterBenchmark(name.c_str(), exportFace, width, height, seconds, std::string(), name)
+        ->Unit(benchmark::kMillisecond)
+        ->UseRealTime()
+        ->Iterations(arguments.quick ? 1 : 3);
+  }
+  for (const auto& [file, character] : {std::pair{"brunette-t.glb", "brunette"}, std::pair{"vroid.glb", "vroid"}}) {
+    const std::string name = std::string("export/character/") + character + "/1280x720/speech/" +
+                             std::to_string(static_cast<int>(seconds)) + "s";
+    benchmark::RegisterBenchmark(name.c_str(), exportFace, 1280, 720, seconds, std::string(file), name)
         ->Unit(benchmark::kMillisecond)
         ->UseRealTime()
         ->Iterations(arguments.quick ? 1 : 3);
   }
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();
+  printRatios(seconds);
   return 0;
 }

@@ -8,8 +8,10 @@
 #   bash scripts/bench.sh animation [ARGS...]   # head and mouth models' training and synthesis (mouth: batch,
 #                                               # windowed and MMSE): build/bench/animation_bench
 #   bash scripts/bench.sh face [ARGS...]        # off-screen rendering (render_bench) and the MP4 export, whole and
-#                                               # encoding alone (export_bench): NOT pinned, these use both cores
-#                                               # (llvmpipe's and x264's threads); run them on an idle machine
+#                                               # encoding alone (export_bench), our face's and the test
+#                                               # characters' (each printed over our face's: "ratio"): NOT pinned,
+#                                               # these use both cores (llvmpipe's and x264's threads); run them
+#                                               # on an idle machine
 #   bash scripts/bench.sh all                   # all four, one after the other
 #
 # features_bench: speed of the feature extraction against Praat and SPTK RAPT. Prints Google Benchmark's table

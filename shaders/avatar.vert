@@ -6,6 +6,8 @@ layout(location = 2) in vec2 aUv;
 
 uniform mat4 uViewProjection;
 
+invariant gl_Position;  // the same depth in the depth pass and the shading pass (different programs)
+
 out vec3 vPosition;
 out vec3 vNormal;
 out vec2 vUv;

@@ -315,13 +315,20 @@ MovingVertices movingVertices(const Avatar& avatar, const AvatarRig& rig) {
 
 namespace {
 
-// One vertex: its morph targets at their weights, then skinned (or moved with its node).
-void deformVertex(const Primitive& primitive, const std::vector<float>& weights, bool skinned,
-                  const std::vector<Eigen::Matrix4f>& joints, const Eigen::Matrix4f& node, Eigen::Index v,
-                  Eigen::Matrix3Xf& positions, Eigen::Matrix3Xf& normals) {
+// The targets a mesh's weights move this frame (the rest weigh too little to show).
+void activeTargets(const std::vector<float>& weights, std::vector<std::uint32_t>& active) {
+  active.clear();
+  for (std::size_t t = 0; t < weights.size(); ++t)
+    if (std::abs(weights[t]) >= 1e-4f) active.push_back(static_cast<std::uint32_t>(t));
+}
+
+// One vertex: its morph targets at their weights (only the active ones), then skinned (or moved with its node).
+void deformVertex(const Primitive& primitive, const std::vector<float>& weights,
+                  const std::vector<std::uint32_t>& active, bool skinned, const std::vector<Eigen::Matrix4f>& joints,
+                  const Eigen::Matrix4f& node, Eigen::Index v, Eigen::Matrix3Xf& positions, Eigen::Matrix3Xf& normals) {
   Eigen::Vector3f p = primitive.positions.col(v), n = primitive.normals.col(v);
-  for (std::size_t t = 0; t < primitive.targetPositions.size() && t < weights.size(); ++t) {
-    if (std::abs(weights[t]) < 1e-4f) continue;
+  for (const std::uint32_t t : active) {
+    if (t >= primitive.targetPositions.size()) break;
     p += weights[t] * primitive.targetPositions[t].col(v);
     n += weights[t] * primitive.targetNormals[t].col(v);
   }
@@ -353,6 +360,7 @@ void deformAvatar(const Avatar& avatar, const AvatarPose& pose, std::vector<Defo
       out.normals.resize(mesh.primitives.size());
       moving = nullptr;
     }
+    activeTargets(pose.weights[m], out.activeTargets);
     const bool skinned = mesh.skin >= 0;
     if (skinned) {
       const Skin& skin = avatar.skins[static_cast<std::size_t>(mesh.skin)];
@@ -368,13 +376,13 @@ void deformAvatar(const Avatar& avatar, const AvatarPose& pose, std::vector<Defo
       Eigen::Matrix3Xf& normals = out.normals[p];
       if (moving != nullptr && positions.cols() == primitive.positions.cols()) {
         for (const std::uint32_t v : moving->vertices[m][p])
-          deformVertex(primitive, pose.weights[m], skinThis, joints, node, v, positions, normals);
+          deformVertex(primitive, pose.weights[m], out.activeTargets, skinThis, joints, node, v, positions, normals);
         continue;
       }
       positions.resize(3, primitive.positions.cols());
       normals.resize(3, primitive.positions.cols());
       for (Eigen::Index v = 0; v < primitive.positions.cols(); ++v)
-        deformVertex(primitive, pose.weights[m], skinThis, joints, node, v, positions, normals);
+        deformVertex(primitive, pose.weights[m], out.activeTargets, skinThis, joints, node, v, positions, normals);
     }
   }
 }

@@ -85,6 +85,7 @@ void poseAvatar(const Avatar& avatar, const AvatarRig& rig, const AvatarInput& i
 struct DeformedMesh {
   std::vector<Eigen::Matrix3Xf> positions;
   std::vector<Eigen::Matrix3Xf> normals;
+  std::vector<std::uint32_t> activeTargets;  // the morph targets applied: those weighing at least 1e-4
 };
 
 // Which vertices a rig can move: those weighted to the neck, the head, the eyes or a bone under them, and

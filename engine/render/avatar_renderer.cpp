@@ -3,10 +3,14 @@
 #include <glad/gl.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstdint>
 #include <string>
+#include <tuple>
 
 #include "core/error.h"
+#include "render/culling.h"
 #include "render/frame_targets.h"
 #include "render/gl_program.h"
 #include "render/materials.h"
@@ -15,6 +19,16 @@
 namespace th::render {
 
 namespace {
+
+constexpr std::uint32_t kClusterTriangles = 128;
+
+// A run of a primitive's triangles (in the file's order) and the box round their vertices as last posed.
+struct Cluster {
+  std::uint32_t first = 0;  // into the primitive's indices
+  std::uint32_t count = 0;  // indices, three a triangle
+  Eigen::AlignedBox3f bounds;
+  bool moves = true;  // holds a vertex that setMeshes(…, moving) may move
+};
 
 struct PrimitiveBuffers {
   GLuint vao = 0;
@@ -25,29 +39,172 @@ struct PrimitiveBuffers {
   int material = -1;
   int mesh = 0;
   int primitive = 0;
+  bool blended = false;
+  GLuint texture = 0;                                // the base colour's, 0: none
+  int variant = 0;                                   // of the fragment shader (variantOf)
   Eigen::Vector3f centre = Eigen::Vector3f::Zero();  // of the last positions, for sorting the blended ones
+  std::vector<Cluster> clusters;
 };
 
-std::string withLighting(const char* stage) {
-  return std::string("#version 330 core\n") + shaders::kLighting_glsl + "#line 2\n" + stage;
+// Consecutive runs of one primitive's triangles, drawn with one glMultiDrawElements: DrawOrder's runs
+// [firstRun, firstRun + runs).
+struct Batch {
+  const PrimitiveBuffers* primitive = nullptr;
+  std::size_t firstRun = 0;
+  std::size_t runs = 0;
+};
+
+// This frame's draws: the opaque and alpha-tested clusters in view from the nearest to the farthest (each pixel
+// keeps the nearest fragment whatever the order, and llvmpipe shades nothing behind depth already drawn), then
+// the blended primitives' clusters in view, each primitive in its file's order (its blending depends on it)
+// and the primitives from the farthest to the nearest.
+struct DrawOrder {
+  std::vector<GLsizei> counts;       // per run, indices
+  std::vector<const void*> offsets;  // per run, into the index buffer (GL's offset-as-pointer idiom)
+  std::vector<Batch> batches;
+  std::vector<std::tuple<float, const PrimitiveBuffers*, const Cluster*>> opaque;  // squared distance, ...
+
+  void clear() {
+    counts.clear();
+    offsets.clear();
+    batches.clear();
+    opaque.clear();
+  }
+  // A cluster after the last one added: joins the last run, or the last batch, or starts a batch.
+  void add(const PrimitiveBuffers* primitive, const Cluster& cluster) {
+    const auto offset =
+        reinterpret_cast<const void*>(static_cast<std::uintptr_t>(cluster.first) * sizeof(std::uint32_t));
+    if (!batches.empty() && batches.back().primitive == primitive) {
+      const auto end = reinterpret_cast<std::uintptr_t>(offsets.back()) + counts.back() * sizeof(std::uint32_t);
+      if (end == reinterpret_cast<std::uintptr_t>(offset)) {
+        counts.back() += static_cast<GLsizei>(cluster.count);
+        return;
+      }
+      ++batches.back().runs;
+    } else {
+      batches.push_back({primitive, counts.size(), 1});
+    }
+    counts.push_back(static_cast<GLsizei>(cluster.count));
+    offsets.push_back(offset);
+  }
+};
+
+// The six planes of a view-projection's frustum (Gribb and Hartmann, "Fast extraction of viewing frustum planes
+// from the world-view-projection matrix", 2001): a point p is inside where every row r gives r · (p, 1) >= 0.
+std::array<Eigen::Vector4f, 6> frustumPlanes(const Eigen::Matrix4f& viewProjection) {
+  const Eigen::Vector4f x = viewProjection.row(0), y = viewProjection.row(1), z = viewProjection.row(2),
+                        w = viewProjection.row(3);
+  return {w + x, w - x, w + y, w - y, w + z, w - z};
+}
+
+// Whether a box meets the frustum: for each plane its corner farthest along the plane's normal is inside
+// (conservative: a box near an edge of the frustum may pass without meeting it).
+bool meetsFrustum(const Eigen::AlignedBox3f& box, const std::array<Eigen::Vector4f, 6>& planes) {
+  if (box.isEmpty()) return false;
+  for (const Eigen::Vector4f& plane : planes) {
+    const Eigen::Vector3f corner((plane.x() >= 0.0f ? box.max() : box.min()).x(),
+                                 (plane.y() >= 0.0f ? box.max() : box.min()).y(),
+                                 (plane.z() >= 0.0f ? box.max() : box.min()).z());
+    if (plane.head<3>().dot(corner) + plane.w() < 0.0f) return false;
+  }
+  return true;
+}
+
+// The smallest region holding both (an empty one holds nothing).
+PixelRegion unite(const PixelRegion& a, const PixelRegion& b) {
+  if (a.width <= 0 || a.height <= 0) return b;
+  if (b.width <= 0 || b.height <= 0) return a;
+  const int left = std::min(a.left, b.left), top = std::min(a.top, b.top);
+  const int right = std::max(a.left + a.width, b.left + b.width), bottom = std::max(a.top + a.height, b.top + b.height);
+  return {left, top, right - left, bottom - top};
+}
+
+void measure(Cluster& cluster, const std::vector<std::uint32_t>& indices, const Eigen::Matrix3Xf& positions) {
+  cluster.bounds.setEmpty();
+  for (std::uint32_t i = cluster.first; i < cluster.first + cluster.count; ++i)
+    cluster.bounds.extend(positions.col(indices[i]));
+}
+
+std::string withLighting(const char* stage, const std::string& defines = {}) {
+  return std::string("#version 330 core\n") + defines + shaders::kLighting_glsl + "#line 2\n" + stage;
+}
+
+// A primitive's material; glTF's default (white, opaque, metallic 1, roughness 1) where it names none.
+const avatar::Material& materialOf(const avatar::Avatar& avatar, int material) {
+  static const avatar::Material plain;
+  return material >= 0 && material < static_cast<int>(avatar.materials.size())
+             ? avatar.materials[static_cast<std::size_t>(material)]
+             : plain;
+}
+
+// The fragment shader's variants (shaders/avatar.frag): by alpha mode, roughness 1, texture and unlit shading
+// (alpha mode * 8 + rough * 4 + textured * 2 + unlit); each also as a depth-only pass (kDepthOnly further on).
+constexpr int kDepthOnly = 3 * 2 * 2 * 2;
+constexpr int kNumVariants = 2 * kDepthOnly;
+int variantOf(const avatar::Material& material, bool textured) {
+  const int alpha = material.alpha == avatar::AlphaMode::kOpaque ? 0
+                    : material.alpha == avatar::AlphaMode::kMask ? 1
+                                                                 : 2;
+  return alpha * 8 + (material.roughness == 1.0f ? 4 : 0) + (textured ? 2 : 0) + (material.unlit ? 1 : 0);
+}
+
+struct AvatarProgram {
+  GLuint id = 0;
+  GLint viewProjection = -1, cameraPosition = -1, lightDirection = -1, lightColour = -1, skyAmbient = -1,
+        groundAmbient = -1, exposure = -1, baseColour = -1, baseTexture = -1, emissive = -1, metallic = -1,
+        roughness = -1, alphaCutoff = -1;
+};
+
+void linkVariant(int variant, AvatarProgram& program) {
+  const int shading = variant % kDepthOnly;
+  const std::string defines = "#define ALPHA_MODE " + std::to_string(shading / 8) + "\n#define ROUGH " +
+                              std::to_string(shading / 4 % 2) + "\n#define TEXTURED " +
+                              std::to_string(shading / 2 % 2) + "\n#define UNLIT " + std::to_string(shading % 2) +
+                              "\n#define DEPTH_ONLY " + std::to_string(variant / kDepthOnly) + "\n";
+  const std::string vertex = withLighting(shaders::kAvatar_vert),
+                    fragment = withLighting(shaders::kAvatar_frag, defines);
+  program.id = linkProgram(vertex.c_str(), fragment.c_str(), "avatar");
+  const auto at = [&](const char* name) { return glGetUniformLocation(program.id, name); };
+  program.viewProjection = at("uViewProjection");
+  program.cameraPosition = at("uCameraPosition");
+  program.lightDirection = at("uLightDirection");
+  program.lightColour = at("uLightColour");
+  program.skyAmbient = at("uSkyAmbient");
+  program.groundAmbient = at("uGroundAmbient");
+  program.exposure = at("uExposure");
+  program.baseColour = at("uBaseColour");
+  program.baseTexture = at("uBaseTexture");
+  program.emissive = at("uEmissive");
+  program.metallic = at("uMetallic");
+  program.roughness = at("uRoughness");
+  program.alphaCutoff = at("uAlphaCutoff");
 }
 
 }  // namespace
 
 struct AvatarRenderer::Gl {
-  GLuint program = 0;
-  GLint viewProjection = -1, cameraPosition = -1, lightDirection = -1, lightColour = -1, skyAmbient = -1,
-        groundAmbient = -1, exposure = -1, baseColour = -1, baseTexture = -1, hasTexture = -1, emissive = -1,
-        metallic = -1, roughness = -1, unlit = -1, alphaMode = -1, alphaCutoff = -1;
+  std::array<AvatarProgram, kNumVariants> programs{};  // those the materials use (id 0: not linked)
   GLuint backgroundProgram = 0;
   GLint top = -1, bottom = -1, aspect = -1;
   GLuint emptyVao = 0;
   std::vector<PrimitiveBuffers> primitives;
+  DrawOrder order;
   std::vector<GLuint> textures;
   FrameTargets targets;
   bool resolved = true;
+  // The opaque clusters that never move, drawn once for a camera and copied under each frame (render() with
+  // one sample): a character framed on its head shows its still shoulders and arms in every frame.
+  FrameTargets still;
+  bool stillValid = false;
+  Eigen::Matrix4f stillViewProjection = Eigen::Matrix4f::Zero();
+  Eigen::Vector3f stillEye = Eigen::Vector3f::Zero();
+  PixelRegion stillRegion;
 
-  void releaseTargets() { targets.release(); }
+  void releaseTargets() {
+    targets.release();
+    still.release();
+    stillValid = false;
+  }
   void releaseAll() {
     releaseTargets();
     for (PrimitiveBuffers& p : primitives) {
@@ -59,9 +216,12 @@ struct AvatarRenderer::Gl {
     if (!textures.empty()) glDeleteTextures(static_cast<GLsizei>(textures.size()), textures.data());
     textures.clear();
     glDeleteVertexArrays(1, &emptyVao);
-    glDeleteProgram(program);
+    for (AvatarProgram& program : programs) {
+      glDeleteProgram(program.id);
+      program.id = 0;
+    }
     glDeleteProgram(backgroundProgram);
-    emptyVao = program = backgroundProgram = 0;
+    emptyVao = backgroundProgram = 0;
   }
 };
 
@@ -73,25 +233,6 @@ AvatarRenderer::AvatarRenderer(GlContext& context, const avatar::Avatar& avatar,
   context_.makeCurrent();
   Gl& g = *gl_;
   try {
-    const std::string vertex = withLighting(shaders::kAvatar_vert), fragment = withLighting(shaders::kAvatar_frag);
-    g.program = linkProgram(vertex.c_str(), fragment.c_str(), "avatar");
-    const auto at = [&](const char* name) { return glGetUniformLocation(g.program, name); };
-    g.viewProjection = at("uViewProjection");
-    g.cameraPosition = at("uCameraPosition");
-    g.lightDirection = at("uLightDirection");
-    g.lightColour = at("uLightColour");
-    g.skyAmbient = at("uSkyAmbient");
-    g.groundAmbient = at("uGroundAmbient");
-    g.exposure = at("uExposure");
-    g.baseColour = at("uBaseColour");
-    g.baseTexture = at("uBaseTexture");
-    g.hasTexture = at("uHasTexture");
-    g.emissive = at("uEmissive");
-    g.metallic = at("uMetallic");
-    g.roughness = at("uRoughness");
-    g.unlit = at("uUnlit");
-    g.alphaMode = at("uAlphaMode");
-    g.alphaCutoff = at("uAlphaCutoff");
     g.backgroundProgram = linkProgram(shaders::kBackground_vert, shaders::kBackground_frag, "background");
     g.top = glGetUniformLocation(g.backgroundProgram, "uTop");
     g.bottom = glGetUniformLocation(g.backgroundProgram, "uBottom");
@@ -124,6 +265,14 @@ AvatarRenderer::AvatarRenderer(GlContext& context, const avatar::Avatar& avatar,
         b.primitive = static_cast<int>(p);
         b.material = primitive.material;
         b.indices = static_cast<GLsizei>(primitive.indices.size());
+        b.blended = primitive.material >= 0 && primitive.material < static_cast<int>(avatar.materials.size()) &&
+                    avatar.materials[static_cast<std::size_t>(primitive.material)].alpha == avatar::AlphaMode::kBlend;
+        const auto indices = static_cast<std::uint32_t>(primitive.indices.size() / 3 * 3);
+        for (std::uint32_t first = 0; first < indices; first += 3 * kClusterTriangles)
+          b.clusters.push_back({.first = first,
+                                .count = std::min(3 * kClusterTriangles, indices - first),
+                                .bounds = Eigen::AlignedBox3f(),
+                                .moves = true});
         glGenVertexArrays(1, &b.vao);
         glBindVertexArray(b.vao);
         glGenBuffers(1, &b.dynamicBuffer);
@@ -148,6 +297,19 @@ AvatarRenderer::AvatarRenderer(GlContext& context, const avatar::Avatar& avatar,
         g.primitives.push_back(b);
       }
     }
+    for (PrimitiveBuffers& b : g.primitives) {
+      const avatar::Material& material = materialOf(avatar, b.material);
+      const int texture = material.baseColourTexture;
+      b.texture = texture >= 0 && texture < static_cast<int>(g.textures.size())
+                      ? g.textures[static_cast<std::size_t>(texture)]
+                      : 0;
+      b.variant = variantOf(material, b.texture != 0);
+      for (const int variant : {b.variant, b.variant + kDepthOnly}) {
+        if (variant >= kDepthOnly && material.alpha != avatar::AlphaMode::kOpaque) continue;  // no depth pass
+        if (g.programs[static_cast<std::size_t>(variant)].id == 0)
+          linkVariant(variant, g.programs[static_cast<std::size_t>(variant)]);
+      }
+    }
     createTargets();
     std::vector<avatar::DeformedMesh> rest;
     avatar::deformAvatar(avatar, avatar::restPose(avatar), rest);
@@ -167,7 +329,10 @@ void AvatarRenderer::createTargets() {
   Gl& g = *gl_;
   const GLsizei w = options_.width, h = options_.height;
   samples_ = g.targets.create(w, h, options_.samples, "AvatarRenderer");
+  if (samples_ == 1 && options_.cull) g.still.create(w, h, 1, "AvatarRenderer");
+  g.stillValid = false;
   g.resolved = true;
+  drawn_ = {0, 0, w, h};  // nothing read yet: a new target holds anything
   backdrop_ = makeBackdrop(w, h, options_.backgroundTop, options_.backgroundBottom);
 }
 
@@ -183,52 +348,210 @@ void AvatarRenderer::resize(int width, int height) {
   createTargets();
 }
 
+void AvatarRenderer::setMovingVertices(const avatar::MovingVertices& moving) {
+  gl_->stillValid = false;
+  std::vector<bool> moves;
+  for (PrimitiveBuffers& b : gl_->primitives) {
+    const avatar::Primitive& primitive =
+        avatar_.meshes[static_cast<std::size_t>(b.mesh)].primitives[static_cast<std::size_t>(b.primitive)];
+    moves.assign(static_cast<std::size_t>(primitive.positions.cols()), false);
+    for (const std::uint32_t v :
+         moving.vertices[static_cast<std::size_t>(b.mesh)][static_cast<std::size_t>(b.primitive)])
+      moves[v] = true;
+    for (Cluster& cluster : b.clusters) {
+      cluster.moves = false;
+      for (std::uint32_t i = cluster.first; i < cluster.first + cluster.count && !cluster.moves; ++i)
+        cluster.moves = moves[primitive.indices[i]];
+    }
+  }
+}
+
 void AvatarRenderer::setMeshes(const std::vector<avatar::DeformedMesh>& meshes, const avatar::MovingVertices* moving) {
   if (meshes.size() != avatar_.meshes.size())
     throw Error("AvatarRenderer: " + std::to_string(meshes.size()) + " meshes for a character of " +
                 std::to_string(avatar_.meshes.size()));
   context_.makeCurrent();
   for (PrimitiveBuffers& b : gl_->primitives) {
-    if (moving != nullptr &&
-        moving->vertices[static_cast<std::size_t>(b.mesh)][static_cast<std::size_t>(b.primitive)].empty())
-      continue;
     const avatar::DeformedMesh& mesh = meshes[static_cast<std::size_t>(b.mesh)];
     const Eigen::Matrix3Xf& positions = mesh.positions[static_cast<std::size_t>(b.primitive)];
     const Eigen::Matrix3Xf& normals = mesh.normals[static_cast<std::size_t>(b.primitive)];
-    const Eigen::Index vertices = positions.cols();
-    upload_.resize(static_cast<std::size_t>(vertices) * 6);
-    for (Eigen::Index v = 0; v < vertices; ++v) {
-      float* out = upload_.data() + static_cast<std::size_t>(v) * 6;
-      for (int k = 0; k < 3; ++k) {
-        out[k] = positions(k, v);
-        out[3 + k] = normals(k, v);
+    const std::vector<std::uint32_t>& indices =
+        avatar_.meshes[static_cast<std::size_t>(b.mesh)].primitives[static_cast<std::size_t>(b.primitive)].indices;
+    const auto vertices = static_cast<std::uint32_t>(positions.cols());
+    // The vertices to upload: all of them, or the moving ones in runs (gaps of a few vertices uploaded too,
+    // fewer calls).
+    const std::vector<std::uint32_t>* list =
+        moving != nullptr ? &moving->vertices[static_cast<std::size_t>(b.mesh)][static_cast<std::size_t>(b.primitive)]
+                          : nullptr;
+    if (list != nullptr && list->empty()) continue;
+    if (list == nullptr) gl_->stillValid = false;
+    glBindBuffer(GL_ARRAY_BUFFER, b.dynamicBuffer);
+    const auto upload = [&](std::uint32_t from, std::uint32_t to) {  // vertices [from, to)
+      upload_.resize(static_cast<std::size_t>(to - from) * 6);
+      float* out = upload_.data();
+      for (std::uint32_t v = from; v < to; ++v, out += 6) {
+        for (int k = 0; k < 3; ++k) {
+          out[k] = positions(k, v);
+          out[3 + k] = normals(k, v);
+        }
+      }
+      glBufferSubData(GL_ARRAY_BUFFER, static_cast<GLintptr>(from * 6 * sizeof(float)),
+                      static_cast<GLsizeiptr>(upload_.size() * sizeof(float)), upload_.data());
+    };
+    if (list == nullptr) {
+      upload(0, vertices);
+    } else {
+      constexpr std::uint32_t kGap = 32;
+      std::size_t k = 0;
+      while (k < list->size()) {
+        const std::uint32_t from = (*list)[k];
+        std::uint32_t to = from + 1;
+        while (++k < list->size() && (*list)[k] <= to + kGap) to = (*list)[k] + 1;
+        upload(from, to);
       }
     }
-    b.centre = vertices > 0 ? Eigen::Vector3f(positions.rowwise().mean()) : Eigen::Vector3f::Zero();
-    glBindBuffer(GL_ARRAY_BUFFER, b.dynamicBuffer);
-    glBufferSubData(GL_ARRAY_BUFFER, 0, static_cast<GLsizeiptr>(upload_.size() * sizeof(float)), upload_.data());
+    for (Cluster& cluster : b.clusters)
+      if (list == nullptr || cluster.moves) measure(cluster, indices, positions);
+    if (b.blended) b.centre = vertices > 0 ? Eigen::Vector3f(positions.rowwise().mean()) : Eigen::Vector3f::Zero();
   }
   glBindBuffer(GL_ARRAY_BUFFER, 0);
+}
+
+void AvatarRenderer::selectVisible(const Eigen::Matrix4f& viewProjection, const Eigen::Vector3f& eye, Layer layer) {
+  const std::array<Eigen::Vector4f, 6> planes = frustumPlanes(viewProjection);
+  float lowX = 1e30f, highX = -1e30f, lowY = 1e30f, highY = -1e30f;
+  bool behind = false;  // a box reaches behind the camera: its projection says nothing
+  trianglesDrawn_ = 0;
+  DrawOrder& order = gl_->order;
+  order.clear();
+  for (const PrimitiveBuffers& b : gl_->primitives) {
+    for (const Cluster& cluster : b.clusters) {
+      const bool still = !b.blended && !cluster.moves;
+      if ((layer == Layer::kStill && !still) || (layer == Layer::kMoving && still)) continue;
+      if (options_.cull && !meetsFrustum(cluster.bounds, planes)) continue;
+      if (b.blended || !options_.cull)
+        order.add(&b, cluster);
+      else
+        order.opaque.emplace_back((cluster.bounds.center() - eye).squaredNorm(), &b, &cluster);
+      trianglesDrawn_ += static_cast<int>(cluster.count / 3);
+      for (int corner = 0; corner < 8 && !behind; ++corner) {
+        const Eigen::Vector3f p = cluster.bounds.corner(static_cast<Eigen::AlignedBox3f::CornerType>(corner));
+        const Eigen::Vector4f clip = viewProjection * p.homogeneous();
+        if (clip.w() <= 1e-6f) {
+          behind = true;
+          break;
+        }
+        lowX = std::min(lowX, clip.x() / clip.w());
+        highX = std::max(highX, clip.x() / clip.w());
+        lowY = std::min(lowY, clip.y() / clip.w());
+        highY = std::max(highY, clip.y() / clip.w());
+      }
+    }
+  }
+  // The batches added above (one a primitive: the blended ones; without culling the opaque ones too, first, in
+  // the file's order), the blended from the farthest; then the opaque clusters from the nearest, moved before
+  // the blended.
+  std::stable_sort(order.batches.begin(), order.batches.end(), [&](const Batch& x, const Batch& y) {
+    if (x.primitive->blended != y.primitive->blended) return !x.primitive->blended;
+    if (!x.primitive->blended) return false;
+    return (x.primitive->centre - eye).squaredNorm() > (y.primitive->centre - eye).squaredNorm();
+  });
+  const std::size_t blendedBatches = order.batches.size();
+  std::sort(order.opaque.begin(), order.opaque.end(), [](const auto& x, const auto& y) {
+    return std::get<0>(x) < std::get<0>(y) ||
+           (std::get<0>(x) == std::get<0>(y) && std::get<2>(x)->first < std::get<2>(y)->first);
+  });
+  for (const auto& [distance, primitive, cluster] : order.opaque) order.add(primitive, *cluster);
+  std::rotate(order.batches.begin(), order.batches.begin() + static_cast<std::ptrdiff_t>(blendedBatches),
+              order.batches.end());
+  const PixelRegion whole{0, 0, options_.width, options_.height};
+  drawn_ = behind || !options_.cull ? whole : pixelRegion(lowX, lowY, highX, highY, options_.width, options_.height);
 }
 
 void AvatarRenderer::render(const OrbitCamera& camera) {
   context_.makeCurrent();
   Gl& g = *gl_;
+  const bool layered = samples_ == 1 && options_.cull;
+  if (layered) drawStillLayer(camera);  // (leaves the target bound, holding the still layer)
+  if (!layered) {
+    glBindFramebuffer(GL_FRAMEBUFFER, samples_ > 1 ? g.targets.msaaFramebuffer : g.targets.resolveFramebuffer);
+    glViewport(0, 0, options_.width, options_.height);
+    glClearColor(0.0f, 0.0f, 0.0f, 0.0f);
+    glClearDepth(1.0);
+    glDepthMask(GL_TRUE);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  }
+  drawCharacter(camera, false, layered ? Layer::kMoving : Layer::kAll);
+  if (layered) drawn_ = unite(drawn_, g.stillRegion);
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  g.resolved = samples_ == 1;
+}
+
+void AvatarRenderer::drawStillLayer(const OrbitCamera& camera) {
+  Gl& g = *gl_;
+  const float aspect = static_cast<float>(options_.width) / static_cast<float>(options_.height);
+  const Eigen::Matrix4f viewProjection = camera.projection(aspect) * camera.view();
+  if (!g.stillValid || viewProjection != g.stillViewProjection || camera.eye() != g.stillEye) {
+    glBindFramebuffer(GL_FRAMEBUFFER, g.still.resolveFramebuffer);
+    glViewport(0, 0, options_.width, options_.height);
+    glClearColor(0.0f, 0.0f, 0.0f, 0.0f);
+    glClearDepth(1.0);
+    glDepthMask(GL_TRUE);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    drawCharacter(camera, false, Layer::kStill);
+    g.stillRegion = drawn_;
+    g.stillViewProjection = viewProjection;
+    g.stillEye = camera.eye();
+    g.stillValid = true;
+  }
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, g.still.resolveFramebuffer);
+  glBindFramebuffer(GL_DRAW_FRAMEBUFFER, g.targets.resolveFramebuffer);
+  glBlitFramebuffer(0, 0, options_.width, options_.height, 0, 0, options_.width, options_.height,
+                    GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT, GL_NEAREST);
+  glBindFramebuffer(GL_FRAMEBUFFER, g.targets.resolveFramebuffer);
+  glViewport(0, 0, options_.width, options_.height);
+}
+
+void AvatarRenderer::renderToWindow(const OrbitCamera& camera, int left) {
+  context_.makeCurrent();
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  // The viewport clips the backdrop's screen-covering triangle and the character alike: nothing is drawn
+  // beside it. The backdrop goes after the opaque surfaces, only where they left the far plane, and before the
+  // blended ones: premultiplied "over" onto it gives what render() then the backdrop under gives.
+  glViewport(left, 0, options_.width, options_.height);
+  glDepthMask(GL_TRUE);
+  glClearDepth(1.0);
+  glClear(GL_DEPTH_BUFFER_BIT);
+  drawCharacter(camera, true);
+}
+
+// The gradient where the depth buffer still holds the far plane: neither the colour nor the depth of what is
+// drawn is touched, and llvmpipe skips shading the blocks it covers.
+void AvatarRenderer::drawBackdropBehind() {
+  Gl& g = *gl_;
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LEQUAL);
+  glDepthMask(GL_FALSE);
+  glDisable(GL_CULL_FACE);
+  glDisable(GL_BLEND);
+  glUseProgram(g.backgroundProgram);
+  setVector(g.top, options_.backgroundTop);
+  setVector(g.bottom, options_.backgroundBottom);
+  glUniform1f(g.aspect, static_cast<float>(options_.width) / static_cast<float>(options_.height));
+  glBindVertexArray(g.emptyVao);
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+  glDepthFunc(GL_LESS);
+}
+
+void AvatarRenderer::drawCharacter(const OrbitCamera& camera, bool withBackdrop, Layer layer) {
+  Gl& g = *gl_;
   const float aspect = static_cast<float>(options_.width) / static_cast<float>(options_.height);
   const Eigen::Matrix4f view = camera.view();
   const Eigen::Matrix4f viewProjection = camera.projection(aspect) * view;
   const Eigen::Vector3f eye = camera.eye();
-  glBindFramebuffer(GL_FRAMEBUFFER, samples_ > 1 ? g.targets.msaaFramebuffer : g.targets.resolveFramebuffer);
-  glViewport(0, 0, options_.width, options_.height);
-  glClearColor(0.0f, 0.0f, 0.0f, 0.0f);
-  glClearDepth(1.0);
-  glDepthMask(GL_TRUE);
-  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  selectVisible(viewProjection, eye, layer);
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);
-  glUseProgram(g.program);
-  glUniformMatrix4fv(g.viewProjection, 1, GL_FALSE, viewProjection.data());
-  setVector(g.cameraPosition, eye);
   const Lighting& light = options_.lighting;
   const Eigen::Matrix3f toWorld = view.topLeftCorner<3, 3>().transpose();
   const Light* lights[3] = {&light.key, &light.fill, &light.rim};
@@ -240,69 +563,94 @@ void AvatarRenderer::render(const OrbitCamera& camera) {
       colours[3 * i + k] = lights[i]->colour[k];
     }
   }
-  glUniform3fv(g.lightDirection, 3, directions);
-  glUniform3fv(g.lightColour, 3, colours);
-  setVector(g.skyAmbient, light.skyAmbient);
-  setVector(g.groundAmbient, light.groundAmbient);
-  glUniform1f(g.exposure, light.exposure);
-  glUniform1i(g.baseTexture, 0);
+  for (const AvatarProgram& program : g.programs) {
+    if (program.id == 0) continue;
+    glUseProgram(program.id);
+    glUniformMatrix4fv(program.viewProjection, 1, GL_FALSE, viewProjection.data());
+    setVector(program.cameraPosition, eye);
+    glUniform3fv(program.lightDirection, 3, directions);
+    glUniform3fv(program.lightColour, 3, colours);
+    setVector(program.skyAmbient, light.skyAmbient);
+    setVector(program.groundAmbient, light.groundAmbient);
+    glUniform1f(program.exposure, light.exposure);
+    glUniform1i(program.baseTexture, 0);
+  }
   glActiveTexture(GL_TEXTURE0);
 
-  // Opaque and alpha-tested surfaces, then the blended ones from the farthest to the nearest.
-  std::vector<const PrimitiveBuffers*> order;
-  order.reserve(g.primitives.size());
-  for (const PrimitiveBuffers& b : g.primitives) order.push_back(&b);
-  const auto blended = [&](const PrimitiveBuffers* b) {
-    return b->material >= 0 && b->material < static_cast<int>(avatar_.materials.size()) &&
-           avatar_.materials[static_cast<std::size_t>(b->material)].alpha == avatar::AlphaMode::kBlend;
+  // One batch (selectVisible's order), with the state changed only where it differs from the last one's.
+  enum class Pass { kDepth, kShade };
+  const PrimitiveBuffers* last = nullptr;
+  Pass lastPass = Pass::kShade;
+  const auto draw = [&](const Batch& batch, Pass pass) {
+    const PrimitiveBuffers* b = batch.primitive;
+    const avatar::Material& material = materialOf(avatar_, b->material);
+    const bool fresh = last == nullptr || lastPass != pass;
+    if (fresh || materialOf(avatar_, last->material).doubleSided != material.doubleSided) {
+      if (material.doubleSided)
+        glDisable(GL_CULL_FACE);
+      else {
+        glEnable(GL_CULL_FACE);
+        glCullFace(GL_BACK);
+      }
+    }
+    const int variant = b->variant + (pass == Pass::kDepth ? kDepthOnly : 0);
+    const AvatarProgram& program = g.programs[static_cast<std::size_t>(variant)];
+    const bool sameProgram = !fresh && last->variant == b->variant;
+    if (!sameProgram) glUseProgram(program.id);
+    if (!sameProgram || last->material != b->material) {
+      glUniform4fv(program.baseColour, 1, material.baseColour.data());
+      setVector(program.emissive, material.emissive);
+      glUniform1f(program.metallic, material.metallic);
+      glUniform1f(program.roughness, material.roughness);
+      glUniform1f(program.alphaCutoff, material.alphaCutoff);
+    }
+    if (fresh || last->texture != b->texture) glBindTexture(GL_TEXTURE_2D, b->texture);
+    if (fresh || last != b) glBindVertexArray(b->vao);
+    last = b;
+    lastPass = pass;
+    glMultiDrawElements(GL_TRIANGLES, g.order.counts.data() + batch.firstRun, GL_UNSIGNED_INT,
+                        g.order.offsets.data() + batch.firstRun, static_cast<GLsizei>(batch.runs));
   };
-  std::stable_sort(order.begin(), order.end(), [&](const PrimitiveBuffers* a, const PrimitiveBuffers* b) {
-    if (blended(a) != blended(b)) return !blended(a);
-    if (!blended(a)) return false;
-    return (a->centre - eye).squaredNorm() > (b->centre - eye).squaredNorm();
-  });
-  const avatar::Material plain;
-  for (const PrimitiveBuffers* b : order) {
-    const avatar::Material& material = b->material >= 0 && b->material < static_cast<int>(avatar_.materials.size())
-                                           ? avatar_.materials[static_cast<std::size_t>(b->material)]
-                                           : plain;
-    const bool blend = material.alpha == avatar::AlphaMode::kBlend;
-    if (blend) {
-      glEnable(GL_BLEND);
-      glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA);  // premultiplied
-      glDepthMask(GL_FALSE);
-    } else {
-      glDisable(GL_BLEND);
-      glDepthMask(GL_TRUE);
-    }
-    if (material.doubleSided)
-      glDisable(GL_CULL_FACE);
-    else {
-      glEnable(GL_CULL_FACE);
-      glCullFace(GL_BACK);
-    }
-    glUniform4fv(g.baseColour, 1, material.baseColour.data());
-    const int texture = material.baseColourTexture;
-    const bool textured = texture >= 0 && texture < static_cast<int>(g.textures.size()) &&
-                          g.textures[static_cast<std::size_t>(texture)] != 0;
-    glUniform1i(g.hasTexture, textured ? 1 : 0);
-    glBindTexture(GL_TEXTURE_2D, textured ? g.textures[static_cast<std::size_t>(texture)] : 0);
-    setVector(g.emissive, material.emissive);
-    glUniform1f(g.metallic, material.metallic);
-    glUniform1f(g.roughness, material.roughness);
-    glUniform1i(g.unlit, material.unlit ? 1 : 0);
-    glUniform1i(g.alphaMode, material.alpha == avatar::AlphaMode::kOpaque ? 0
-                             : material.alpha == avatar::AlphaMode::kMask ? 1
-                                                                          : 2);
-    glUniform1f(g.alphaCutoff, material.alphaCutoff);
-    glBindVertexArray(b->vao);
-    glDrawElements(GL_TRIANGLES, b->indices, GL_UNSIGNED_INT, nullptr);
-  }
-  glBindVertexArray(0);
+  const auto opaqueEnd = std::find_if(g.order.batches.begin(), g.order.batches.end(),
+                                      [](const Batch& batch) { return batch.primitive->blended; });
+  const auto isMasked = [&](const Batch& batch) {
+    return materialOf(avatar_, batch.primitive->material).alpha == avatar::AlphaMode::kMask;
+  };
   glDisable(GL_BLEND);
   glDepthMask(GL_TRUE);
-  glBindFramebuffer(GL_FRAMEBUFFER, 0);
-  g.resolved = samples_ == 1;
+  glDepthFunc(GL_LESS);
+  if (options_.cull) {
+    // The opaque surfaces' depth first (no colour, no shading), then their colour where their depth is the one
+    // kept: each pixel is shaded once, whatever lies behind it. The same vertex shader in both passes gives the
+    // same depths (it declares gl_Position invariant). Then the alpha-tested ones, in one pass (a depth pass
+    // would sample their textures twice).
+    glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+    for (auto batch = g.order.batches.begin(); batch != opaqueEnd; ++batch)
+      if (!isMasked(*batch)) draw(*batch, Pass::kDepth);
+    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    glDepthFunc(GL_EQUAL);
+    glDepthMask(GL_FALSE);
+    for (auto batch = g.order.batches.begin(); batch != opaqueEnd; ++batch)
+      if (!isMasked(*batch)) draw(*batch, Pass::kShade);
+    glDepthFunc(GL_LESS);
+    glDepthMask(GL_TRUE);
+    for (auto batch = g.order.batches.begin(); batch != opaqueEnd; ++batch)
+      if (isMasked(*batch)) draw(*batch, Pass::kShade);
+  } else {
+    for (auto batch = g.order.batches.begin(); batch != opaqueEnd; ++batch) draw(*batch, Pass::kShade);
+  }
+  // The backdrop where nothing opaque is (its depth still the far plane's), then the blended surfaces.
+  if (withBackdrop) drawBackdropBehind();
+  last = nullptr;
+  glDepthFunc(GL_LESS);
+  glEnable(GL_BLEND);
+  glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA);  // premultiplied
+  glDepthMask(GL_FALSE);
+  for (auto batch = opaqueEnd; batch != g.order.batches.end(); ++batch) draw(*batch, Pass::kShade);
+  glBindVertexArray(0);
+  glDisable(GL_BLEND);
+  glDisable(GL_CULL_FACE);
+  glDepthMask(GL_TRUE);
 }
 
 void AvatarRenderer::resolve() {
@@ -317,12 +665,15 @@ void AvatarRenderer::readRaw(RawFrame& frame) {
   resolve();
   frame.width = options_.width;
   frame.height = options_.height;
-  frame.region = {0, 0, options_.width, options_.height};
+  frame.region = drawn_;
+  const PixelRegion& r = frame.region;
   glBindFramebuffer(GL_READ_FRAMEBUFFER, gl_->targets.resolveFramebuffer);
   glReadBuffer(GL_COLOR_ATTACHMENT0);
   glPixelStorei(GL_PACK_ALIGNMENT, 1);
-  frame.rgba.resize(static_cast<std::size_t>(frame.width) * static_cast<std::size_t>(frame.height) * 4);
-  glReadPixels(0, 0, frame.width, frame.height, GL_RGBA, GL_UNSIGNED_BYTE, frame.rgba.data());
+  frame.rgba.resize(static_cast<std::size_t>(r.width) * static_cast<std::size_t>(r.height) * 4);
+  if (!frame.rgba.empty())
+    glReadPixels(r.left, frame.height - r.top - r.height, r.width, r.height, GL_RGBA, GL_UNSIGNED_BYTE,
+                 frame.rgba.data());
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
 }
 
@@ -442,6 +793,7 @@ AnimatedAvatar::AnimatedAvatar(const avatar::Avatar& avatar, GlContext& context,
       moving_(avatar::movingVertices(avatar, rig_)),
       renderer_(context, avatar, options),
       pose_(avatar::restPose(avatar)) {
+  renderer_.setMovingVertices(moving_);
   avatar::deformAvatar(avatar_, pose_, meshes_);
   camera_ = frameAvatarHead(avatar_, meshes_, static_cast<double>(options.width) / options.height);
 }

@@ -177,6 +177,10 @@ PixelRegion headRegion(const std::vector<float>& vertexData, const Eigen::Matrix
     lowY = std::min(lowY, y);
     highY = std::max(highY, y);
   }
+  return pixelRegion(lowX, lowY, highX, highY, width, height);
+}
+
+PixelRegion pixelRegion(float lowX, float lowY, float highX, float highY, int width, int height) {
   constexpr int kMargin = 8;  // FXAA's reach: its edge pixels lie next to drawn ones, its samples 4.5 further
   // Normalised device coordinates to pixels, rows from the top; clamped first, so that the casts stay in range.
   const auto toPixels = [](float ndc, float size) { return std::clamp((ndc + 1.0f) * 0.5f * size, -1e6f, 1e6f); };

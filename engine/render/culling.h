@@ -69,5 +69,9 @@ class Culling {
 // as Culling::select takes it.
 PixelRegion headRegion(const std::vector<float>& vertexData, const Eigen::Matrix4f& viewProjection, int width,
                        int height);
+// The pixels of a `width` x `height` frame round a rectangle in normalised device coordinates (x and y in
+// -1..1, y up), 8 pixels wider on every side (FXAA's reach) and on even pixels (Y'CbCr 4:2:0 blocks), within
+// the frame; empty if it lies outside.
+PixelRegion pixelRegion(float lowX, float lowY, float highX, float highY, int width, int height);
 
 }  // namespace th::render

@@ -6,6 +6,7 @@
 #include <GL/osmesa.h>
 #include <GLFW/glfw3.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cstdlib>
 #include <mutex>
@@ -73,9 +74,16 @@ std::string GlContext::description() {
 
 // ---- OSMesa ----
 
-OffscreenContext::OffscreenContext() {
+OffscreenContext::OffscreenContext(int framebufferWidth, int framebufferHeight)
+    : width_(framebufferWidth),
+      height_(framebufferHeight),
+      buffer_(static_cast<std::size_t>(std::max(framebufferWidth, 1)) *
+              static_cast<std::size_t>(std::max(framebufferHeight, 1)) * 4) {
+  if (framebufferWidth <= 0 || framebufferHeight <= 0)
+    throw Error("OSMesa: the default framebuffer's size must be positive, not " + std::to_string(framebufferWidth) +
+                "x" + std::to_string(framebufferHeight));
   const int attributes[] = {OSMESA_FORMAT, OSMESA_RGBA, OSMESA_DEPTH_BITS,
-                            24,  // for renderToWindow() into the 16 x 16 default framebuffer (the renderer's
+                            24,  // for renderToWindow() into the default framebuffer (the renderers'
                                  // framebuffer objects have depth buffers of their own)
                             OSMESA_PROFILE, OSMESA_CORE_PROFILE, OSMESA_CONTEXT_MAJOR_VERSION, 3,
                             OSMESA_CONTEXT_MINOR_VERSION, 3, 0};
@@ -97,7 +105,7 @@ OffscreenContext::~OffscreenContext() {
 }
 
 void OffscreenContext::makeCurrent() {
-  if (OSMesaMakeCurrent(static_cast<OSMesaContext>(context_), buffer_, GL_UNSIGNED_BYTE, 16, 16) == 0)
+  if (OSMesaMakeCurrent(static_cast<OSMesaContext>(context_), buffer_.data(), GL_UNSIGNED_BYTE, width_, height_) == 0)
     throw Error("OSMesa: could not make the off-screen context current");
   loadEntryPoints(1, osmesaProc, "OSMesa");
 }

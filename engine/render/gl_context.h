@@ -17,6 +17,7 @@
 
 #include <string>
 #include <utility>
+#include <vector>
 
 struct GLFWwindow;
 
@@ -38,19 +39,23 @@ class GlContext {
   std::string description();
 };
 
-// An OSMesa context with a tiny default framebuffer of its own: the renderer draws into framebuffer objects
-// of any size, so the context does not depend on the image size.
+// An OSMesa context with a default framebuffer of its own (colour and depth), 16 x 16 unless asked: the renderer
+// draws into framebuffer objects of any size, so the context does not depend on the image size. A larger one
+// stands in for a window's (benchmarks of renderToWindow).
 class OffscreenContext final : public GlContext {
  public:
-  OffscreenContext();  // created current; throws th::Error if OSMesa cannot give a 3.3 core context
+  // Created current; throws th::Error if OSMesa cannot give a 3.3 core context.
+  explicit OffscreenContext(int framebufferWidth = 16, int framebufferHeight = 16);
   ~OffscreenContext() override;
 
   void makeCurrent() override;
   const char* kind() const override { return "osmesa"; }
 
  private:
-  void* context_ = nullptr;                 // OSMesaContext
-  unsigned char buffer_[4 * 16 * 16] = {};  // the default framebuffer nothing draws to
+  void* context_ = nullptr;  // OSMesaContext
+  int width_ = 16;
+  int height_ = 16;
+  std::vector<unsigned char> buffer_;  // the default framebuffer, RGBA
 };
 
 struct WindowOptions {
