@@ -187,9 +187,11 @@ void speakingCharacter(benchmark::State& state, Path path, const std::string& fi
   th::render::AvatarRenderer renderer(
       context(), avatar, {.width = width, .height = kWindowHeight, .samples = 1, .fxaa = path == Path::kExport});
   renderer.setMovingVertices(moving);
-  th::avatar::AvatarPose pose = th::avatar::restPose(avatar);
+  th::avatar::AvatarPose pose;
+  th::avatar::poseAvatar(avatar, rig, th::avatar::AvatarInput{}, pose);  // at rest, the arms lowered
   std::vector<th::avatar::DeformedMesh> meshes;
   th::avatar::deformAvatar(avatar, pose, meshes);
+  renderer.setMeshes(meshes);
   const th::render::OrbitCamera camera =
       th::render::frameAvatarHead(avatar, meshes, static_cast<double>(width) / kWindowHeight);
   th::render::RawFrame raw;

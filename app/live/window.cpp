@@ -345,9 +345,13 @@ class LiveWindow {
       // The character's mouth by the visemes where the decoder has them (its viseme targets), else by the FAPs.
       avatar_->pose(faps, drawn.visemeIndex >= 0 ? drawn.visemeProbabilities.data() : nullptr);
       times.faceSetupMs = millisecondsBetween(setupStart, std::chrono::steady_clock::now());
-      avatar_->render();
-      window_.makeCurrent();
-      avatar_->renderer().present(window_.framebufferSize(), panelWidth_);
+      if (avatar_->renderer().samples() <= 1) {
+        avatar_->renderToWindow(panelWidth_);  // as our face: no target of its own to copy
+      } else {
+        avatar_->render();
+        window_.makeCurrent();
+        avatar_->renderer().present(window_.framebufferSize(), panelWidth_);
+      }
       return;
     }
     face_->pose(faps);

@@ -232,6 +232,21 @@ Material materialOf(const tinygltf::Material& source) {
 
 // The bones by the usual rigs' node names: Mixamo/Ready Player Me (Neck, Head, LeftEye), Mixamo's prefix,
 // VRoid (J_Bip_C_Neck, J_Bip_C_Head, J_Adj_L_FaceEye).
+// The first node (without a mesh: a joint) with one of `names` (lower case, any "prefix:" dropped), or -1.
+int jointNamed(const Avatar& avatar, const std::vector<std::string>& names) {
+  for (const std::string& wanted : names)
+    for (const int n : avatar.drawOrder) {
+      std::string name = lowered(avatar.nodes[static_cast<std::size_t>(n)].name);
+      if (const auto colon = name.rfind(':'); colon != std::string::npos) name = name.substr(colon + 1);
+      // A mesh node can carry a bone's name ("EyeLeft" is Ready Player Me's eye mesh): only nodes without
+      // a mesh count, which is what skins' joints are.
+      const bool isMesh =
+          std::any_of(avatar.meshes.begin(), avatar.meshes.end(), [&](const MeshInstance& m) { return m.node == n; });
+      if (name == wanted && !isMesh) return n;
+    }
+  return -1;
+}
+
 void bonesByName(Avatar& avatar) {
   const std::array<std::vector<std::string>, kNumBones> names{{
       {"neck", "j_bip_c_neck", "neck1", "neck_01"},
@@ -239,24 +254,16 @@ void bonesByName(Avatar& avatar) {
       {"lefteye", "eye_l", "eyeleft", "j_adj_l_faceeye", "eye.l", "left_eye"},
       {"righteye", "eye_r", "eyeright", "j_adj_r_faceeye", "eye.r", "right_eye"},
   }};
-  for (int bone = 0; bone < kNumBones; ++bone) {
-    if (avatar.bones[static_cast<std::size_t>(bone)] >= 0) continue;
-    for (const std::string& wanted : names[static_cast<std::size_t>(bone)]) {
-      for (const int n : avatar.drawOrder) {
-        std::string name = lowered(avatar.nodes[static_cast<std::size_t>(n)].name);
-        if (const auto colon = name.rfind(':'); colon != std::string::npos) name = name.substr(colon + 1);
-        // A mesh node can carry a bone's name ("EyeLeft" is Ready Player Me's eye mesh): only nodes without
-        // a mesh count, which is what skins' joints are.
-        const bool isMesh =
-            std::any_of(avatar.meshes.begin(), avatar.meshes.end(), [&](const MeshInstance& m) { return m.node == n; });
-        if (name == wanted && !isMesh) {
-          avatar.bones[static_cast<std::size_t>(bone)] = n;
-          break;
-        }
-      }
-      if (avatar.bones[static_cast<std::size_t>(bone)] >= 0) break;
-    }
-  }
+  for (int bone = 0; bone < kNumBones; ++bone)
+    if (avatar.bones[static_cast<std::size_t>(bone)] < 0)
+      avatar.bones[static_cast<std::size_t>(bone)] = jointNamed(avatar, names[static_cast<std::size_t>(bone)]);
+  // Mixamo and Ready Player Me call the upper arm "LeftArm"; VRoid J_Bip_L_UpperArm; Unreal upperarm_l.
+  const std::array<std::vector<std::string>, 2> arms{{
+      {"leftarm", "leftupperarm", "j_bip_l_upperarm", "upperarm_l", "upperarm.l", "left_upper_arm"},
+      {"rightarm", "rightupperarm", "j_bip_r_upperarm", "upperarm_r", "upperarm.r", "right_upper_arm"},
+  }};
+  for (std::size_t side = 0; side < 2; ++side)
+    if (avatar.upperArms[side] < 0) avatar.upperArms[side] = jointNamed(avatar, arms[side]);
 }
 
 int meshOfNode(const Avatar& avatar, int node) {
@@ -279,6 +286,8 @@ void readVrm0(const tinygltf::Model& model, const std::vector<int>& meshOfGltfMe
       if (name == "head") avatar.bones[kHead] = node;
       if (name == "leftEye") avatar.bones[kLeftEye] = node;
       if (name == "rightEye") avatar.bones[kRightEye] = node;
+      if (name == "leftUpperArm") avatar.upperArms[0] = node;
+      if (name == "rightUpperArm") avatar.upperArms[1] = node;
     }
   }
   static const std::map<std::string, std::string> kRenamed = {{"a", "aa"},
@@ -326,6 +335,11 @@ void readVrm1(const tinygltf::Model& model, Avatar& avatar) {
       if (node >= 0 && node < static_cast<int>(avatar.nodes.size()))
         avatar.bones[static_cast<std::size_t>(bone)] = node;
     }
+    for (const auto& [name, side] : {std::pair{"leftUpperArm", 0}, std::pair{"rightUpperArm", 1}})
+      if (bones.Has(name))
+        if (const int node = intOr(bones.Get(name), "node", -1);
+            node >= 0 && node < static_cast<int>(avatar.nodes.size()))
+          avatar.upperArms[static_cast<std::size_t>(side)] = node;
   }
   if (!vrm.Has("expressions")) return;
   for (const char* kind : {"preset", "custom"}) {

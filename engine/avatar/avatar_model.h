@@ -106,6 +106,9 @@ struct Avatar {
   std::vector<Material> materials;
   std::vector<Texture> textures;
   std::array<int, kNumBones> bones{-1, -1, -1, -1};
+  // The upper arms, left and right (VRM's leftUpperArm and rightUpperArm, else the usual names), -1 where none:
+  // a character made in its T-pose is shown with its arms lowered (avatar_pose.h).
+  std::array<int, 2> upperArms{-1, -1};
   // VRM's expressions by preset name in VRM 1.0's words (aa ih ou ee oh blink blinkLeft blinkRight lookUp ...;
   // VRM 0.x's a i u e o blink blink_l blink_r are renamed to them).
   std::map<std::string, std::vector<TargetBind>> expressions;

@@ -118,6 +118,41 @@ std::string schemeName(MorphScheme scheme) {
   return "no morph targets";
 }
 
+namespace {
+
+// Each upper arm's direction at rest (from its joint to its child's), turned in its vertical plane down to
+// `degrees` below the horizontal where it is higher.
+void lowerTheArms(const Avatar& avatar, double degrees, AvatarRig& rig) {
+  if (degrees <= 0.0) return;
+  std::vector<Eigen::Affine3f> locals;
+  for (const Node& node : avatar.nodes) locals.push_back(node.local());
+  const std::vector<Eigen::Affine3f> globals = globalTransforms(avatar, locals);
+  const auto sine = static_cast<float>(std::sin(degrees * kRadians)),
+             cosine = static_cast<float>(std::cos(degrees * kRadians));
+  for (std::size_t side = 0; side < 2; ++side) {
+    const int arm = avatar.upperArms[side];
+    if (arm < 0) continue;
+    // The child farthest from the joint: the elbow (not a twist or helper bone at the shoulder).
+    const Eigen::Vector3f shoulder = globals[static_cast<std::size_t>(arm)].translation();
+    Eigen::Vector3f along = Eigen::Vector3f::Zero();
+    for (std::size_t n = 0; n < avatar.nodes.size(); ++n)
+      if (avatar.nodes[n].parent == arm) {
+        const Eigen::Vector3f offset = globals[n].translation() - shoulder;
+        if (offset.squaredNorm() > along.squaredNorm()) along = offset;
+      }
+    if (along.squaredNorm() <= 0.0f) continue;
+    const Eigen::Vector3f direction = along.normalized();
+    Eigen::Vector3f outwards(direction.x(), 0.0f, direction.z());
+    if (outwards.squaredNorm() < 1e-6f || -direction.y() >= sine) continue;  // already down
+    outwards.normalize();
+    const Eigen::Vector3f lowered = cosine * outwards - sine * Eigen::Vector3f::UnitY();
+    rig.arms[side] = arm;
+    rig.armTurns[side] = Eigen::Quaternionf::FromTwoVectors(direction, lowered);
+  }
+}
+
+}  // namespace
+
 AvatarRig rigAvatar(const Avatar& avatar, const RigOptions& options) {
   AvatarRig rig;
   rig.neckShare = options.neckShare;
@@ -162,6 +197,7 @@ AvatarRig rigAvatar(const Avatar& avatar, const RigOptions& options) {
   for (const auto& targets : rig.arkitTargets)
     for (std::size_t k = 0; k < 52; ++k)
       if (targets[k] >= 0 && formats::kArkitNames[k].starts_with("eyeLook")) rig.eyesByTargets = true;
+  lowerTheArms(avatar, options.armsDownDegrees, rig);
   if (avatar.bones[kHead] < 0) rig.missing.push_back("no head bone (the head stays still)");
   if (avatar.bones[kNeck] < 0 && avatar.bones[kHead] >= 0) rig.missing.push_back("no neck bone (the head turns alone)");
   if (!rig.eyesByTargets && (avatar.bones[kLeftEye] < 0 || avatar.bones[kRightEye] < 0))
@@ -246,6 +282,7 @@ void poseAvatar(const Avatar& avatar, const AvatarRig& rig, const AvatarInput& i
     posed.rotation = (posed.rotation * inNodeFrame(world, restGlobalRotation(node))).normalized();
     pose.locals[static_cast<std::size_t>(node)] = posed.local();
   };
+  for (std::size_t side = 0; side < 2; ++side) rotate(rig.arms[side], rig.armTurns[side]);
   const int neck = avatar.bones[kNeck], head = avatar.bones[kHead];
   const double neckShare = neck >= 0 && head >= 0 ? rig.neckShare : 0.0;
   rotate(neck >= 0 && head >= 0 ? neck : -1, headRotation(input.headDegrees, neckShare, avatar.facesMinusZ()));

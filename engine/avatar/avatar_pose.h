@@ -57,6 +57,9 @@ enum class MorphScheme { kArkit, kOculusVisemes, kVrmExpressions, kNone };
 
 struct RigOptions {
   double neckShare = 0.4;  // of the head's rotation on the neck bone
+  // A character made in its T-pose (arms level) is shown with its upper arms lowered to this angle below the
+  // horizontal, as people stand to speak; arms already lower stay as they are. 0: as the file has them.
+  double armsDownDegrees = 70.0;
 };
 
 struct AvatarRig {
@@ -66,6 +69,9 @@ struct AvatarRig {
   std::vector<std::array<int, face::kNumOculusVisemes>> visemeTargets;
   bool eyesByTargets = false;  // eyeLook* targets present in the scheme
   double neckShare = 0.4;
+  // The upper arms' nodes (-1: none) and the turn, about the world's axes, that lowers each.
+  std::array<int, 2> arms{-1, -1};
+  std::array<Eigen::Quaternionf, 2> armTurns{Eigen::Quaternionf::Identity(), Eigen::Quaternionf::Identity()};
   std::vector<std::string> missing;  // what the character lacks ("no neck bone", ...), for a note to the user
 };
 

@@ -794,7 +794,10 @@ AnimatedAvatar::AnimatedAvatar(const avatar::Avatar& avatar, GlContext& context,
       renderer_(context, avatar, options),
       pose_(avatar::restPose(avatar)) {
   renderer_.setMovingVertices(moving_);
+  // The rig's pose at rest (the arms lowered from a T-pose), every vertex: after this, only the moving ones.
+  avatar::poseAvatar(avatar_, rig_, avatar::AvatarInput{}, pose_);
   avatar::deformAvatar(avatar_, pose_, meshes_);
+  renderer_.setMeshes(meshes_);
   camera_ = frameAvatarHead(avatar_, meshes_, static_cast<double>(options.width) / options.height);
 }
 
@@ -824,9 +827,11 @@ const Image& AnimatedAvatar::draw(const face::FapFrame& faps, const float* class
 
 void AnimatedAvatar::resize(int width, int height) {
   renderer_.resize(width, height);
-  std::vector<avatar::DeformedMesh> rest;
-  avatar::deformAvatar(avatar_, avatar::restPose(avatar_), rest);
-  camera_ = frameAvatarHead(avatar_, rest, static_cast<double>(width) / height);
+  avatar::AvatarPose rest;
+  avatar::poseAvatar(avatar_, rig_, avatar::AvatarInput{}, rest);
+  std::vector<avatar::DeformedMesh> meshes;
+  avatar::deformAvatar(avatar_, rest, meshes);
+  camera_ = frameAvatarHead(avatar_, meshes, static_cast<double>(width) / height);
 }
 
 }  // namespace th::render

@@ -336,4 +336,36 @@ TEST(AvatarRig, ACharacterWithoutKnownTargetsOrWithoutAHeadBoneFallsBackToWhatIt
   EXPECT_FLOAT_EQ(pose.weights[static_cast<std::size_t>(face)][static_cast<std::size_t>(jaw)], 1.0f);
 }
 
+// Both test characters were made in a T-pose: shown, their upper arms hang 70° below the horizontal, each on
+// its own side; with armsDownDegrees 0, as the file has them.
+TEST(AvatarPose, ATPosedCharactersArmsAreLowered) {
+  for (const Avatar* character : {&brunette(), &vroid()}) {
+    for (std::size_t side = 0; side < 2; ++side) ASSERT_GE(character->upperArms[side], 0) << character->name;
+    const auto elbowAngle = [&](const th::avatar::RigOptions& options, std::size_t side) {
+      const th::avatar::AvatarRig rig = th::avatar::rigAvatar(*character, options);
+      th::avatar::AvatarPose pose;
+      th::avatar::poseAvatar(*character, rig, AvatarInput{}, pose);
+      const std::vector<Eigen::Affine3f> globals = th::avatar::globalTransforms(*character, pose.locals);
+      const int arm = character->upperArms[side];
+      int elbow = -1;
+      float farthest = 0.0f;
+      for (std::size_t n = 0; n < character->nodes.size(); ++n)
+        if (character->nodes[n].parent == arm) {
+          const float d = (globals[n].translation() - globals[static_cast<std::size_t>(arm)].translation()).norm();
+          if (d > farthest) farthest = d, elbow = static_cast<int>(n);
+        }
+      const Eigen::Vector3f along = (globals[static_cast<std::size_t>(elbow)].translation() -
+                                     globals[static_cast<std::size_t>(arm)].translation())
+                                        .normalized();
+      return std::pair{std::asin(-along.y()) * 180.0f / 3.14159265f, along.x()};
+    };
+    const auto [leftDown, leftX] = elbowAngle({}, 0);
+    const auto [rightDown, rightX] = elbowAngle({}, 1);
+    EXPECT_NEAR(leftDown, 70.0f, 0.5f) << character->name;
+    EXPECT_NEAR(rightDown, 70.0f, 0.5f) << character->name;
+    EXPECT_LT(leftX * rightX, 0.0f) << character->name << ": the arms hang on either side";
+    EXPECT_NEAR(elbowAngle({.armsDownDegrees = 0.0}, 0).first, 0.0f, 10.0f) << character->name << " at rest";
+  }
+}
+
 }  // namespace
