@@ -249,9 +249,10 @@ AvatarRenderer::AvatarRenderer(GlContext& context, const avatar::Avatar& avatar,
         glTexImage2D(GL_TEXTURE_2D, 0, GL_SRGB8_ALPHA8, texture.width, texture.height, 0, GL_RGBA, GL_UNSIGNED_BYTE,
                      texture.rgba.data());
         glGenerateMipmap(GL_TEXTURE_2D);
-        // Bilinear in the nearest mipmap level: a portrait seldom spans two levels across a surface, and trilinear
-        // filtering's second lookup cost the VRoid character (textured hair cards, layers deep) a tenth of its frame.
-        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_NEAREST);
+        // Trilinear: bilinear filtering in the nearest mipmap level saved the VRoid character a tenth of its frame,
+        // but its level switches along a surface where the derivatives cross a power of two, and the same frame
+        // drawn at another offset (the live window's, beside the panel) changed by up to 7 levels there.
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
         glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
         const GLint wrap = texture.repeat ? GL_REPEAT : GL_CLAMP_TO_EDGE;
         glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, wrap);
