@@ -6,7 +6,9 @@
 # 1. installs the Debian packages in scripts/packages.txt (scripts/install-packages.sh; needs root or sudo),
 # 2. puts the face assets (ICT FaceKit, Candide-3) into the git-ignored assets/ (scripts/fetch-assets.sh: copied
 #    from the shared data, or downloaded from upstream where that is absent),
-# 3. configures and builds the Release build in build/ with Ninja, on all cores,
+# 3. configures the Release build in build/ with Ninja and builds the product in it, on all cores: the CLI, the
+#    library and the Python module (the tests, benchmarks and tools build when scripts/test.sh runs, or with
+#    `cmake --build build`),
 # 4. runs the main job on the shipped default input: the recording spoken by the face, with the shipped models,
 #    rendered off-screen and written as build/demo.mp4 (plus its animation curves, build/demo_animation.csv):
 #      build/talkinghead export "$DATA/beat2/2_scott_0_1_1.wav" -o build/demo.mp4
@@ -32,7 +34,7 @@ bash scripts/install-packages.sh
 step "Face assets (scripts/fetch-assets.sh)"
 bash scripts/fetch-assets.sh
 
-step "Configuring and building Release in $build_dir/ (Ninja, $jobs jobs)"
+step "Configuring Release in $build_dir/ and building the product (Ninja, $jobs jobs)"
 generator=(-G Ninja)
 if [[ -f "$build_dir/CMakeCache.txt" ]] && ! grep -q '^CMAKE_GENERATOR:INTERNAL=Ninja$' "$build_dir/CMakeCache.txt"; then
   echo "note: $build_dir/ was configured with another generator; keeping it (remove $build_dir/ to switch to Ninja)"
@@ -40,7 +42,7 @@ if [[ -f "$build_dir/CMakeCache.txt" ]] && ! grep -q '^CMAKE_GENERATOR:INTERNAL=
 fi
 # Warnings do not stop a user's build: the tests' build (scripts/test.sh, CI) treats every one as an error.
 cmake -S . -B "$build_dir" "${generator[@]}" -DCMAKE_BUILD_TYPE=Release -DTALKINGHEAD_WERROR=OFF
-cmake --build "$build_dir" --parallel "$jobs"
+cmake --build "$build_dir" --parallel "$jobs" --target talkinghead talkinghead_library talkinghead_python
 
 step "Running the main job: the default recording spoken by the face, as an MP4 (talkinghead export)"
 input="$data_dir/beat2/2_scott_0_1_1.wav"
@@ -69,5 +71,6 @@ Done: $output (1280x720, H.264 + AAC) and its animation curves, $build_dir/demo_
   speech features as CSV:         $build_dir/talkinghead features "$input" -o features.csv
   the other subcommands:          $build_dir/talkinghead --help
   all tests:                      bash scripts/test.sh
+  the tests, benchmarks and tools in $build_dir/ too:  cmake --build $build_dir
   speed, on one core:             bash scripts/bench.sh
 EOF
