@@ -12,6 +12,7 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <array>
 #include <optional>
 #include <string>
 #include <vector>
@@ -85,6 +86,22 @@ py::dict arraysOf(const std::vector<th_frame>& frames) {
   return out;
 }
 
+// One frame as a dict: the same keys as arraysOf's, each its row (numbers for the scalars).
+py::dict frameOf(const th_frame& frame) {
+  py::dict out;
+  out["index"] = frame.index;
+  out["time"] = frame.time_seconds;
+  out["faps"] = py::array_t<float>(TH_NUM_FAPS + 1, frame.faps);
+  out["arkit"] = py::array_t<float>(TH_NUM_ARKIT, frame.arkit);
+  out["visemes"] = py::array_t<float>(TH_NUM_VISEMES, frame.visemes);
+  out["vrm"] = py::array_t<float>(TH_NUM_VRM, frame.vrm);
+  out["viseme"] = frame.viseme;
+  out["rhubarb"] = std::string(1, frame.rhubarb_shape);
+  const std::array<double, 3> head{frame.head_pitch_deg, frame.head_yaw_deg, frame.head_roll_deg};
+  out["head"] = py::array_t<double>(3, head.data());
+  return out;
+}
+
 class Stream {
  public:
   Stream(double sampleRate, ModelChoice models, bool waitForHead) {
@@ -139,6 +156,15 @@ class Animation {
     for (int i = 0; i < frames(); ++i) check(th_animation_frame(animation_, i, &all[static_cast<std::size_t>(i)]));
     return arraysOf(all);
   }
+  // Frame i (negative: from the end, as a list); IndexError past either end, which also ends iteration.
+  py::dict frame(int i) const {
+    const int n = frames();
+    if (i < 0) i += n;
+    if (i < 0 || i >= n) throw py::index_error("frame " + std::to_string(i) + " of " + std::to_string(n));
+    th_frame one;
+    check(th_animation_frame(animation_, i, &one));
+    return frameOf(one);
+  }
   void write(const std::string& path, const std::optional<std::string>& format) const {
     check(th_animation_write(animation_, path.c_str(), format ? format->c_str() : nullptr));
   }
@@ -182,6 +208,16 @@ PYBIND11_MODULE(_talkinghead, module) {
   py::class_<Animation>(module, "Animation", "A whole recording's animation")
       .def_property_readonly("frames", &Animation::frames)
       .def("arrays", &Animation::arrays, "A dict of arrays, one row per frame")
+      .def("__len__", &Animation::frames)
+      .def("__getitem__", &Animation::frame, py::arg("index"), "Frame `index` as a dict (the keys of arrays())")
+      .def(
+          "__iter__",
+          [](py::object self) {
+            const py::module_ builtins = py::module_::import("builtins");
+            return builtins.attr("iter")(
+                builtins.attr("map")(self.attr("__getitem__"), builtins.attr("range")(py::len(self))));
+          },
+          "The frames in order, each a dict")
       .def("write", &Animation::write, py::arg("path"), py::arg("format") = py::none(),
            "Write it in any format animate writes (by the extension, or named)")
       .def("write_avatar", &Animation::writeAvatar, py::arg("path"), py::arg("avatar"),

@@ -3,6 +3,7 @@
     import talkinghead
     animation = talkinghead.animate("speech.wav")          # a whole recording
     arrays = animation.arrays()                            # numpy: faps, arkit, visemes, vrm, head, ...
+    for frame in animation: ...                            # a dict a frame (len(animation), animation[i])
     animation.write("speech.tsv")                          # any format `talkinghead animate` writes
     animation.write_avatar("talk.glb", "me.vrm")           # a character with the speech as its glTF animation
 

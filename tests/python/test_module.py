@@ -53,6 +53,25 @@ def test_animate_gives_arrays_that_follow_the_speech(prompt):
     assert np.corrcoef(arrays["arkit"][:, 17], 20 * np.log10(level))[0, 1] > 0.5
 
 
+def test_an_animation_is_a_sequence_of_frames_as_its_arrays_have_them(prompt):
+    animation = talkinghead.animate(prompt)
+    arrays = animation.arrays()
+    assert len(animation) == animation.frames > 0
+    frames = list(animation)
+    assert len(frames) == len(animation)
+    for i in (0, len(animation) // 2, len(animation) - 1):
+        frame = frames[i]
+        assert frame["index"] == arrays["index"][i] and frame["time"] == arrays["time"][i]
+        for key in ("faps", "arkit", "visemes", "vrm", "head"):
+            np.testing.assert_array_equal(frame[key], arrays[key][i])
+        assert frame["viseme"] == arrays["viseme"][i] and frame["rhubarb"] == arrays["rhubarb"][i]
+    np.testing.assert_array_equal(animation[-1]["faps"], arrays["faps"][-1])
+    with pytest.raises(IndexError):
+        animation[len(animation)]
+    with pytest.raises(IndexError):
+        animation[-len(animation) - 1]
+
+
 def test_a_stream_fed_in_blocks_gives_every_frame_in_order(prompt):
     samples, rate = read_wav(prompt)
     with talkinghead.Stream(sample_rate=rate) as stream:
