@@ -666,18 +666,7 @@ void AvatarRenderer::resolve() {
 void AvatarRenderer::readRaw(RawFrame& frame) {
   context_.makeCurrent();
   resolve();
-  frame.width = options_.width;
-  frame.height = options_.height;
-  frame.region = drawn_;
-  const PixelRegion& r = frame.region;
-  glBindFramebuffer(GL_READ_FRAMEBUFFER, gl_->targets.resolveFramebuffer);
-  glReadBuffer(GL_COLOR_ATTACHMENT0);
-  glPixelStorei(GL_PACK_ALIGNMENT, 1);
-  frame.rgba.resize(static_cast<std::size_t>(r.width) * static_cast<std::size_t>(r.height) * 4);
-  if (!frame.rgba.empty())
-    glReadPixels(r.left, frame.height - r.top - r.height, r.width, r.height, GL_RGBA, GL_UNSIGNED_BYTE,
-                 frame.rgba.data());
-  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  gl_->targets.read(options_.width, options_.height, drawn_, frame);
 }
 
 void AvatarRenderer::finish(RawFrame& frame, Image& image) const {

@@ -337,19 +337,7 @@ void FaceRenderer::readPixels(Image& image) {
 void FaceRenderer::readRaw(RawFrame& frame) {
   context_.makeCurrent();
   resolve();
-  frame.width = options_.width;
-  frame.height = options_.height;
-  frame.region = drawn_;
-  const PixelRegion& r = frame.region;
-  glBindFramebuffer(GL_READ_FRAMEBUFFER, gl_->targets.resolveFramebuffer);
-  glReadBuffer(GL_COLOR_ATTACHMENT0);
-  glPixelStorei(GL_PACK_ALIGNMENT, 1);
-  frame.rgba.resize(static_cast<std::size_t>(r.width) * static_cast<std::size_t>(r.height) * 4);
-  // RGBA is the renderbuffer's own layout (a plain copy in Mesa); dropping alpha later is cheaper than GL's.
-  if (!frame.rgba.empty())
-    glReadPixels(r.left, frame.height - r.top - r.height, r.width, r.height, GL_RGBA, GL_UNSIGNED_BYTE,
-                 frame.rgba.data());
-  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  gl_->targets.read(options_.width, options_.height, drawn_, frame);
 }
 
 void FaceRenderer::finish(RawFrame& frame, Image& image) const {

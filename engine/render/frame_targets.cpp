@@ -59,4 +59,19 @@ void FrameTargets::resolve(int width, int height) const {
   glBlitFramebuffer(0, 0, width, height, 0, 0, width, height, GL_COLOR_BUFFER_BIT, GL_NEAREST);
 }
 
+void FrameTargets::read(int width, int height, const PixelRegion& region, RawFrame& frame) const {
+  frame.width = width;
+  frame.height = height;
+  frame.region = region;
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, resolveFramebuffer);
+  glReadBuffer(GL_COLOR_ATTACHMENT0);
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  frame.rgba.resize(static_cast<std::size_t>(region.width) * static_cast<std::size_t>(region.height) * 4);
+  // RGBA is the renderbuffer's own layout (a plain copy in Mesa); dropping alpha later is cheaper than GL's.
+  if (!frame.rgba.empty())
+    glReadPixels(region.left, height - region.top - region.height, region.width, region.height, GL_RGBA,
+                 GL_UNSIGNED_BYTE, frame.rgba.data());
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+}
+
 }  // namespace th::render

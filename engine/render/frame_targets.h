@@ -8,6 +8,8 @@
 
 #include <string>
 
+#include "render/raw_frame.h"
+
 namespace th::render {
 
 struct FrameTargets {
@@ -24,6 +26,8 @@ struct FrameTargets {
   void release();
   // The multisampled target copied into the resolve target.
   void resolve(int width, int height) const;
+  // The resolve target's pixels in `region` (of a width x height frame) read back into `frame` (RGBA).
+  void read(int width, int height, const PixelRegion& region, RawFrame& frame) const;
 };
 
 }  // namespace th::render

@@ -28,19 +28,9 @@ using Json = nlohmann::json;
 
 constexpr double kRadians = M_PI / 180.0;
 
-fs::path avatarFile(const std::string& name) {
-  return th::sharedDataPath("face/avatars") / name;
-}
-
-const Avatar& brunette() {
-  static const Avatar avatar = th::avatar::loadAvatar(avatarFile("brunette-t.glb"));
-  return avatar;
-}
-
-const Avatar& vroid() {
-  static const Avatar avatar = th::avatar::loadAvatar(avatarFile("vroid.glb"));
-  return avatar;
-}
+using th::test::avatarFile;
+using th::test::brunette;
+using th::test::vroid;
 
 int nodeNamed(const Avatar& avatar, const std::string& name) {
   for (std::size_t n = 0; n < avatar.nodes.size(); ++n)

@@ -31,19 +31,9 @@ using th::test::nodeNamed;
 using th::test::rewriteGlb;
 using th::test::targetOf;
 
-fs::path avatarFile(const std::string& name) {
-  return th::sharedDataPath("face/avatars") / name;
-}
-
-const Avatar& brunette() {
-  static const Avatar avatar = th::avatar::loadAvatar(avatarFile("brunette-t.glb"));
-  return avatar;
-}
-
-const Avatar& vroid() {
-  static const Avatar avatar = th::avatar::loadAvatar(avatarFile("vroid.glb"));
-  return avatar;
-}
+using th::test::avatarFile;
+using th::test::brunette;
+using th::test::vroid;
 
 int meshNamed(const Avatar& avatar, const std::string& name) {
   for (std::size_t m = 0; m < avatar.meshes.size(); ++m)

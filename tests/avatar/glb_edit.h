@@ -1,6 +1,8 @@
-// Test characters made from the test avatars by editing a GLB's JSON (its binary chunk kept): VRM files from a
-// plain glTF one, targets hidden from the schemes found by name.
+// The test avatars (../shared/data/face/avatars), read once; and test characters made from them by editing a
+// GLB's JSON (its binary chunk kept): VRM files from a plain glTF one, targets hidden from the schemes found by
+// name.
 //
+//   const th::avatar::Avatar& character = th::test::brunette();
 //   th::test::rewriteGlb(avatarFile("brunette-t.glb"), folder / "brunette.vrm", [](nlohmann::json& json) { ... });
 #pragma once
 
@@ -14,7 +16,24 @@
 #include <string>
 #include <vector>
 
+#include "avatar/avatar_model.h"
+#include "core/data_path.h"
+
 namespace th::test {
+
+inline std::filesystem::path avatarFile(const std::string& name) {
+  return th::sharedDataPath("face/avatars") / name;
+}
+
+inline const th::avatar::Avatar& brunette() {
+  static const th::avatar::Avatar avatar = th::avatar::loadAvatar(avatarFile("brunette-t.glb"));
+  return avatar;
+}
+
+inline const th::avatar::Avatar& vroid() {
+  static const th::avatar::Avatar avatar = th::avatar::loadAvatar(avatarFile("vroid.glb"));
+  return avatar;
+}
 
 // A GLB's JSON, changed by `edit`, written back with the same binary chunk.
 inline void rewriteGlb(const std::filesystem::path& from, const std::filesystem::path& to,
