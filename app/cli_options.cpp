@@ -14,6 +14,14 @@ std::string helpOf(const OptionSpec& spec) {
   return help;
 }
 
+// The option's flag, and its former name's after it: "--window-frames,--window".
+std::string namesOf(const OptionSpec& spec, bool boolOnByDefault) {
+  std::string names = flagOf(spec, boolOnByDefault);
+  if (!spec.formerName.empty())
+    names += "," + flagOf(OptionSpec{.name = spec.formerName, .help = spec.help}, boolOnByDefault);
+  return names;
+}
+
 class CliBinder final : public OptionVisitor {
  public:
   CliBinder(CLI::App& command, std::string group) : command_(command), group_(std::move(group)) {}
@@ -21,10 +29,10 @@ class CliBinder final : public OptionVisitor {
   void option(bool& value, const OptionSpec& spec) override {
     if (value) {
       grouped(command_.add_flag(
-          flagOf(spec, true), [&value](std::int64_t) { value = false; },
+          namesOf(spec, true), [&value](std::int64_t) { value = false; },
           "Turn off " + helpOf(spec) + " (on by default)"));
     } else {
-      grouped(command_.add_flag(flagOf(spec, false), value, helpOf(spec)));
+      grouped(command_.add_flag(namesOf(spec, false), value, helpOf(spec)));
     }
   }
   void option(int& value, const OptionSpec& spec) override { number(value, spec); }
@@ -33,7 +41,7 @@ class CliBinder final : public OptionVisitor {
   void option(std::string& value, const OptionSpec& spec) override {
     if (!spec.implicitValue.empty()) {  // "--vmc" alone, or "--vmc 9000"
       grouped(command_.add_option(
-                  flagOf(spec, false),
+                  namesOf(spec, false),
                   [&value, implicit = std::string(spec.implicitValue)](const CLI::results_t& results) {
                     value = results.empty() || results.front().empty() ? implicit : results.front();
                     return true;
@@ -42,7 +50,7 @@ class CliBinder final : public OptionVisitor {
           ->expected(0, 1);
       return;
     }
-    CLI::Option* option = grouped(command_.add_option(flagOf(spec, false), value, helpOf(spec)));
+    CLI::Option* option = grouped(command_.add_option(namesOf(spec, false), value, helpOf(spec)));
     if (!spec.choices.empty()) {
       std::vector<std::string> names(spec.choices.begin(), spec.choices.end());
       option->check(CLI::IsMember(names));
@@ -53,7 +61,7 @@ class CliBinder final : public OptionVisitor {
  private:
   template <typename T>
   void number(T& value, const OptionSpec& spec) {
-    CLI::Option* option = grouped(command_.add_option(flagOf(spec, false), value, helpOf(spec)));
+    CLI::Option* option = grouped(command_.add_option(namesOf(spec, false), value, helpOf(spec)));
     if (std::isfinite(spec.min) && std::isfinite(spec.max))
       option->check(CLI::Range(static_cast<T>(spec.min), static_cast<T>(spec.max)));
     option->capture_default_str();

@@ -109,11 +109,11 @@ void addEvalCommand(CLI::App& app) {
   pitch->add_option("--subset", arguments->subset, "all, tuning (001-005) or held-out (006-010)")
       ->check(CLI::IsMember({"all", "tuning", "held-out"}));
   pitch->add_flag("!--no-peers", arguments->peers, "Score only our tracker");
-  pitch->add_option("--min-f0", arguments->minF0Hz, "Lowest F0 searched, all trackers (Hz)");
-  pitch->add_option("--max-f0", arguments->maxF0Hz, "Highest F0 searched, all trackers (Hz)");
+  pitch->add_option("--min-f0-hz,--min-f0", arguments->minF0Hz, "Lowest F0 searched, all trackers (Hz)");
+  pitch->add_option("--max-f0-hz,--max-f0", arguments->maxF0Hz, "Highest F0 searched, all trackers (Hz)");
   auto& tuning = arguments->pitch;
   pitch->add_option("--window-ms", tuning.windowMs, "Our tracker: analysis window (ms)")->group("Tuning our tracker");
-  pitch->add_option("--lag", tuning.decisionLagFrames, "Our tracker: Viterbi decision lag (frames)")
+  pitch->add_option("--lag-frames,--lag", tuning.decisionLagFrames, "Our tracker: Viterbi decision lag (frames)")
       ->group("Tuning our tracker");
   pitch->add_option("--voicing-threshold", tuning.voicingThreshold, "Our tracker")->group("Tuning our tracker");
   pitch->add_option("--silence-threshold", tuning.silenceThreshold, "Our tracker")->group("Tuning our tracker");

@@ -153,9 +153,9 @@ void addFeaturesCommand(CLI::App& app) {
       ->check(CLI::Range(0, 20));
   command->add_option("--mfcc", arguments->options.mfcc.numCoefficients, "Number of MFCCs c1..cN (1-23)")
       ->check(CLI::Range(1, 23));
-  command->add_option("--min-f0", arguments->options.pitch.minF0Hz, "Lowest F0 searched (Hz)")
+  command->add_option("--min-f0-hz,--min-f0", arguments->options.pitch.minF0Hz, "Lowest F0 searched (Hz)")
       ->check(CLI::Range(30.0, 400.0));
-  command->add_option("--max-f0", arguments->options.pitch.maxF0Hz, "Highest F0 searched (Hz)")
+  command->add_option("--max-f0-hz,--max-f0", arguments->options.pitch.maxF0Hz, "Highest F0 searched (Hz)")
       ->check(CLI::Range(80.0, 1500.0));
   command->add_option("--energy", arguments->energy, "Energy normalisation: utterance, running or none")
       ->check(CLI::IsMember({"utterance", "running", "none"}));

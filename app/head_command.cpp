@@ -531,7 +531,7 @@ void addEvalHeadCommand(CLI::App& eval) {
   addModelOptions(head, *arguments);
   head->add_option("--model", arguments->model, "Also judge this model file on BEAT2's held-out part");
   head->add_option("--compare", arguments->compare, "Judge this model file beside the recipe (e.g. an older default)");
-  head->add_option("--lag", arguments->lagFrames, "Decoding lag of the online variant, frames")
+  head->add_option("--lag-frames,--lag", arguments->lagFrames, "Decoding lag of the online variant, frames")
       ->check(CLI::Range(0, 300))
       ->capture_default_str();
   head->callback([arguments] { runEval(*arguments); });

@@ -298,7 +298,7 @@ void addHmmCommand(CLI::App& app) {
   invertCommand->add_option("--data", invert->data, "CSV with the model's audio columns")->required();
   invertCommand->add_option("--method", invert->method, "inversion or mmse")
       ->check(CLI::IsMember({"inversion", "mmse"}));
-  invertCommand->add_option("--window", invert->window, "Frames per EM window (0: whole sequence)")
+  invertCommand->add_option("--window-frames,--window", invert->window, "Frames per EM window (0: whole sequence)")
       ->check(CLI::Range(0, 1000000));
   invertCommand->add_option("--start", invert->start, "mean (conditional mean) or random")
       ->check(CLI::IsMember({"mean", "random"}));

@@ -480,7 +480,7 @@ void addEvalMouthCommand(CLI::App& eval) {
       ->add_option("--train-fraction", arguments->trainingFraction,
                    "The first this fraction of the BEAT2 take trains, the rest is held out")
       ->check(CLI::Range(0.1, 0.95));
-  mouth->add_option("--window", arguments->windowFrames, "Frames per window of the streaming inversion")
+  mouth->add_option("--window-frames,--window", arguments->windowFrames, "Frames per window of the streaming inversion")
       ->check(CLI::Range(1, 10000));
   mouth->add_option("--model", arguments->model, "Evaluate this mouth model instead of the two built-in ones");
   mouth->add_flag("--sweep", arguments->sweep,

@@ -4,7 +4,7 @@
 //                                                    left out, on GRID's other speakers, on BEAT2's held-out
 //                                                    quarter and on speech in other languages, beside the
 //                                                    baselines and any other model files
-// (engine/tracking/talking_corpus.h, mouth_scores.h).
+// (engine/eval/talking_corpus.h, mouth_scores.h).
 #include "mouth_corpus_command.h"
 
 #include <algorithm>

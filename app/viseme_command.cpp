@@ -131,7 +131,7 @@ void addEvalVisemesCommand(CLI::App& eval) {
       "visemes",
       "Visemes from speech, leave one speaker out: accuracy against the phones, confusion matrices, hold times");
   addRecipeOptions(command, *arguments);
-  command->add_option("--lag", arguments->lagFrames, "Decision lag of the streamed decoder, frames")
+  command->add_option("--lag-frames,--lag", arguments->lagFrames, "Decision lag of the streamed decoder, frames")
       ->check(CLI::Range(0, 60))
       ->capture_default_str();
   command->add_flag("--sweep", arguments->sweep, "Also the minimum hold and the emission scale, one at a time");

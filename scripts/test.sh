@@ -3,6 +3,14 @@
 #
 #   bash scripts/test.sh
 #
+# or the quick tier, for the edit-build-test loop (a few minutes on two cores after scripts/setup.sh):
+#
+#   bash scripts/test.sh --quick
+#
+# which builds the tests labelled `unit` (tests/CMakeLists.txt says what each label means) in setup's Release
+# build (BUILD_DIR, default build/) and runs them, no sanitizers, nothing that needs a window, a sound server,
+# the CLI or tens of seconds; the full run below is what a change must pass.
+#
 # Parts, in order (each is timed; a failed part does not stop the later independent ones):
 #   1. packages     scripts/install-packages.sh (no network when everything is installed)
 #   2. node tools   scripts/install-node-tools.sh into build-asan/node: the Khronos glTF validator the
@@ -12,8 +20,8 @@
 #                   clang and lld, AddressSanitizer + UBSan, at -O1 with libstdc++'s assertions and -Werror: the
 #                   tests, the fuzzers and the benchmarks' smoke pass run on it. (The Release build, with GCC, is
 #                   scripts/setup.sh's.)
-#   5. tests        ctest --parallel (cores) --output-on-failure on it, every label (unit, accuracy, crosscheck, threads,
-#                   system), leak detection on; any sanitizer report fails its test
+#   5. tests        ctest --parallel (cores) --output-on-failure on it, every label (tests/CMakeLists.txt says what each
+#                   means), leak detection on; any sanitizer report fails its test
 #   6. tsan         ThreadSanitizer build in build-tsan/ of the tests labelled `threads` only (the thread
 #                   hand-offs: the export's pipeline, the live session's ring, worker and frame queue), then those
 #                   tests; any report fails them
@@ -29,6 +37,35 @@ set -euo pipefail
 
 repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$repo"
+
+quick=0
+case "${1:-}" in
+  "") ;;
+  --quick) quick=1 ;;
+  *)
+    echo "usage: bash scripts/test.sh [--quick]" >&2
+    exit 2
+    ;;
+esac
+
+if ((quick)); then
+  build_dir="${BUILD_DIR:-build}"
+  jobs="$(nproc 2>/dev/null || echo 2)"
+  started=$SECONDS
+  generator=(-G Ninja)
+  if [[ -f "$build_dir/CMakeCache.txt" ]] && ! grep -q '^CMAKE_GENERATOR:INTERNAL=Ninja$' "$build_dir/CMakeCache.txt"; then
+    generator=()
+  fi
+  # The same configuration as scripts/setup.sh's, so the product it built is reused.
+  cmake -S . -B "$build_dir" "${generator[@]}" -DCMAKE_BUILD_TYPE=Release -DTALKINGHEAD_WERROR=OFF >/dev/null
+  cmake --build "$build_dir" --parallel "$jobs" --target quick_tests
+  built_seconds=$((SECONDS - started))
+  status=0
+  ctest --test-dir "$build_dir" --parallel "$jobs" --output-on-failure --no-tests=error -L unit -LE slow ||
+    status=$?
+  echo "quick tier: build ${built_seconds}s, tests $((SECONDS - started - built_seconds))s, total $((SECONDS - started))s"
+  exit "$status"
+fi
 asan_dir="${ASAN_BUILD_DIR:-build-asan}"
 tsan_dir="${TSAN_BUILD_DIR:-build-tsan}"
 jobs="$(nproc 2>/dev/null || echo 2)"

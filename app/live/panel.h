@@ -37,8 +37,8 @@ struct PanelChanges {
   bool outputs = false;       // an output switched on or off
 };
 
-// The settings' widgets, and what their changes ask for (a preset's values applied, a min-f0 at or above
-// max-f0 undone). `record`, if given, receives each widget drawn (tests compare them with the command line's).
+// The settings' widgets, and what their changes ask for (a preset's values applied, a min-f0-hz at or above
+// max-f0-hz undone). `record`, if given, receives each widget drawn (tests compare them with the command line's).
 PanelChanges settingsWidgets(pipeline::LiveSettings& settings, std::vector<WidgetRecord>* record = nullptr);
 
 struct PanelView {

@@ -47,8 +47,8 @@ double millisecondsBetween(std::chrono::steady_clock::time_point from, std::chro
   return std::chrono::duration<double, std::milli>(to - from).count();
 }
 
-// 4x MSAA costs llvmpipe about three times the frame's CPU time: without a GPU, the 60 frames a second matter
-// more than smooth edges.
+// 4x MSAA multiplies llvmpipe's CPU time a frame (docs/results.md, "Live: the window's frame rate and cost"):
+// without a GPU, the 60 frames a second matter more than smooth edges.
 int samplesFor(render::WindowContext& window, int asked) {
   if (asked > 0) return asked;
   return window.description().find("llvmpipe") != std::string::npos ? 1 : 4;

@@ -217,8 +217,8 @@ PaStreamParameters inputParameters(const AudioDevice& device) {
   input.device = device.index;
   input.channelCount = std::min(device.inputChannels, 2);
   input.sampleFormat = paFloat32;
-  // At least 20 ms: through PulseAudio's ALSA plugin a stream asked for its 9 ms default took 1.5-2 s to
-  // deliver its first block (measured); at 20 ms it starts within 40 ms, with 32 ms of input latency.
+  // At least 20 ms: through PulseAudio's ALSA plugin a stream asked for its 9 ms default took seconds to deliver
+  // its first block, at 20 ms a few tens of milliseconds (docs/results.md, "Figures behind choices in the code").
   input.suggestedLatency = std::max(Pa_GetDeviceInfo(device.index)->defaultLowInputLatency, 0.020);
   return input;
 }

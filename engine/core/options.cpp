@@ -85,7 +85,7 @@ class Setter final : public OptionVisitor {
 
  private:
   bool mine(const OptionSpec& spec) {
-    if (spec.name != name_) return false;
+    if (spec.name != name_ && (spec.formerName.empty() || spec.formerName != name_)) return false;
     found_ = true;
     return true;
   }
@@ -142,7 +142,13 @@ class JsonReader final : public OptionVisitor {
   }
 
  private:
-  static std::string key(const OptionSpec& spec) { return settingsKey(spec.name); }
+  // The option's key, or its former name's in a file written before the option was renamed.
+  std::string key(const OptionSpec& spec) const {
+    const std::string current = settingsKey(spec.name);
+    if (spec.formerName.empty() || fields_.find(document_, current) != nullptr) return current;
+    const std::string former = settingsKey(spec.formerName);
+    return fields_.find(document_, former) != nullptr ? former : current;
+  }
   const Json* find(const OptionSpec& spec) const { return fields_.find(document_, key(spec)); }
   template <typename T>
   void whole(T& value, const OptionSpec& spec) {

@@ -44,6 +44,9 @@ struct OptionSpec {
   bool logarithmic = false;             // the panel's slider: equal steps in ratio (wide ranges of positive values)
   bool panel = true;                    // offered in the live panel (file paths and the like are not)
   std::string_view implicitValue = {};  // strings: the value of the option given without one ("--vmc")
+  // The name it had before its unit joined it ("window" for "window-frames"): still accepted on the command line,
+  // by setOption and in settings files (read, never written), so that scripts and saved settings keep working.
+  std::string_view formerName = {};
 };
 
 // What the adapters implement: called once per field, in declaration order, with a reference to the field.

@@ -42,7 +42,7 @@ struct FeatureOptions {
   double runningNormSeconds = 3.0;
   double energyRangeDb = 60.0;  // levels more than this below the loudest frame so far are raised to it
   // false: no F0 (rows say 0 Hz), and frames wait for nothing but their MFCC window. The live mouth uses
-  // this: its MFCCs then come ~45 ms sooner than behind the pitch tracker's decision lag.
+  // this: its MFCCs then come sooner, by the pitch tracker's decision lag (features.md's look-ahead table).
   bool trackPitch = true;
 
   void check() const;  // throws th::Error naming the bad option

@@ -79,9 +79,9 @@ Eigen::MatrixXd arkitWeights(const face::FapTrack& track, const ArkitScale& scal
     set("mouthPucker", pucker, scale.lip);
     set("mouthClose", closing, scale.lip);
     // The shapes the lips make without protrusion FAPs (16, 17), read from the lip FAPs the face moves: narrowed
-    // corners with the lips apart round into a funnel (on BEAT2's speaker, 62 % of the frames over 0.03 are
-    // /u o w/, 7 % of all); one lip moving past the other rolls it in (the lower lip raised to the upper teeth:
-    // 79 % of the frames over 0.3 are /f v/, 4 % of all). No press: a closure is not told from lips at rest.
+    // corners with the lips apart round into a funnel (on BEAT2's speaker mostly on /u o w/); one lip moving
+    // past the other rolls it in (the lower lip raised to the upper teeth: mostly /f v/). How often, measured:
+    // docs/results.md, "Formats". No press: a closure is not told from lips at rest.
     const double apart = std::max(0.0, fap(3) / scale.jawOpen - closing / scale.lip);
     set("mouthFunnel", std::max(0.5 * (fap(16) + fap(17)), std::min(pucker, apart * scale.lip)), scale.lip);
     set("mouthRollLower", lowerUp - upperDown, scale.lip);

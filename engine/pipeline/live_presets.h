@@ -33,17 +33,17 @@ inline constexpr std::array<LivePreset, 3> kLivePresets{{
      "MFCC context +-1 frame, window 1, newest frame shown",
      "mouth_live.json",
      "articulation_live.json",
-     {{{"window", "1"}, {"interpolate", "false"}}}},
+     {{{"window-frames", "1"}, {"interpolate", "false"}}}},
     {"low-latency",
      "no MFCC context (the mouth waits only for its MFCC window)",
      "mouth_instant.json",
      "articulation_instant.json",
-     {{{"window", "1"}, {"interpolate", "false"}}}},
+     {{{"window-frames", "1"}, {"interpolate", "false"}}}},
     {"accurate",
      "the offline model (context +-2), window 2, interpolated 60 Hz motion",
      "mouth.json",
      "articulation.json",
-     {{{"window", "2"}, {"interpolate", "true"}}}},
+     {{{"window-frames", "2"}, {"interpolate", "true"}}}},
 }};
 
 // The preset called `name`, or nullptr.

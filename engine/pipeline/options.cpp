@@ -81,18 +81,20 @@ animation::IdleMotionOptions IdleOptions::motionOptions() const {
 }
 
 void StreamingOptions::visitOptions(OptionVisitor& v) {
-  v.option(lag, {.name = "lag",
+  v.option(lag, {.name = "lag-frames",
                  .help = "Head: online Viterbi's decision lag",
                  .unit = "frames",
                  .min = 0,
                  .max = 300,
-                 .logarithmic = true});
-  v.option(window, {.name = "window",
+                 .logarithmic = true,
+                 .formerName = "lag"});
+  v.option(window, {.name = "window-frames",
                     .help = "Mouth: inversion window (window - 1 frames of look-ahead)",
                     .unit = "frames",
                     .min = 1,
                     .max = 300,
-                    .logarithmic = true});
+                    .logarithmic = true,
+                    .formerName = "window"});
 }
 
 void LiveOptions::visitOptions(OptionVisitor& v) {
@@ -111,18 +113,20 @@ void LiveOptions::visitOptions(OptionVisitor& v) {
                         .logarithmic = true});
   v.option(waitForHead, {.name = "wait-for-head",
                          .help = "Each frame waits for its own head (~400 ms) instead of showing the head late"});
-  v.option(minF0, {.name = "min-f0",
+  v.option(minF0, {.name = "min-f0-hz",
                    .help = "Lowest F0 the prosody tracker searches",
                    .unit = "Hz",
                    .min = 20.0,
                    .max = 1000.0,
-                   .logarithmic = true});
-  v.option(maxF0, {.name = "max-f0",
+                   .logarithmic = true,
+                   .formerName = "min-f0"});
+  v.option(maxF0, {.name = "max-f0-hz",
                    .help = "Highest F0 the prosody tracker searches",
                    .unit = "Hz",
                    .min = 40.0,
                    .max = 2000.0,
-                   .logarithmic = true});
+                   .logarithmic = true,
+                   .formerName = "max-f0"});
   v.option(interpolate, {.name = "interpolate", .help = "Smooth 60 Hz motion between frames (+33 ms)"});
   v.option(blinks, {.name = "blinks", .help = "the idle behaviour's blinks"});
   v.option(gaze, {.name = "gaze", .help = "the idle behaviour's small gaze shifts"});
@@ -156,18 +160,20 @@ void OutputSettings::visitOptions(OptionVisitor& v) {
                               "as Apple spells them (jawOpen)",
                       .choices = kVmcNames,
                       .panel = false});
-  v.option(vmcNeckLength, {.name = "vmc-neck-length",
+  v.option(vmcNeckLength, {.name = "vmc-neck-length-m",
                            .help = "VMC: the neck's joint above the upper chest's (the Neck bone's local position)",
                            .unit = "m",
                            .min = 0.0,
                            .max = 1.0,
-                           .panel = false});
-  v.option(vmcHeadLength, {.name = "vmc-head-length",
+                           .panel = false,
+                           .formerName = "vmc-neck-length"});
+  v.option(vmcHeadLength, {.name = "vmc-head-length-m",
                            .help = "VMC: the head's joint above the neck's (the Head bone's local position)",
                            .unit = "m",
                            .min = 0.0,
                            .max = 1.0,
-                           .panel = false});
+                           .panel = false,
+                           .formerName = "vmc-head-length"});
   v.option(vmcNeckShare, {.name = "vmc-neck-share",
                           .help = "VMC: the share of the head's rotation turned at the neck (the rest at the head)",
                           .min = 0.0,
@@ -207,7 +213,7 @@ void OutputSettings::visitOptions(OptionVisitor& v) {
 
 void LiveSettings::check() {
   checkOptions(*this);
-  if (!(live.minF0 < live.maxF0)) throw Error("min-f0 must be below max-f0");
+  if (!(live.minF0 < live.maxF0)) throw Error("min-f0-hz must be below max-f0-hz");
 }
 
 std::filesystem::path LiveSettings::mouthModelPath() const {

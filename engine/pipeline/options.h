@@ -47,25 +47,28 @@ struct ModelOptions {
   std::filesystem::path articulationModelPath(std::string_view shipped = "articulation.json") const;
 };
 
+// The defaults are the head synthesis's (animation/head_model.h), stated there only.
 struct HeadMotionOptions {
-  double amplitude = 1.0;  // times the model's rotations
-  double smoothing = 1.0;  // times the trajectory's velocity and acceleration precisions
-  double variation = 1.0;  // times the motion the voice does not explain
+  double amplitude = animation::HeadSynthesisOptions{}.amplitude;  // times the model's rotations
+  double smoothing = animation::HeadSynthesisOptions{}.smoothing;  // times the velocity and acceleration precisions
+  double variation = animation::HeadSynthesisOptions{}.variation;  // times the motion the voice does not explain
   void visitOptions(OptionVisitor& v);
 };
 
 struct IdleOptions {
   bool idle = true;  // blinks, gaze shifts, the head at rest in silence
   double blinksPerMinute = animation::IdleMotionOptions{}.blinksPerMinute;
-  unsigned seed = 1;  // of the head's variation and of the idle behaviour
+  unsigned seed = animation::HeadSynthesisOptions{}.seed;  // of the head's variation and of the idle behaviour
   void visitOptions(OptionVisitor& v);
   animation::IdleMotionOptions motionOptions() const;
 };
 
 // The streaming decoders' decisions (animate --online, live).
 struct StreamingOptions {
-  int lag = animation::kLiveHeadLagFrames;  // head: online Viterbi's decision lag, frames
-  int window = 1;                           // mouth: inversion window, frames (window - 1 of them look-ahead)
+  // The defaults are the live decoder's (pipeline/live_decoder.h), stated there only.
+  int lag = LiveDecoderOptions{}.head.maxLagFrames;  // head: online Viterbi's decision lag, frames
+  int window =
+      LiveDecoderOptions{}.mouth.windowFrames;  // mouth: inversion window, frames (window - 1 of them look-ahead)
   void visitOptions(OptionVisitor& v);
 };
 
@@ -94,13 +97,14 @@ inline constexpr std::string_view kVtsDefault = "ws://localhost:8001";
 
 // Live's own.
 struct LiveOptions {
-  std::string preset = "default";   // live_presets.h
-  std::string device = "default";   // the sound input: "default" or a device number
-  std::string covariance = "full";  // the shipped mouth model's, or its diagonal twin
-  int iterations = 20;              // mouth: the most EM iterations a window
-  bool waitForHead = false;         // frames wait for their own head (less head delay, ~300 ms more latency)
-  double minF0 = 60.0;              // the prosody tracker's F0 search range, Hz
-  double maxF0 = 500.0;
+  std::string preset = "default";                             // live_presets.h
+  std::string device = "default";                             // the sound input: "default" or a device number
+  std::string covariance = "full";                            // the shipped mouth model's, or its diagonal twin
+  int iterations = LiveDecoderOptions{}.mouth.maxIterations;  // mouth: the most EM iterations a window
+  bool waitForHead =
+      LiveDecoderOptions{}.waitForHead;  // frames wait for their own head (less head delay, ~300 ms more latency)
+  double minF0 = LiveDecoderOptions{}.minF0Hz;  // the prosody tracker's F0 search range, Hz
+  double maxF0 = LiveDecoderOptions{}.maxF0Hz;
   bool interpolate = false;  // smooth 60 Hz motion between frames (+33 ms and the jitter margin)
   bool blinks = true;        // with idle: the blinks ...
   bool gaze = true;          // ... and the gaze shifts
@@ -118,7 +122,7 @@ struct LiveSettings {
   LiveOptions live;
   OutputSettings outputs;
   void visitOptions(OptionVisitor& v);
-  // Each option in its range, and min-f0 below max-f0; throws th::Error naming the option.
+  // Each option in its range, and min-f0-hz below max-f0-hz; throws th::Error naming the option.
   void check();
   // The mouth model file: the one given, else the preset's (its _diagonal twin with covariance diagonal).
   std::filesystem::path mouthModelPath() const;

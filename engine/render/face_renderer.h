@@ -103,8 +103,8 @@ struct RenderOptions {
   // the whole frame every time (tests compare the two).
   bool cropToHead = true;
   // Draw the eyeballs (sclera and iris) with fewer triangles (render/simplify.h): their look is shaded per
-  // pixel, and llvmpipe pays per triangle. In the export's frames at 720p: 2,200 of 25,000 triangles fewer,
-  // 6 % less GL time; some pixels along the eyes' edges change (tests/render: SimplifiedEyeballsLookTheSame).
+  // pixel, and llvmpipe pays per triangle (what it saves: docs/results.md, "Figures behind choices in the
+  // code"); some pixels along the eyes' edges change (tests/render: SimplifiedEyeballsLookTheSame).
   bool simplifyEyeballs = true;
   Eigen::Vector3f backgroundTop{0.36f, 0.40f, 0.46f};     // sRGB, a neutral grey-blue
   Eigen::Vector3f backgroundBottom{0.13f, 0.14f, 0.17f};  // sRGB
@@ -152,7 +152,8 @@ class FaceRenderer {
   void present(std::pair<int, int> framebufferSize, int left = 0);
   // The backdrop and the face straight into the current context's framebuffer 0 (a window with a depth buffer,
   // WindowOptions::depth), at this renderer's size, without MSAA or FXAA: what render() + present() show at one
-  // sample, with neither the copy nor the backdrop's blending (on llvmpipe at 720p those cost ~4.5 ms a frame).
+  // sample, with neither the copy nor the backdrop's blending (on llvmpipe at 720p a quarter of the frame's
+  // budget: docs/results.md, "Figures behind choices in the code").
   // The renderer's own targets are left as they were. `left`: where its picture starts, in pixels from the
   // window's left edge (a side panel beside it); the colour beside the picture is left as it was, the window's
   // depth buffer is cleared.

@@ -15,12 +15,11 @@
 // D = f / s model units away, and a point nearer by Z is enlarged by D / (D − Z); a face away from the
 // camera's axis (FitOptions::principalPoint) is seen from the side by as much, as a lens sees it. Near cameras matter:
 // seen orthographically, a turn of the head moves the nose further than the model expects, and the fitted yaw comes out
-// about a quarter too large at a 24° field of view. Solved with Levenberg-Marquardt on numerical derivatives (the model
-// deforms only the landmark vertices: face::VertexSelection, tens of microseconds). The FAPs are pulled towards 0
+// too large (docs/results.md, "Tracking in detail"). Solved with Levenberg-Marquardt on numerical derivatives (the
+// model deforms only the landmark vertices: face::VertexSelection, tens of microseconds). The FAPs are pulled towards 0
 // (FitOptions::jawPrior, fapPrior, in eye distances per typical range): lightly the jaw, which the chin shows; more the
-// lips, whose 20 FAPs would otherwise trade motion with the jaw and each other (our rendered face, the head moving,
-// before the rest orientation was fitted: the jaw's RMS error 101 MNS with the lips' pull as light as the jaw's, 59
-// with it ten times heavier; the jaw alone opened 0-400 came back within 38).
+// lips, whose 20 FAPs would otherwise trade motion with the jaw and each other (on our rendered face the jaw's error
+// fell by almost half with the lips' pull ten times the jaw's: docs/results.md, "Tracking in detail").
 //
 // The jaw line's contour points (1-7, 9-15 and the ends 0, 16) slide over the cheek as the head turns and are
 // not fixed vertices: only the chin (8) is used from it by default.
@@ -33,8 +32,8 @@
 // face, rather than the difference between two faces (or between dlib's idea of a landmark and the mesh's
 // annotation), and a head that faces the camera at an angle at rest still turns about its own axes.
 // (Our face rendered from 8° above, tracking_truth_test: with the rest face taken as square to the camera the
-// rotations came back 0.9-1.9° RMS off and a real speaker's jaw 83 MNS; with its orientation fitted, 0.5-1.0°
-// and 36 MNS.)
+// rotations came back about twice as far off as with its orientation fitted: docs/results.md, "Tracking in
+// detail".)
 //
 // Thread contract: fit() is const; a fitter may be shared by threads once calibrated.
 #pragma once

@@ -53,9 +53,10 @@ animation::MouthRecording mouthRecordingOf(const Track& fittedTrack, std::span<c
 // frame-to-frame changes of the sound's level with those of the mouth (the jaw FAP and the lip opening, each
 // standardised), searched over ±maxLagSeconds and refined between frames (a parabola through the peak), less the
 // lead the lips naturally have over the sound (naturalLeadSeconds: on GRID's speaker s1, whose sound and picture
-// agree, the same measure peaks with the mouth 10 ms ahead; `talkinghead eval mouth` prints it). Changes rather
+// agree, the same measure peaks with the mouth a little ahead; `talkinghead eval mouth` prints it). Changes rather
 // than levels: the slow rise and fall of a sentence would otherwise broaden the peak. Clips shorter than
-// minSeconds are too short to say (on GRID's 3 s clips the estimate scatters over ±200 ms) and count as in sync.
+// minSeconds are too short to say (on GRID's 3 s clips the estimate scatters widely: docs/results.md, "Mouth:
+// the data and the demo") and count as in sync.
 struct SoundSyncOptions {
   double maxLagSeconds = 0.3;
   double naturalLeadSeconds = 0.010;

@@ -217,8 +217,42 @@ TEST(OptionTwins, PresetsSetOptionsThatExistToValuesInRange) {
   LiveSettings settings;
   EXPECT_THROW(th::pipeline::applyLivePreset(settings, "no-such-preset"), th::Error);
   EXPECT_THROW(th::setOption(settings, "no-such-option", "1"), th::Error);
-  EXPECT_THROW(th::setOption(settings, "window", "0"), th::Error);
-  EXPECT_THROW(th::setOption(settings, "window", "two"), th::Error);
+  EXPECT_THROW(th::setOption(settings, "window-frames", "0"), th::Error);
+  EXPECT_THROW(th::setOption(settings, "window-frames", "two"), th::Error);
+}
+
+// An option renamed to carry its unit answers to its former name everywhere it is read: the command line, setOption
+// (presets) and a settings file written before; files are written under the new name only.
+TEST(OptionTwins, AFormerNameSetsTheSameOptionAndFilesAreWrittenUnderTheNewOne) {
+  LiveSettings former;
+  CLI::App formerApp;
+  th::app::addOptions(formerApp, former);
+  formerApp.parse(std::vector<std::string>{"0.2", "--vmc-neck-length", "90", "--min-f0", "3", "--window"});
+  LiveSettings current;
+  CLI::App currentApp;
+  th::app::addOptions(currentApp, current);
+  currentApp.parse(std::vector<std::string>{"0.2", "--vmc-neck-length-m", "90", "--min-f0-hz", "3", "--window-frames"});
+  EXPECT_EQ(former.streaming.window, 3);
+  EXPECT_EQ(former.live.minF0, 90.0);
+  EXPECT_EQ(former.outputs.vmcNeckLength, 0.2);
+  EXPECT_EQ(th::optionsToJson(former), th::optionsToJson(current));
+
+  LiveSettings set;
+  th::setOption(set, "lag", "7");
+  EXPECT_EQ(set.streaming.lag, 7);
+  EXPECT_THROW(th::setOption(set, "lag", "-1"), th::Error) << "the former name is checked like the new one";
+
+  const th::Json written = th::optionsToJson(set);
+  EXPECT_TRUE(written.contains("lag_frames"));
+  EXPECT_FALSE(written.contains("lag"));
+
+  const std::filesystem::path path = std::filesystem::temp_directory_path() / "option_twins_former.json";
+  std::ofstream(path) << R"({"window": 4, "max_f0": 400, "min_f0_hz": 70, "min_f0": 80})";
+  const LiveSettings read = th::app::loadLiveSettings(path);
+  std::filesystem::remove(path);
+  EXPECT_EQ(read.streaming.window, 4);
+  EXPECT_EQ(read.live.maxF0, 400.0);
+  EXPECT_EQ(read.live.minF0, 70.0) << "the new name wins over the former";
 }
 
 TEST(OptionTwins, ASettingsFileWithABadValueNamesTheFileAndTheKey) {
@@ -232,7 +266,7 @@ TEST(OptionTwins, ASettingsFileWithABadValueNamesTheFileAndTheKey) {
     EXPECT_NE(std::string(error.what()).find("head_variation"), std::string::npos) << error.what();
   }
   std::ofstream(path) << R"({"min_f0": 300, "max_f0": 200})";
-  EXPECT_THROW(th::app::loadLiveSettings(path), th::Error) << "min-f0 must be below max-f0";
+  EXPECT_THROW(th::app::loadLiveSettings(path), th::Error) << "min-f0-hz must be below max-f0-hz";
   std::filesystem::remove(path);
 }
 

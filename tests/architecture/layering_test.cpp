@@ -12,6 +12,7 @@
 #include <sstream>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 namespace {
@@ -112,6 +113,60 @@ TEST(Layering, NoIncludeRunsFromALowerStageToAHigherOne) {
     }
   }
   EXPECT_GT(includes, 300) << "the scan found the sources";
+}
+
+// The stages as the build declares them, in its order (stage_graph.txt's lines are in engine/CMakeLists.txt's
+// order), each with the stages it uses in the same order.
+std::vector<std::pair<std::string, std::vector<std::string>>> readGraphInOrder() {
+  std::ifstream in(TALKINGHEAD_STAGE_GRAPH);
+  std::vector<std::pair<std::string, std::vector<std::string>>> stages;
+  std::string line;
+  while (std::getline(in, line)) {
+    const auto colon = line.find(':');
+    if (colon == std::string::npos) continue;
+    std::istringstream uses(line.substr(colon + 1));
+    stages.emplace_back(line.substr(0, colon), std::vector<std::string>{});
+    for (std::string stage; uses >> stage;) stages.back().second.push_back(stage);
+  }
+  return stages;
+}
+
+// docs/architecture.md's table of the stages ("| `name` | what it is | uses |" under "## The stages, lowest
+// first"), as (name, uses) in its order; "—" uses nothing.
+std::vector<std::pair<std::string, std::vector<std::string>>> readDocumentedStages() {
+  std::ifstream in(std::string(TALKINGHEAD_SOURCE_DIR) + "/docs/architecture.md");
+  std::vector<std::pair<std::string, std::vector<std::string>>> stages;
+  std::string line;
+  bool inSection = false;
+  while (std::getline(in, line)) {
+    if (line.rfind("## ", 0) == 0) inSection = line == "## The stages, lowest first";
+    if (!inSection || line.rfind("| `", 0) != 0) continue;
+    const std::size_t nameEnd = line.find('`', 3);
+    const std::size_t lastBar = line.rfind('|', line.size() - 2);
+    if (nameEnd == std::string::npos || lastBar == std::string::npos) continue;
+    std::vector<std::string> uses;
+    std::istringstream column(line.substr(lastBar + 1, line.size() - lastBar - 2));
+    for (std::string stage; std::getline(column, stage, ',');) {
+      stage.erase(0, stage.find_first_not_of(' '));
+      stage.erase(stage.find_last_not_of(' ') + 1);
+      if (!stage.empty() && stage != "—") uses.push_back(stage);
+    }
+    stages.emplace_back(line.substr(3, nameEnd - 3), uses);
+  }
+  return stages;
+}
+
+// The architecture page's table is the build's graph: every stage, in the build's order, using what the build
+// says it uses (a stage added or a dependency changed without the page fails here).
+TEST(Layering, TheArchitecturePagesStageTableIsTheBuildsGraph) {
+  const auto built = readGraphInOrder();
+  const auto documented = readDocumentedStages();
+  ASSERT_FALSE(built.empty()) << "no graph at " << TALKINGHEAD_STAGE_GRAPH;
+  ASSERT_EQ(documented.size(), built.size()) << "docs/architecture.md's stage table has a row per stage";
+  for (std::size_t i = 0; i < built.size(); ++i) {
+    EXPECT_EQ(documented[i].first, built[i].first) << "row " << i + 1;
+    EXPECT_EQ(documented[i].second, built[i].second) << built[i].first << "'s uses";
+  }
 }
 
 }  // namespace
