@@ -19,7 +19,8 @@
 // model deforms only the landmark vertices: face::VertexSelection, tens of microseconds). The FAPs are pulled towards 0
 // (FitOptions::jawPrior, fapPrior, in eye distances per typical range): lightly the jaw, which the chin shows; more the
 // lips, whose 20 FAPs would otherwise trade motion with the jaw and each other (on our rendered face the jaw's error
-// fell by almost half with the lips' pull ten times the jaw's: docs/results.md, "Tracking in detail").
+// fell by almost half with the lips' pull ten times the jaw's: docs/results.md, "Figures behind choices in the
+// code").
 //
 // The jaw line's contour points (1-7, 9-15 and the ends 0, 16) slide over the cheek as the head turns and are
 // not fixed vertices: only the chin (8) is used from it by default.
