@@ -10,7 +10,9 @@
 # It writes, from the shared data (TALKINGHEAD_DATA, default ../shared/data): `animate` of a minute of BEAT2
 # speech as CSV, JSON and .fap and with the posterior head; `export` of an ARCTIC prompt at 320x240 with its
 # track, and at 64x48 and 5 fps; `features`; `render` frames; `strip`; `live --headless --dump`. A command that
-# fails is reported and its files are missing from the list, so the diff shows it.
+# fails is reported and its files are missing from the list, so the diff shows it. Also: `live --headless` with
+# other decoder options (under their first names, which every build takes), `animate --online`, visemes, and the
+# Ready Player Me test character exported and written as a glTF animation.
 set -uo pipefail
 
 if (($# != 2)); then
@@ -23,6 +25,7 @@ repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 data="${TALKINGHEAD_DATA:-$repo/../shared/data}"
 speech="$data/beat2/2_scott_0_1_1.wav"
 prompt="$(find "$data" -name arctic_a0001.wav -print -quit 2>/dev/null)"
+avatar="$data/face/avatars/brunette-t.glb"
 for input in "$speech" "$prompt"; do
   [[ -f "$input" ]] || { echo "output_fingerprints: $input: not found (TALKINGHEAD_DATA)" >&2; exit 1; }
 done
@@ -43,4 +46,11 @@ run features "$prompt" -o features.csv
 run render prompt.csv -o frames --size 160x120 --fps 5
 run strip prompt.csv -o strip.png --from 0.5
 run live --headless --input "$prompt" --speed 8 --dump live.csv
+run live --headless --input "$prompt" --speed 8 --lag 4 --window 2 --wait-for-head --dump live_options.csv
+run animate "$speech" --online -o online.csv
+run animate "$prompt" -o prompt_visemes.csv --format oculus
+if [[ -f "$avatar" ]]; then
+  run export "$prompt" -o avatar.mp4 --size 160x120 --fps 10 --avatar "$avatar"
+  run animate "$prompt" -o avatar_animation.gltf --avatar "$avatar" --animation-only
+fi
 find . -type f | sort | xargs md5sum
