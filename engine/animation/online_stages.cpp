@@ -9,7 +9,7 @@ namespace th::animation {
 namespace {
 
 template <typename T>
-void read(const FrameStore<T>& store, int frame, T& out, const char* stage) {
+void readHeld(const FrameStore<T>& store, int frame, T& out, const char* stage) {
   if (frame < 0 || static_cast<std::size_t>(frame) < store.firstKept() ||
       static_cast<std::size_t>(frame) >= store.size())
     throw Error(std::string(stage) + ": frame " + std::to_string(frame) + " is not held");
@@ -89,7 +89,7 @@ void MouthStage::take() {
 }
 
 void MouthStage::getFrame(int frame, MouthFrame& out) const {
-  read(ready_, frame, out, "mouth stage");
+  readHeld(ready_, frame, out, "mouth stage");
 }
 
 void MouthStage::forgetBefore(int frame) {
@@ -118,7 +118,7 @@ void VisemeStage::take() {
 }
 
 void VisemeStage::getFrame(int frame, VisemeFrame& out) const {
-  read(ready_, frame, out, "viseme stage");
+  readHeld(ready_, frame, out, "viseme stage");
 }
 
 void VisemeStage::forgetBefore(int frame) {
@@ -143,7 +143,7 @@ void MouthNetworkStage::take() {
 }
 
 void MouthNetworkStage::getFrame(int frame, MouthNetworkFrame& out) const {
-  read(ready_, frame, out, "mouth network stage");
+  readHeld(ready_, frame, out, "mouth network stage");
 }
 
 void MouthNetworkStage::forgetBefore(int frame) {
@@ -183,7 +183,7 @@ void ArticulationVisemeStage::take() {
 }
 
 void ArticulationVisemeStage::getFrame(int frame, VisemeFrame& out) const {
-  read(ready_, frame, out, "articulation visemes");
+  readHeld(ready_, frame, out, "articulation visemes");
 }
 
 void ArticulationVisemeStage::forgetBefore(int frame) {

@@ -123,23 +123,20 @@ void LiveDecoder::pull() {
     headStage_->accept({.prosody = prosody_.accept(row_), .voiced = animation::isVoiced(row_)});
   }
   if (networkStage_) {
-    std::vector<float> mfcc;
     for (; subframes_ < networkExtractor_->numBaseFramesReady(); ++subframes_) {
-      readSpeechFrame(*networkExtractor_, subframes_, mfcc, speech_);
+      readSpeechFrame(*networkExtractor_, subframes_, mfcc_, speech_);
       networkStage_->accept(speech_);
     }
     networkExtractor_->forgetBefore(subframes_);
-    animation::MouthNetworkFrame heard;
     for (; networkFrames_ < networkStage_->numFramesReady(); ++networkFrames_) {
-      networkStage_->getFrame(networkFrames_, heard);
-      networkVisemes_->accept(heard);
+      networkStage_->getFrame(networkFrames_, heard_);
+      networkVisemes_->accept(heard_);
     }
     networkStage_->forgetBefore(networkFrames_);
   }
   if (readsMouthExtractor()) {
-    std::vector<float> mfcc;
     for (; mfccFrames_ < mouthExtractor_.numBaseFramesReady(); ++mfccFrames_) {
-      readSpeechFrame(mouthExtractor_, mfccFrames_, mfcc, speech_);
+      readSpeechFrame(mouthExtractor_, mfccFrames_, mfcc_, speech_);
       if (mouthStage_) mouthStage_->accept(speech_);
       if (speechVisemes_) speechVisemes_->accept(speech_);
     }
@@ -180,10 +177,9 @@ bool LiveDecoder::next(AnimationFrame& frame) {
     frame.energy = row_[features::FeatureLayout::kEnergy];
     frame.levelDb = prosodyExtractor_.getLevelDb(shown);
     if (headStage_) {
-      animation::HeadFrame head;
-      headStage_->getFrame(shown, head);
-      frame.headDegrees = head.rotationDegrees;
-      const Eigen::VectorXd& posterior = head.filteredPosterior;
+      headStage_->getFrame(shown, head_);
+      frame.headDegrees = head_.rotationDegrees;
+      const Eigen::VectorXd& posterior = head_.filteredPosterior;
       for (Eigen::Index k = 0; k < std::min<Eigen::Index>(posterior.size(), AnimationFrame::kMaxHeadStates); ++k)
         frame.headPosterior[static_cast<std::size_t>(k)] = static_cast<float>(posterior[k]);
     }
@@ -198,25 +194,24 @@ bool LiveDecoder::next(AnimationFrame& frame) {
   if (visemes_) {
     visemesShown = std::min(visemes_->numFramesReady() - 1, frame.index);
     if (visemesShown >= 0) {
-      animation::VisemeFrame visemes;
-      visemes_->getFrame(visemesShown, visemes);
+      visemes_->getFrame(visemesShown, visemeFrame_);
       frame.visemeIndex = visemesShown;
-      frame.mouthClass = visemes.mouthClass;
+      frame.mouthClass = visemeFrame_.mouthClass;
       for (int c = 0; c < face::kNumMouthClasses; ++c)
-        frame.visemeProbabilities[static_cast<std::size_t>(c)] = static_cast<float>(visemes.probabilities[c]);
+        frame.visemeProbabilities[static_cast<std::size_t>(c)] = static_cast<float>(visemeFrame_.probabilities[c]);
       visemes_->forgetBefore(visemesShown);  // shown again until newer ones are decided
     }
   }
   if (mouthStage_) {
-    animation::MouthFrame mouth;
-    mouthStage_->getFrame(nextIndex_, mouth);
-    Eigen::MatrixXd faps = animation::mouthFapsOf(*mouth_, mouth.components);
+    mouthStage_->getFrame(nextIndex_, mouthFrame_);
+    Eigen::MatrixXd faps = animation::mouthFapsOf(*mouth_, mouthFrame_.components);
     if (networkStage_ && visemesShown == frame.index)
       animation::articulateLips(*articulation_, {frame.mouthClass}, mouthFaps_, faps, options_.articulation);
     frame.energy = mouthExtractor_.getEnergy(nextIndex_);
     frame.levelDb = mouthExtractor_.getLevelDb(nextIndex_);
-    for (Eigen::Index k = 0; k < std::min<Eigen::Index>(mouth.posterior.size(), AnimationFrame::kMaxMouthStates); ++k)
-      frame.mouthPosterior[static_cast<std::size_t>(k)] = static_cast<float>(mouth.posterior[k]);
+    const Eigen::VectorXd& posterior = mouthFrame_.posterior;
+    for (Eigen::Index k = 0; k < std::min<Eigen::Index>(posterior.size(), AnimationFrame::kMaxMouthStates); ++k)
+      frame.mouthPosterior[static_cast<std::size_t>(k)] = static_cast<float>(posterior[k]);
     frame.mouthStates = std::min(mouthStage_->numStates(), AnimationFrame::kMaxMouthStates);
     for (std::size_t i = 0; i < mouthFaps_.size(); ++i)
       frame.faps[static_cast<std::size_t>(mouthFaps_[i])] = faps(static_cast<Eigen::Index>(i), 0);

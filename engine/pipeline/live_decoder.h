@@ -122,8 +122,14 @@ class LiveDecoder : public FrameDecoder {
   int networkFrames_ = 0;
   std::vector<int> mouthFaps_;  // the mouth model's FAP numbers, in its map's order
   int headDelayFrames_ = 0;
+  // Frames read and passed on, kept so that their storage is reused from frame to frame.
   std::vector<float> row_;
+  std::vector<float> mfcc_;
   animation::SpeechFrame speech_;
+  animation::MouthNetworkFrame heard_;
+  animation::HeadFrame head_;
+  animation::MouthFrame mouthFrame_;
+  animation::VisemeFrame visemeFrame_;
   bool finished_ = false;
   int nextIndex_ = 0;  // the next frame out
 };
