@@ -20,6 +20,7 @@
 #include "animation/head_model.h"
 #include "animation/mouth_data.h"
 #include "animation/mouth_model.h"
+#include "animation/online_stages.h"
 #include "audio/audio_file.h"
 #include "bench_arguments.h"
 #include "core/data_path.h"
@@ -146,30 +147,34 @@ void articulateBatch(benchmark::State& state) {
 
 void articulateStream(benchmark::State& state) {
   const ArticulationData& d = articulationData();
-  const th::animation::ArticulationOptions options;
-  const th::hmm::HmmModel classes = th::animation::classHmm(d.live.sequence, options.minHoldFrames);
-  const Eigen::VectorXd logPriors = d.live.classPriors.array().log().matrix();
   for (auto _ : state) {
+    // As the live decoder wires them: subframes into the network's stage, its frames into the visemes' stage.
     th::features::OnlineFeatureExtractor extractor(th::animation::subframeFeatureOptions());
-    th::animation::MouthNetworkStream network(d.live);
-    th::animation::VisemeStream visemes(classes, options.minHoldFrames, 0);
+    th::animation::MouthNetworkStage network(d.live);
+    th::animation::ArticulationVisemeStage visemes(d.live, {}, 0);
     std::vector<float> row(th::animation::kNetworkMfcc);
-    Eigen::VectorXd mfcc(th::animation::kNetworkMfcc);
+    th::animation::SpeechFrame subframe;
+    subframe.mfcc.resize(th::animation::kNetworkMfcc);
     th::animation::MouthNetworkFrame heard;
     th::animation::VisemeFrame shown;
-    int taken = 0, frames = 0;
+    int subframes = 0, heardFrames = 0, frames = 0;
     for (std::size_t at = 0; at < d.samples.size(); at += 160) {  // 10 ms blocks, as a sound device gives them
       extractor.acceptWaveform(
           std::span<const float>(d.samples).subspan(at, std::min<std::size_t>(160, d.samples.size() - at)));
-      for (; taken < extractor.numBaseFramesReady(); ++taken) {
-        extractor.getMfcc(taken, row);
-        for (Eigen::Index k = 0; k < mfcc.size(); ++k) mfcc[k] = row[static_cast<std::size_t>(k)];
-        network.accept(extractor.getLevelDb(taken), mfcc);
+      for (; subframes < extractor.numBaseFramesReady(); ++subframes) {
+        extractor.getMfcc(subframes, row);
+        for (Eigen::Index k = 0; k < subframe.mfcc.size(); ++k) subframe.mfcc[k] = row[static_cast<std::size_t>(k)];
+        subframe.levelDb = extractor.getLevelDb(subframes);
+        network.accept(subframe);
       }
-      extractor.forgetBefore(taken);
-      while (network.next(heard))
-        visemes.acceptEvidence(options.evidenceScale * (heard.classes.array().log().matrix() - logPriors));
-      while (visemes.next(shown)) ++frames;
+      extractor.forgetBefore(subframes);
+      for (; heardFrames < network.numFramesReady(); ++heardFrames) {
+        network.getFrame(heardFrames, heard);
+        visemes.accept(heard);
+      }
+      network.forgetBefore(heardFrames);
+      for (; frames < visemes.numFramesReady(); ++frames) visemes.getFrame(frames, shown);
+      visemes.forgetBefore(frames);
     }
     benchmark::DoNotOptimize(frames);
   }

@@ -47,13 +47,13 @@ LiveDecoder::LiveDecoder(const animation::HeadModel* head, const animation::Mout
   if (head != nullptr) {
     if (options.head.maxLagFrames < 0)
       throw Error("live decoder: the head decoder needs a bounded lag (maxLagFrames >= 0), not batch decoding");
-    headStream_ = std::make_unique<animation::HeadSynthesiser>(*head, options.head);
+    headStage_ = std::make_unique<animation::HeadStage>(*head, options.head);
   }
   if (mouth != nullptr) {
     if (options.mouth.windowFrames < 1)
       throw Error("live decoder: the mouth needs an inversion window of at least one frame, not " +
                   std::to_string(options.mouth.windowFrames));
-    mouthStream_ = std::make_unique<animation::MouthSynthesiser>(*mouth, options.mouth);
+    mouthStage_ = std::make_unique<animation::MouthStage>(*mouth, options.mouth);
     mouthFaps_ = animation::mouthFapNumbers(*mouth);
   }
   if (articulation != nullptr) {
@@ -63,17 +63,16 @@ LiveDecoder::LiveDecoder(const animation::HeadModel* head, const animation::Mout
       throw Error("live decoder: the articulation has no opening gradient to close the lips with");
     articulation_ = articulation;
     networkExtractor_ = std::make_unique<features::OnlineFeatureExtractor>(animation::subframeFeatureOptions());
-    networkStream_ = std::make_unique<animation::MouthNetworkStream>(*articulation);
-    articulationClasses_ = animation::classHmm(articulation->sequence, options.articulation.minHoldFrames);
-    logPriors_ = articulation->classPriors.array().max(1e-12).log().matrix();
-    visemeStream_ = std::make_unique<animation::VisemeStream>(articulationClasses_, options.articulation.minHoldFrames,
-                                                              options.articulationLagFrames);
+    networkStage_ = std::make_unique<animation::MouthNetworkStage>(*articulation);
+    networkVisemes_ = std::make_unique<animation::ArticulationVisemeStage>(*articulation, options.articulation,
+                                                                           options.articulationLagFrames);
+    visemes_ = networkVisemes_.get();
   } else if (visemes != nullptr) {
-    visemeStream_ = std::make_unique<animation::VisemeStream>(*visemes, options.visemeLagFrames);
+    speechVisemes_ = std::make_unique<animation::VisemeStage>(*visemes, options.visemeLagFrames);
+    visemes_ = speechVisemes_.get();
   }
   headDelayFrames_ = lookahead().headDelayFrames;
   row_.resize(static_cast<std::size_t>(prosodyExtractor_.layout().size()));
-  mfccRow_.resize(static_cast<std::size_t>(mouthExtractor_.layout().numMfcc));
 }
 
 LiveDecoder::~LiveDecoder() = default;
@@ -90,103 +89,80 @@ void LiveDecoder::inputFinished() {
   if (readsMouthExtractor()) mouthExtractor_.inputFinished();
   if (networkExtractor_) networkExtractor_->inputFinished();
   pull();
-  if (networkStream_) {
-    networkStream_->finish();
+  // Each stage's last frames, in the order they feed one another.
+  if (networkStage_) {
+    networkStage_->inputFinished();
     pull();
   }
-  if (headStream_) headStream_->finish();
-  if (mouthStream_) mouthStream_->finish();
-  if (visemeStream_) visemeStream_->finish();
+  if (headStage_) headStage_->inputFinished();
+  if (mouthStage_) mouthStage_->inputFinished();
+  if (speechVisemes_) speechVisemes_->inputFinished();
+  if (networkVisemes_) networkVisemes_->inputFinished();
   pull();
   finished_ = true;
 }
 
+namespace {
+
+void readSpeechFrame(const features::OnlineFeatureExtractor& extractor, int frame, std::vector<float>& mfcc,
+                     animation::SpeechFrame& out) {
+  mfcc.resize(static_cast<std::size_t>(extractor.layout().numMfcc));
+  extractor.getMfcc(frame, mfcc);
+  out.mfcc.resize(static_cast<Eigen::Index>(mfcc.size()));
+  for (Eigen::Index k = 0; k < out.mfcc.size(); ++k) out.mfcc[k] = mfcc[static_cast<std::size_t>(k)];
+  out.levelDb = extractor.getLevelDb(frame);
+}
+
+}  // namespace
+
+// Each stage is fed the frames of its source it has not had yet; next() reads what the stages have decided.
 void LiveDecoder::pull() {
-  using features::FeatureLayout;
   for (; prosodyRows_ < prosodyExtractor_.numFramesReady(); ++prosodyRows_) {
+    if (!headStage_) continue;  // the rows are read when shown
     prosodyExtractor_.getFrame(prosodyRows_, row_);
-    prosodyFrames_.push_back({.f0Hz = row_[FeatureLayout::kF0Hz],
-                              .energy = row_[FeatureLayout::kEnergy],
-                              .levelDb = prosodyExtractor_.getLevelDb(prosodyRows_)});
-    if (headStream_) {
-      headStream_->acceptProsody(prosody_.accept(row_), animation::isVoiced(row_));
-      const Eigen::VectorXd& posterior = headStream_->filteredPosterior();
-      for (Eigen::Index k = 0; k < std::min<Eigen::Index>(posterior.size(), AnimationFrame::kMaxHeadStates); ++k)
-        prosodyFrames_.back().posterior[static_cast<std::size_t>(k)] = static_cast<float>(posterior[k]);
-    }
+    headStage_->accept({.prosody = prosody_.accept(row_), .voiced = animation::isVoiced(row_)});
   }
-  if (headStream_)
-    for (; headTaken_ < headStream_->numReady(); ++headTaken_)
-      prosodyFrames_[static_cast<std::size_t>(headTaken_ - prosodyBase_)].headDegrees =
-          headStream_->rotation(headTaken_);
-  if (networkStream_) {
-    std::vector<float> row(animation::kNetworkMfcc);
-    Eigen::VectorXd mfcc(animation::kNetworkMfcc);
-    for (; subframesTaken_ < networkExtractor_->numBaseFramesReady(); ++subframesTaken_) {
-      networkExtractor_->getMfcc(subframesTaken_, row);
-      for (Eigen::Index k = 0; k < mfcc.size(); ++k) mfcc[k] = row[static_cast<std::size_t>(k)];
-      networkStream_->accept(networkExtractor_->getLevelDb(subframesTaken_), mfcc);
+  if (networkStage_) {
+    for (; subframes_ < networkExtractor_->numBaseFramesReady(); ++subframes_) {
+      readSpeechFrame(*networkExtractor_, subframes_, mfcc_, speech_);
+      networkStage_->accept(speech_);
     }
-    networkExtractor_->forgetBefore(subframesTaken_);
-    animation::MouthNetworkFrame heard;
-    while (networkStream_->next(heard))
-      visemeStream_->acceptEvidence(options_.articulation.evidenceScale *
-                                    (heard.classes.array().max(1e-12).log().matrix() - logPriors_));
+    networkExtractor_->forgetBefore(subframes_);
+    for (; networkFrames_ < networkStage_->numFramesReady(); ++networkFrames_) {
+      networkStage_->getFrame(networkFrames_, heard_);
+      networkVisemes_->accept(heard_);
+    }
+    networkStage_->forgetBefore(networkFrames_);
   }
   if (readsMouthExtractor()) {
-    Eigen::VectorXd mfcc(static_cast<Eigen::Index>(mfccRow_.size()));
     for (; mfccFrames_ < mouthExtractor_.numBaseFramesReady(); ++mfccFrames_) {
-      mouthExtractor_.getMfcc(mfccFrames_, mfccRow_);
-      for (Eigen::Index k = 0; k < mfcc.size(); ++k) mfcc[k] = mfccRow_[static_cast<std::size_t>(k)];
-      const double levelDb = mouthExtractor_.getLevelDb(mfccFrames_);
-      if (mouthStream_) mouthStream_->acceptFrame(levelDb, mfcc);
-      if (visemeStream_ && !networkStream_) visemeStream_->accept(levelDb, mfcc);
+      readSpeechFrame(mouthExtractor_, mfccFrames_, mfcc_, speech_);
+      if (mouthStage_) mouthStage_->accept(speech_);
+      if (speechVisemes_) speechVisemes_->accept(speech_);
     }
+    // With a mouth, next() reads each frame's energy from here; without, nothing reads these frames again.
+    if (!mouthStage_) mouthExtractor_.forgetBefore(mfccFrames_);
   }
-  if (visemeStream_) {
-    VisemeDecision decision;
-    while (visemeStream_->next(decision.frame)) {
-      decision.index = visemesDecided_++;
-      visemeFrames_.push_back(decision);
-    }
-    // Without a mouth, nothing else reads the MFCC extractor's frames again.
-    if (!mouthStream_) mouthExtractor_.forgetBefore(mfccFrames_);
-  }
-  if (mouthStream_) {
-    Eigen::VectorXd components;
-    while (mouthStream_->next(components)) {
-      const auto frame = static_cast<int>(static_cast<int>(mouthFrames_.size()) + nextIndex_);
-      mouthFrames_.push_back({.energy = mouthExtractor_.getEnergy(frame),
-                              .levelDb = mouthExtractor_.getLevelDb(frame),
-                              .posterior = {},
-                              .faps = animation::mouthFapsOf(*mouth_, components).col(0)});
-      const Eigen::VectorXd& posterior = mouthStream_->posterior();
-      for (Eigen::Index k = 0; k < std::min<Eigen::Index>(posterior.size(), AnimationFrame::kMaxMouthStates); ++k)
-        mouthFrames_.back().posterior[static_cast<std::size_t>(k)] = static_cast<float>(posterior[k]);
-    }
-    // The energies of frames the mouth has not given yet are still to be read; nothing older is.
-    mouthExtractor_.forgetBefore(nextIndex_ + static_cast<int>(mouthFrames_.size()));
-  }
-  // What has been taken is not read again: memory stays bounded however long the stream.
-  prosodyExtractor_.forgetBefore(prosodyRows_);
-  if (headStream_) headStream_->forgetBefore(headTaken_);
 }
 
 std::size_t LiveDecoder::framesHeld() const {
-  const std::size_t subframes = networkStream_ ? networkExtractor_->framesHeld() + networkStream_->subframesHeld() : 0;
-  return prosodyExtractor_.framesHeld() + mouthExtractor_.framesHeld() + (headStream_ ? headStream_->framesHeld() : 0) +
-         prosodyFrames_.size() + mouthFrames_.size() + visemeFrames_.size() + subframes / animation::kSubframesPerFrame;
+  std::size_t held = prosodyExtractor_.framesHeld() + mouthExtractor_.framesHeld();
+  if (networkExtractor_) held += networkExtractor_->framesHeld() / animation::kSubframesPerFrame;
+  if (headStage_) held += headStage_->framesHeld();
+  if (mouthStage_) held += mouthStage_->framesHeld();
+  if (networkStage_) held += networkStage_->framesHeld();
+  if (visemes_) held += visemes_->framesHeld();
+  return held;
 }
 
 bool LiveDecoder::next(AnimationFrame& frame) {
   const int shown = nextIndex_ - headDelayFrames_;  // the prosody frame this frame shows
-  const int decided = headStream_ ? headTaken_ : prosodyRows_;
-  if (mouthStream_) {
-    if (mouthFrames_.empty()) return false;
+  const int decided = headStage_ ? headStage_->numFramesReady() : prosodyRows_;
+  if (mouthStage_) {
+    if (mouthStage_->numFramesReady() <= nextIndex_) return false;
     if (shown >= decided && !finished_) return false;  // its head is not decided yet
     // With the articulation, its lips wait for its class.
-    if (networkStream_ && !finished_ && (visemeFrames_.empty() || visemeFrames_.back().index < nextIndex_))
-      return false;
+    if (networkStage_ && !finished_ && visemes_->numFramesReady() <= nextIndex_) return false;
   } else if (shown >= decided) {
     return false;  // the head alone sets the pace
   }
@@ -194,60 +170,67 @@ bool LiveDecoder::next(AnimationFrame& frame) {
   frame.index = nextIndex_;
   frame.timeSeconds = nextIndex_ / animation::kAnimationFramesPerSecond;
   frame.prosodyIndex = shown;
-  frame.headStates = headStream_ ? std::min(headStream_->numStates(), AnimationFrame::kMaxHeadStates) : 0;
+  frame.headStates = headStage_ ? std::min(headStage_->numStates(), AnimationFrame::kMaxHeadStates) : 0;
   if (shown >= 0 && shown < decided) {
-    const ProsodyFrame& prosody = prosodyFrames_[static_cast<std::size_t>(shown - prosodyBase_)];
-    frame.f0Hz = prosody.f0Hz;
-    frame.energy = prosody.energy;
-    frame.levelDb = prosody.levelDb;
-    frame.headPosterior = prosody.posterior;
-    frame.headDegrees = prosody.headDegrees;
+    prosodyExtractor_.getFrame(shown, row_);
+    frame.f0Hz = row_[features::FeatureLayout::kF0Hz];
+    frame.energy = row_[features::FeatureLayout::kEnergy];
+    frame.levelDb = prosodyExtractor_.getLevelDb(shown);
+    if (headStage_) {
+      headStage_->getFrame(shown, head_);
+      frame.headDegrees = head_.rotationDegrees;
+      const Eigen::VectorXd& posterior = head_.filteredPosterior;
+      for (Eigen::Index k = 0; k < std::min<Eigen::Index>(posterior.size(), AnimationFrame::kMaxHeadStates); ++k)
+        frame.headPosterior[static_cast<std::size_t>(k)] = static_cast<float>(posterior[k]);
+    }
   }
-  if (headStream_) {
+  if (headStage_) {
     const Eigen::MatrixXd faps = animation::headFaps(frame.headDegrees);
     for (std::size_t i = 0; i < animation::kHeadFaps.size(); ++i)
       frame.faps[static_cast<std::size_t>(animation::kHeadFaps[i])] = faps(static_cast<Eigen::Index>(i), 0);
   }
-  if (visemeStream_) {
-    while (!visemeFrames_.empty() && visemeFrames_.front().index <= frame.index) {
-      shownVisemes_ = std::move(visemeFrames_.front());
-      visemeFrames_.pop_front();
-    }
-    if (shownVisemes_.index >= 0) {
-      frame.visemeIndex = shownVisemes_.index;
-      frame.mouthClass = shownVisemes_.frame.mouthClass;
+  // The newest visemes decided by this frame's time (a frame or two behind it, unless it waited for them).
+  int visemesShown = -1;
+  if (visemes_) {
+    visemesShown = std::min(visemes_->numFramesReady() - 1, frame.index);
+    if (visemesShown >= 0) {
+      visemes_->getFrame(visemesShown, visemeFrame_);
+      frame.visemeIndex = visemesShown;
+      frame.mouthClass = visemeFrame_.mouthClass;
       for (int c = 0; c < face::kNumMouthClasses; ++c)
-        frame.visemeProbabilities[static_cast<std::size_t>(c)] =
-            static_cast<float>(shownVisemes_.frame.probabilities[c]);
+        frame.visemeProbabilities[static_cast<std::size_t>(c)] = static_cast<float>(visemeFrame_.probabilities[c]);
+      visemes_->forgetBefore(visemesShown);  // shown again until newer ones are decided
     }
   }
-  if (mouthStream_) {
-    MouthFrame mouth = std::move(mouthFrames_.front());
-    mouthFrames_.pop_front();
-    if (networkStream_ && shownVisemes_.index == frame.index) {
-      Eigen::MatrixXd faps = mouth.faps;
+  if (mouthStage_) {
+    mouthStage_->getFrame(nextIndex_, mouthFrame_);
+    Eigen::MatrixXd faps = animation::mouthFapsOf(*mouth_, mouthFrame_.components);
+    if (networkStage_ && visemesShown == frame.index)
       animation::articulateLips(*articulation_, {frame.mouthClass}, mouthFaps_, faps, options_.articulation);
-      mouth.faps = faps.col(0);
-    }
-    frame.energy = mouth.energy;
-    frame.levelDb = mouth.levelDb;
-    frame.mouthPosterior = mouth.posterior;
-    frame.mouthStates = std::min(mouthStream_->numStates(), AnimationFrame::kMaxMouthStates);
+    frame.energy = mouthExtractor_.getEnergy(nextIndex_);
+    frame.levelDb = mouthExtractor_.getLevelDb(nextIndex_);
+    const Eigen::VectorXd& posterior = mouthFrame_.posterior;
+    for (Eigen::Index k = 0; k < std::min<Eigen::Index>(posterior.size(), AnimationFrame::kMaxMouthStates); ++k)
+      frame.mouthPosterior[static_cast<std::size_t>(k)] = static_cast<float>(posterior[k]);
+    frame.mouthStates = std::min(mouthStage_->numStates(), AnimationFrame::kMaxMouthStates);
     for (std::size_t i = 0; i < mouthFaps_.size(); ++i)
-      frame.faps[static_cast<std::size_t>(mouthFaps_[i])] = mouth.faps[static_cast<Eigen::Index>(i)];
+      frame.faps[static_cast<std::size_t>(mouthFaps_[i])] = faps(static_cast<Eigen::Index>(i), 0);
   }
   ++nextIndex_;
-  // Prosody frames before the next frame's are not needed again.
-  while (prosodyBase_ < std::min(nextIndex_ - headDelayFrames_, decided)) {
-    prosodyFrames_.pop_front();
-    ++prosodyBase_;
+  // What no later frame reads is freed: memory stays bounded however long the stream.
+  const int nextShown = std::min(nextIndex_ - headDelayFrames_, decided);
+  prosodyExtractor_.forgetBefore(nextShown);
+  if (headStage_) headStage_->forgetBefore(nextShown);
+  if (mouthStage_) {
+    mouthStage_->forgetBefore(nextIndex_);
+    mouthExtractor_.forgetBefore(nextIndex_);
   }
   return true;
 }
 
 std::vector<int> LiveDecoder::fapNumbers() const {
   std::vector<int> numbers = mouthFaps_;
-  if (headStream_) numbers.insert(numbers.end(), animation::kHeadFaps.begin(), animation::kHeadFaps.end());
+  if (headStage_) numbers.insert(numbers.end(), animation::kHeadFaps.begin(), animation::kHeadFaps.end());
   std::sort(numbers.begin(), numbers.end());
   return numbers;
 }
@@ -257,17 +240,17 @@ DecoderLookahead LiveDecoder::lookahead() const {
   DecoderLookahead result;
   result.featuresMs = prosodyExtractor_.lookahead().totalMs;
   result.mouthFeaturesMs = mouthExtractor_.lookahead().mfccMs;  // its base frames: no deltas to wait for
-  result.headFrames = headStream_ ? headStream_->lookaheadFrames() : 0;
-  result.mouthFrames = mouthStream_ ? mouthStream_->lookaheadFrames() : 0;
+  result.headFrames = headStage_ ? headStage_->latencyFrames() : 0;
+  result.mouthFrames = mouthStage_ ? mouthStage_->latencyFrames() : 0;
   result.headMs = result.featuresMs + result.headFrames * kFrameMs;
-  result.mouthMs = mouthStream_ ? result.mouthFeaturesMs + result.mouthFrames * kFrameMs : 0.0;
-  if (networkStream_) {
+  result.mouthMs = mouthStage_ ? result.mouthFeaturesMs + result.mouthFrames * kFrameMs : 0.0;
+  if (networkStage_) {
     result.articulationMs = networkExtractor_->lookahead().mfccMs +
-                            1000.0 * articulation_->futureSubframes / animation::kSubframesPerSecond +
-                            options_.articulationLagFrames * kFrameMs;
-    if (mouthStream_) result.mouthMs = std::max(result.mouthMs, result.articulationMs);
+                            1000.0 * networkStage_->latencyFrames() / animation::kSubframesPerSecond +
+                            networkVisemes_->latencyFrames() * kFrameMs;
+    if (mouthStage_) result.mouthMs = std::max(result.mouthMs, result.articulationMs);
   }
-  if (mouthStream_ && !options_.waitForHead) {
+  if (mouthStage_ && !options_.waitForHead) {
     result.headDelayFrames =
         std::max(0, static_cast<int>(std::ceil((result.headMs - result.mouthMs) / kFrameMs - 1e-9)));
     result.totalMs = std::max(result.mouthMs, result.headMs - result.headDelayFrames * kFrameMs);

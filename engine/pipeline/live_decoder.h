@@ -6,28 +6,30 @@
 //   while (decoder.next(frame)) show(frame);                   // in order, frame i at i / 30 s
 //   decoder.inputFinished();                                   // then the last frames
 //
-// Two feature extractors run on the same samples: the prosody one (F0, energy, deltas) feeds the head model's
-// online decoder → rotations → FAPs 48–50; an MFCC-only one (no pitch tracker to wait for) feeds the mouth
-// model's streaming inversion → jaw opening → FAP 3 and the lip FAPs. The head waits ~280 ms for its pitch
-// tracker and decision lag, the mouth ~50 ms, so by default the mouth sets the pace: frame i carries the mouth of
-// instant i and the head (and F0) of frame i - headDelayFrames, decided by then (lookahead() says how many). With
-// `waitForHead`, a frame waits for its own head instead, and the frames are those of pipeline::animate() with
-// the same online options, frame for frame (tests/pipeline). A null model leaves its FAPs at 0. With a viseme
-// model, the MFCC extractor also feeds its stream, and each frame carries the newest visemes decided. With an
-// articulation (animation/articulation.h), a third extractor (90 frames a second) feeds the mouth network, its
-// classes are the visemes, and each frame waits for its own class, so that its lips are closed on PP and
-// raised on FF as offline: the face and the visemes say the same thing on every frame.
+// Wiring only: each model runs as a stage of animation/online_stages.h (frames in, frames out, one streaming shape),
+// and the decoder feeds each stage the frames of its source it has not had yet, then reads what the stages have decided
+// by index. Two feature extractors run on the same samples: the prosody one (F0, energy, deltas) feeds the head stage →
+// rotations → FAPs 48–50; an MFCC-only one (no pitch tracker to wait for) feeds the mouth stage (the streaming
+// inversion) → jaw opening → FAP 3 and the lip FAPs. The head waits ~280 ms for its pitch tracker and its stage's
+// latency, the mouth ~50 ms, so by default the mouth sets the pace: frame i carries the mouth of instant i and the head
+// (and F0) of frame i - headDelayFrames, decided by then (lookahead() adds up the extractors' look-ahead and the
+// stages' latencyFrames()). With `waitForHead`, a frame waits for its own head instead, and the frames are those of
+// pipeline::animate() with the same online options, frame for frame (tests/pipeline). A null model leaves its FAPs at
+// 0. With a viseme model, the MFCC extractor also feeds its stage, and each frame carries the newest visemes decided.
+// With an articulation (animation/articulation.h), a third extractor (90 frames a second) feeds the mouth network's
+// stage, whose frames feed the articulation's viseme stage, and each frame waits for its own class, so that its lips
+// are closed on PP and raised on FF as offline: the face and the visemes say the same thing on every frame.
 //
 // Thread contract: one thread per instance; the models are shared read-only and must outlive it.
 #pragma once
 
-#include <deque>
 #include <memory>
 #include <span>
 
 #include "animation/articulation.h"
 #include "animation/head_model.h"
 #include "animation/mouth_model.h"
+#include "animation/online_stages.h"
 #include "animation/prosody.h"
 #include "animation/viseme_model.h"
 #include "audio/resampler.h"
@@ -95,59 +97,41 @@ class LiveDecoder : public FrameDecoder {
 
  private:
   void pull();
-  bool readsMouthExtractor() const { return mouthStream_ || (visemeStream_ && !networkStream_); }
-
-  // What the prosody side has decided for one frame: its F0, energy and (with a head model) rotation.
-  struct ProsodyFrame {
-    double f0Hz = 0.0;
-    double energy = 0.0;
-    double levelDb = 0.0;
-    Eigen::Vector3d headDegrees = Eigen::Vector3d::Zero();
-    std::array<float, AnimationFrame::kMaxHeadStates> posterior{};
-  };
-  struct MouthFrame {
-    double energy = 0.0;
-    double levelDb = 0.0;
-    std::array<float, AnimationFrame::kMaxMouthStates> posterior{};
-    Eigen::VectorXd faps;  // the values of mouthFaps_, in order
-  };
+  bool readsMouthExtractor() const { return mouth_ != nullptr || speechVisemes_ != nullptr; }
 
   const animation::MouthModel* mouth_;
+  const animation::MouthNetwork* articulation_ = nullptr;
   LiveDecoderOptions options_;
+  // The features: prosody rows for the head (and each frame's F0), MFCCs for the mouth and the viseme model,
+  // subframes for the articulation's network. Frames are read again by index until shown.
   features::OnlineFeatureExtractor prosodyExtractor_;
   features::OnlineFeatureExtractor mouthExtractor_;
-  animation::ProsodyTracker prosody_;
-  std::unique_ptr<animation::HeadSynthesiser> headStream_;
-  std::unique_ptr<animation::MouthSynthesiser> mouthStream_;
-  // The articulation: its features, its network and the class HMM its visemes are decoded with.
-  const animation::MouthNetwork* articulation_ = nullptr;
   std::unique_ptr<features::OnlineFeatureExtractor> networkExtractor_;
-  std::unique_ptr<animation::MouthNetworkStream> networkStream_;
-  hmm::HmmModel articulationClasses_;
-  Eigen::VectorXd logPriors_;
-  int subframesTaken_ = 0;
-  std::unique_ptr<animation::VisemeStream> visemeStream_;
-  struct VisemeDecision {
-    int index = 0;
-    animation::VisemeFrame frame;
-  };
-  std::deque<VisemeDecision> visemeFrames_;  // decided, not yet shown
-  VisemeDecision shownVisemes_{-1, {}};
-  int visemesDecided_ = 0;
+  animation::ProsodyTracker prosody_;
+  // The stages (animation/online_stages.h); the visemes come from the viseme model or from the network.
+  std::unique_ptr<animation::HeadStage> headStage_;
+  std::unique_ptr<animation::MouthStage> mouthStage_;
+  std::unique_ptr<animation::MouthNetworkStage> networkStage_;
+  std::unique_ptr<animation::VisemeStage> speechVisemes_;
+  std::unique_ptr<animation::ArticulationVisemeStage> networkVisemes_;
+  animation::OnlineFrameSource<animation::VisemeFrame>* visemes_ = nullptr;  // whichever of the two there is
+  // How far each stage has been fed: prosody rows, MFCC frames, subframes, network frames.
+  int prosodyRows_ = 0;
+  int mfccFrames_ = 0;
+  int subframes_ = 0;
+  int networkFrames_ = 0;
   std::vector<int> mouthFaps_;  // the mouth model's FAP numbers, in its map's order
   int headDelayFrames_ = 0;
+  // Frames read and passed on, kept so that their storage is reused from frame to frame.
   std::vector<float> row_;
-  std::vector<float> mfccRow_;
+  std::vector<float> mfcc_;
+  animation::SpeechFrame speech_;
+  animation::MouthNetworkFrame heard_;
+  animation::HeadFrame head_;
+  animation::MouthFrame mouthFrame_;
+  animation::VisemeFrame visemeFrame_;
   bool finished_ = false;
-  int prosodyRows_ = 0;  // rows taken from the prosody extractor
-  int mfccFrames_ = 0;   // MFCC frames taken from the mouth extractor
-  int headTaken_ = 0;    // rotations taken from the head synthesiser
-  int nextIndex_ = 0;    // the next frame out
-  // Kept until shown: prosody frames from prosodyBase_ on (F0 and energy as the extractor gives them, the
-  // rotation once the head has decided it), mouth frames from nextIndex_ on.
-  int prosodyBase_ = 0;
-  std::deque<ProsodyFrame> prosodyFrames_;
-  std::deque<MouthFrame> mouthFrames_;
+  int nextIndex_ = 0;  // the next frame out
 };
 
 // A decoder behind a sample-rate converter, for a device that will not run at 16 kHz: samples at

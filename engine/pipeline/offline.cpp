@@ -4,37 +4,34 @@
 #include <map>
 
 #include "animation/fap_mapping.h"
+#include "animation/online_stages.h"
 #include "audio/media_audio.h"
 #include "core/error.h"
 
 namespace th::pipeline {
 namespace {
 
-// The articulation's classes as a stream decides them (LiveDecoder): the network from the training speech's
-// mean, the classes by the fixed-lag decoder.
+// The articulation's classes as a stream decides them (LiveDecoder, the same stage): the network from the
+// training speech's mean, the classes by the fixed-lag decoder.
 face::VisemeTrack streamedVisemes(const animation::MouthNetwork& articulation, const animation::SpeechFrames& subframes,
                                   const AnimateOptions& options) {
-  options.articulation.check();
   const animation::MouthNetworkOutput heard = animation::runMouthNetwork(articulation, subframes);
-  const hmm::HmmModel classes = animation::classHmm(articulation.sequence, options.articulation.minHoldFrames);
-  animation::VisemeStream stream(classes, options.articulation.minHoldFrames, options.articulationLagFrames);
-  const Eigen::VectorXd logPriors = articulation.classPriors.array().max(1e-12).log().matrix();
-  face::VisemeTrack track;
-  track.posteriors.resize(face::kNumMouthClasses, heard.numFrames());
-  animation::VisemeFrame frame;
-  const auto take = [&] {
-    while (stream.next(frame)) {
-      track.posteriors.col(static_cast<Eigen::Index>(track.classes.size())) = frame.probabilities;
-      track.classes.push_back(frame.mouthClass);
-    }
-  };
+  animation::ArticulationVisemeStage stage(articulation, options.articulation, options.articulationLagFrames);
+  animation::MouthNetworkFrame frame;
   for (int t = 0; t < heard.numFrames(); ++t) {
-    stream.acceptEvidence(options.articulation.evidenceScale *
-                          (heard.classes.col(t).array().max(1e-12).log().matrix() - logPriors));
-    take();
+    frame.classes = heard.classes.col(t);
+    frame.shut = heard.shut[t];
+    stage.accept(frame);
   }
-  stream.finish();
-  take();
+  stage.inputFinished();
+  face::VisemeTrack track;
+  track.posteriors.resize(face::kNumMouthClasses, stage.numFramesReady());
+  animation::VisemeFrame shown;
+  for (int t = 0; t < stage.numFramesReady(); ++t) {
+    stage.getFrame(t, shown);
+    track.posteriors.col(t) = shown.probabilities;
+    track.classes.push_back(shown.mouthClass);
+  }
   return track;
 }
 
