@@ -4,7 +4,7 @@
 //                                                    left out, on GRID's other speakers, on BEAT2's held-out
 //                                                    quarter and on speech in other languages, beside the
 //                                                    baselines and any other model files
-// (engine/tracking/talking_corpus.h, mouth_scores.h).
+// (engine/eval/talking_corpus.h, mouth_scores.h).
 #include "mouth_corpus_command.h"
 
 #include <algorithm>
@@ -25,13 +25,13 @@
 #include "core/data_path.h"
 #include "core/error.h"
 #include "core/progress.h"
+#include "core/subprocess.h"
 #include "eval/mouth_corpus.h"
 #include "eval/mouth_scores.h"
 #include "eval/talking_corpus.h"
 #include "face/face_model.h"
 #include "face/feature_points.h"
 #include "pipeline/offline.h"
-#include "subprocess.h"
 
 namespace th::app {
 namespace {

@@ -14,7 +14,7 @@ namespace th::app {
 
 struct MouthCorpusArguments {
   std::string tracks;  // where the clips' tracks are kept; empty: defaultMouthTrackFolder()
-  // train: folders of talking clips, "FOLDER" or "FOLDER=SPEAKER" (tracking/talking_corpus.h); empty: the
+  // train: folders of talking clips, "FOLDER" or "FOLDER=SPEAKER" (eval/talking_corpus.h); empty: the
   // shared corpora (sharedTalkingFolders), GRID s1's every fifth clip held out.
   std::vector<std::string> corpora;
   std::vector<std::string> compare;  // eval: other model files judged on the same clips

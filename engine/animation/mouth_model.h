@@ -8,7 +8,7 @@
 //
 // The visual components are ICA after PCA (visual_basis.h) of the visual parameters, fitted on the training
 // part: the jaw and lip FAPs themselves for models trained from tracked video (the shipped ones: `talkinghead
-// train mouth`, tracking/talking_corpus.h; visualFaps names them), or BEAT2's [jaw opening, 100 expression
+// train mouth`, eval/talking_corpus.h; visualFaps names them), or BEAT2's [jaw opening, 100 expression
 // coefficients] for the paper's model (turned into FAPs by the FAP map). The audio is c1..c11 as the paper has
 // it, or normalised for any voice, microphone and level (features/speech_normaliser.h). The HMM is trained by
 // Baum-Welch (maximum likelihood, as the paper) with full or diagonal covariance. Synthesis: HMM inversion
