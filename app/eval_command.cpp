@@ -8,9 +8,9 @@
 #include "commands.h"
 #include "core/data_path.h"
 #include "core/error.h"
+#include "core/subprocess.h"
+#include "eval/peer_trackers.h"
 #include "eval/pitch_corpus.h"
-#include "peer_trackers.h"
-#include "subprocess.h"
 
 namespace th::app {
 namespace {
@@ -83,16 +83,17 @@ void runEvalPitch(const EvalPitchArguments& arguments) {
     printRow("  001-005", oursTuning, "the files our defaults were tuned on");
     printRow("  006-010", oursHeldOut, "held out from tuning");
     if (!arguments.peers) continue;
-    for (PeerTracker peer : allPeerTrackers()) {
-      if (!programExists(peerProgram(peer))) {
-        throw Error(peerName(peer) + ": '" + peerProgram(peer) + "' is not installed (run scripts/setup.sh)");
+    for (eval::PeerTracker peer : eval::allPeerTrackers()) {
+      if (!programExists(eval::peerProgram(peer))) {
+        throw Error(eval::peerName(peer) + ": '" + eval::peerProgram(peer) +
+                    "' is not installed (run scripts/setup.sh)");
       }
-      PeerSettings settings{1.0 / hop.fps, arguments.minF0Hz, arguments.maxF0Hz};
+      eval::PeerSettings settings{1.0 / hop.fps, arguments.minF0Hz, arguments.maxF0Hz};
       eval::PitchScore score;
       for (const auto& recording : corpus) {
-        score.merge(eval::scoreTrack(recording, runPeerTracker(peer, recording.wav, settings), 1.0 / hop.fps));
+        score.merge(eval::scoreTrack(recording, eval::runPeerTracker(peer, recording.wav, settings), 1.0 / hop.fps));
       }
-      printRow(peerName(peer), score, "offline (whole file)");
+      printRow(eval::peerName(peer), score, "offline (whole file)");
     }
   }
 }

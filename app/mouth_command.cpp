@@ -26,13 +26,13 @@
 #include "core/error.h"
 #include "core/parallel_for.h"
 #include "core/statistics.h"
+#include "core/subprocess.h"
 #include "eval/mouth_corpus.h"
 #include "eval/mouth_evaluation.h"
 #include "eval/mouth_sweep.h"
 #include "face/feature_points.h"
 #include "hmm/audio_retraining.h"
 #include "mouth_corpus_command.h"
-#include "subprocess.h"
 
 namespace th::app {
 namespace {

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "animation/mouth_model.h"
+#include "eval/mouth_protocol.h"
 #include "eval/talking_corpus.h"
 #include "face/face_model.h"
 
@@ -19,12 +20,11 @@ struct MouthCorpusArguments {
   std::vector<std::string> corpora;
   std::vector<std::string> compare;  // eval: other model files judged on the same clips
   std::string multilingual;          // eval: the folder tools/multilingual_speech.py made; empty: made in the cache
-  animation::MouthModelOptions model = animation::videoMouthRecipe();
-  animation::MouthSynthesisOptions synthesis{.method = animation::MouthMethod::kMmse};
-  bool stageTwo = false;  // re-train the audio side on speech-only recordings of other voices
-  // How many times each clip of a speaker other than GRID's s1 counts in training (GRID's one speaker has 16
-  // minutes, the others 18-70 s each).
-  int otherSpeakerWeight = 1;
+  // The recipe (eval/mouth_protocol.h's MouthRecipe, whose defaults these are).
+  animation::MouthModelOptions model = eval::MouthRecipe{}.model;
+  animation::MouthSynthesisOptions synthesis = eval::MouthRecipe{}.synthesis;
+  bool stageTwo = eval::MouthRecipe{}.stageTwo;
+  int otherSpeakerWeight = eval::MouthRecipe{}.otherSpeakerWeight;
   // eval: set model.covariance and synthesis.method when parsed (`--recipe-diagonal`, `--recipe-inversion`).
   bool recipeDiagonal = false;
   bool recipeInversion = false;

@@ -31,10 +31,10 @@
 #include "core/data_path.h"
 #include "core/error.h"
 #include "core/temporary_file.h"
+#include "eval/peer_trackers.h"
 #include "features/mfcc.h"
 #include "features/online_features.h"
 #include "features/pitch.h"
-#include "peer_trackers.h"
 
 namespace {
 
@@ -42,7 +42,7 @@ constexpr int kRateHz = th::audio::kEngineSampleRateHz;
 constexpr double kAudioSeconds = 60.0;
 constexpr double kStartupAudioSeconds = 0.1;
 constexpr const char* kRecording = "beat2/2_scott_0_1_1.wav";
-const th::app::PeerSettings kPeerSettings{0.005, 60.0, 500.0};
+const th::eval::PeerSettings kPeerSettings{0.005, 60.0, 500.0};
 
 // A WAV in the temporary folder, removed when it goes out of scope.
 class TemporaryWav {
@@ -116,12 +116,12 @@ double childCpuSeconds() {
 
 // Timed in wall-clock time (the work happens in another process); the CPU time the subprocesses used is
 // reported too (child_cpu_ms per iteration), which does not grow when the machine is busy.
-void benchPeer(benchmark::State& state, th::app::PeerTracker peer, const std::filesystem::path& wav,
+void benchPeer(benchmark::State& state, th::eval::PeerTracker peer, const std::filesystem::path& wav,
                double audioSeconds) {
   const double childCpuBefore = childCpuSeconds();
   for (auto _ : state) {
     try {
-      th::eval::F0Track track = th::app::runPeerTracker(peer, wav, kPeerSettings);
+      th::eval::F0Track track = th::eval::runPeerTracker(peer, wav, kPeerSettings);
       benchmark::DoNotOptimize(track.f0Hz.data());
     } catch (const std::exception& e) {
       state.SkipWithError(e.what());  // e.g. the program is not installed: report it, run the others
@@ -308,16 +308,16 @@ int main(int argc, char** argv) {
     configure(benchmark::RegisterBenchmark("features", benchFeatures, speech), ourMinSeconds, false);
     configure(benchmark::RegisterBenchmark("features_pitch_only", benchPitch, speech), ourMinSeconds, false);
     configure(benchmark::RegisterBenchmark("features_mfcc_only", benchMfcc, speech), ourMinSeconds, false);
-    configure(benchmark::RegisterBenchmark("praat_pitch", benchPeer, th::app::PeerTracker::kPraat, speechWav.path(),
+    configure(benchmark::RegisterBenchmark("praat_pitch", benchPeer, th::eval::PeerTracker::kPraat, speechWav.path(),
                                            kAudioSeconds),
               peerMinSeconds, true);
-    configure(benchmark::RegisterBenchmark("rapt_pitch", benchPeer, th::app::PeerTracker::kRapt, speechWav.path(),
+    configure(benchmark::RegisterBenchmark("rapt_pitch", benchPeer, th::eval::PeerTracker::kRapt, speechWav.path(),
                                            kAudioSeconds),
               peerMinSeconds, true);
-    configure(benchmark::RegisterBenchmark("praat_startup", benchPeer, th::app::PeerTracker::kPraat, startWav.path(),
+    configure(benchmark::RegisterBenchmark("praat_startup", benchPeer, th::eval::PeerTracker::kPraat, startWav.path(),
                                            kStartupAudioSeconds),
               peerMinSeconds / 2, true);
-    configure(benchmark::RegisterBenchmark("rapt_startup", benchPeer, th::app::PeerTracker::kRapt, startWav.path(),
+    configure(benchmark::RegisterBenchmark("rapt_startup", benchPeer, th::eval::PeerTracker::kRapt, startWav.path(),
                                            kStartupAudioSeconds),
               peerMinSeconds / 2, true);
 

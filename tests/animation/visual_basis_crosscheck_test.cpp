@@ -21,8 +21,8 @@
 #include "core/data_path.h"
 #include "core/error.h"
 #include "core/numeric_csv.h"
+#include "core/subprocess.h"
 #include "core/temporary_file.h"
-#include "subprocess.h"
 
 namespace th::animation {
 namespace {
@@ -38,7 +38,7 @@ std::string referenceScript() {
 std::string runReference(const std::vector<std::string>& arguments) {
   std::vector<std::string> argv{"env", "OPENBLAS_NUM_THREADS=1", "OMP_NUM_THREADS=1", kPython};
   argv.insert(argv.end(), arguments.begin(), arguments.end());
-  return app::runProgram(argv);
+  return runProgram(argv);
 }
 
 // The last non-empty line the reference printed, as a number.

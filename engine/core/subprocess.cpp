@@ -1,4 +1,4 @@
-#include "subprocess.h"
+#include "core/subprocess.h"
 
 #include <sys/wait.h>
 
@@ -8,7 +8,7 @@
 
 #include "core/error.h"
 
-namespace th::app {
+namespace th {
 
 std::string shellQuote(const std::string& argument) {
   std::string quoted = "'";
@@ -46,4 +46,4 @@ bool programExists(const std::string& name) {
   return std::system(command.c_str()) == 0;
 }
 
-}  // namespace th::app
+}  // namespace th

@@ -1,4 +1,4 @@
-#include "peer_trackers.h"
+#include "eval/peer_trackers.h"
 
 #include <cmath>
 #include <cstdio>
@@ -8,10 +8,10 @@
 
 #include "audio/audio_file.h"
 #include "core/error.h"
+#include "core/subprocess.h"
 #include "core/temporary_file.h"
-#include "subprocess.h"
 
-namespace th::app {
+namespace th::eval {
 namespace {
 
 // Praat's "To Pitch (ac)" with its standard parameters except time step and range, one "time f0" per line.
@@ -34,8 +34,8 @@ for i to frames
 endfor
 )";
 
-eval::F0Track parseTimeValueLines(const std::string& text, const std::string& who) {
-  th::eval::F0Track track;
+F0Track parseTimeValueLines(const std::string& text, const std::string& who) {
+  F0Track track;
   std::istringstream lines(text);
   std::string line;
   while (std::getline(lines, line)) {
@@ -50,7 +50,7 @@ eval::F0Track parseTimeValueLines(const std::string& text, const std::string& wh
   return track;
 }
 
-eval::F0Track runPraat(const std::filesystem::path& wav, const PeerSettings& settings) {
+F0Track runPraat(const std::filesystem::path& wav, const PeerSettings& settings) {
   TemporaryFile script(".praat");
   std::ofstream(script.path()) << kPraatScript;
   const std::string out = runProgram({"praat", "--run", script.path().string(), std::filesystem::absolute(wav).string(),
@@ -59,7 +59,7 @@ eval::F0Track runPraat(const std::filesystem::path& wav, const PeerSettings& set
   return parseTimeValueLines(out, "praat");
 }
 
-eval::F0Track runSptk(const std::filesystem::path& wav, const PeerSettings& settings, int algorithm) {
+F0Track runSptk(const std::filesystem::path& wav, const PeerSettings& settings, int algorithm) {
   audio::AudioReadOptions keepRate;
   keepRate.outputRateHz = 0;
   const audio::AudioClip clip = audio::readAudioFile(wav, keepRate);
@@ -78,7 +78,7 @@ eval::F0Track runSptk(const std::filesystem::path& wav, const PeerSettings& sett
                   "-p", std::to_string(hopSamples), "-L", std::to_string(settings.minF0Hz), "-H",
                   std::to_string(settings.maxF0Hz), "-o", "1"},
                  raw.path().string());
-  th::eval::F0Track track;
+  F0Track track;
   const size_t count = out.size() / sizeof(float);
   for (size_t i = 0; i < count; ++i) {
     float value = 0.0f;
@@ -91,7 +91,7 @@ eval::F0Track runSptk(const std::filesystem::path& wav, const PeerSettings& sett
   return track;
 }
 
-eval::F0Track runAubio(const std::filesystem::path& wav, const PeerSettings& settings) {
+F0Track runAubio(const std::filesystem::path& wav, const PeerSettings& settings) {
   audio::AudioReadOptions keepRate;
   keepRate.outputRateHz = 0;
   const int rate = audio::readAudioFile(wav, keepRate).sampleRateHz;
@@ -102,7 +102,7 @@ eval::F0Track runAubio(const std::filesystem::path& wav, const PeerSettings& set
   while (buffer < 0.05 * rate) buffer *= 2;
   const std::string out = runProgram({"aubiopitch", "-i", wav.string(), "-p", "yinfft", "-H",
                                       std::to_string(hopSamples), "-B", std::to_string(buffer), "-u", "Hz"});
-  th::eval::F0Track track = parseTimeValueLines(out, "aubiopitch");
+  F0Track track = parseTimeValueLines(out, "aubiopitch");
   // aubio reports no voicing decision other than 0 Hz; values outside the search range count as unvoiced.
   for (double& f : track.f0Hz) {
     if (f < settings.minF0Hz || f > settings.maxF0Hz) f = 0.0;
@@ -143,7 +143,7 @@ std::string peerProgram(PeerTracker peer) {
   return "?";
 }
 
-eval::F0Track runPeerTracker(PeerTracker peer, const std::filesystem::path& wav, const PeerSettings& settings) {
+F0Track runPeerTracker(PeerTracker peer, const std::filesystem::path& wav, const PeerSettings& settings) {
   switch (peer) {
     case PeerTracker::kPraat:
       return runPraat(wav, settings);
@@ -157,4 +157,4 @@ eval::F0Track runPeerTracker(PeerTracker peer, const std::filesystem::path& wav,
   throw Error("unknown peer tracker");
 }
 
-}  // namespace th::app
+}  // namespace th::eval

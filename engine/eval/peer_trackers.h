@@ -1,7 +1,7 @@
 // The F0 trackers we compare against, all Debian packages run as they ship: Praat's "To Pitch (ac)",
 // SPTK's RAPT and SWIPE (`sptk pitch -a 0|1`), and aubio's yinfft (`aubiopitch`).
 //
-//   th::eval::F0Track track = th::app::runPeerTracker(th::app::PeerTracker::kPraat, wav, {0.005, 60, 500});
+//   th::eval::F0Track track = th::eval::runPeerTracker(th::eval::PeerTracker::kPraat, wav, {0.005, 60, 500});
 //
 // Every peer reads the original file at its own sample rate; each returns frame times and F0 (0 = unvoiced).
 // Thread contract: any thread; each call makes its own temporary files.
@@ -13,7 +13,7 @@
 
 #include "eval/pitch_evaluation.h"
 
-namespace th::app {
+namespace th::eval {
 
 enum class PeerTracker { kPraat, kRapt, kSwipe, kAubioYinFft };
 
@@ -26,6 +26,6 @@ struct PeerSettings {
 std::vector<PeerTracker> allPeerTrackers();
 std::string peerName(PeerTracker peer);
 std::string peerProgram(PeerTracker peer);  // the executable it needs
-eval::F0Track runPeerTracker(PeerTracker peer, const std::filesystem::path& wav, const PeerSettings& settings);
+F0Track runPeerTracker(PeerTracker peer, const std::filesystem::path& wav, const PeerSettings& settings);
 
-}  // namespace th::app
+}  // namespace th::eval
