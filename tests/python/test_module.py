@@ -135,3 +135,65 @@ def test_export_draws_our_face_or_the_users_character(prompt, data, tmp_path):
     with pytest.raises(talkinghead.Error, match="me.glb.*not a glTF file"):
         talkinghead.export(prompt, str(never), 160, 120, avatar=str(text))
     assert not never.exists()
+
+
+def test_the_version_is_the_librarys():
+    major, minor, patch = (int(part) for part in talkinghead.__version__.split("."))
+    assert (major, minor) >= (0, 2)
+
+
+def test_export_reports_progress_and_cancels_leaving_no_file(prompt, tmp_path):
+    done = []
+    video = tmp_path / "talk.mp4"
+    talkinghead.export(prompt, str(video), 160, 120, progress=done.append)
+    assert video.stat().st_size > 10000
+    assert done[0] == 0.0 and done[-1] == 1.0 and done == sorted(done) and len(done) > 10
+
+    # Returning True cancels: talkinghead.Cancelled, and no file.
+    never = tmp_path / "never.mp4"
+    seen = []
+    with pytest.raises(talkinghead.Cancelled, match="cancelled"):
+        talkinghead.export(prompt, str(never), 160, 120, progress=lambda fraction: seen.append(fraction) or
+                           fraction > 0.2)
+    assert 0.2 < seen[-1] < 0.5
+    assert list(tmp_path.iterdir()) == [video]
+
+    # Raising cancels too, and the exception comes out as it was.
+    class Stop(Exception):
+        pass
+
+    def stop(fraction):
+        raise Stop("enough")
+
+    with pytest.raises(Stop, match="enough"):
+        talkinghead.export(prompt, str(never), 160, 120, progress=stop)
+    assert list(tmp_path.iterdir()) == [video]
+
+
+def test_animate_reports_its_start_and_end_and_cancels(prompt):
+    done = []
+    assert talkinghead.animate(prompt, progress=done.append).frames > 0
+    assert done == [0.0, 1.0]
+    with pytest.raises(talkinghead.Cancelled):
+        talkinghead.animate(prompt, progress=lambda fraction: True)
+
+
+def test_models_read_once_give_what_each_call_reads_for_itself(prompt):
+    samples, rate = read_wav(prompt)
+    models = talkinghead.Models()
+
+    def streamed(stream):
+        with stream:
+            stream.push(samples)
+            stream.finish()
+            return stream.pull()
+
+    alone = streamed(talkinghead.Stream(sample_rate=rate))
+    for _ in range(2):
+        shared = streamed(talkinghead.Stream(sample_rate=rate, models=models))
+        for key in ("faps", "arkit", "visemes", "head", "viseme"):
+            np.testing.assert_array_equal(shared[key], alone[key])
+    np.testing.assert_array_equal(talkinghead.animate(prompt, models=models).arrays()["faps"],
+                                  talkinghead.animate(prompt).arrays()["faps"])
+    with pytest.raises(talkinghead.Error, match="not both"):
+        talkinghead.Stream(models=models, head_model="")
