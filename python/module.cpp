@@ -9,7 +9,7 @@
 //   animation.write("speech.tsv")               # any format animate writes
 //   animation.write_avatar("talk.glb", "me.vrm")   # the character with the speech as its glTF animation
 //   models = talkinghead.Models()               # read once: Stream(models=models), animate(..., models=models)
-//   talkinghead.export("speech.wav", "talk.mp4", progress=lambda done: print(done))   # True cancels
+//   talkinghead.export("speech.wav", "talk.mp4", progress=print)   # called with the fraction done; True cancels
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
@@ -88,13 +88,15 @@ py::dict arraysOf(const std::vector<th_frame>& frames) {
   py::array_t<int> index(n), viseme(n);
   py::array_t<double> time(n);
   py::array_t<float> faps({n, py::ssize_t{TH_NUM_FAPS + 1}}), arkit({n, py::ssize_t{TH_NUM_ARKIT}}),
-      visemes({n, py::ssize_t{TH_NUM_VISEMES}}), vrm({n, py::ssize_t{TH_NUM_VRM}}), head({n, py::ssize_t{3}});
+      visemes({n, py::ssize_t{TH_NUM_VISEMES}}), vrm({n, py::ssize_t{TH_NUM_VRM}}), head({n, py::ssize_t{3}}),
+      headUnity({n, py::ssize_t{4}});
   std::string shapes;
   auto f = faps.mutable_unchecked<2>();
   auto a = arkit.mutable_unchecked<2>();
   auto v = visemes.mutable_unchecked<2>();
   auto r = vrm.mutable_unchecked<2>();
   auto h = head.mutable_unchecked<2>();
+  auto u = headUnity.mutable_unchecked<2>();
   for (py::ssize_t i = 0; i < n; ++i) {
     const th_frame& frame = frames[static_cast<std::size_t>(i)];
     index.mutable_at(i) = frame.index;
@@ -108,6 +110,7 @@ py::dict arraysOf(const std::vector<th_frame>& frames) {
     h(i, 0) = frame.head_pitch_deg;
     h(i, 1) = frame.head_yaw_deg;
     h(i, 2) = frame.head_roll_deg;
+    for (int k = 0; k < 4; ++k) u(i, k) = frame.head_rotation_unity[k];
   }
   py::dict out;
   out["index"] = index;
@@ -119,6 +122,7 @@ py::dict arraysOf(const std::vector<th_frame>& frames) {
   out["viseme"] = viseme;
   out["rhubarb"] = shapes;
   out["head"] = head;
+  out["head_unity"] = headUnity;  // x, y, z, w
   return out;
 }
 
@@ -135,6 +139,7 @@ py::dict frameOf(const th_frame& frame) {
   out["rhubarb"] = std::string(1, frame.rhubarb_shape);
   const std::array<double, 3> head{frame.head_pitch_deg, frame.head_yaw_deg, frame.head_roll_deg};
   out["head"] = py::array_t<double>(3, head.data());
+  out["head_unity"] = py::array_t<float>(4, frame.head_rotation_unity);
   return out;
 }
 

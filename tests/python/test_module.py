@@ -42,6 +42,7 @@ def test_animate_gives_arrays_that_follow_the_speech(prompt):
     assert arrays["faps"].shape == (frames, 69) and arrays["faps"].dtype == np.float32
     assert arrays["arkit"].shape == (frames, 52)
     assert arrays["head"].shape == (frames, 3)
+    np.testing.assert_allclose(np.linalg.norm(arrays["head_unity"], axis=1), 1.0, atol=1e-5)   # unit quaternions
     np.testing.assert_allclose(arrays["time"], np.arange(frames) / 30.0)
     np.testing.assert_allclose(arrays["visemes"].sum(axis=1), 1.0, atol=1e-4)
     assert ((arrays["arkit"] >= 0) & (arrays["arkit"] <= 1)).all()
@@ -62,7 +63,7 @@ def test_an_animation_is_a_sequence_of_frames_as_its_arrays_have_them(prompt):
     for i in (0, len(animation) // 2, len(animation) - 1):
         frame = frames[i]
         assert frame["index"] == arrays["index"][i] and frame["time"] == arrays["time"][i]
-        for key in ("faps", "arkit", "visemes", "vrm", "head"):
+        for key in ("faps", "arkit", "visemes", "vrm", "head", "head_unity"):
             np.testing.assert_array_equal(frame[key], arrays[key][i])
         assert frame["viseme"] == arrays["viseme"][i] and frame["rhubarb"] == arrays["rhubarb"][i]
     np.testing.assert_array_equal(animation[-1]["faps"], arrays["faps"][-1])
