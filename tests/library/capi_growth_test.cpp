@@ -11,6 +11,7 @@
 
 #include "core/data_path.h"
 #include "core/temporary_file.h"
+#include "core/text_files.h"
 #include "talkinghead/talkinghead.h"
 
 namespace {
@@ -134,6 +135,22 @@ TEST(LibraryProgress, CancellingAnExportStopsItAndLeavesNoFile) {
     EXPECT_GE(recorded.fractions.back(), cancelAt);
     EXPECT_LT(recorded.fractions.back(), 0.5) << "stopped promptly";
   }
+}
+
+TEST(LibraryExport, OnSharedModelsTheVideoIsTheOneMadeAlone) {
+  th::TemporaryFolder folder;
+  th_export_options options;
+  th_export_options_init(&options);
+  options.width = 96;
+  options.height = 64;
+  options.frames_per_second = 10;
+  const fs::path alone = folder.path() / "alone.mp4", shared = folder.path() / "shared.mp4";
+  ASSERT_EQ(th_export(speech().c_str(), alone.c_str(), &options), TH_OK) << th_last_error();
+  ASSERT_EQ(th_models_open(nullptr, const_cast<th_models**>(&options.models)), TH_OK) << th_last_error();
+  ASSERT_EQ(th_export(speech().c_str(), shared.c_str(), &options), TH_OK) << th_last_error();
+  th_models_free(const_cast<th_models*>(options.models));
+  EXPECT_GT(fs::file_size(alone), 1000u);
+  EXPECT_EQ(th::readTextFile(alone, "video"), th::readTextFile(shared, "video"));
 }
 
 TEST(LibraryProgress, CancellingAnAnimationGivesNone) {
