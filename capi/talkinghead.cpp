@@ -296,14 +296,12 @@ th_status th_stream_open(const th_stream_options* options, th_stream** stream) {
       readSized(options, defaultStreamOptions(), kFirstStreamOptionsSize, "th_stream_open");
   if (!known) return TH_ERROR_ARGUMENT;
   if (checkRate(known->sample_rate_hz) != TH_OK) return TH_ERROR_ARGUMENT;  // before any model is read
-  th::pipeline::LiveSettings settings;
-  std::shared_ptr<const th::pipeline::AnimationModels> models;
-  const th_status loaded = guarded(TH_ERROR_FILE, [&] {
-    settings = settingsOf(options != nullptr ? &*known : nullptr);
-    models = std::make_shared<const th::pipeline::AnimationModels>(th::pipeline::loadModels(settings));
-  });
-  if (loaded != TH_OK) return loaded;
-  return openStream(settings, std::move(models), *known, stream);
+  // A models handle of its own, which the stream outlives.
+  th_models* models = nullptr;
+  if (const th_status loaded = th_models_open(options, &models); loaded != TH_OK) return loaded;
+  const th_status opened = th_stream_open_models(models, options, stream);
+  th_models_free(models);
+  return opened;
 }
 
 th_status th_stream_open_models(const th_models* models, const th_stream_options* options, th_stream** stream) {
