@@ -34,6 +34,11 @@
  *   th_stream_open_models(models, &options, &stream); // as many as wanted, on any threads
  *   th_models_free(models);                           // the streams keep what they use
  *
+ *   th_export_options video;                          // the face speaking it, as MP4
+ *   th_export_options_init(&video);                   // 1280x720, 30 fps, our face, the installed models
+ *   video.progress = show;                            // int show(double done, void* user_data): non-zero stops
+ *   th_export("speech.wav", "speech.mp4", &video);    // TH_ERROR_CANCELLED, and no file, if show said stop
+ *
  * A frame: its time, the MPEG-4 FAPs (the face's standard parameters), ARKit's 52 blendshape weights, the
  * Oculus/OpenXR 15 viseme weights and VRM's five vowels, the viseme shown (held at least 100 ms) and Rhubarb's
  * mouth shape for it, and the head's rotation.
