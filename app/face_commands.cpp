@@ -34,7 +34,7 @@
 #include "interrupt.h"
 #include "pipeline/offline.h"
 #include "pipeline/options.h"
-#include "pipeline/video_export.h"
+#include "pipeline/recording_export.h"
 #include "render/avatar_renderer.h"
 #include "render/camera.h"
 #include "render/face_renderer.h"
@@ -56,18 +56,11 @@ struct RenderArguments {
   std::string avatar;  // --avatar: the user's character instead of our face
 };
 
-// A file made elsewhere (or with --no-idle) may lack blinks and gaze: they are added unless it has its own
-// eyelids. With no sound to hear, the head stays as the file has it.
-void addIdleIfMissing(face::FapTrack& animation, const pipeline::IdleOptions& idle) {
-  if (!idle.idle || animation.rowOf(19) >= 0 || animation.rowOf(20) >= 0) return;
-  animation::addIdleMotion(animation, Eigen::RowVectorXd(), idle.motionOptions(), {});
-}
-
 void runRender(const RenderArguments& arguments) {
   InterruptGuard guard;
   const auto [width, height] = parseSize(arguments.size);
   face::FapTrack animation = formats::readAnimation(arguments.animation);
-  addIdleIfMissing(animation, arguments.idle);
+  pipeline::addIdleIfMissing(animation, arguments.idle);
   const std::optional<avatar::Avatar> character = loadCharacter(arguments.avatar);
   const std::filesystem::path folder = arguments.output;
   std::error_code error;
@@ -205,42 +198,37 @@ void runExport(const ExportArguments& arguments) {
   if (!arguments.arkit.empty()) checkOutputTarget(arguments.arkit);
   const std::optional<avatar::Avatar> character = loadCharacter(arguments.avatar);
 
-  // The face model (about 0.2 s) is built on another thread while the recording is read and animated.
-  std::future<face::FaceModel> building =
-      std::async(std::launch::async, [] { return face::FaceModel::buildDefault(); });
-  audio::AudioClip clip;
-  face::FapTrack animation;
-  if (!arguments.animation.empty()) {
-    clip = audio::readRecording(arguments.input);
-    animation = formats::readAnimation(arguments.animation);
-    addIdleIfMissing(animation, arguments.idle);
-  } else {
-    animation =
-        pipeline::animateRecording(arguments.input, pipeline::loadModels(arguments.models),
-                                   pipeline::animateOptionsOf(arguments.models, arguments.head, arguments.idle), &clip);
+  pipeline::RecordingExport job;
+  job.recording = arguments.input;
+  job.output = arguments.output;
+  job.video.width = width;
+  job.video.height = height;
+  job.video.framesPerSecond = arguments.fps;
+  job.video.crf = arguments.crf;
+  job.video.preset = arguments.preset;
+  job.video.avatar = character ? &*character : nullptr;
+  job.animation = arguments.animation;
+  job.models = arguments.models;
+  job.head = arguments.head;
+  job.idle = arguments.idle;
+  std::optional<ProgressBar> progress;  // made when the number of frames is known
+  const auto showProgress = [&](int frames, int total) {
+    if (!progress) progress.emplace(static_cast<double>(total), "export", std::cerr, progressAt(arguments.fps));
+    progress->update(frames);
+  };
+  pipeline::RecordingExportResult done;
+  try {
+    done = pipeline::exportRecording(job, {.progress = showProgress, .cancelled = InterruptGuard::requested});
+  } catch (const Cancelled&) {
+    InterruptGuard::check();  // says it was an interrupt
+    throw;
   }
-  if (clip.samples.empty()) throw fileError(arguments.input, "has no samples");
-
-  const face::FaceModel face = building.get();
-  InterruptGuard::check();
-  {
-    const auto frames = formats::videoFramesFor(clip.samples.size(), clip.sampleRateHz, arguments.fps);
-    ProgressBar progress(static_cast<double>(frames), "export", std::cerr, progressAt(arguments.fps));
-    pipeline::exportVideo(face, animation, clip.samples, clip.sampleRateHz, arguments.output,
-                          {.width = width,
-                           .height = height,
-                           .framesPerSecond = arguments.fps,
-                           .crf = arguments.crf,
-                           .preset = arguments.preset,
-                           .avatar = character ? &*character : nullptr},
-                          {.progress = [&](int done, int) { progress.update(done); }, .check = InterruptGuard::check});
-    progress.finish();
-  }
-  for (const std::string& path : arguments.saveAnimation) formats::writeAnimation(path, animation);
+  if (progress) progress->finish();
+  for (const std::string& path : arguments.saveAnimation) formats::writeAnimation(path, done.animation);
   if (!arguments.arkit.empty())
-    formats::writeAnimation(arguments.arkit, animation, formats::ArkitFormat(formats::arkitScaleFor(face)));
+    formats::writeAnimation(arguments.arkit, done.animation, formats::ArkitFormat(formats::arkitScaleFor(done.face)));
   std::cout << "wrote " << arguments.output << " (" << width << "x" << height << ", " << arguments.fps << " fps, "
-            << static_cast<double>(clip.samples.size()) / clip.sampleRateHz << " s)\n";
+            << done.seconds << " s)\n";
 }
 
 }  // namespace

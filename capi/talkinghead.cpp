@@ -1,11 +1,17 @@
-// libtalkinghead's C API (include/talkinghead/talkinghead.h) over the engine: a stream is the live decoder
-// (pipeline/live_decoder.h) behind a resampler; an animation is the offline path (pipeline/offline.h); frames
-// are the live outputs' AvatarFrame (outputs/avatar_frame.h) in C's shape; an animation on a character is
-// avatar/avatar_animation.h's tracks written by formats/gltf_animation.h. No C++ exception crosses the API.
+// libtalkinghead's C API (include/talkinghead/talkinghead.h) over the engine: a stream is live's stream decoder
+// (pipeline/live_decoder.h: makeStreamDecoder); an animation is the offline path (pipeline/offline.h); an export
+// is pipeline/recording_export.h's; frames are the live outputs' AvatarFrame (outputs/avatar_frame.h) in C's
+// shape; an animation on a character is avatar/avatar_animation.h's tracks written by formats/gltf_animation.h.
+// No C++ exception crosses the API. The caller's structs are read and written only as far as their struct_size.
 #include "talkinghead/talkinghead.h"
 
+#include <algorithm>
 #include <cmath>
+#include <cstddef>
+#include <cstring>
+#include <functional>
 #include <memory>
+#include <mutex>
 #include <new>
 #include <optional>
 #include <string>
@@ -24,7 +30,7 @@
 #include "pipeline/live_decoder.h"
 #include "pipeline/offline.h"
 #include "pipeline/options.h"
-#include "pipeline/video_export.h"
+#include "pipeline/recording_export.h"
 
 namespace {
 
@@ -41,6 +47,8 @@ th_status guarded(th_status onError, Body&& body) {
   try {
     body();
     return TH_OK;
+  } catch (const th::Cancelled& cancelled) {
+    return fail(TH_ERROR_CANCELLED, cancelled.what());
   } catch (const th::Error& error) {
     return fail(onError, error.what());
   } catch (const std::bad_alloc&) {
@@ -48,6 +56,83 @@ th_status guarded(th_status onError, Body&& body) {
   } catch (const std::exception& error) {
     return fail(TH_ERROR_INTERNAL, error.what());
   }
+}
+
+// The caller's struct as this library knows it: the bytes its struct_size covers (a program built against an
+// older header has a shorter one), the fields past them as `defaults` has them. nullopt (and the thread's
+// message) for a struct_size below the struct's first version, `firstSize`.
+template <typename Struct>
+std::optional<Struct> readSized(const Struct* given, const Struct& defaults, std::size_t firstSize,
+                                const char* function) {
+  if (given == nullptr) return defaults;
+  if (given->struct_size < firstSize) {
+    fail(TH_ERROR_ARGUMENT, std::string(function) + ": struct_size " + std::to_string(given->struct_size) +
+                                " is smaller than the struct's first version (" + std::to_string(firstSize) +
+                                "): set it with the struct's _init function");
+    return std::nullopt;
+  }
+  Struct known = defaults;
+  std::memcpy(static_cast<void*>(&known), given, std::min(given->struct_size, sizeof(Struct)));
+  known.struct_size = sizeof(Struct);
+  return known;
+}
+
+// The sizes of the structs' first versions (0.2): the fields before those appended since.
+constexpr std::size_t kFirstFrameSize = offsetof(th_frame, head_rotation_unity);
+constexpr std::size_t kFirstStreamOptionsSize = offsetof(th_stream_options, progress);
+constexpr std::size_t kFirstExportOptionsSize = sizeof(th_export_options);
+
+th_stream_options defaultStreamOptions() {
+  th_stream_options options{};
+  options.struct_size = sizeof(th_stream_options);
+  options.sample_rate_hz = 16000.0;
+  return options;
+}
+
+th_export_options defaultExportOptions() {
+  const th::pipeline::VideoExportOptions video;
+  th_export_options options{};
+  options.struct_size = sizeof(th_export_options);
+  options.width = video.width;
+  options.height = video.height;
+  options.frames_per_second = video.framesPerSecond;
+  options.crf = video.crf;
+  return options;
+}
+
+// The defaults written into the caller's struct as far as its size (fields this library does not know zero).
+template <typename Struct>
+th_status initSized(Struct* given, std::size_t size, const Struct& defaults, std::size_t firstSize,
+                    const char* function) {
+  if (given == nullptr) return fail(TH_ERROR_ARGUMENT, std::string(function) + ": a NULL struct");
+  if (size < firstSize)
+    return fail(TH_ERROR_ARGUMENT, std::string(function) + ": struct_size " + std::to_string(size) +
+                                       " is smaller than the struct's first version (" + std::to_string(firstSize) +
+                                       ")");
+  std::memset(static_cast<void*>(given), 0, size);
+  std::memcpy(static_cast<void*>(given), &defaults, std::min(size, sizeof(Struct)));
+  given->struct_size = size;
+  return TH_OK;
+}
+
+// A frame written into the caller's, as far as its struct_size reaches.
+bool writeSized(const th_frame& frame, th_frame* into, const char* function) {
+  if (into->struct_size < kFirstFrameSize) {
+    fail(TH_ERROR_ARGUMENT, std::string(function) + ": frame->struct_size " + std::to_string(into->struct_size) +
+                                " is smaller than th_frame's first version (" + std::to_string(kFirstFrameSize) +
+                                "): set it with th_frame_init");
+    return false;
+  }
+  const std::size_t size = std::min(into->struct_size, sizeof(th_frame));
+  std::memcpy(reinterpret_cast<char*>(into) + sizeof(std::size_t),
+              reinterpret_cast<const char*>(&frame) + sizeof(std::size_t), size - sizeof(std::size_t));
+  return true;
+}
+
+// The cancel check the engine takes from a C progress callback: fraction done in, true to stop.
+std::function<bool(double)> progressOf(th_progress_fn progress, void* userData) {
+  if (progress == nullptr) return {};
+  return [progress, userData](double fraction) { return progress(fraction, userData) != 0; };
 }
 
 // The models the options name (NULL: the installed ones; "": that part off).
@@ -71,26 +156,59 @@ th::pipeline::LiveSettings settingsOf(const th_stream_options* options) {
   return settings;
 }
 
-void copyFrame(const th::outputs::AvatarFrame& avatar, th_frame* frame) {
-  *frame = th_frame{};
-  frame->index = avatar.index;
-  frame->time_seconds = avatar.timeSeconds;
+th_frame frameOf(const th::outputs::AvatarFrame& avatar) {
+  th_frame frame{};
+  frame.struct_size = sizeof(th_frame);
+  frame.index = avatar.index;
+  frame.time_seconds = avatar.timeSeconds;
   for (int fap = 1; fap <= TH_NUM_FAPS; ++fap)
-    frame->faps[fap] = static_cast<float>(avatar.faps[static_cast<std::size_t>(fap)]);
-  for (int k = 0; k < TH_NUM_ARKIT; ++k) frame->arkit[k] = avatar.arkit[static_cast<std::size_t>(k)];
-  for (int k = 0; k < TH_NUM_VISEMES; ++k) frame->visemes[k] = avatar.oculus[static_cast<std::size_t>(k)];
-  for (int k = 0; k < TH_NUM_VRM; ++k) frame->vrm[k] = avatar.vrm[static_cast<std::size_t>(k)];
-  frame->viseme = avatar.hasVisemes ? th::face::oculusVisemeOf(avatar.mouthClass) : -1;
-  frame->rhubarb_shape = avatar.hasVisemes ? th::face::rhubarbShapeOf(avatar.mouthClass) : 'X';
-  frame->head_pitch_deg = static_cast<float>(avatar.headDegrees[0]);
-  frame->head_yaw_deg = static_cast<float>(avatar.headDegrees[1]);
-  frame->head_roll_deg = static_cast<float>(avatar.headDegrees[2]);
+    frame.faps[fap] = static_cast<float>(avatar.faps[static_cast<std::size_t>(fap)]);
+  for (int k = 0; k < TH_NUM_ARKIT; ++k) frame.arkit[k] = avatar.arkit[static_cast<std::size_t>(k)];
+  for (int k = 0; k < TH_NUM_VISEMES; ++k) frame.visemes[k] = avatar.oculus[static_cast<std::size_t>(k)];
+  for (int k = 0; k < TH_NUM_VRM; ++k) frame.vrm[k] = avatar.vrm[static_cast<std::size_t>(k)];
+  frame.viseme = avatar.hasVisemes ? th::face::oculusVisemeOf(avatar.mouthClass) : -1;
+  frame.rhubarb_shape = avatar.hasVisemes ? th::face::rhubarbShapeOf(avatar.mouthClass) : 'X';
+  frame.head_pitch_deg = static_cast<float>(avatar.headDegrees[0]);
+  frame.head_yaw_deg = static_cast<float>(avatar.headDegrees[1]);
+  frame.head_roll_deg = static_cast<float>(avatar.headDegrees[2]);
+  const Eigen::Quaternionf unity = avatar.unityHeadRotation();
+  frame.head_rotation_unity[0] = unity.x();
+  frame.head_rotation_unity[1] = unity.y();
+  frame.head_rotation_unity[2] = unity.z();
+  frame.head_rotation_unity[3] = unity.w();
+  return frame;
+}
+
+// A recording animated offline, reporting its start and end: the offline animation is one step.
+th::face::FapTrack animateWithProgress(const char* recording, const th::pipeline::AnimationModels& models,
+                                       const th::pipeline::LiveSettings& settings,
+                                       const std::function<bool(double)>& cancelled) {
+  if (cancelled && cancelled(0.0)) throw th::Cancelled();
+  th::face::FapTrack track = th::pipeline::animateRecording(
+      recording, models, th::pipeline::animateOptionsOf(settings.models, settings.head, settings.idle));
+  if (cancelled && cancelled(1.0)) throw th::Cancelled();
+  return track;
 }
 
 }  // namespace
 
+// The stream models (live's: its mouth model and articulation) loaded at once, the file models (the offline
+// path's) on first use; both shared, so that streams and exports keep what they use after the handle is freed.
+struct th_models {
+  th::pipeline::LiveSettings settings;
+  std::shared_ptr<const th::pipeline::AnimationModels> stream;
+  mutable std::once_flag fileLoaded;
+  mutable std::shared_ptr<const th::pipeline::AnimationModels> file;
+
+  const std::shared_ptr<const th::pipeline::AnimationModels>& fileModels() const {
+    std::call_once(fileLoaded, [this] {
+      file = std::make_shared<const th::pipeline::AnimationModels>(th::pipeline::loadModels(settings.models));
+    });
+    return file;
+  }
+};
+
 struct th_stream {
-  std::shared_ptr<const th::pipeline::AnimationModels> models;
   std::unique_ptr<th::pipeline::FrameDecoder> decoder;
   // Blinks, gaze and the head at rest in pauses, as live's window and headless lay them over their frames.
   std::unique_ptr<th::outputs::LiveDisplay> display;
@@ -102,47 +220,98 @@ struct th_animation {
   th::face::FapTrack track;
 };
 
+namespace {
+
+th_status checkRate(double rate) {
+  if (rate >= 8000.0 && rate <= 192000.0) return TH_OK;
+  return fail(TH_ERROR_ARGUMENT, "th_stream_open: the sample rate " + std::to_string(rate) + " Hz is not 8000..192000");
+}
+
+th_status openStream(const th::pipeline::LiveSettings& settings,
+                     std::shared_ptr<const th::pipeline::AnimationModels> models, const th_stream_options& options,
+                     th_stream** stream) {
+  const double rate = options.sample_rate_hz;
+  if (checkRate(rate) != TH_OK) return TH_ERROR_ARGUMENT;
+  return guarded(TH_ERROR_FILE, [&] {
+    th::pipeline::LiveDecoderOptions decoderOptions = settings.decoderOptions();
+    decoderOptions.waitForHead = options.wait_for_head != 0;
+    th::pipeline::StreamDecoder made = th::pipeline::makeStreamDecoder(std::move(models), decoderOptions, rate);
+    auto opened = std::make_unique<th_stream>();
+    opened->decoder = std::move(made.decoder);
+    opened->lookahead = made.lookahead;
+    opened->display =
+        std::make_unique<th::outputs::LiveDisplay>(settings.idle, settings.live.blinks, settings.live.gaze);
+    *stream = opened.release();
+  });
+}
+
+}  // namespace
+
 extern "C" {
 
 const char* th_version(void) {
-  return "0.1.0";
+  return TALKINGHEAD_VERSION;
 }
 
 const char* th_last_error(void) {
   return lastError.c_str();
 }
 
-void th_stream_options_init(th_stream_options* options) {
-  if (options == nullptr) return;
-  *options = th_stream_options{};
-  options->sample_rate_hz = 16000.0;
+th_status th_frame_init_sized(th_frame* frame, size_t struct_size) {
+  th_frame defaults{};
+  defaults.struct_size = sizeof(th_frame);
+  return initSized(frame, struct_size, defaults, kFirstFrameSize, "th_frame_init");
+}
+
+th_status th_stream_options_init_sized(th_stream_options* options, size_t struct_size) {
+  return initSized(options, struct_size, defaultStreamOptions(), kFirstStreamOptionsSize, "th_stream_options_init");
+}
+
+th_status th_export_options_init_sized(th_export_options* options, size_t struct_size) {
+  return initSized(options, struct_size, defaultExportOptions(), kFirstExportOptionsSize, "th_export_options_init");
+}
+
+th_status th_models_open(const th_stream_options* options, th_models** models) {
+  if (models == nullptr) return fail(TH_ERROR_ARGUMENT, "th_models_open: models is NULL");
+  *models = nullptr;
+  const std::optional<th_stream_options> known =
+      readSized(options, defaultStreamOptions(), kFirstStreamOptionsSize, "th_models_open");
+  if (!known) return TH_ERROR_ARGUMENT;
+  return guarded(TH_ERROR_FILE, [&] {
+    auto opened = std::make_unique<th_models>();
+    opened->settings = settingsOf(options != nullptr ? &*known : nullptr);
+    opened->stream = std::make_shared<const th::pipeline::AnimationModels>(th::pipeline::loadModels(opened->settings));
+    *models = opened.release();
+  });
+}
+
+void th_models_free(th_models* models) {
+  delete models;
 }
 
 th_status th_stream_open(const th_stream_options* options, th_stream** stream) {
   if (stream == nullptr) return fail(TH_ERROR_ARGUMENT, "th_stream_open: stream is NULL");
   *stream = nullptr;
-  const double rate = options != nullptr ? options->sample_rate_hz : 16000.0;
-  if (!(rate >= 8000.0 && rate <= 192000.0))
-    return fail(TH_ERROR_ARGUMENT,
-                "th_stream_open: the sample rate " + std::to_string(rate) + " Hz is not 8000..192000");
-  return guarded(TH_ERROR_FILE, [&] {
-    const th::pipeline::LiveSettings settings = settingsOf(options);
-    auto opened = std::make_unique<th_stream>();
-    opened->models = std::make_shared<const th::pipeline::AnimationModels>(th::pipeline::loadModels(settings));
-    th::pipeline::LiveDecoderOptions decoderOptions = settings.decoderOptions();
-    decoderOptions.waitForHead = options != nullptr && options->wait_for_head != 0;
-    auto decoder = std::make_unique<th::pipeline::LiveDecoder>(opened->models->head.get(), opened->models->mouth.get(),
-                                                               decoderOptions, opened->models->visemes.get(),
-                                                               opened->models->articulation.get());
-    opened->lookahead = decoder->lookahead();
-    opened->display =
-        std::make_unique<th::outputs::LiveDisplay>(settings.idle, settings.live.blinks, settings.live.gaze);
-    if (rate == 16000.0)
-      opened->decoder = std::move(decoder);
-    else
-      opened->decoder = std::make_unique<th::pipeline::ResamplingDecoder>(std::move(decoder), rate);
-    *stream = opened.release();
-  });
+  const std::optional<th_stream_options> known =
+      readSized(options, defaultStreamOptions(), kFirstStreamOptionsSize, "th_stream_open");
+  if (!known) return TH_ERROR_ARGUMENT;
+  if (checkRate(known->sample_rate_hz) != TH_OK) return TH_ERROR_ARGUMENT;  // before any model is read
+  // A models handle of its own, which the stream outlives.
+  th_models* models = nullptr;
+  if (const th_status loaded = th_models_open(options, &models); loaded != TH_OK) return loaded;
+  const th_status opened = th_stream_open_models(models, options, stream);
+  th_models_free(models);
+  return opened;
+}
+
+th_status th_stream_open_models(const th_models* models, const th_stream_options* options, th_stream** stream) {
+  if (models == nullptr || stream == nullptr)
+    return fail(TH_ERROR_ARGUMENT, "th_stream_open_models: models or stream is NULL");
+  *stream = nullptr;
+  const std::optional<th_stream_options> known =
+      readSized(options, defaultStreamOptions(), kFirstStreamOptionsSize, "th_stream_open_models");
+  if (!known) return TH_ERROR_ARGUMENT;
+  return openStream(models->settings, models->stream, *known, stream);
 }
 
 th_status th_stream_push(th_stream* stream, const float* samples, size_t count) {
@@ -164,13 +333,13 @@ int th_stream_pull(th_stream* stream, th_frame* frame) {
     fail(TH_ERROR_ARGUMENT, "th_stream_pull: stream or frame is NULL");
     return -1;
   }
+  if (frame->struct_size < kFirstFrameSize) return writeSized({}, frame, "th_stream_pull") ? 0 : -1;
   int got = 0;
   const th_status status = guarded(TH_ERROR_INTERNAL, [&] {
     th::pipeline::AnimationFrame decoded;
     if (!stream->decoder->next(decoded)) return;
     stream->display->present(decoded, decoded.timeSeconds);  // the stream's own time: the same at any pace
-    copyFrame(th::outputs::avatarFrameOf(decoded), frame);
-    got = 1;
+    got = writeSized(frameOf(th::outputs::avatarFrameOf(decoded)), frame, "th_stream_pull") ? 1 : -1;
   });
   return status == TH_OK ? got : -1;
 }
@@ -187,12 +356,30 @@ th_status th_animate_file(const char* recording, const th_stream_options* option
   if (recording == nullptr || animation == nullptr)
     return fail(TH_ERROR_ARGUMENT, "th_animate_file: recording or animation is NULL");
   *animation = nullptr;
+  const std::optional<th_stream_options> known =
+      readSized(options, defaultStreamOptions(), kFirstStreamOptionsSize, "th_animate_file");
+  if (!known) return TH_ERROR_ARGUMENT;
   return guarded(TH_ERROR_FILE, [&] {
-    const th::pipeline::LiveSettings settings = settingsOf(options);
+    const th::pipeline::LiveSettings settings = settingsOf(options != nullptr ? &*known : nullptr);
     const th::pipeline::AnimationModels models = th::pipeline::loadModels(settings.models);
     auto made = std::make_unique<th_animation>();
-    made->track = th::pipeline::animateRecording(
-        recording, models, th::pipeline::animateOptionsOf(settings.models, settings.head, settings.idle));
+    made->track = animateWithProgress(recording, models, settings, progressOf(known->progress, known->user_data));
+    *animation = made.release();
+  });
+}
+
+th_status th_animate_file_models(const th_models* models, const char* recording, const th_stream_options* options,
+                                 th_animation** animation) {
+  if (models == nullptr || recording == nullptr || animation == nullptr)
+    return fail(TH_ERROR_ARGUMENT, "th_animate_file_models: models, recording or animation is NULL");
+  *animation = nullptr;
+  const std::optional<th_stream_options> known =
+      readSized(options, defaultStreamOptions(), kFirstStreamOptionsSize, "th_animate_file_models");
+  if (!known) return TH_ERROR_ARGUMENT;
+  return guarded(TH_ERROR_FILE, [&] {
+    auto made = std::make_unique<th_animation>();
+    made->track = animateWithProgress(recording, *models->fileModels(), models->settings,
+                                      progressOf(known->progress, known->user_data));
     *animation = made.release();
   });
 }
@@ -203,6 +390,8 @@ int th_animation_frames(const th_animation* animation) {
 
 th_status th_animation_frame(const th_animation* animation, int index, th_frame* frame) {
   if (animation == nullptr || frame == nullptr) return fail(TH_ERROR_ARGUMENT, "th_animation_frame: a NULL argument");
+  if (frame->struct_size < kFirstFrameSize)
+    return writeSized({}, frame, "th_animation_frame") ? TH_OK : TH_ERROR_ARGUMENT;
   if (index < 0 || index >= animation->track.numFrames())
     return fail(TH_ERROR_ARGUMENT, "th_animation_frame: frame " + std::to_string(index) + " is not 0.." +
                                        std::to_string(animation->track.numFrames() - 1));
@@ -222,7 +411,8 @@ th_status th_animation_frame(const th_animation* animation, int index, th_frame*
         decoded.visemeProbabilities[static_cast<std::size_t>(c)] =
             static_cast<float>(track.visemes.posteriors(c, index));
     }
-    copyFrame(th::outputs::avatarFrameOf(decoded), frame);
+    if (!writeSized(frameOf(th::outputs::avatarFrameOf(decoded)), frame, "th_animation_frame"))
+      throw th::Error(th_last_error());
   });
 }
 
@@ -254,30 +444,60 @@ void th_animation_free(th_animation* animation) {
   delete animation;
 }
 
+th_status th_export(const char* recording, const char* mp4, const th_export_options* options) {
+  if (recording == nullptr || mp4 == nullptr) return fail(TH_ERROR_ARGUMENT, "th_export: a NULL argument");
+  const std::optional<th_export_options> known =
+      readSized(options, defaultExportOptions(), kFirstExportOptionsSize, "th_export");
+  if (!known) return TH_ERROR_ARGUMENT;
+  const int width = known->width, height = known->height;
+  if (width < 16 || height < 16 || width > 7680 || height > 4320 || width % 2 != 0 || height % 2 != 0)
+    return fail(TH_ERROR_ARGUMENT, "th_export: the size must be even, 16x16 to 7680x4320");
+  if (!(known->frames_per_second >= 1.0 && known->frames_per_second <= 120.0))
+    return fail(TH_ERROR_ARGUMENT, "th_export: frames_per_second must be 1..120");
+  if (known->crf < 0 || known->crf > 51) return fail(TH_ERROR_ARGUMENT, "th_export: crf must be 0..51");
+  return guarded(TH_ERROR_FILE, [&] {
+    // The character first: a bad file fails before any work.
+    std::optional<th::avatar::Avatar> character;
+    if (known->avatar != nullptr) {
+      character = th::avatar::loadAvatar(known->avatar);
+      th::avatar::rigAvatar(*character);  // throws, naming it, when nothing in it can be driven
+    }
+    th::pipeline::RecordingExport job;
+    job.recording = recording;
+    job.output = mp4;
+    job.video.width = width;
+    job.video.height = height;
+    job.video.framesPerSecond = known->frames_per_second;
+    job.video.crf = known->crf;
+    job.video.avatar = character ? &*character : nullptr;
+    if (known->models != nullptr) {
+      job.models = known->models->settings.models;
+      job.loadedModels = known->models->fileModels();
+    }
+    const std::function<bool(double)> cancelled = progressOf(known->progress, known->user_data);
+    double fraction = 0.0;
+    th::pipeline::RecordingExportHooks hooks;
+    if (cancelled) {
+      hooks.progress = [&](int done, int total) { fraction = total > 0 ? static_cast<double>(done) / total : 1.0; };
+      hooks.cancelled = [&] { return cancelled(fraction); };
+    }
+    th::pipeline::exportRecording(job, hooks);
+    // The file is whole now; a last report, which can no longer cancel.
+    if (cancelled) cancelled(1.0);
+  });
+}
+
 th_status th_export_file(const char* recording, const char* mp4, int width, int height) {
   return th_export_file_avatar(recording, mp4, width, height, nullptr);
 }
 
 th_status th_export_file_avatar(const char* recording, const char* mp4, int width, int height, const char* avatar) {
-  if (recording == nullptr || mp4 == nullptr) return fail(TH_ERROR_ARGUMENT, "th_export_file: a NULL argument");
-  if (width < 16 || height < 16 || width > 7680 || height > 4320 || width % 2 != 0 || height % 2 != 0)
-    return fail(TH_ERROR_ARGUMENT, "th_export_file: the size must be even, 16x16 to 7680x4320");
-  return guarded(TH_ERROR_FILE, [&] {
-    // The character first: a bad file fails before any work.
-    std::optional<th::avatar::Avatar> character;
-    if (avatar != nullptr) {
-      character = th::avatar::loadAvatar(avatar);
-      th::avatar::rigAvatar(*character);  // throws, naming it, when nothing in it can be driven
-    }
-    const th::pipeline::LiveSettings settings;
-    const th::pipeline::AnimationModels models = th::pipeline::loadModels(settings.models);
-    th::audio::AudioClip clip;
-    const th::face::FapTrack track = th::pipeline::animateRecording(
-        recording, models, th::pipeline::animateOptionsOf(settings.models, settings.head, settings.idle), &clip);
-    const th::face::FaceModel face = th::face::FaceModel::buildDefault();
-    th::pipeline::exportVideo(face, track, clip.samples, clip.sampleRateHz, mp4,
-                              {.width = width, .height = height, .avatar = character ? &*character : nullptr});
-  });
+  th_export_options options;
+  th_export_options_init(&options);
+  options.width = width;
+  options.height = height;
+  options.avatar = avatar;
+  return th_export(recording, mp4, &options);
 }
 
 const char* th_arkit_name(int index) {

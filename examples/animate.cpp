@@ -23,6 +23,7 @@ int main(int argc, char** argv) {
   std::array<int, TH_NUM_VISEMES> shown{};
   float widest = 0.0f;
   th_frame frame;
+  th_frame_init(&frame);
   for (int i = 0; i < frames; ++i) {
     if (th_animation_frame(animation.get(), i, &frame) != TH_OK) return 1;
     if (frame.viseme >= 0) ++shown[static_cast<std::size_t>(frame.viseme)];

@@ -80,6 +80,7 @@ int main(int argc, char** argv) {
          th_stream_latency_ms(stream));
   const size_t block = (size_t)(rate / 100.0);
   th_frame frame;
+  th_frame_init(&frame);
   int frames = 0, next_second = 0;
   for (size_t at = 0; at < count; at += block) {
     const size_t n = count - at < block ? count - at : block;

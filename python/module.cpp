@@ -8,11 +8,14 @@
 //   animation.arrays()["arkit"]                 # (frames, 52)
 //   animation.write("speech.tsv")               # any format animate writes
 //   animation.write_avatar("talk.glb", "me.vrm")   # the character with the speech as its glTF animation
+//   models = talkinghead.Models()               # read once: Stream(models=models), animate(..., models=models)
+//   talkinghead.export("speech.wav", "talk.mp4", progress=print)   # called with the fraction done; True cancels
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
 #include <array>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -26,17 +29,50 @@ namespace {
 struct TalkingheadError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
+// A progress callback asked to stop (returned true).
+struct CancelledError : TalkingheadError {
+  using TalkingheadError::TalkingheadError;
+};
 
 void check(th_status status) {
+  if (status == TH_ERROR_CANCELLED) throw CancelledError(th_last_error());
   if (status != TH_OK) throw TalkingheadError(th_last_error());
 }
+
+// A Python callable as the C API's progress callback, called on the thread that released the GIL: a true result
+// cancels; an exception it raises cancels too and is raised again once the work has stopped.
+class Progress {
+ public:
+  explicit Progress(std::optional<py::function> callable) : callable_(std::move(callable)) {}
+  th_progress_fn function() const { return callable_ ? &Progress::call : nullptr; }
+  void* userData() { return this; }
+  // After the C call, with the GIL held: the callable's exception, if it raised one.
+  void check(th_status status) {
+    if (error_) throw std::move(*error_);
+    ::check(status);
+  }
+
+ private:
+  static int call(double fraction, void* userData) {
+    auto* self = static_cast<Progress*>(userData);
+    const py::gil_scoped_acquire locked;
+    try {
+      return py::bool_((*self->callable_)(fraction)) ? 1 : 0;
+    } catch (py::error_already_set& error) {
+      self->error_ = std::move(error);
+      return 1;
+    }
+  }
+  std::optional<py::function> callable_;
+  std::optional<py::error_already_set> error_;
+};
 
 struct ModelChoice {
   std::optional<std::string> head, mouth, visemes;
   // NULL for the installed model, the path otherwise ("" switches the part off).
   th_stream_options options(double rate, bool waitForHead) const {
     th_stream_options o;
-    th_stream_options_init(&o);
+    check(th_stream_options_init(&o));
     o.head_model = head ? head->c_str() : nullptr;
     o.mouth_model = mouth ? mouth->c_str() : nullptr;
     o.viseme_model = visemes ? visemes->c_str() : nullptr;
@@ -52,13 +88,15 @@ py::dict arraysOf(const std::vector<th_frame>& frames) {
   py::array_t<int> index(n), viseme(n);
   py::array_t<double> time(n);
   py::array_t<float> faps({n, py::ssize_t{TH_NUM_FAPS + 1}}), arkit({n, py::ssize_t{TH_NUM_ARKIT}}),
-      visemes({n, py::ssize_t{TH_NUM_VISEMES}}), vrm({n, py::ssize_t{TH_NUM_VRM}}), head({n, py::ssize_t{3}});
+      visemes({n, py::ssize_t{TH_NUM_VISEMES}}), vrm({n, py::ssize_t{TH_NUM_VRM}}), head({n, py::ssize_t{3}}),
+      headUnity({n, py::ssize_t{4}});
   std::string shapes;
   auto f = faps.mutable_unchecked<2>();
   auto a = arkit.mutable_unchecked<2>();
   auto v = visemes.mutable_unchecked<2>();
   auto r = vrm.mutable_unchecked<2>();
   auto h = head.mutable_unchecked<2>();
+  auto u = headUnity.mutable_unchecked<2>();
   for (py::ssize_t i = 0; i < n; ++i) {
     const th_frame& frame = frames[static_cast<std::size_t>(i)];
     index.mutable_at(i) = frame.index;
@@ -72,6 +110,7 @@ py::dict arraysOf(const std::vector<th_frame>& frames) {
     h(i, 0) = frame.head_pitch_deg;
     h(i, 1) = frame.head_yaw_deg;
     h(i, 2) = frame.head_roll_deg;
+    for (int k = 0; k < 4; ++k) u(i, k) = frame.head_rotation_unity[k];
   }
   py::dict out;
   out["index"] = index;
@@ -83,6 +122,7 @@ py::dict arraysOf(const std::vector<th_frame>& frames) {
   out["viseme"] = viseme;
   out["rhubarb"] = shapes;
   out["head"] = head;
+  out["head_unity"] = headUnity;  // x, y, z, w
   return out;
 }
 
@@ -99,14 +139,36 @@ py::dict frameOf(const th_frame& frame) {
   out["rhubarb"] = std::string(1, frame.rhubarb_shape);
   const std::array<double, 3> head{frame.head_pitch_deg, frame.head_yaw_deg, frame.head_roll_deg};
   out["head"] = py::array_t<double>(3, head.data());
+  out["head_unity"] = py::array_t<float>(4, frame.head_rotation_unity);
   return out;
 }
 
+// The models read once (th_models): streams, animations and exports on it share them.
+class Models {
+ public:
+  explicit Models(const ModelChoice& choice) {
+    const th_stream_options options = choice.options(16000.0, false);
+    th_models* opened = nullptr;
+    {
+      py::gil_scoped_release unlocked;
+      check(th_models_open(&options, &opened));
+    }
+    models_.reset(opened, th_models_free);
+  }
+  const th_models* get() const { return models_.get(); }
+
+ private:
+  std::shared_ptr<th_models> models_;
+};
+
 class Stream {
  public:
-  Stream(double sampleRate, ModelChoice models, bool waitForHead) {
-    const th_stream_options options = models.options(sampleRate, waitForHead);
-    check(th_stream_open(&options, &stream_));
+  Stream(double sampleRate, ModelChoice choice, bool waitForHead, const Models* models) {
+    const th_stream_options options = choice.options(sampleRate, waitForHead);
+    if (models != nullptr)
+      check(th_stream_open_models(models->get(), &options, &stream_));
+    else
+      check(th_stream_open(&options, &stream_));
   }
   ~Stream() { th_stream_close(stream_); }
   Stream(const Stream&) = delete;
@@ -125,6 +187,7 @@ class Stream {
     open();
     std::vector<th_frame> frames;
     th_frame frame;
+    check(th_frame_init(&frame));
     int got = 0;
     while ((got = th_stream_pull(stream_, &frame)) == 1) frames.push_back(frame);
     if (got < 0) throw TalkingheadError(th_last_error());
@@ -152,7 +215,9 @@ class Animation {
 
   int frames() const { return th_animation_frames(animation_); }
   py::dict arrays() const {
-    std::vector<th_frame> all(static_cast<std::size_t>(frames()));
+    th_frame empty;
+    check(th_frame_init(&empty));
+    std::vector<th_frame> all(static_cast<std::size_t>(frames()), empty);
     for (int i = 0; i < frames(); ++i) check(th_animation_frame(animation_, i, &all[static_cast<std::size_t>(i)]));
     return arraysOf(all);
   }
@@ -162,6 +227,7 @@ class Animation {
     if (i < 0) i += n;
     if (i < 0 || i >= n) throw py::index_error("frame " + std::to_string(i) + " of " + std::to_string(n));
     th_frame one;
+    check(th_frame_init(&one));
     check(th_animation_frame(animation_, i, &one));
     return frameOf(one);
   }
@@ -187,16 +253,28 @@ std::vector<std::string> namesOf(const char* (*name)(int)) {
 
 PYBIND11_MODULE(_talkinghead, module) {
   module.doc() = "talkinghead: speech in, a talking face's animation out (libtalkinghead's Python binding)";
-  py::register_exception<TalkingheadError>(module, "Error", PyExc_RuntimeError);
-  module.attr("__version__") = th_version();
+  const auto error = py::register_exception<TalkingheadError>(module, "Error", PyExc_RuntimeError);
+  py::register_exception<CancelledError>(module, "Cancelled", error.ptr());
+  module.attr("__version__") = TALKINGHEAD_VERSION;  // the header's; th_version() is the library's
+
+  py::class_<Models>(module, "Models",
+                     "The models read once, for many streams, animations and exports (on any threads)")
+      .def(py::init([](std::optional<std::string> head, std::optional<std::string> mouth,
+                       std::optional<std::string> visemes) {
+             return std::make_unique<Models>(ModelChoice{head, mouth, visemes});
+           }),
+           py::arg("head_model") = py::none(), py::arg("mouth_model") = py::none(),
+           py::arg("viseme_model") = py::none());
 
   py::class_<Stream>(module, "Stream", "Speech in as it comes, animation frames out (30 a second)")
       .def(py::init([](double sampleRate, std::optional<std::string> head, std::optional<std::string> mouth,
-                       std::optional<std::string> visemes, bool waitForHead) {
-             return std::make_unique<Stream>(sampleRate, ModelChoice{head, mouth, visemes}, waitForHead);
+                       std::optional<std::string> visemes, bool waitForHead, const Models* models) {
+             if (models != nullptr && (head || mouth || visemes))
+               throw TalkingheadError("Stream: models, or the model files, not both");
+             return std::make_unique<Stream>(sampleRate, ModelChoice{head, mouth, visemes}, waitForHead, models);
            }),
            py::arg("sample_rate") = 16000.0, py::arg("head_model") = py::none(), py::arg("mouth_model") = py::none(),
-           py::arg("viseme_model") = py::none(), py::arg("wait_for_head") = false)
+           py::arg("viseme_model") = py::none(), py::arg("wait_for_head") = false, py::arg("models") = py::none())
       .def("push", &Stream::push, py::arg("samples"), "Mono samples (float32; other dtypes are converted)")
       .def("finish", &Stream::finish, "The input has ended: the last frames become ready")
       .def("pull", &Stream::pull, "The frames ready: a dict of arrays (index, time, faps, arkit, visemes, vrm, ...)")
@@ -228,28 +306,56 @@ PYBIND11_MODULE(_talkinghead, module) {
   module.def(
       "animate",
       [](const std::string& path, std::optional<std::string> head, std::optional<std::string> mouth,
-         std::optional<std::string> visemes) {
-        const ModelChoice models{head, mouth, visemes};
-        const th_stream_options options = models.options(16000.0, false);
+         std::optional<std::string> visemes, const Models* models, std::optional<py::function> callable) {
+        if (models != nullptr && (head || mouth || visemes))
+          throw TalkingheadError("animate: models, or the model files, not both");
+        const ModelChoice choice{head, mouth, visemes};
+        th_stream_options options = choice.options(16000.0, false);
+        Progress progress(std::move(callable));
+        options.progress = progress.function();
+        options.user_data = progress.userData();
         th_animation* animation = nullptr;
+        th_status status = TH_OK;
         {
           py::gil_scoped_release unlocked;  // the work is ours: other Python threads go on
-          check(th_animate_file(path.c_str(), &options, &animation));
+          status = models != nullptr ? th_animate_file_models(models->get(), path.c_str(), &options, &animation)
+                                     : th_animate_file(path.c_str(), &options, &animation);
         }
+        progress.check(status);
         return std::make_unique<Animation>(animation);
       },
       py::arg("path"), py::arg("head_model") = py::none(), py::arg("mouth_model") = py::none(),
-      py::arg("viseme_model") = py::none(), "A recording animated offline");
+      py::arg("viseme_model") = py::none(), py::arg("models") = py::none(), py::arg("progress") = py::none(),
+      "A recording animated offline; progress(fraction) is called at the start and the end, and a true result "
+      "cancels (talkinghead.Cancelled)");
   module.def(
       "export",
-      [](const std::string& recording, const std::string& mp4, int width, int height,
-         std::optional<std::string> avatar) {
-        py::gil_scoped_release unlocked;
-        check(th_export_file_avatar(recording.c_str(), mp4.c_str(), width, height, avatar ? avatar->c_str() : nullptr));
+      [](const std::string& recording, const std::string& mp4, int width, int height, std::optional<std::string> avatar,
+         double fps, int crf, const Models* models, std::optional<py::function> callable) {
+        th_export_options options;
+        check(th_export_options_init(&options));
+        options.width = width;
+        options.height = height;
+        options.frames_per_second = fps;
+        options.crf = crf;
+        options.avatar = avatar ? avatar->c_str() : nullptr;
+        options.models = models != nullptr ? models->get() : nullptr;
+        Progress progress(std::move(callable));
+        options.progress = progress.function();
+        options.user_data = progress.userData();
+        th_status status = TH_OK;
+        {
+          py::gil_scoped_release unlocked;
+          status = th_export(recording.c_str(), mp4.c_str(), &options);
+        }
+        progress.check(status);
       },
       py::arg("recording"), py::arg("mp4"), py::arg("width") = 1280, py::arg("height") = 720,
-      py::arg("avatar") = py::none(),
-      "The face speaking a recording, rendered off-screen to MP4; avatar: a character (.glb, .gltf, .vrm) instead");
+      py::arg("avatar") = py::none(), py::arg("fps") = 30.0, py::arg("crf") = 20, py::arg("models") = py::none(),
+      py::arg("progress") = py::none(),
+      "The face speaking a recording, rendered off-screen to MP4; avatar: a character (.glb, .gltf, .vrm) "
+      "instead. progress(fraction) is called as frames are encoded: a true result cancels "
+      "(talkinghead.Cancelled), an exception it raises cancels and is raised; either leaves no file");
   module.def(
       "formats", [] { return namesOf(th_format_name); }, "The animation formats' names");
   module.def(

@@ -18,6 +18,12 @@ class Error : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// A job stopped because its caller asked it to (a cancel hook, an interrupt): not a fault, and no output left.
+class Cancelled : public Error {
+ public:
+  Cancelled() : Error("cancelled; no output was written") {}
+};
+
 // "PATH: what" — the form every file-related error takes, so the CLI can print it as is.
 inline Error fileError(const std::filesystem::path& path, const std::string& what) {
   return Error(path.string() + ": " + what);

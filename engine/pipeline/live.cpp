@@ -16,24 +16,6 @@ double secondsSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-// A decoder that keeps its models alive: after other models are loaded, the worker may still be running the old
-// decoder until it takes the new one.
-class ModelDecoder final : public FrameDecoder {
- public:
-  ModelDecoder(std::shared_ptr<const AnimationModels> models, const LiveDecoderOptions& options)
-      : models_(std::move(models)),
-        decoder_(models_->head.get(), models_->mouth.get(), options, models_->visemes.get(),
-                 models_->articulation.get()) {}
-  void acceptWaveform(std::span<const float> samples16k) override { decoder_.acceptWaveform(samples16k); }
-  void inputFinished() override { decoder_.inputFinished(); }
-  bool next(AnimationFrame& frame) override { return decoder_.next(frame); }
-  const LiveDecoder& decoder() const { return decoder_; }
-
- private:
-  std::shared_ptr<const AnimationModels> models_;
-  LiveDecoder decoder_;
-};
-
 void add(SessionCounters& total, const SessionCounters& more) {
   total.samplesIn += more.samplesIn;
   total.overrunSamples += more.overrunSamples;
@@ -62,11 +44,10 @@ LivePipeline::~LivePipeline() {
 }
 
 std::unique_ptr<FrameDecoder> LivePipeline::makeDecoder() {
-  auto decoder = std::make_unique<ModelDecoder>(models_, options_.decoder);
-  lookahead_ = decoder->decoder().lookahead();
-  fapNumbers_ = decoder->decoder().fapNumbers();
-  if (rateHz_ == kSampleRateHz) return decoder;
-  return std::make_unique<ResamplingDecoder>(std::move(decoder), rateHz_);
+  StreamDecoder made = makeStreamDecoder(models_, options_.decoder, rateHz_);
+  lookahead_ = made.lookahead;
+  fapNumbers_ = std::move(made.fapNumbers);
+  return std::move(made.decoder);
 }
 
 void LivePipeline::note(LiveEventKind kind, std::string text) {

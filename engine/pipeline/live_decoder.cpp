@@ -281,4 +281,38 @@ void ResamplingDecoder::inputFinished() {
   inner_->inputFinished();
 }
 
+namespace {
+
+class ModelDecoder final : public FrameDecoder {
+ public:
+  ModelDecoder(std::shared_ptr<const AnimationModels> models, const LiveDecoderOptions& options)
+      : models_(std::move(models)),
+        decoder_(models_->head.get(), models_->mouth.get(), options, models_->visemes.get(),
+                 models_->articulation.get()) {}
+  void acceptWaveform(std::span<const float> samples16k) override { decoder_.acceptWaveform(samples16k); }
+  void inputFinished() override { decoder_.inputFinished(); }
+  bool next(AnimationFrame& frame) override { return decoder_.next(frame); }
+  const LiveDecoder& decoder() const { return decoder_; }
+
+ private:
+  std::shared_ptr<const AnimationModels> models_;  // declared first: alive while decoder_ is
+  LiveDecoder decoder_;
+};
+
+}  // namespace
+
+StreamDecoder makeStreamDecoder(std::shared_ptr<const AnimationModels> models, const LiveDecoderOptions& options,
+                                double inputRateHz) {
+  if (!models) throw Error("stream decoder: no models");
+  auto decoder = std::make_unique<ModelDecoder>(std::move(models), options);
+  StreamDecoder made;
+  made.lookahead = decoder->decoder().lookahead();
+  made.fapNumbers = decoder->decoder().fapNumbers();
+  if (inputRateHz == features::OnlineFeatureExtractor::kSampleRateHz)
+    made.decoder = std::move(decoder);
+  else
+    made.decoder = std::make_unique<ResamplingDecoder>(std::move(decoder), inputRateHz);
+  return made;
+}
+
 }  // namespace th::pipeline

@@ -25,6 +25,7 @@
 
 #include <memory>
 #include <span>
+#include <vector>
 
 #include "animation/articulation.h"
 #include "animation/head_model.h"
@@ -35,6 +36,7 @@
 #include "audio/resampler.h"
 #include "features/online_features.h"
 #include "pipeline/animation_frame.h"
+#include "pipeline/animation_models.h"
 
 namespace th::pipeline {
 
@@ -149,5 +151,17 @@ class ResamplingDecoder : public FrameDecoder {
   std::unique_ptr<audio::Resampler> resampler_;
   std::vector<float> converted_;
 };
+
+// A stream's decoder as live and the C library's streams run it: a LiveDecoder that keeps its models alive (it
+// may outlive what loaded them: live's worker runs the old decoder until it takes a new one, a library stream
+// outlives its models handle), behind a ResamplingDecoder unless the input is at 16 kHz.
+struct StreamDecoder {
+  std::unique_ptr<FrameDecoder> decoder;
+  DecoderLookahead lookahead;  // the LiveDecoder's
+  std::vector<int> fapNumbers;
+};
+// Throws th::Error for null models or options the decoder rejects.
+StreamDecoder makeStreamDecoder(std::shared_ptr<const AnimationModels> models, const LiveDecoderOptions& options,
+                                double inputRateHz);
 
 }  // namespace th::pipeline

@@ -1,8 +1,16 @@
 /* talkinghead: speech in, a talking face's animation out, on a CPU, live or from a file.
  *
- * The C API of libtalkinghead (semantic versioning: TALKINGHEAD_VERSION_*; a minor version adds, a major one may
- * break). Every function that can fail returns a th_status; th_last_error() says what went wrong, in one line, on
- * the calling thread.
+ * The C API of libtalkinghead (semantic versioning: TALKINGHEAD_VERSION_*, from talkinghead/version.h). Every
+ * function that can fail returns a th_status; th_last_error() says what went wrong, in one line, on the calling
+ * thread.
+ *
+ * Growing without breaking: a struct the caller allocates (th_stream_options, th_frame, th_export_options) starts
+ * with struct_size, the size the caller was compiled with, set by its _init call. A minor version only appends
+ * fields to these structs. The library reads and writes only the bytes struct_size covers and gives the fields
+ * past them their defaults, so a program compiled against an older header of the same major version runs against
+ * a newer library; a struct_size smaller than the struct's first version is refused (TH_ERROR_ARGUMENT). Other
+ * structs are opaque. While the major version is 0 a minor version may still break: 0.2 put struct_size at the
+ * start of th_stream_options and th_frame, so programs built against 0.1 must be rebuilt.
  *
  *   th_stream_options options;
  *   th_stream_options_init(&options);                 // the installed models, 16 kHz
@@ -11,6 +19,7 @@
  *   if (th_stream_open(&options, &stream) != TH_OK) fprintf(stderr, "%s\n", th_last_error());
  *   th_stream_push(stream, samples, count);           // mono float samples, any block size
  *   th_frame frame;
+ *   th_frame_init(&frame);                            // its struct_size
  *   while (th_stream_pull(stream, &frame) == 1) use(&frame);   // 30 frames a second, in order
  *   th_stream_finish(stream);                         // the input has ended: the last frames
  *   th_stream_close(stream);
@@ -20,24 +29,34 @@
  *   th_animation_write(animation, "speech.tsv", NULL);   // any animate format: by extension, or named
  *   th_animation_free(animation);
  *
+ *   th_models* models = NULL;                         // the model files read once, for many streams and files
+ *   th_models_open(&options, &models);
+ *   th_stream_open_models(models, &options, &stream); // as many as wanted, on any threads
+ *   th_models_free(models);                           // the streams keep what they use
+ *
+ *   th_export_options video;                          // the face speaking it, as MP4
+ *   th_export_options_init(&video);                   // 1280x720, 30 fps, our face, the installed models
+ *   video.progress = show;                            // int show(double done, void* user_data): non-zero stops
+ *   th_export("speech.wav", "speech.mp4", &video);    // TH_ERROR_CANCELLED, and no file, if show said stop
+ *
  * A frame: its time, the MPEG-4 FAPs (the face's standard parameters), ARKit's 52 blendshape weights, the
  * Oculus/OpenXR 15 viseme weights and VRM's five vowels, the viseme shown (held at least 100 ms) and Rhubarb's
- * mouth shape for it, and the head's rotation in degrees.
+ * mouth shape for it, and the head's rotation.
  *
  * Threads: a stream or an animation belongs to one thread at a time; different ones may be used on different
- * threads at once. The library starts no threads of its own. */
+ * threads at once. A th_models handle may be used by any number of threads at once. Progress callbacks are called
+ * on the thread that called the function they were given to. The library starts no threads of its own, but for an
+ * export's encoder, which it joins before returning. */
 #ifndef TALKINGHEAD_TALKINGHEAD_H
 #define TALKINGHEAD_TALKINGHEAD_H
 
 #include <stddef.h>
 
+#include "talkinghead/version.h" /* TALKINGHEAD_VERSION_MAJOR, _MINOR, _PATCH and TALKINGHEAD_VERSION ("0.2.0") */
+
 #ifdef __cplusplus
 extern "C" {
 #endif
-
-#define TALKINGHEAD_VERSION_MAJOR 0
-#define TALKINGHEAD_VERSION_MINOR 1
-#define TALKINGHEAD_VERSION_PATCH 0
 
 #if defined(__GNUC__)
 #define TH_API __attribute__((visibility("default")))
@@ -50,10 +69,11 @@ typedef enum th_status {
   TH_ERROR_ARGUMENT = 1, /* a null pointer, a rate or option out of range */
   TH_ERROR_FILE = 2,     /* a file that cannot be read or written, or is not what it should be */
   TH_ERROR_STATE = 3,    /* a call out of order: pushing after th_stream_finish */
-  TH_ERROR_INTERNAL = 4  /* anything else (out of memory) */
+  TH_ERROR_INTERNAL = 4, /* anything else (out of memory) */
+  TH_ERROR_CANCELLED = 5 /* a progress callback asked to stop: no output was made */
 } th_status;
 
-/* "0.1.0": the library's version (compare with the TALKINGHEAD_VERSION_* it was compiled against). */
+/* "0.2.0": the library's version (compare with the TALKINGHEAD_VERSION_* it was compiled against). */
 TH_API const char* th_version(void);
 /* The message of the last failure on this thread ("" if none); valid until the next call that fails. */
 TH_API const char* th_last_error(void);
@@ -65,7 +85,10 @@ enum {
   TH_NUM_VRM = 5       /* th_vrm_name(i): A I U E O */
 };
 
+/* Its first version ends at head_roll_deg; the fields after it were appended (a program built before them gets
+ * frames without them). */
 typedef struct th_frame {
+  size_t struct_size;  /* sizeof(th_frame) as the caller was compiled: th_frame_init */
   int index;           /* from 0, 30 a second */
   double time_seconds; /* index / 30: the instant of the speech it shows */
   float faps[TH_NUM_FAPS + 1];
@@ -77,9 +100,23 @@ typedef struct th_frame {
   float head_pitch_deg;          /* down + */
   float head_yaw_deg;            /* to the speaker's left + */
   float head_roll_deg;           /* to the right + */
+  float head_rotation_unity[4];  /* the same rotation as a quaternion x, y, z, w in Unity's left-handed frame
+                                    (x to the avatar's right), as VMC sends it */
 } th_frame;
 
+/* The _init calls are macros that pass the struct's size as the caller was compiled: the library fills only that
+ * much (each returns TH_ERROR_ARGUMENT for NULL or a size below the struct's first version). */
+#define th_frame_init(frame) th_frame_init_sized((frame), sizeof(th_frame))
+TH_API th_status th_frame_init_sized(th_frame* frame, size_t struct_size);
+
+/* Called by file work (th_animate_file*, th_export) with the fraction done, 0..1, on the calling thread; a
+ * non-zero return stops the work, which then fails with TH_ERROR_CANCELLED and leaves no output. */
+typedef int (*th_progress_fn)(double fraction_done, void* user_data);
+
+/* Its first version ends at wait_for_head; the fields after it were appended (a program built before them has no
+ * progress callback). */
 typedef struct th_stream_options {
+  size_t struct_size;       /* sizeof(th_stream_options) as the caller was compiled: th_stream_options_init */
   const char* head_model;   /* a model file; NULL: the installed one; "": no head motion */
   const char* mouth_model;  /* NULL: the installed live model; "": no mouth */
   const char* viseme_model; /* NULL: the installed articulation's visemes (lips closed by the same classes);
@@ -87,13 +124,28 @@ typedef struct th_stream_options {
   double sample_rate_hz;    /* of the pushed samples, 8000..192000 (default 16000) */
   int wait_for_head;        /* 0: frames as soon as the mouth is decided (the head shown its own look-ahead
                                late); 1: each frame waits for its own head (th_stream_latency_ms says how long) */
+  th_progress_fn progress;  /* th_animate_file*: called as the work goes on (NULL: not) */
+  void* user_data;          /* handed to progress */
 } th_stream_options;
 
-TH_API void th_stream_options_init(th_stream_options* options);
+/* The defaults: the installed models, 16000 Hz, frames not waiting for the head, no callback. */
+#define th_stream_options_init(options) th_stream_options_init_sized((options), sizeof(th_stream_options))
+TH_API th_status th_stream_options_init_sized(th_stream_options* options, size_t struct_size);
+
+/* The models, read once and shared: by any number of streams and files, on any threads at once. options: the
+ * model files as th_stream_open takes them (NULL: the installed ones); its rate and callback are not used. The
+ * stream models are read now (a bad file fails here); the file models (th_animate_file_models, th_export) on first
+ * use. Freeing the handle does not end the streams opened on it: each keeps the models it uses. */
+typedef struct th_models th_models;
+TH_API th_status th_models_open(const th_stream_options* options, th_models** models);
+TH_API void th_models_free(th_models* models);
 
 typedef struct th_stream th_stream;
 
 TH_API th_status th_stream_open(const th_stream_options* options, th_stream** stream);
+/* A stream on shared models: the same frames as th_stream_open with the options the models were opened with.
+ * options: its rate and wait_for_head (NULL: the defaults); its model files are not used. */
+TH_API th_status th_stream_open_models(const th_models* models, const th_stream_options* options, th_stream** stream);
 TH_API th_status th_stream_push(th_stream* stream, const float* samples, size_t count);
 TH_API th_status th_stream_finish(th_stream* stream);
 /* 1: a frame was written to *frame; 0: none is ready yet (push more, or finish); -1: an error. */
@@ -105,8 +157,12 @@ TH_API void th_stream_close(th_stream* stream);
 typedef struct th_animation th_animation;
 
 /* A whole recording (WAV, FLAC, OGG, MP3, or a video's sound) animated offline: the best the models do, with
- * the whole recording to look at. options: the models (NULL for the installed ones; its rate is ignored). */
+ * the whole recording to look at. options: the models (NULL for the installed ones; its rate is ignored) and a
+ * progress callback, called when the work starts and when it ends (the offline animation is one step). */
 TH_API th_status th_animate_file(const char* recording, const th_stream_options* options, th_animation** animation);
+/* The same on shared models; options (NULL: none): only its progress callback is used. */
+TH_API th_status th_animate_file_models(const th_models* models, const char* recording,
+                                        const th_stream_options* options, th_animation** animation);
 TH_API int th_animation_frames(const th_animation* animation);
 TH_API th_status th_animation_frame(const th_animation* animation, int index, th_frame* frame);
 /* Any format `talkinghead animate` writes: format NULL picks it by the extension (.csv .json .fap .tsv .xml
@@ -122,7 +178,25 @@ TH_API th_status th_animation_write_avatar(const th_animation* animation, const 
                                            int animation_only);
 TH_API void th_animation_free(th_animation* animation);
 
-/* A recording rendered to MP4 (H.264 + AAC, the face speaking it, off-screen), as `talkinghead export` does. */
+/* A recording rendered to MP4 (H.264 + AAC, the face speaking it, off-screen), as `talkinghead export` does. All
+ * or nothing: the file appears only when complete. */
+typedef struct th_export_options {
+  size_t struct_size;       /* sizeof(th_export_options) as the caller was compiled: th_export_options_init */
+  int width;                /* even, 16..7680 (default 1280) */
+  int height;               /* even, 16..4320 (default 720) */
+  double frames_per_second; /* 1..120 (default 30) */
+  int crf;                  /* H.264 quality, 0..51, lower is better and larger (default 20) */
+  const char* avatar;       /* a character instead of our face, as th_export_file_avatar takes it (NULL: ours) */
+  const th_models* models;  /* the models to animate with (NULL: the installed ones, read for this export) */
+  th_progress_fn progress;  /* called before each frame is rendered, with the share encoded, and once (at 1)
+                               when the file is written, which no longer cancels (NULL: not) */
+  void* user_data;          /* handed to progress */
+} th_export_options;
+
+#define th_export_options_init(options) th_export_options_init_sized((options), sizeof(th_export_options))
+TH_API th_status th_export_options_init_sized(th_export_options* options, size_t struct_size);
+TH_API th_status th_export(const char* recording, const char* mp4, const th_export_options* options);
+/* th_export with the default options but the size. */
 TH_API th_status th_export_file(const char* recording, const char* mp4, int width, int height);
 /* The same with the user's character instead of our face: a .glb, .gltf or .vrm file whose ARKit, Oculus viseme
  * or VRM morph targets and neck, head and eye bones the speech moves (avatar NULL: our face), as `talkinghead

@@ -11,8 +11,12 @@
     stream.push(block)                                     # float32 mono
     frames = stream.pull()                                 # the frames ready, 30 a second
 
+    models = talkinghead.Models()                          # the model files read once, shared
+    talkinghead.Stream(models=models); talkinghead.animate("speech.wav", models=models)
+    talkinghead.export("speech.wav", "talk.mp4", progress=lambda done: False)   # True cancels: Cancelled
+
 talkinghead.batch runs animate and export over many recordings on a Dask cluster.
 """
 
-from ._talkinghead import (Animation, Error, Stream, __version__, animate, arkit_names, export,  # noqa: F401
-                           format_extension, formats, viseme_names, vrm_names)
+from ._talkinghead import (Animation, Cancelled, Error, Models, Stream, __version__, animate,  # noqa: F401
+                           arkit_names, export, format_extension, formats, viseme_names, vrm_names)

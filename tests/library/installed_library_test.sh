@@ -22,7 +22,7 @@ quietly() {
   "$@" > "$log" 2>&1 || { cat "$log"; return 1; }
 }
 quietly cmake --install "$build" --prefix "$prefix"
-for file in include/talkinghead/talkinghead.h lib/libtalkinghead.so lib/pkgconfig/talkinghead.pc \
+for file in include/talkinghead/talkinghead.h include/talkinghead/version.h lib/libtalkinghead.so lib/pkgconfig/talkinghead.pc \
   lib/cmake/talkinghead/talkingheadConfig.cmake share/talkinghead/models/visemes.json \
   share/talkinghead/models/articulation_live.json share/talkinghead/models/articulation.json \
   lib/python3/dist-packages/talkinghead/__init__.py; do

@@ -42,6 +42,7 @@ def test_animate_gives_arrays_that_follow_the_speech(prompt):
     assert arrays["faps"].shape == (frames, 69) and arrays["faps"].dtype == np.float32
     assert arrays["arkit"].shape == (frames, 52)
     assert arrays["head"].shape == (frames, 3)
+    np.testing.assert_allclose(np.linalg.norm(arrays["head_unity"], axis=1), 1.0, atol=1e-5)   # unit quaternions
     np.testing.assert_allclose(arrays["time"], np.arange(frames) / 30.0)
     np.testing.assert_allclose(arrays["visemes"].sum(axis=1), 1.0, atol=1e-4)
     assert ((arrays["arkit"] >= 0) & (arrays["arkit"] <= 1)).all()
@@ -62,7 +63,7 @@ def test_an_animation_is_a_sequence_of_frames_as_its_arrays_have_them(prompt):
     for i in (0, len(animation) // 2, len(animation) - 1):
         frame = frames[i]
         assert frame["index"] == arrays["index"][i] and frame["time"] == arrays["time"][i]
-        for key in ("faps", "arkit", "visemes", "vrm", "head"):
+        for key in ("faps", "arkit", "visemes", "vrm", "head", "head_unity"):
             np.testing.assert_array_equal(frame[key], arrays[key][i])
         assert frame["viseme"] == arrays["viseme"][i] and frame["rhubarb"] == arrays["rhubarb"][i]
     np.testing.assert_array_equal(animation[-1]["faps"], arrays["faps"][-1])
@@ -135,3 +136,65 @@ def test_export_draws_our_face_or_the_users_character(prompt, data, tmp_path):
     with pytest.raises(talkinghead.Error, match="me.glb.*not a glTF file"):
         talkinghead.export(prompt, str(never), 160, 120, avatar=str(text))
     assert not never.exists()
+
+
+def test_the_version_is_the_librarys():
+    major, minor, patch = (int(part) for part in talkinghead.__version__.split("."))
+    assert (major, minor) >= (0, 2)
+
+
+def test_export_reports_progress_and_cancels_leaving_no_file(prompt, tmp_path):
+    done = []
+    video = tmp_path / "talk.mp4"
+    talkinghead.export(prompt, str(video), 160, 120, progress=done.append)
+    assert video.stat().st_size > 10000
+    assert done[0] == 0.0 and done[-1] == 1.0 and done == sorted(done) and len(done) > 10
+
+    # Returning True cancels: talkinghead.Cancelled, and no file.
+    never = tmp_path / "never.mp4"
+    seen = []
+    with pytest.raises(talkinghead.Cancelled, match="cancelled"):
+        talkinghead.export(prompt, str(never), 160, 120, progress=lambda fraction: seen.append(fraction) or
+                           fraction > 0.2)
+    assert 0.2 < seen[-1] < 0.5
+    assert list(tmp_path.iterdir()) == [video]
+
+    # Raising cancels too, and the exception comes out as it was.
+    class Stop(Exception):
+        pass
+
+    def stop(fraction):
+        raise Stop("enough")
+
+    with pytest.raises(Stop, match="enough"):
+        talkinghead.export(prompt, str(never), 160, 120, progress=stop)
+    assert list(tmp_path.iterdir()) == [video]
+
+
+def test_animate_reports_its_start_and_end_and_cancels(prompt):
+    done = []
+    assert talkinghead.animate(prompt, progress=done.append).frames > 0
+    assert done == [0.0, 1.0]
+    with pytest.raises(talkinghead.Cancelled):
+        talkinghead.animate(prompt, progress=lambda fraction: True)
+
+
+def test_models_read_once_give_what_each_call_reads_for_itself(prompt):
+    samples, rate = read_wav(prompt)
+    models = talkinghead.Models()
+
+    def streamed(stream):
+        with stream:
+            stream.push(samples)
+            stream.finish()
+            return stream.pull()
+
+    alone = streamed(talkinghead.Stream(sample_rate=rate))
+    for _ in range(2):
+        shared = streamed(talkinghead.Stream(sample_rate=rate, models=models))
+        for key in ("faps", "arkit", "visemes", "head", "viseme"):
+            np.testing.assert_array_equal(shared[key], alone[key])
+    np.testing.assert_array_equal(talkinghead.animate(prompt, models=models).arrays()["faps"],
+                                  talkinghead.animate(prompt).arrays()["faps"])
+    with pytest.raises(talkinghead.Error, match="not both"):
+        talkinghead.Stream(models=models, head_model="")

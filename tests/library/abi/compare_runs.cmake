@@ -1,0 +1,26 @@
+# Runs abi_stream built against the first version's header (FIRST) and against the current one (CURRENT) on
+# a recording, both on the current library: each must pass its own checks, print the same frames, and the first one's
+# structs must be the smaller (or the test proves nothing).
+#   cmake -DFIRST=... -DCURRENT=... -DDATA=SHARED_DATA -DOUT=... -P compare_runs.cmake      ($TALKINGHEAD_DATA wins)
+if(DEFINED ENV{TALKINGHEAD_DATA} AND NOT "$ENV{TALKINGHEAD_DATA}" STREQUAL "")
+  set(DATA $ENV{TALKINGHEAD_DATA})
+endif()
+set(SPEECH ${DATA}/speech/arctic/arctic_a0001.wav)
+foreach(run FIRST CURRENT)
+  execute_process(COMMAND ${${run}} ${SPEECH} OUTPUT_FILE ${OUT}/${run}.txt ERROR_VARIABLE said_${run}
+                  RESULT_VARIABLE status)
+  message(STATUS "${run}: ${said_${run}}")
+  if(NOT status EQUAL 0)
+    message(FATAL_ERROR "${run} failed (${status})")
+  endif()
+  string(REGEX MATCH "th_frame ([0-9]+) bytes, th_stream_options ([0-9]+) bytes" sizes "${said_${run}}")
+  set(frame_${run} ${CMAKE_MATCH_1})
+  set(options_${run} ${CMAKE_MATCH_2})
+endforeach()
+if(NOT frame_FIRST LESS frame_CURRENT OR NOT options_FIRST LESS options_CURRENT)
+  message(FATAL_ERROR "the first version's structs are not smaller than the current ones")
+endif()
+execute_process(COMMAND ${CMAKE_COMMAND} -E compare_files ${OUT}/FIRST.txt ${OUT}/CURRENT.txt RESULT_VARIABLE differ)
+if(differ)
+  message(FATAL_ERROR "the frames differ: ${OUT}/FIRST.txt and ${OUT}/CURRENT.txt")
+endif()

@@ -1,0 +1,103 @@
+// th_models through libtalkinghead: streams opened on one models handle, on two threads at once, give the frames
+// of a stream opened alone (label `threads`: ThreadSanitizer runs it), and keep their models after the handle is
+// freed; a file animated on the handle is the one th_animate_file makes.
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <thread>
+#include <vector>
+
+#include "core/data_path.h"
+#include "talkinghead/talkinghead.h"
+#include "wav_samples.h"
+
+namespace {
+
+std::vector<th_frame> streamFrames(th_stream* stream, const std::vector<float>& samples, std::size_t block) {
+  std::vector<th_frame> frames;
+  th_frame frame;
+  th_frame_init(&frame);
+  for (std::size_t at = 0; at < samples.size(); at += block) {
+    EXPECT_EQ(th_stream_push(stream, samples.data() + at, std::min(block, samples.size() - at)), TH_OK);
+    while (th_stream_pull(stream, &frame) == 1) frames.push_back(frame);
+  }
+  EXPECT_EQ(th_stream_finish(stream), TH_OK);
+  while (th_stream_pull(stream, &frame) == 1) frames.push_back(frame);
+  th_stream_close(stream);
+  return frames;
+}
+
+void expectSameFrames(const std::vector<th_frame>& got, const std::vector<th_frame>& expected) {
+  ASSERT_EQ(got.size(), expected.size());
+  for (std::size_t i = 0; i < got.size(); ++i)
+    ASSERT_EQ(std::memcmp(&got[i], &expected[i], sizeof(th_frame)), 0) << "frame " << i;
+}
+
+TEST(LibraryModels, StreamsOnOneHandleOnTwoThreadsGiveTheFramesOfAStreamOpenedAlone) {
+  double rate = 0.0;
+  const std::vector<float> samples =
+      th::test::readWavSamples(th::sharedDataPath("speech/arctic/arctic_a0001.wav").string(), rate);
+  ASSERT_GT(samples.size(), 16000u);
+  th_stream_options options;
+  ASSERT_EQ(th_stream_options_init(&options), TH_OK);
+  options.sample_rate_hz = rate;
+
+  th_stream* alone = nullptr;
+  ASSERT_EQ(th_stream_open(&options, &alone), TH_OK) << th_last_error();
+  const std::vector<th_frame> expected = streamFrames(alone, samples, 160);
+  ASSERT_GT(expected.size(), 60u);
+
+  th_models* models = nullptr;
+  ASSERT_EQ(th_models_open(&options, &models), TH_OK) << th_last_error();
+  th_stream* streams[2] = {nullptr, nullptr};
+  for (th_stream*& stream : streams) ASSERT_EQ(th_stream_open_models(models, &options, &stream), TH_OK);
+  th_models_free(models);  // the streams keep the models they use
+
+  std::vector<th_frame> got[2];
+  std::thread first([&] { got[0] = streamFrames(streams[0], samples, 160); });
+  std::thread second([&] { got[1] = streamFrames(streams[1], samples, 1234); });  // another block size
+  first.join();
+  second.join();
+  expectSameFrames(got[0], expected);
+  expectSameFrames(got[1], expected);
+}
+
+TEST(LibraryModels, AFileAnimatedOnTheHandleIsTheOneAnimatedAlone) {
+  const std::string speech = th::sharedDataPath("speech/arctic/arctic_a0001.wav").string();
+  th_animation* alone = nullptr;
+  ASSERT_EQ(th_animate_file(speech.c_str(), nullptr, &alone), TH_OK) << th_last_error();
+  th_models* models = nullptr;
+  ASSERT_EQ(th_models_open(nullptr, &models), TH_OK) << th_last_error();
+  th_animation* shared[2] = {nullptr, nullptr};
+  std::thread first([&] { EXPECT_EQ(th_animate_file_models(models, speech.c_str(), nullptr, &shared[0]), TH_OK); });
+  std::thread second([&] { EXPECT_EQ(th_animate_file_models(models, speech.c_str(), nullptr, &shared[1]), TH_OK); });
+  first.join();
+  second.join();
+  th_models_free(models);
+  for (th_animation* animation : shared) {
+    ASSERT_NE(animation, nullptr);
+    ASSERT_EQ(th_animation_frames(animation), th_animation_frames(alone));
+    th_frame a, b;
+    th_frame_init(&a);
+    th_frame_init(&b);
+    for (int i = 0; i < th_animation_frames(alone); ++i) {
+      ASSERT_EQ(th_animation_frame(alone, i, &a), TH_OK);
+      ASSERT_EQ(th_animation_frame(animation, i, &b), TH_OK);
+      ASSERT_EQ(std::memcmp(&a, &b, sizeof a), 0) << "frame " << i;
+    }
+    th_animation_free(animation);
+  }
+  th_animation_free(alone);
+}
+
+TEST(LibraryModels, ABadModelFileFailsAtOpenNamingIt) {
+  th_stream_options options;
+  th_stream_options_init(&options);
+  options.head_model = "/nonexistent/head.json";
+  th_models* models = nullptr;
+  EXPECT_EQ(th_models_open(&options, &models), TH_ERROR_FILE);
+  EXPECT_EQ(models, nullptr);
+  EXPECT_NE(std::string(th_last_error()).find("/nonexistent/head.json"), std::string::npos) << th_last_error();
+}
+
+}  // namespace
