@@ -26,13 +26,13 @@
 namespace th::tracking {
 
 struct RecordingOptions {
-  std::filesystem::path folder;    // must exist
-  std::string name;                // empty: take_YYYYMMDD_HHMMSS (local time)
-  int camera = 0;                  // /dev/videoN
-  std::optional<int> soundDevice;  // a PortAudio input's index; empty: the default input
-  double seconds = 0.0;            // 0: until stopRequested
-  double framesPerSecond = 25.0;   // of the video written
-  int width = 640;                 // asked of the camera
+  std::filesystem::path folder{};    // must exist
+  std::string name{};                // empty: take_YYYYMMDD_HHMMSS (local time)
+  int camera = 0;                    // /dev/videoN
+  std::optional<int> soundDevice{};  // a PortAudio input's index; empty: the default input
+  double seconds = 0.0;              // 0: until stopRequested
+  double framesPerSecond = 25.0;     // of the video written
+  int width = 640;                   // asked of the camera
   int height = 480;
 };
 

@@ -41,11 +41,15 @@ void checkContract(OnlineStage<In, Out>& stage, const std::vector<In>& inputs, b
     }
     for (; read < ready; ++read) stage.getFrame(read, out);
     stage.forgetBefore(read + 5);  // frames not yet ready are not forgotten: they are read when they are
-    if (read > 0) EXPECT_THROW(stage.getFrame(read - 1, out), th::Error) << "forgotten";
+    if (read > 0) {
+      EXPECT_THROW(stage.getFrame(read - 1, out), th::Error) << "forgotten";
+    }
     if (n == accepted / 2) heldMidway = stage.framesHeld();
   }
   EXPECT_THROW(stage.getFrame(stage.numFramesReady(), out), th::Error) << "not ready";
-  if (latency > 0) EXPECT_GT(heldMidway, 0U) << "its look-ahead";
+  if (latency > 0) {
+    EXPECT_GT(heldMidway, 0U) << "its look-ahead";
+  }
   EXPECT_LE(stage.framesHeld(), heldMidway + 2) << "no growth with the stream's length";
   stage.inputFinished();
   stage.inputFinished();

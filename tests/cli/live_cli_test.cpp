@@ -193,8 +193,9 @@ TEST_F(LiveCliTest, TheWindowDrawsTheFaceAndThePanelAndKeepsItsSettings) {
   EXPECT_GT(plotted, 200);
   ASSERT_TRUE(fs::exists(settings));
   const std::string saved = th::test::readText(settings);
+  // Typed under its former name (--window), saved under its name now.
   for (const std::string expected :
-       {"\"window\": 3", "\"head_amplitude\": 1.5", "\"head_smoothing\": 2.0", "\"idle\": false", "\"seed\": 4"})
+       {"\"window_frames\": 3", "\"head_amplitude\": 1.5", "\"head_smoothing\": 2.0", "\"idle\": false", "\"seed\": 4"})
     EXPECT_NE(saved.find(expected), std::string::npos) << expected << " in " << saved;
   // The next time, without the options: the saved settings. (And without the loop's cap: frames as fast as
   // they can be drawn.)
