@@ -77,7 +77,8 @@ std::vector<animation::HeadRecording> loadStyleTalkHeads(const animation::Prosod
     clip.name = name;
     clip.speaker = name.substr(0, name.find("_clip"));
     // A 3DMM fitted frame by frame jitters from one frame to the next; a Gaussian of one frame's σ takes that
-    // out (it cuts the 95th percentile of the angular speed by 25–35 % here, by 8 % on BEAT2's motion capture).
+    // out (what it cuts, here and on BEAT2's motion capture: docs/results.md, "Head: variants measured and not
+    // used").
     clip.rotations = animation::smoothFrames(clip.rotations, 1.0);
     clips.push_back(std::move(clip));
   }

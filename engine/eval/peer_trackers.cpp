@@ -97,7 +97,7 @@ F0Track runAubio(const std::filesystem::path& wav, const PeerSettings& settings)
   const int rate = audio::readAudioFile(wav, keepRate).sampleRateHz;
   const int hopSamples = static_cast<int>(std::lround(settings.hopSeconds * rate));
   // A buffer of about 50 ms rounded up to a power of two (1024 at 20 kHz): aubio does better with it on
-  // FDA-UE than with 2048 (FFE 11.4 % against 18.7 % at a 5 ms hop).
+  // FDA-UE than with 2048 (docs/results.md, "Figures behind choices in the code").
   int buffer = 512;
   while (buffer < 0.05 * rate) buffer *= 2;
   const std::string out = runProgram({"aubiopitch", "-i", wav.string(), "-p", "yinfft", "-H",

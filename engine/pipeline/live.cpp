@@ -60,8 +60,8 @@ std::vector<LiveEvent> LivePipeline::events() {
 
 // A recording has no latency to save, only its sync: its sound is scheduled late enough for each instant's
 // frame to be there when it is heard. The decoder's look-ahead, plus 60 ms for the worker's cadence and
-// processing (frames arrived 62 ms after their instant at the median, 76-80 ms at the 99th percentile, with a
-// 46 ms look-ahead), half a frame (the nearest frame is shown) and drawing.
+// processing (when frames arrive after their instant: docs/results.md, "Live: sound to lips"), half a frame (the
+// nearest frame is shown) and drawing.
 void LivePipeline::startPlayback() {
   try {
     playbackLatencyMs_ = lookahead_.totalMs + 60.0;

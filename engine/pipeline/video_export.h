@@ -34,14 +34,14 @@ struct VideoExportOptions {
   double framesPerSecond = 30.0;
   int crf = 20;                     // x264 quality (see formats::Mp4Options)
   std::string preset = "veryfast";  // x264 speed/size trade-off
-  // Over the preset: sub-pixel motion refinement 1 instead of veryfast's 2 takes about a tenth off the
-  // export's CPU for files about 3 % larger at the same quality setting (measured with 10 s of speech at
-  // 720p; superfast would save as much but make files 2.6 times larger).
+  // Over the preset: sub-pixel motion refinement 1 instead of veryfast's 2 saves export CPU for files a little
+  // larger at the same quality setting; superfast would save as much for files far larger (docs/results.md,
+  // "Figures behind choices in the code").
   std::string x264Params = "subme=1";
   // x264's threads. 0: one on a machine of up to two cores, else FFmpeg's choice (1.5 per core). On two
   // cores the renderer (its GL thread and llvmpipe's) already keeps both busy, and x264's frame threads only
-  // add contention: encoding in the finishing thread alone made the whole export about 10 % faster, with the
-  // same output size (10 s of speech at 720p).
+  // add contention: encoding in the finishing thread alone made the whole export faster, with the same output
+  // size (docs/results.md, "Figures behind choices in the code").
   int encoderThreads = 0;
   // Draw this character (avatar/avatar_model.h) instead of our face, posed by the same frames; null: our face.
   const avatar::Avatar* avatar = nullptr;
