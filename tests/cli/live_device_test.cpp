@@ -259,9 +259,12 @@ TEST_F(LiveDeviceTest, TheWindowSurvivesTheSoundServerDyingAndListensAgainWhenIt
   std::printf("%s", said.c_str());
   EXPECT_NE(said.find("exit status 0"), std::string::npos) << said;
   const InputCounters inputs = inputCountersIn(said);
-  EXPECT_EQ(inputs.lost, 1)
-      << "lost once; the new stream hears (one that got no block in 4 s would count as lost again)";
-  EXPECT_GE(inputs.opened, 2) << "listening again after the loss";
+  // A retry while the daemon is still down may open a stream that never delivers (the ALSA plugin opens before it
+  // connects); that one is lost again 4 s later and retried. What must hold: the loss was seen, and the last
+  // stream opened is not lost, so the window listens again once the daemon is back (a stream that got no block
+  // in 4 s would count as lost, and the window runs on for more than 10 s after the restart).
+  EXPECT_GE(inputs.lost, 1) << "the loss was seen";
+  EXPECT_EQ(inputs.opened, inputs.lost + 1) << "listening again after the loss: the last stream hears";
 }
 
 // The window listening to a null sink's monitor when the sink is unloaded: it says the input went away, and
