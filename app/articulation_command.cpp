@@ -17,6 +17,7 @@
 #include "commands.h"
 #include "core/atomic_file.h"
 #include "core/data_path.h"
+#include "core/error.h"
 #include "eval/mouth_scores.h"
 #include "eval/network_corpus.h"
 #include "mouth_corpus_command.h"
@@ -28,6 +29,9 @@ struct ArticulationArguments {
   std::string output = "models/articulation.json";
   std::string tracks;    // empty: defaultMouthTrackFolder()
   std::string festival;  // tools/festival_speech.py's folder; empty: none
+  std::vector<std::string>
+      aligned;             // tools/align_phones.py's folders of read speech (speechocean762's training speakers)
+  std::string gridPhones;  // tools/align_phones.py --grid's folder: GRID's phones where the sound puts them
   int futureSubframes = animation::MouthNetworkOptions{}.futureSubframes;
   int epochs = 20;  // as measured in docs/mouth.md (the best epoch was the last or the one before in every fold)
   std::vector<std::string> leftOut;  // speakers not to train on (to show or score the network on voices it never heard)
@@ -39,11 +43,17 @@ void runTrain(const ArticulationArguments& arguments) {
   const face::FaceModel face = face::FaceModel::buildDefault();
   std::vector<eval::TalkingFolder> folders = eval::sharedTalkingFolders();
   folders.push_back({sharedDataPath("talking/arabic-news"), ""});
-  const eval::TalkingCorpus talking = loadMouthCorpus(folders, arguments.tracks, face);
+  eval::TalkingCorpus talking = loadMouthCorpus(folders, arguments.tracks, face);
+  if (!arguments.gridPhones.empty()) {
+    const int clips = eval::useAlignedPhones(talking, arguments.gridPhones);
+    if (clips == 0) throw fileError(arguments.gridPhones, "holds no phones for GRID's clips (NAME.phones.csv)");
+  }
   std::vector<eval::CorpusRecording> corpus = eval::networkRecordingsOf(talking);
   for (eval::CorpusRecording& r : eval::phoneAlignedSpeech()) corpus.push_back(std::move(r));
   if (!arguments.festival.empty())
     for (eval::CorpusRecording& r : eval::synthesisedSpeech(arguments.festival)) corpus.push_back(std::move(r));
+  for (const std::string& folder : arguments.aligned)
+    for (eval::CorpusRecording& r : eval::alignedSpeech(folder, "aligned")) corpus.push_back(std::move(r));
   eval::startAtSpeakerMeans(corpus);
   // The anchors' FAPs are each measured from their own 1.2 s clip's most closed frame, which blurs the jaw's
   // zero: they train the classes, the lips' shape and the closures (docs/mouth.md).
@@ -87,6 +97,11 @@ void addTrainArticulationCommand(CLI::App& train) {
       "Folder of the clips' tracks, made on first use (default: " + std::string(kMouthTrackFolderHelp) + ")");
   command->add_option("--festival", arguments->festival,
                       "Folder of synthesised phone-aligned speech to train on too (tools/festival_speech.py)");
+  command->add_option("--aligned", arguments->aligned,
+                      "Folder of phone-aligned read speech to train on too (tools/align_phones.py; repeatable)");
+  command->add_option("--grid-phones", arguments->gridPhones,
+                      "Folder of GRID's phones aligned to the sound (tools/align_phones.py --grid), instead of "
+                      "phones placed in each word by typical durations");
   command
       ->add_option("--future", arguments->futureSubframes,
                    "Look-ahead in 90 fps subframes (9: 100 ms; the live presets' files use 3 and 0)")

@@ -68,64 +68,58 @@ std::vector<CorpusRecording> phoneAlignedSpeech(const std::vector<double>& warps
   return out;
 }
 
-namespace {
-
-std::vector<LabelInterval> readPhonesCsv(const std::filesystem::path& path) {
-  std::istringstream text(readTextFile(path, "phone list"));
-  std::string line;
-  if (!std::getline(text, line) || line.rfind("start_s,end_s,phone", 0) != 0)
-    throw fileError(path, "does not start with the header start_s,end_s,phone");
-  std::vector<LabelInterval> phones;
-  int number = 1;
-  while (std::getline(text, line)) {
-    ++number;
-    if (!line.empty() && line.back() == '\r') line.pop_back();
-    if (line.empty()) continue;
-    std::istringstream fields(line);
-    std::string start, end, phone;
-    std::getline(fields, start, ',');
-    std::getline(fields, end, ',');
-    std::getline(fields, phone, ',');
-    try {
-      phones.push_back({std::stod(start), std::stod(end), phone});
-    } catch (const std::exception&) {
-      throw fileError(path, "line " + std::to_string(number) + " is not start_s,end_s,phone");
-    }
-  }
-  return phones;
-}
-
-}  // namespace
-
-std::vector<CorpusRecording> synthesisedSpeech(const std::filesystem::path& folder, const std::vector<double>& warps) {
-  std::istringstream index(readTextFile(folder / "index.csv", "index"));
+std::vector<CorpusRecording> alignedSpeech(const std::filesystem::path& folder, const std::string& set,
+                                           const std::vector<double>& warps) {
+  const std::filesystem::path indexPath = folder / "index.csv";
+  std::istringstream index(readTextFile(indexPath, "index"));
   std::string line;
   std::getline(index, line);
   std::vector<std::pair<std::string, std::string>> files;
   while (std::getline(index, line)) {
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    if (line.empty()) continue;
     const std::size_t comma = line.find(',');
     const std::size_t second = line.find(',', comma + 1);
     if (comma == std::string::npos || second == std::string::npos)
-      throw fileError(folder / "index.csv", "a line is not file,voice,text");
+      throw fileError(indexPath, "a line is not file,speaker,text");
     files.emplace_back(line.substr(0, comma), line.substr(comma + 1, second - comma - 1));
   }
+  if (files.empty()) throw fileError(indexPath, "names no recording");
   std::vector<CorpusRecording> out(files.size());
   parallelFor(files.size(), 0, [&](std::size_t i) {
     const std::filesystem::path wav = folder / (files[i].first + ".wav");
     const audio::AudioClip sound = audio::readRecording(wav);
     if (sound.samples.empty()) throw fileError(wav, "has no samples");
     CorpusRecording& r = out[i];
-    r.set = "festival";
+    r.set = set;
     r.recording.name = files[i].first;
     r.recording.speaker = files[i].second;
     r.recording.subframes = animation::speechSubframesOf(sound.samples);
     for (const double warp : warps) r.warped.push_back(animation::speechSubframesOf(sound.samples, warp));
     const int frames =
         (r.recording.subframes.numFrames() + animation::kSubframesPerFrame - 1) / animation::kSubframesPerFrame;
-    r.recording.classes = mouthClassesAt(readPhonesCsv(folder / (files[i].first + ".phones.csv")),
+    r.recording.classes = mouthClassesAt(readPhoneTable(folder / (files[i].first + ".phones.csv")),
                                          animation::kMouthFramesPerSecond, frames);
   });
   return out;
+}
+
+std::vector<CorpusRecording> synthesisedSpeech(const std::filesystem::path& folder, const std::vector<double>& warps) {
+  return alignedSpeech(folder, "festival", warps);
+}
+
+int useAlignedPhones(TalkingCorpus& corpus, const std::filesystem::path& folder) {
+  if (!std::filesystem::is_directory(folder)) throw fileError(folder, "is not a folder of aligned phones");
+  int used = 0;
+  for (TalkingClip& clip : corpus.clips) {
+    if (!clip.labelsAreWords) continue;
+    const std::filesystem::path phones = folder / (clip.clip.video.stem().string() + ".phones.csv");
+    if (!std::filesystem::exists(phones)) continue;
+    clip.labels = readPhoneTable(phones);
+    clip.labelsAreWords = false;
+    ++used;
+  }
+  return used;
 }
 
 std::vector<bool> gridHeldOut(const std::vector<CorpusRecording>& corpus) {

@@ -7,7 +7,8 @@
 //   for (th::eval::CorpusRecording& r : th::eval::phoneAlignedSpeech()) corpus.push_back(std::move(r));
 //
 // Classes: StyleTalk's per-frame phones and BEAT2's TextGrids as they are; GRID's words through its lexicon
-// (phone_labels.h: phones placed within each word by typical durations). Clips without phones (the Arabic
+// (phone_labels.h: phones placed within each word by typical durations), or its phones aligned to the sound
+// (useAlignedPhones). Clips without phones (the Arabic
 // anchors, GRID's other speakers without alignments) train and are judged on their lips alone.
 // Thread contract: pure functions of files; networkRecordingsOf reads each clip's sound on a few threads.
 #pragma once
@@ -37,11 +38,20 @@ std::vector<CorpusRecording> networkRecordingsOf(const TalkingCorpus& corpus, co
 // BEAT2's three phone-aligned takes (speaker "scott", set "beat2"): speech and classes, no video.
 std::vector<CorpusRecording> phoneAlignedSpeech(const std::vector<double>& warps = {});
 
-// A folder of synthesised, phone-aligned speech (tools/festival_speech.py: index.csv naming each file and its
-// voice, FILE.wav and FILE.phones.csv with start_s,end_s,phone in ARPAbet): each voice a speaker, set "festival".
-// Errors name the file.
+// A folder of phone-aligned speech: index.csv naming each file and its speaker (`file,speaker,text`), FILE.wav
+// and FILE.phones.csv (`start_s,end_s,phone`, ARPAbet, SIL for pauses), as tools/align_phones.py writes it for a
+// read corpus (speechocean762, or any WAVs with their words) and tools/festival_speech.py for Festival's voices.
+// Each recording's set is `set`. Errors name the file.
+std::vector<CorpusRecording> alignedSpeech(const std::filesystem::path& folder, const std::string& set,
+                                           const std::vector<double>& warps = {});
+// Festival's voices (tools/festival_speech.py): alignedSpeech with set "festival".
 std::vector<CorpusRecording> synthesisedSpeech(const std::filesystem::path& folder,
                                                const std::vector<double>& warps = {});
+
+// The talking clips that have only words (GRID's) take the phones a folder of tools/align_phones.py's holds for
+// them (NAME.phones.csv beside the clip's name), where it has them: the phones where the sound puts them rather
+// than placed by typical durations. Returns how many clips took them.
+int useAlignedPhones(TalkingCorpus& corpus, const std::filesystem::path& folder);
 
 // GRID s1's held-out clips: every fifth of each of its folders, in corpus order (as `eval mouth` holds out).
 std::vector<bool> gridHeldOut(const std::vector<CorpusRecording>& corpus);

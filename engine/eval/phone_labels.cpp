@@ -271,6 +271,32 @@ std::vector<std::string> arabicPronunciation(std::string_view word) {
   return phones;
 }
 
+std::vector<LabelInterval> readPhoneTable(const std::filesystem::path& csv) {
+  std::istringstream text(readTextFile(csv, "phone list"));
+  std::string line;
+  if (!std::getline(text, line) || line.rfind("start_s,end_s,phone", 0) != 0)
+    throw fileError(csv, "does not start with the header start_s,end_s,phone");
+  std::vector<LabelInterval> phones;
+  int number = 1;
+  while (std::getline(text, line)) {
+    ++number;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    if (line.empty()) continue;
+    std::istringstream fields(line);
+    std::string start, end, phone;
+    if (!std::getline(fields, start, ',') || !std::getline(fields, end, ',') || !std::getline(fields, phone, ','))
+      throw fileError(csv, "line " + std::to_string(number) + " is not start_s,end_s,phone");
+    try {
+      const double s = std::stod(start), e = std::stod(end);
+      if (!(s >= 0.0 && e >= s)) throw std::invalid_argument("order");
+      phones.push_back({s, e, phone});
+    } catch (const std::exception&) {
+      throw fileError(csv, "line " + std::to_string(number) + ": times must be seconds, start <= end");
+    }
+  }
+  return phones;
+}
+
 std::vector<LabelInterval> readWordTimings(const std::filesystem::path& csv) {
   std::istringstream text(readTextFile(csv, "word timings"));
   std::string line;

@@ -36,6 +36,10 @@ std::vector<LabelInterval> arabicPhones(const std::vector<LabelInterval>& words)
 // One word's phones, for tests: ARPAbet labels and "?" for an unwritten vowel.
 std::vector<std::string> arabicPronunciation(std::string_view word);
 
+// A phone table, `start_s,end_s,phone` after that header line (tools/align_phones.py, tools/festival_speech.py).
+// Errors name the file and the line.
+std::vector<LabelInterval> readPhoneTable(const std::filesystem::path& csv);
+
 // The mouth class (face::mouthClassOfPhone) of the phone under each frame's time (i / framesPerSecond), -1
 // where no phone covers it or its label is no phone.
 std::vector<int> mouthClassesAt(const std::vector<LabelInterval>& phones, double framesPerSecond, int frames);

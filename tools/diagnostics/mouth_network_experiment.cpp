@@ -9,6 +9,11 @@
 //       [--closure-weight 1] [--closed 0.04] [--dropout 0.2] [--noise 0.1] [--rate 1e-3] [--decay 1e-4]
 //       [--warps 0.9,1.1] [--balance 0.5] [--arabic SHARE] [--threads 2] [--groups NAME_GROUP.csv]
 //       [--hold 2] (the articulation's minimum hold, frames)
+//       [--grid-phones DIR]   (GRID's phones aligned to the sound: tools/align_phones.py --grid)
+//       [--aligned DIR,DIR]   (read corpora aligned by tools/align_phones.py, trained on in every fold)
+//       [--aligned-test DIR]  (a read corpus never trained on: judged by fold "none", adults and children apart)
+//       [--network FILE]      (judge this model file instead of training one in each fold)
+//       [--peer DIR]          (a peer's Oculus weights, DIR/NAME.csv per recording, scored on the same frames)
 //       [--arabic-faps 0] [--festival DIR]   (tools/festival_speech.py's phone-aligned synthetic voices, trained on in every fold)
 //       [--arabic-folds N [--speaker-groups 60] [--families 2]]   (the N largest anchor groups held out in turn,
 //       each with its family kept out of training: eval/speaker_groups.h; --groups-out FILE writes name,speaker,family)
@@ -34,6 +39,7 @@
 #include "core/parallel_for.h"
 #include "eval/mouth_scores.h"
 #include "eval/network_corpus.h"
+#include "eval/phone_labels.h"
 #include "eval/speaker_groups.h"
 #include "eval/talking_corpus.h"
 #include "eval/viseme_corpus.h"
@@ -70,6 +76,29 @@ double correlation(const Eigen::RowVectorXd& a, const Eigen::RowVectorXd& b) {
 
 constexpr double kScales[] = {0.3, 0.5, 0.75, 1.0};
 
+// A peer's Oculus weights (time_s and 15 weights a row, 30 fps) as one mouth class a frame: the first of the 17
+// classes that shows the row's largest viseme. Empty if the file is not there.
+std::vector<int> readPeerClasses(const std::filesystem::path& csv) {
+  std::vector<int> classes;
+  std::ifstream in(csv);
+  if (!in) return classes;
+  std::vector<int> classOf(face::kNumOculusVisemes, -1);
+  for (int c = face::kNumMouthClasses - 1; c >= 0; --c) classOf[static_cast<std::size_t>(face::oculusVisemeOf(c))] = c;
+  std::string line;
+  std::getline(in, line);
+  while (std::getline(in, line)) {
+    std::stringstream fields(line);
+    std::string cell;
+    std::getline(fields, cell, ',');
+    int best = 0;
+    double bestWeight = -1.0;
+    for (int v = 0; v < face::kNumOculusVisemes && std::getline(fields, cell, ','); ++v)
+      if (const double w = std::stod(cell); w > bestWeight) bestWeight = w, best = v;
+    classes.push_back(classOf[static_cast<std::size_t>(best)]);
+  }
+  return classes;
+}
+
 struct Measures {
   eval::VisemeScores visemes;
   std::vector<double> jawEstimate, jawTruth, openEstimate, openTruth, openFace, widthFace, widthTruth;
@@ -87,12 +116,23 @@ struct Measures {
   // Decoded by the class HMM (animation/articulation.h networkVisemes), one per evidence scale.
   std::vector<eval::VisemeScores> hybrid = std::vector<eval::VisemeScores>(4);
   std::vector<std::vector<int>> hybridAll = std::vector<std::vector<int>>(4);
+  // A peer's visemes on the same frames (--peer DIR: Oculus weights as `animate --format oculus` writes them,
+  // DIR/NAME.csv per recording; tools/headaudio_visemes.mjs writes HeadAudio's), each frame its largest weight.
+  eval::VisemeScores peer;
+  std::vector<int> peerTruth, peerAll;
   // As live decodes: the network from the training speech's mean, the classes by the stream (lag 0).
   eval::VisemeScores streamed;
   std::vector<int> streamedAll;
   // The mouth model's FAPs with the lips articulated on the decoded classes (the shipped scale): jaw, opening,
   // width; and on the phones' /p b m/ frames, how often the face's lips are shut (opening < the closed share).
   std::vector<double> fusedJaw, fusedOpen, fusedWidth, closedOnlyWidth;
+  // The phones' mouth: the classes' tracked shapes weighted by the network's posteriors (alone, and averaged
+  // with the mouth model's FAPs at shares 0.25, 0.5, 0.75 of the phones'), then articulated as the product does.
+  static constexpr double kPhoneShares[] = {1.0, 0.25, 0.5, 0.75};
+  std::vector<std::vector<double>> phoneJaw = std::vector<std::vector<double>>(4),
+                                   phoneOpen = std::vector<std::vector<double>>(4),
+                                   phoneWidth = std::vector<std::vector<double>>(4);
+  std::vector<int> ppFacePhone = std::vector<int>(4, 0);
   int ppFaceFrames = 0, ppFaceShutHmm = 0, ppFaceShutFused = 0, faceShutHmm = 0, faceShutFused = 0, faceFrames = 0;
   void pool(const Measures& other) {
     visemes.add(other.truthAll, other.decodedAll);
@@ -108,8 +148,12 @@ struct Measures {
       hybridAll[k].insert(hybridAll[k].end(), other.hybridAll[k].begin(), other.hybridAll[k].end());
     }
     streamed.add(other.truthAll, other.streamedAll);
+    peer.add(other.peerTruth, other.peerAll);
+    peerTruth.insert(peerTruth.end(), other.peerTruth.begin(), other.peerTruth.end());
+    peerAll.insert(peerAll.end(), other.peerAll.begin(), other.peerAll.end());
     streamedAll.insert(streamedAll.end(), other.streamedAll.begin(), other.streamedAll.end());
     ppFaceFrames += other.ppFaceFrames, ppFaceShutHmm += other.ppFaceShutHmm, ppFaceShutFused += other.ppFaceShutFused;
+    for (std::size_t k = 0; k < 4; ++k) ppFacePhone[k] += other.ppFacePhone[k];
     faceShutHmm += other.faceShutHmm, faceShutFused += other.faceShutFused, faceFrames += other.faceFrames;
   }
   std::string format(const std::string& name) const {
@@ -179,6 +223,29 @@ struct Measures {
           100.0 * streamed.rhubarbAccuracy(), 100.0 * h(pp, pp) / std::max(h.row(pp).sum(), 1),
           100.0 * h(pp, pp) / std::max(h.col(pp).sum(), 1),
           100.0 * (h(oh, oh) + h(oh, ou) + h(ou, oh) + h(ou, ou)) / std::max(roundTruth, 1.0));
+      text += cell;
+    }
+    if (!phoneJaw[0].empty()) {
+      for (std::size_t k = 0; k < 4; ++k) {
+        char cell[320];
+        std::snprintf(cell, sizeof cell,
+                      "      phones' mouth, share %.2f (articulated): jaw rho %6.3f spr %5.2f open rho %6.3f width rho "
+                      "%6.3f | face shut on /p b m/ %5.1f%%\n",
+                      kPhoneShares[k], rho(phoneJaw[k], jawTruth), spread(phoneJaw[k], jawTruth),
+                      rho(phoneOpen[k], openTruth), rho(phoneWidth[k], widthTruth),
+                      100.0 * ppFacePhone[k] / std::max(ppFaceFrames, 1));
+        text += cell;
+      }
+    }
+    if (peer.oculusConfusion().sum() > 0) {
+      const Eigen::MatrixXi& h = peer.oculusConfusion();
+      const double peerRound = h.row(oh).sum() + h.row(ou).sum();
+      char cell[256];
+      std::snprintf(cell, sizeof cell,
+                    "      peer (--peer, %d frames): oculus %5.1f%% PP R %5.1f%% P %5.1f%% round R %5.1f%%\n",
+                    static_cast<int>(h.sum()), 100.0 * peer.oculusAccuracy(),
+                    100.0 * h(pp, pp) / std::max(h.row(pp).sum(), 1), 100.0 * h(pp, pp) / std::max(h.col(pp).sum(), 1),
+                    100.0 * (h(oh, oh) + h(oh, ou) + h(ou, oh) + h(ou, ou)) / std::max(peerRound, 1.0));
       text += cell;
     }
     if (!fusedJaw.empty()) {
@@ -252,7 +319,48 @@ int main(int argc, char** argv) {
   corpusOptions.trackFolder = std::filesystem::path(home) / ".cache/talkinghead/tracks";
   corpusOptions.synchronise = true;
   auto started = std::chrono::steady_clock::now();
-  const eval::TalkingCorpus talking = eval::loadTalkingCorpus(folders, face, corpusOptions);
+  eval::TalkingCorpus talking = eval::loadTalkingCorpus(folders, face, corpusOptions);
+  if (!arg("grid-phones", "").empty()) {
+    // The closures' timing on GRID's video: how often the tracked lips are shut on the frames a /p b m/ covers,
+    // and where within +-133 ms of the phone's start they are closest, with the phones placed in each word by
+    // typical durations and with the phones aligned to the sound.
+    const auto report = [&](const char* what) {
+      int frames = 0, shut = 0;
+      std::vector<int> lags;
+      for (const eval::TalkingClip& clip : talking.clips) {
+        if (clip.speaker != "grid-s1" || clip.labels.empty()) continue;
+        const std::vector<eval::LabelInterval> phones =
+            clip.labelsAreWords ? eval::gridPhones(clip.labels) : clip.labels;
+        const Eigen::MatrixXd& lips = clip.clip.lipShape;
+        const int n = static_cast<int>(lips.cols());
+        const std::vector<int> classes = eval::mouthClassesAt(phones, 30.0, n);
+        for (int t = 0; t < n; ++t)
+          if (classes[static_cast<std::size_t>(t)] == face::kPp) ++frames, shut += lips(0, t) < 0.04;
+        for (const eval::LabelInterval& p : phones) {
+          if (p.label != "P" && p.label != "B" && p.label != "M") continue;
+          const int start = static_cast<int>(std::lround(p.startSeconds * 30.0));
+          int best = -99;
+          for (int k = -4; k <= 4; ++k)
+            if (start + k >= 0 && start + k < n && (best == -99 || lips(0, start + k) < lips(0, start + best)))
+              best = k;
+          if (best != -99) lags.push_back(best);
+        }
+      }
+      std::sort(lags.begin(), lags.end());
+      int near = 0;
+      for (const int k : lags) near += k >= 0 && k <= 2;
+      std::fprintf(stderr,
+                   "GRID s1 %s: the tracked lips shut on %.1f%% of %d /p b m/ frames; closest %+.0f ms after the "
+                   "phone's start (median of %zu), 0-67 ms after it in %.1f%%\n",
+                   what, 100.0 * shut / std::max(frames, 1), frames,
+                   lags.empty() ? 0.0 : 1000.0 / 30.0 * lags[lags.size() / 2], lags.size(),
+                   100.0 * near / static_cast<double>(std::max<std::size_t>(lags.size(), 1)));
+    };
+    report("phones placed by typical durations");
+    std::fprintf(stderr, "GRID clips with aligned phones: %d\n",
+                 eval::useAlignedPhones(talking, arg("grid-phones", "")));
+    report("phones aligned to the sound");
+  }
   std::vector<double> warps;
   {
     std::stringstream list(arg("warps", ""));
@@ -262,6 +370,28 @@ int main(int argc, char** argv) {
   for (eval::CorpusRecording& r : eval::phoneAlignedSpeech(warps)) corpus.push_back(std::move(r));
   if (!arg("festival", "").empty())
     for (eval::CorpusRecording& r : eval::synthesisedSpeech(arg("festival", ""), warps)) corpus.push_back(std::move(r));
+  {
+    std::stringstream list(arg("aligned", ""));
+    for (std::string folder; std::getline(list, folder, ',');)
+      for (eval::CorpusRecording& r : eval::alignedSpeech(folder, "aligned", warps)) corpus.push_back(std::move(r));
+  }
+  // A held-out read corpus (speechocean762's test speakers, tools/align_phones.py): never trained on, judged
+  // by the fold that holds out no one ("none") or else the first, adults and children apart (speakers.csv).
+  std::map<std::string, std::string> testGroupOf;
+  if (!arg("aligned-test", "").empty()) {
+    const std::filesystem::path folder = arg("aligned-test", "");
+    std::ifstream speakers(folder / "speakers.csv");
+    std::string line;
+    std::getline(speakers, line);
+    while (std::getline(speakers, line)) {
+      std::stringstream fields(line);
+      std::string speaker, age;
+      std::getline(fields, speaker, ',');
+      std::getline(fields, age, ',');
+      testGroupOf[speaker] = !age.empty() && std::stoi(age) < 18 ? "unseen children" : "unseen adults";
+    }
+    for (eval::CorpusRecording& r : eval::alignedSpeech(folder, "aligned-test")) corpus.push_back(std::move(r));
+  }
   // The news anchors grouped by face, voice and look (eval/speaker_groups.h): speaker groups nested in families.
   std::map<std::string, std::string> familyOf;  // speaker -> family
   const int arabicFolds = std::stoi(arg("arabic-folds", "0"));
@@ -320,6 +450,7 @@ int main(int argc, char** argv) {
       r.recording.speaker = "arabic-" + (found == groups.end() ? std::string("news") : found->second);
     }
     if (r.set == "grid/samples") role[i] = "grid-samples";
+    if (r.set == "aligned-test") role[i] = "aligned-test";
     if (gridHeld[i]) role[i] = "grid-held-out";
   }
   std::fprintf(stderr, "corpus: %zu recordings in %.0f s\n", corpus.size(),
@@ -358,6 +489,8 @@ int main(int argc, char** argv) {
   for (Eigen::Index i = 0; i < gradient.size(); ++i)
     std::fprintf(stderr, " %d:%.2e", talking.faps[static_cast<std::size_t>(i)], gradient[i]);
   std::fprintf(stderr, "\n");
+  const std::string judgesOthers =
+      std::find(folds.begin(), folds.end(), "none") != folds.end() ? std::string("none") : folds.front();
   std::vector<std::string> outputs(folds.size());
   std::vector<Measures> heldOut(folds.size());
   parallelFor(folds.size(), std::stoi(arg("threads", "2")), [&](std::size_t f) {
@@ -391,11 +524,18 @@ int main(int argc, char** argv) {
             training.pop_back();
         }
       }
-      if (held == "scott" && role[i] != "train") tests.push_back(&r);  // the scott fold also judges GRID
+      if (held == judgesOthers && role[i] != "train") tests.push_back(&r);  // GRID's held out, the unseen sets
     }
     const auto t0 = std::chrono::steady_clock::now();
-    animation::MouthNetworkTraining trained = animation::trainMouthNetwork(training, talking.faps, options);
-    trained.model.openingGradient = gradient;
+    // --network FILE: a model file judged instead of one trained here (the shipped one, on the sets it never heard).
+    animation::MouthNetworkTraining trained;
+    if (arg("network", "").empty()) {
+      trained = animation::trainMouthNetwork(training, talking.faps, options);
+      trained.model.openingGradient = gradient;
+    } else {
+      trained.model = animation::loadMouthNetwork(arg("network", ""));
+      trained.report.trainingLoss.push_back(0.0);
+    }
     // The shipped mouth model's recipe (HMM inversion, `train mouth`) and the level baseline on the same clips.
     std::optional<animation::MouthModel> hmm;
     std::optional<eval::LevelBaseline> level;
@@ -413,10 +553,11 @@ int main(int argc, char** argv) {
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     std::map<std::string, Measures> measures;
     for (const eval::CorpusRecording* r : tests) {
+      const std::string& rowRole = role[static_cast<std::size_t>(r - corpus.data())];
       const std::string key = r->recording.speaker == held ? held
-                              : role[static_cast<std::size_t>(r - corpus.data())] == "grid-held-out"
-                                  ? "grid-s1 held-out"
-                                  : "grid-samples";
+                              : rowRole == "grid-held-out" ? "grid-s1 held-out"
+                              : rowRole == "aligned-test"  ? testGroupOf[r->recording.speaker]
+                                                           : "grid-samples";
       Measures& m = measures[key];
       const animation::MouthNetworkOutput out =
           animation::runMouthNetwork(trained.model, r->recording.subframes, &r->recording.startMean);
@@ -468,6 +609,16 @@ int main(int argc, char** argv) {
           m.streamed.add(truth, path);
           m.streamedAll.insert(m.streamedAll.end(), path.begin(), path.end());
         }
+        if (!arg("peer", "").empty()) {
+          std::vector<int> shownByPeer =
+              readPeerClasses(std::filesystem::path(arg("peer", "")) / (r->recording.name + ".csv"));
+          if (!shownByPeer.empty()) {
+            shownByPeer.resize(truth.size(), shownByPeer.back());
+            m.peer.add(truth, shownByPeer);
+            m.peerTruth.insert(m.peerTruth.end(), truth.begin(), truth.end());
+            m.peerAll.insert(m.peerAll.end(), shownByPeer.begin(), shownByPeer.end());
+          }
+        }
         m.truthAll.insert(m.truthAll.end(), truth.begin(), truth.end());
         m.decodedAll.insert(m.decodedAll.end(), decoded.begin(), decoded.end());
         for (int t = 3; t + 3 < frames; ++t) {
@@ -499,6 +650,20 @@ int main(int argc, char** argv) {
           animation::articulateLips(trained.model, shown, talking.faps, closedFaps, closuresAlone);
           const Eigen::MatrixXd closedShape = shapes.of(closedFaps, talking.faps);
           const Eigen::MatrixXd levelShape = shapes.of(levelFaps, talking.faps);
+          // The phones' mouth: the basis's mean plus the posterior-weighted class shapes.
+          const Eigen::MatrixXd phoneFaps =
+              (trained.model.classShapes * out.classes).colwise() + trained.model.basis.mean();
+          std::vector<Eigen::MatrixXd> phoneShape;
+          for (const double share : Measures::kPhoneShares) {
+            Eigen::MatrixXd mixed = hmmFaps;
+            const Eigen::Index common = std::min(mixed.cols(), phoneFaps.cols());
+            mixed.leftCols(common) = share * phoneFaps.leftCols(common) + (1.0 - share) * hmmFaps.leftCols(common);
+            const auto jawAt = std::find(talking.faps.begin(), talking.faps.end(), 3) - talking.faps.begin();
+            mixed.row(jawAt) = mixed.row(jawAt).cwiseMax(0.0);
+            animation::articulateLips(trained.model, shown, talking.faps, mixed, articulation);
+            phoneShape.push_back(shapes.of(mixed, talking.faps));
+            phoneShape.push_back(mixed.row(jawAt));
+          }
           const auto jawRow = std::find(talking.faps.begin(), talking.faps.end(), 3) - talking.faps.begin();
           // The same frames as the network's below (the HMM's last frame held if it has fewer).
           const Eigen::Index n = std::min<Eigen::Index>(frames, r->recording.faps.cols());
@@ -520,6 +685,15 @@ int main(int argc, char** argv) {
               ++m.ppFaceFrames;
               m.ppFaceShutHmm += shutHmm;
               m.ppFaceShutFused += shutFused;
+            }
+            for (std::size_t k = 0; k < 4; ++k) {
+              const Eigen::MatrixXd& shape = phoneShape[2 * k];
+              const Eigen::Index v = std::min<Eigen::Index>(t, shape.cols() - 1);
+              m.phoneJaw[k].push_back(phoneShape[2 * k + 1](0, v));
+              m.phoneOpen[k].push_back(shape(0, v));
+              m.phoneWidth[k].push_back(shape(1, v));
+              if (!r->recording.classes.empty() && r->recording.classes[static_cast<std::size_t>(t)] == face::kPp)
+                m.ppFacePhone[k] += shape(0, v) < options.closedOpening;
             }
             m.levelJaw.push_back(levelFaps(jawRow, u));
             m.levelOpen.push_back(levelShape(0, u));
