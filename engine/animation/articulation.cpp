@@ -63,7 +63,7 @@ void move(const LipGroup& group, double opening, Eigen::MatrixXd& faps, Eigen::I
 void ArticulationOptions::check() const {
   if (!(evidenceScale > 0.0 && evidenceScale <= 1.0)) throw Error("articulation: the evidence scale must be in (0, 1]");
   if (minHoldFrames < 1 || minHoldFrames > 15) throw Error("articulation: the minimum hold must be 1..15 frames");
-  for (const double share : {jawShare, lowerLipShare, ffShare, shapeShare})
+  for (const double share : {jawShare, lowerLipShare, ffShare, shapeShare, phoneShare})
     if (!(share >= 0.0 && share <= 1.0)) throw Error("articulation: shares must be in [0, 1]");
 }
 
@@ -75,6 +75,31 @@ face::VisemeTrack networkVisemes(const MouthNetwork& model, const Eigen::MatrixX
       options.evidenceScale *
       (classes.array().max(1e-12).log().colwise() - model.classPriors.array().max(1e-12).log()).matrix();
   return decodeClassEvidence(classHmm(model.sequence, options.minHoldFrames), options.minHoldFrames, evidence);
+}
+
+void blendPhoneMouth(const MouthNetwork& model, const Eigen::MatrixXd& probabilities,
+                     const std::vector<int>& fapNumbers, Eigen::MatrixXd& faps, const ArticulationOptions& options) {
+  options.check();
+  if (options.phoneShare == 0.0) return;
+  if (probabilities.rows() != face::kNumMouthClasses)
+    throw Error("articulation: the class probabilities must have 17 rows");
+  if (model.classShapes.cols() != face::kNumMouthClasses ||
+      model.classShapes.rows() != static_cast<Eigen::Index>(model.visualFaps.size()) ||
+      model.basis.mean().size() != model.classShapes.rows())
+    throw Error("articulation: the model has no class shapes to make the phones' mouth from");
+  if (faps.rows() != static_cast<Eigen::Index>(fapNumbers.size()))
+    throw Error("articulation: one row of FAPs per FAP number");
+  const Eigen::Index frames = std::min(faps.cols(), probabilities.cols());
+  const Eigen::MatrixXd shapes = (model.classShapes * probabilities.leftCols(frames)).colwise() + model.basis.mean();
+  for (std::size_t i = 0; i < fapNumbers.size(); ++i) {
+    const auto found = std::find(model.visualFaps.begin(), model.visualFaps.end(), fapNumbers[i]);
+    if (found == model.visualFaps.end()) continue;
+    const Eigen::Index row = static_cast<Eigen::Index>(i);
+    const Eigen::Index shapeRow = found - model.visualFaps.begin();
+    faps.row(row).head(frames) =
+        (1.0 - options.phoneShare) * faps.row(row).head(frames) + options.phoneShare * shapes.row(shapeRow);
+    if (fapNumbers[i] == kJaw) faps.row(row).head(frames) = faps.row(row).head(frames).cwiseMax(0.0);
+  }
 }
 
 Eigen::RowVectorXd lipOpeningOf(const MouthNetwork& model, const std::vector<int>& fapNumbers,

@@ -5,7 +5,8 @@
 //
 //   const th::animation::MouthNetworkOutput heard = th::animation::runMouthNetwork(network, subframes, &mean);
 //   th::face::VisemeTrack visemes = th::animation::networkVisemes(network, heard.classes, {});
-//   th::animation::articulateLips(network, visemes.classes, fapNumbers, faps, {});   // faps: the mouth model's
+//   th::animation::blendPhoneMouth(network, visemes.posteriors, fapNumbers, faps, {});  // faps: the mouth model's
+//   th::animation::articulateLips(network, visemes.classes, fapNumbers, faps, {});
 //
 // Why the two models: measured on speakers neither heard (docs/mouth.md), the network tells the sounds apart
 // better (the mouth classes, /p b m/, rounding), the inversion follows the jaw's opening and the mouth's width
@@ -42,12 +43,25 @@ struct ArticulationOptions {
   double lowerLipShare = 0.6;  // of the lips' part, how much the lower lip makes
   double ffShare = 0.7;        // of the opening, how much the lower lip closes for F and V
   double shapeShare = 1.0;     // how far the corners go to a rounded or spread class's typical shape
-  void check() const;          // throws th::Error naming the bad option
+  // How much of the jaw and lips the heard sounds make (blendPhoneMouth): 0 keeps the mouth model's FAPs, 1 takes
+  // the classes' shapes alone. Chosen on speakers neither model heard (docs/mouth.md).
+  double phoneShare = 0.0;
+  void check() const;  // throws th::Error naming the bad option
 };
 
 // classes: the network's P(class) (17 x T, MouthNetworkOutput::classes).
 face::VisemeTrack networkVisemes(const MouthNetwork& model, const Eigen::MatrixXd& classes,
                                  const ArticulationOptions& options);
+
+// The mouth the heard sounds make, blended into faps: each frame the classes' typical tracked shapes
+// (MouthNetwork::classShapes, about the training FAPs' mean) weighted by the classes' probabilities — which
+// overlap from frame to frame as a sound's dominance spreads over its neighbours in Cohen & Massaro's
+// coarticulation — and mixed with faps as (1 - phoneShare) faps + phoneShare shapes. probabilities: 17 x T (a
+// decoded track's posteriors, face::VisemeTrack); one column per column of faps (fewer leave the rest). Rows of
+// faps are fapNumbers; FAPs the model has no shape for are left; the jaw (FAP 3) stays >= 0. Throws th::Error if
+// the model has no class shapes.
+void blendPhoneMouth(const MouthNetwork& model, const Eigen::MatrixXd& probabilities,
+                     const std::vector<int>& fapNumbers, Eigen::MatrixXd& faps, const ArticulationOptions& options);
 
 // The FAPs' inner-lip opening relative to rest (> 0: apart), by the model's opening gradient, for each frame.
 // faps: rows are fapNumbers (FAPs the gradient does not know count 0). Throws th::Error if the model has no

@@ -205,8 +205,10 @@ bool LiveDecoder::next(AnimationFrame& frame) {
   if (mouthStage_) {
     mouthStage_->getFrame(nextIndex_, mouthFrame_);
     Eigen::MatrixXd faps = animation::mouthFapsOf(*mouth_, mouthFrame_.components);
-    if (networkStage_ && visemesShown == frame.index)
+    if (networkStage_ && visemesShown == frame.index) {
+      animation::blendPhoneMouth(*articulation_, visemeFrame_.probabilities, mouthFaps_, faps, options_.articulation);
       animation::articulateLips(*articulation_, {frame.mouthClass}, mouthFaps_, faps, options_.articulation);
+    }
     frame.energy = mouthExtractor_.getEnergy(nextIndex_);
     frame.levelDb = mouthExtractor_.getLevelDb(nextIndex_);
     const Eigen::VectorXd& posterior = mouthFrame_.posterior;

@@ -79,8 +79,10 @@ face::FapTrack animate(std::span<const float> samples16k, const animation::HeadM
     const Eigen::MatrixXd components = animation::synthesiseMouth(*mouth, heard.speech, options.mouth);
     Eigen::MatrixXd faps = animation::mouthFapsOf(*mouth, components);
     const std::vector<int> numbers = animation::mouthFapNumbers(*mouth);
-    if (articulation != nullptr)
+    if (articulation != nullptr) {
+      animation::blendPhoneMouth(*articulation, articulated.posteriors, numbers, faps, options.articulation);
       animation::articulateLips(*articulation, articulated.classes, numbers, faps, options.articulation);
+    }
     add(numbers, faps);
   }
 

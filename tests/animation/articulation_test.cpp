@@ -118,6 +118,48 @@ TEST(Articulation, RoundsOhAndOuAndSpreadsEAndIhToTheirTypicalShape) {
   EXPECT_EQ(faps(rowOf(3), 0), before(rowOf(3), 0));  // only the corners
 }
 
+TEST(Articulation, ThePhonesMouthMixesEachClasssShapeByItsProbability) {
+  MouthNetwork model = modelWithGradient();
+  Eigen::MatrixXd tracked = Eigen::MatrixXd::Random(static_cast<Eigen::Index>(kFaps.size()), 40) * 50.0;
+  tracked.row(rowOf(3)).array() += 200.0;
+  model.basis = VisualBasis::fit(tracked, {.components = 2, .standardise = false});
+  const Eigen::VectorXd mean = model.basis.mean();
+  model.classShapes = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(kFaps.size()), face::kNumMouthClasses);
+  model.classShapes(rowOf(3), face::kAa) = 150.0;  // open vowels: the jaw down
+  model.classShapes(rowOf(3), face::kPp) = -1e4;   // far past rest: clamped at 0
+  model.classShapes(rowOf(6), face::kOu) = -30.0;
+  Eigen::MatrixXd probabilities = Eigen::MatrixXd::Zero(face::kNumMouthClasses, 3);
+  probabilities(face::kAa, 0) = 1.0;
+  probabilities(face::kAa, 1) = 0.5, probabilities(face::kOu, 1) = 0.5;
+  probabilities(face::kPp, 2) = 1.0;
+  const Eigen::MatrixXd inversion = openMouth(4);  // one frame more than the probabilities: left as it is
+
+  Eigen::MatrixXd faps = inversion;
+  blendPhoneMouth(model, probabilities, kFaps, faps, {});  // share 0 by default: the mouth model's alone
+  EXPECT_TRUE(faps.isApprox(inversion));
+
+  faps = inversion;
+  blendPhoneMouth(model, probabilities, kFaps, faps, {.phoneShare = 1.0});
+  EXPECT_NEAR(faps(rowOf(3), 0), mean[rowOf(3)] + 150.0, 1e-9);
+  EXPECT_NEAR(faps(rowOf(3), 1), mean[rowOf(3)] + 75.0, 1e-9);
+  EXPECT_NEAR(faps(rowOf(6), 1), mean[rowOf(6)] - 15.0, 1e-9);
+  EXPECT_EQ(faps(rowOf(3), 2), 0.0);
+  EXPECT_TRUE(faps.col(3).isApprox(inversion.col(3)));
+
+  faps = inversion;
+  blendPhoneMouth(model, probabilities, kFaps, faps, {.phoneShare = 0.25});
+  EXPECT_NEAR(faps(rowOf(3), 0), 0.75 * 300.0 + 0.25 * (mean[rowOf(3)] + 150.0), 1e-9);
+
+  // FAPs the model has no shape for stay; a model without shapes cannot make the mouth.
+  Eigen::MatrixXd withOther = Eigen::MatrixXd::Constant(2, 3, 7.0);
+  blendPhoneMouth(model, probabilities, {3, 19}, withOther, {.phoneShare = 1.0});
+  EXPECT_EQ(withOther(1, 0), 7.0);
+  model.classShapes.resize(0, 0);
+  faps = inversion;
+  EXPECT_THROW(blendPhoneMouth(model, probabilities, kFaps, faps, {.phoneShare = 0.5}), Error);
+  EXPECT_THROW(ArticulationOptions{.phoneShare = -0.1}.check(), Error);
+}
+
 TEST(Articulation, NeedsTheOpeningGradientAndLipFaps) {
   MouthNetwork model = modelWithGradient();
   Eigen::MatrixXd jawOnly = Eigen::MatrixXd::Constant(1, 2, 100.0);

@@ -126,8 +126,9 @@ struct Measures {
   // The mouth model's FAPs with the lips articulated on the decoded classes (the shipped scale): jaw, opening,
   // width; and on the phones' /p b m/ frames, how often the face's lips are shut (opening < the closed share).
   std::vector<double> fusedJaw, fusedOpen, fusedWidth, closedOnlyWidth;
-  // The phones' mouth: the classes' tracked shapes weighted by the network's posteriors (alone, and averaged
-  // with the mouth model's FAPs at shares 0.25, 0.5, 0.75 of the phones'), then articulated as the product does.
+  // The phones' mouth (animation::blendPhoneMouth: the classes' tracked shapes weighted by the decoded classes'
+  // posteriors; alone, and mixed with the mouth model's FAPs at shares 0.25, 0.5, 0.75), articulated as the
+  // product does.
   static constexpr double kPhoneShares[] = {1.0, 0.25, 0.5, 0.75};
   std::vector<std::vector<double>> phoneJaw = std::vector<std::vector<double>>(4),
                                    phoneOpen = std::vector<std::vector<double>>(4),
@@ -640,7 +641,8 @@ int main(int argc, char** argv) {
           // The lips articulated on the decoded classes, as the product does (its evidence scale).
           animation::ArticulationOptions articulation;
           articulation.minHoldFrames = hold;
-          const std::vector<int> shown = animation::networkVisemes(trained.model, out.classes, articulation).classes;
+          const face::VisemeTrack decoded = animation::networkVisemes(trained.model, out.classes, articulation);
+          const std::vector<int>& shown = decoded.classes;
           Eigen::MatrixXd fusedFaps = hmmFaps;
           animation::articulateLips(trained.model, shown, talking.faps, fusedFaps, articulation);
           const Eigen::MatrixXd fusedShape = shapes.of(fusedFaps, talking.faps);
@@ -650,17 +652,15 @@ int main(int argc, char** argv) {
           animation::articulateLips(trained.model, shown, talking.faps, closedFaps, closuresAlone);
           const Eigen::MatrixXd closedShape = shapes.of(closedFaps, talking.faps);
           const Eigen::MatrixXd levelShape = shapes.of(levelFaps, talking.faps);
-          // The phones' mouth: the basis's mean plus the posterior-weighted class shapes.
-          const Eigen::MatrixXd phoneFaps =
-              (trained.model.classShapes * out.classes).colwise() + trained.model.basis.mean();
+          // The phones' mouth (animation::blendPhoneMouth, on the decoded classes' posteriors) at each share.
           std::vector<Eigen::MatrixXd> phoneShape;
           for (const double share : Measures::kPhoneShares) {
             Eigen::MatrixXd mixed = hmmFaps;
-            const Eigen::Index common = std::min(mixed.cols(), phoneFaps.cols());
-            mixed.leftCols(common) = share * phoneFaps.leftCols(common) + (1.0 - share) * hmmFaps.leftCols(common);
+            animation::ArticulationOptions phones = articulation;
+            phones.phoneShare = share;
+            animation::blendPhoneMouth(trained.model, decoded.posteriors, talking.faps, mixed, phones);
+            animation::articulateLips(trained.model, shown, talking.faps, mixed, phones);
             const auto jawAt = std::find(talking.faps.begin(), talking.faps.end(), 3) - talking.faps.begin();
-            mixed.row(jawAt) = mixed.row(jawAt).cwiseMax(0.0);
-            animation::articulateLips(trained.model, shown, talking.faps, mixed, articulation);
             phoneShape.push_back(shapes.of(mixed, talking.faps));
             phoneShape.push_back(mixed.row(jawAt));
           }
