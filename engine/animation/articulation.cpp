@@ -63,7 +63,7 @@ void move(const LipGroup& group, double opening, Eigen::MatrixXd& faps, Eigen::I
 void ArticulationOptions::check() const {
   if (!(evidenceScale > 0.0 && evidenceScale <= 1.0)) throw Error("articulation: the evidence scale must be in (0, 1]");
   if (minHoldFrames < 1 || minHoldFrames > 15) throw Error("articulation: the minimum hold must be 1..15 frames");
-  for (const double share : {jawShare, lowerLipShare, ffShare, shapeShare, phoneShare})
+  for (const double share : {jawShare, lowerLipShare, ffShare, shapeShare, phoneJawShare, phoneLipShare})
     if (!(share >= 0.0 && share <= 1.0)) throw Error("articulation: shares must be in [0, 1]");
 }
 
@@ -80,7 +80,7 @@ face::VisemeTrack networkVisemes(const MouthNetwork& model, const Eigen::MatrixX
 void blendPhoneMouth(const MouthNetwork& model, const Eigen::MatrixXd& probabilities,
                      const std::vector<int>& fapNumbers, Eigen::MatrixXd& faps, const ArticulationOptions& options) {
   options.check();
-  if (options.phoneShare == 0.0) return;
+  if (options.phoneJawShare == 0.0 && options.phoneLipShare == 0.0) return;
   if (probabilities.rows() != face::kNumMouthClasses)
     throw Error("articulation: the class probabilities must have 17 rows");
   if (model.classShapes.cols() != face::kNumMouthClasses ||
@@ -96,8 +96,8 @@ void blendPhoneMouth(const MouthNetwork& model, const Eigen::MatrixXd& probabili
     if (found == model.visualFaps.end()) continue;
     const Eigen::Index row = static_cast<Eigen::Index>(i);
     const Eigen::Index shapeRow = found - model.visualFaps.begin();
-    faps.row(row).head(frames) =
-        (1.0 - options.phoneShare) * faps.row(row).head(frames) + options.phoneShare * shapes.row(shapeRow);
+    const double share = fapNumbers[i] == kJaw ? options.phoneJawShare : options.phoneLipShare;
+    faps.row(row).head(frames) = (1.0 - share) * faps.row(row).head(frames) + share * shapes.row(shapeRow);
     if (fapNumbers[i] == kJaw) faps.row(row).head(frames) = faps.row(row).head(frames).cwiseMax(0.0);
   }
 }

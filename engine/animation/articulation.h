@@ -43,9 +43,10 @@ struct ArticulationOptions {
   double lowerLipShare = 0.6;  // of the lips' part, how much the lower lip makes
   double ffShare = 0.7;        // of the opening, how much the lower lip closes for F and V
   double shapeShare = 1.0;     // how far the corners go to a rounded or spread class's typical shape
-  // How much of the jaw and lips the heard sounds make (blendPhoneMouth): 0 keeps the mouth model's FAPs, 1 takes
-  // the classes' shapes alone. Chosen on speakers neither model heard (docs/mouth.md).
-  double phoneShare = 0.0;
+  // How much of the jaw (FAP 3) and of the lips (the other FAPs) the heard sounds make (blendPhoneMouth): 0 keeps
+  // the mouth model's, 1 takes the classes' shapes alone. Chosen on speakers neither model heard (docs/mouth.md).
+  double phoneJawShare = 0.0;
+  double phoneLipShare = 0.0;
   void check() const;  // throws th::Error naming the bad option
 };
 
@@ -56,7 +57,8 @@ face::VisemeTrack networkVisemes(const MouthNetwork& model, const Eigen::MatrixX
 // The mouth the heard sounds make, blended into faps: each frame the classes' typical tracked shapes
 // (MouthNetwork::classShapes, about the training FAPs' mean) weighted by the classes' probabilities — which
 // overlap from frame to frame as a sound's dominance spreads over its neighbours in Cohen & Massaro's
-// coarticulation — and mixed with faps as (1 - phoneShare) faps + phoneShare shapes. probabilities: 17 x T (a
+// coarticulation — and mixed with faps as (1 - share) faps + share shapes, the jaw's share phoneJawShare and the
+// lips' phoneLipShare. probabilities: 17 x T (a
 // decoded track's posteriors, face::VisemeTrack); one column per column of faps (fewer leave the rest). Rows of
 // faps are fapNumbers; FAPs the model has no shape for are left; the jaw (FAP 3) stays >= 0. Throws th::Error if
 // the model has no class shapes.

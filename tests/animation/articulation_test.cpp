@@ -139,7 +139,7 @@ TEST(Articulation, ThePhonesMouthMixesEachClasssShapeByItsProbability) {
   EXPECT_TRUE(faps.isApprox(inversion));
 
   faps = inversion;
-  blendPhoneMouth(model, probabilities, kFaps, faps, {.phoneShare = 1.0});
+  blendPhoneMouth(model, probabilities, kFaps, faps, {.phoneJawShare = 1.0, .phoneLipShare = 1.0});
   EXPECT_NEAR(faps(rowOf(3), 0), mean[rowOf(3)] + 150.0, 1e-9);
   EXPECT_NEAR(faps(rowOf(3), 1), mean[rowOf(3)] + 75.0, 1e-9);
   EXPECT_NEAR(faps(rowOf(6), 1), mean[rowOf(6)] - 15.0, 1e-9);
@@ -147,17 +147,18 @@ TEST(Articulation, ThePhonesMouthMixesEachClasssShapeByItsProbability) {
   EXPECT_TRUE(faps.col(3).isApprox(inversion.col(3)));
 
   faps = inversion;
-  blendPhoneMouth(model, probabilities, kFaps, faps, {.phoneShare = 0.25});
+  blendPhoneMouth(model, probabilities, kFaps, faps, {.phoneJawShare = 0.25});  // the jaw alone
   EXPECT_NEAR(faps(rowOf(3), 0), 0.75 * 300.0 + 0.25 * (mean[rowOf(3)] + 150.0), 1e-9);
+  EXPECT_EQ(faps(rowOf(6), 1), inversion(rowOf(6), 1));
 
   // FAPs the model has no shape for stay; a model without shapes cannot make the mouth.
   Eigen::MatrixXd withOther = Eigen::MatrixXd::Constant(2, 3, 7.0);
-  blendPhoneMouth(model, probabilities, {3, 19}, withOther, {.phoneShare = 1.0});
+  blendPhoneMouth(model, probabilities, {3, 19}, withOther, {.phoneJawShare = 1.0, .phoneLipShare = 1.0});
   EXPECT_EQ(withOther(1, 0), 7.0);
   model.classShapes.resize(0, 0);
   faps = inversion;
-  EXPECT_THROW(blendPhoneMouth(model, probabilities, kFaps, faps, {.phoneShare = 0.5}), Error);
-  EXPECT_THROW(ArticulationOptions{.phoneShare = -0.1}.check(), Error);
+  EXPECT_THROW(blendPhoneMouth(model, probabilities, kFaps, faps, {.phoneJawShare = 0.5}), Error);
+  EXPECT_THROW(ArticulationOptions{.phoneLipShare = -0.1}.check(), Error);
 }
 
 TEST(Articulation, NeedsTheOpeningGradientAndLipFaps) {

@@ -129,7 +129,8 @@ struct Measures {
   // The phones' mouth (animation::blendPhoneMouth: the classes' tracked shapes weighted by the decoded classes'
   // posteriors; alone, and mixed with the mouth model's FAPs at shares 0.25, 0.5, 0.75), articulated as the
   // product does.
-  static constexpr double kPhoneShares[] = {1.0, 0.25, 0.5, 0.75};
+  // {jaw, lips} shares.
+  static constexpr double kPhoneShares[][2] = {{0.25, 0.0}, {0.5, 0.0}, {0.25, 0.25}, {1.0, 0.0}};
   std::vector<std::vector<double>> phoneJaw = std::vector<std::vector<double>>(4),
                                    phoneOpen = std::vector<std::vector<double>>(4),
                                    phoneWidth = std::vector<std::vector<double>>(4);
@@ -229,12 +230,13 @@ struct Measures {
     if (!phoneJaw[0].empty()) {
       for (std::size_t k = 0; k < 4; ++k) {
         char cell[320];
-        std::snprintf(cell, sizeof cell,
-                      "      phones' mouth, share %.2f (articulated): jaw rho %6.3f spr %5.2f open rho %6.3f width rho "
-                      "%6.3f | face shut on /p b m/ %5.1f%%\n",
-                      kPhoneShares[k], rho(phoneJaw[k], jawTruth), spread(phoneJaw[k], jawTruth),
-                      rho(phoneOpen[k], openTruth), rho(phoneWidth[k], widthTruth),
-                      100.0 * ppFacePhone[k] / std::max(ppFaceFrames, 1));
+        std::snprintf(
+            cell, sizeof cell,
+            "      phones' mouth, jaw %.2f lips %.2f (articulated): jaw rho %6.3f spr %5.2f open rho %6.3f width rho "
+            "%6.3f | face shut on /p b m/ %5.1f%%\n",
+            kPhoneShares[k][0], kPhoneShares[k][1], rho(phoneJaw[k], jawTruth), spread(phoneJaw[k], jawTruth),
+            rho(phoneOpen[k], openTruth), rho(phoneWidth[k], widthTruth),
+            100.0 * ppFacePhone[k] / std::max(ppFaceFrames, 1));
         text += cell;
       }
     }
@@ -654,10 +656,11 @@ int main(int argc, char** argv) {
           const Eigen::MatrixXd levelShape = shapes.of(levelFaps, talking.faps);
           // The phones' mouth (animation::blendPhoneMouth, on the decoded classes' posteriors) at each share.
           std::vector<Eigen::MatrixXd> phoneShape;
-          for (const double share : Measures::kPhoneShares) {
+          for (const auto& share : Measures::kPhoneShares) {
             Eigen::MatrixXd mixed = hmmFaps;
             animation::ArticulationOptions phones = articulation;
-            phones.phoneShare = share;
+            phones.phoneJawShare = share[0];
+            phones.phoneLipShare = share[1];
             animation::blendPhoneMouth(trained.model, decoded.posteriors, talking.faps, mixed, phones);
             animation::articulateLips(trained.model, shown, talking.faps, mixed, phones);
             const auto jawAt = std::find(talking.faps.begin(), talking.faps.end(), 3) - talking.faps.begin();
