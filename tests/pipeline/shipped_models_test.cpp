@@ -14,6 +14,8 @@
 #include "audio/audio_file.h"
 #include "audio/media_audio.h"
 #include "core/data_path.h"
+#include "eval/mouth_scores.h"
+#include "face/face_model.h"
 #include "face/feature_points.h"
 #include "formats/arkit_format.h"
 #include "pipeline/live_presets.h"
@@ -127,6 +129,11 @@ TEST(ShippedArticulation, ClosesTheLipsWhereTheVisemesSayPpOnAnUnheardVoice) {
   for (std::size_t i = 0; i < numbers.size(); ++i)
     faps.row(static_cast<Eigen::Index>(i)) = track.values.row(track.rowOf(numbers[i]));
   const Eigen::RowVectorXd opening = lipOpeningOf(articulation, numbers, faps);
+  // The lips as the face draws them, measured as the tracker measures a speaker's (the three inner-lip gaps
+  // over the eye corners' distance): the linear opening above is the closure's own model of them.
+  const th::face::FaceModel face = th::face::FaceModel::buildDefault();
+  const Eigen::MatrixXd drawn = th::eval::MouthShapes(face).of(faps, numbers);
+  const double shut = MouthNetworkOptions{}.closedOpening;
   const Eigen::MatrixXd arkit = th::formats::arkitWeights(track);
   const int close = th::formats::arkitIndex("mouthClose");
   int pp = 0;
@@ -136,6 +143,7 @@ TEST(ShippedArticulation, ClosesTheLipsWhereTheVisemesSayPpOnAnUnheardVoice) {
     }
     ++pp;
     EXPECT_LT(opening[t], 1e-9) << "frame " << t << " is shown as PP: its lips meet";
+    EXPECT_LT(drawn(0, t), shut) << "frame " << t << ": and on the face";
     EXPECT_GT(arkit(close, t), 0.0) << "and mouthClose says so";
   }
   // The /p/ of "p" (GRID's alignment: 1.22-1.44 s) is shown closed.
