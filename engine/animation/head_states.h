@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "animation/head_model.h"
+#include "core/portable_random.h"
 #include "hmm/hmm_model.h"
 
 namespace th::animation {
@@ -106,7 +107,7 @@ class ResidualMotion {
 
  private:
   std::mt19937 random_;
-  std::normal_distribution<double> normal_;
+  NormalDraws normal_;
   double variation_;
   double pauseGain_;
   Eigen::Vector3d a1_ = Eigen::Vector3d::Zero();

@@ -5,6 +5,7 @@
 #include <numbers>
 
 #include "core/error.h"
+#include "core/portable_random.h"
 #include "face/fap.h"
 
 namespace th::animation {
@@ -34,13 +35,12 @@ IdleMotion::IdleMotion(const IdleMotionOptions& options) : options_(options), ra
 }
 
 double IdleMotion::uniform(double low, double high) {
-  return std::uniform_real_distribution<double>(low, high)(random_);
+  return uniformDraw(random_, low, high);
 }
 
 void IdleMotion::scheduleBlink() {
   const double mean = 60.0 / options_.blinksPerMinute;
-  std::gamma_distribution<double> interval(3.0, mean / 3.0);
-  blinkDue_ = interval(random_);
+  blinkDue_ = gammaDraw(random_, 3.0, mean / 3.0);
 }
 
 void IdleMotion::startBlink(bool atBoundary) {

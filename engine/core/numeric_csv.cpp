@@ -9,6 +9,7 @@
 
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "core/number_parsing.h"
 
 namespace th {
 namespace {
@@ -67,13 +68,12 @@ NumericTable readNumericCsv(const std::filesystem::path& path) {
     std::vector<double> row(fields.size());
     for (size_t i = 0; i < fields.size(); ++i) {
       const std::string& text = fields[i];
-      double value = 0.0;
-      const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
-      if (error != std::errc() || end != text.data() + text.size() || text.empty() || !std::isfinite(value)) {
+      const std::optional<double> value = parseWholeNumber<double>(text);
+      if (!value || !std::isfinite(*value)) {
         throw fileError(path, "line " + std::to_string(lineNumber) + ", column '" + table.columns[i] + "': '" + text +
                                   "' is not a finite number");
       }
-      row[i] = value;
+      row[i] = *value;
     }
     table.rows.push_back(std::move(row));
   }

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "core/number_parsing.h"
 #include "core/text_files.h"
 
 namespace th {
@@ -69,12 +70,11 @@ class Setter final : public OptionVisitor {
   void option(unsigned& value, const OptionSpec& spec) override { whole(value, spec); }
   void option(double& value, const OptionSpec& spec) override {
     if (!mine(spec)) return;
-    double parsed = 0.0;
-    const auto [end, error] = std::from_chars(text_.data(), text_.data() + text_.size(), parsed);
-    if (error != std::errc() || end != text_.data() + text_.size() || !std::isfinite(parsed))
+    const std::optional<double> parsed = parseWholeNumber<double>(text_);
+    if (!parsed || !std::isfinite(*parsed))
       throw Error(std::string(spec.name) + ": \"" + printable(text_) + "\" is not a number");
-    if (!inRange(parsed, spec)) outOfRange(spec, std::string(text_));
-    value = parsed;
+    if (!inRange(*parsed, spec)) outOfRange(spec, std::string(text_));
+    value = *parsed;
   }
   void option(std::string& value, const OptionSpec& spec) override {
     if (!mine(spec)) return;

@@ -7,6 +7,7 @@
 #include <system_error>
 
 #include "core/error.h"
+#include "core/number_parsing.h"
 
 namespace th::formats {
 namespace {
@@ -15,16 +16,6 @@ constexpr std::string_view kBlanks = " \t\r\v\f";
 
 bool isBlank(char c) {
   return kBlanks.find(c) != std::string_view::npos;
-}
-
-// The whole text as a number of that type, or nothing.
-template <typename Number>
-std::optional<Number> parseWhole(std::string_view text) {
-  if (text.empty()) return std::nullopt;
-  Number value = 0;
-  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
-  if (error != std::errc() || end != text.data() + text.size()) return std::nullopt;
-  return value;
 }
 
 }  // namespace
@@ -52,13 +43,13 @@ std::string fixedNotation(double value, std::optional<int> decimals) {
 }
 
 std::optional<double> parseNumber(std::string_view text) {
-  return parseWhole<double>(text);
+  return parseWholeNumber<double>(text);
 }
 std::optional<int> parseInt(std::string_view text) {
-  return parseWhole<int>(text);
+  return parseWholeNumber<int>(text);
 }
 std::optional<long long> parseLong(std::string_view text) {
-  return parseWhole<long long>(text);
+  return parseWholeNumber<long long>(text);
 }
 
 std::string counted(std::size_t count, const std::string& noun) {

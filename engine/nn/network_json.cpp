@@ -1,7 +1,6 @@
 #include "nn/network_json.h"
 
 #include <array>
-#include <bit>
 #include <cstdint>
 #include <cstring>
 
@@ -68,7 +67,8 @@ Json floatsJson(const float* values, std::size_t count) {
 std::string encodeFloats(const float* values, std::size_t count) {
   std::vector<std::uint8_t> bytes(count * 4);
   for (std::size_t i = 0; i < count; ++i) {
-    const auto bits = std::bit_cast<std::uint32_t>(values[i]);
+    std::uint32_t bits = 0;  // std::bit_cast, which the WebAssembly build's library lacks
+    std::memcpy(&bits, &values[i], sizeof bits);
     for (int b = 0; b < 4; ++b) bytes[i * 4 + static_cast<std::size_t>(b)] = static_cast<std::uint8_t>(bits >> (8 * b));
   }
   return encodeBytes(bytes);
@@ -83,7 +83,7 @@ std::vector<float> decodeFloats(std::string_view text, std::size_t expected) {
     std::uint32_t bits = 0;
     for (int b = 0; b < 4; ++b)
       bits |= static_cast<std::uint32_t>(bytes[i * 4 + static_cast<std::size_t>(b)]) << (8 * b);
-    values[i] = std::bit_cast<float>(bits);
+    std::memcpy(&values[i], &bits, sizeof bits);
   }
   return values;
 }
