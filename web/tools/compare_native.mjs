@@ -1,0 +1,89 @@
+// The WebAssembly core's frames beside native `talkinghead animate --online`'s, FAP by FAP:
+//
+//   build/talkinghead animate SPEECH.wav -o native.csv --online
+//   node web/tools/compare_native.mjs SPEECH.wav native.csv
+//
+// SPEECH.wav: 16 kHz mono (16-bit or float; the core takes 16 kHz samples, and this tool does not resample).
+// Prints the largest difference per FAP (FAP units) and the time the core took; exits 1 if a FAP differs by
+// more than --tolerance (default 0.01 FAP units), 2 on bad input.
+import fs from 'node:fs';
+import path from 'node:path';
+import { fileURLToPath } from 'node:url';
+
+const here = path.dirname(fileURLToPath(import.meta.url));
+const repo = path.resolve(here, '../..');
+const args = process.argv.slice(2);
+const toleranceAt = args.indexOf('--tolerance');
+const tolerance = toleranceAt >= 0 ? Number(args.splice(toleranceAt, 2)[1]) : 0.01;
+if (args.length !== 2 || !(tolerance >= 0)) {
+  console.error('usage: node web/tools/compare_native.mjs SPEECH.wav NATIVE.csv [--tolerance FAPU]');
+  process.exit(2);
+}
+const [wavPath, csvPath] = args;
+
+// A WAV's samples (16-bit PCM or 32-bit float, mono, 16 kHz).
+function readWav(file) {
+  const bytes = fs.readFileSync(file);
+  if (bytes.toString('ascii', 0, 4) !== 'RIFF' || bytes.toString('ascii', 8, 12) !== 'WAVE')
+    throw new Error(`${file}: not a WAV file`);
+  let format = 0, bits = 0, channels = 0, rate = 0, data = null;
+  for (let at = 12; at + 8 <= bytes.length;) {
+    const id = bytes.toString('ascii', at, at + 4), size = bytes.readUInt32LE(at + 4);
+    if (id === 'fmt ') {
+      format = bytes.readUInt16LE(at + 8); channels = bytes.readUInt16LE(at + 10);
+      rate = bytes.readUInt32LE(at + 12); bits = bytes.readUInt16LE(at + 22);
+    } else if (id === 'data') {
+      data = bytes.subarray(at + 8, Math.min(bytes.length, at + 8 + size));
+      break;
+    }
+    at += 8 + size + (size & 1);
+  }
+  if (!data || channels !== 1 || rate !== 16000 || !((format === 1 && bits === 16) || (format === 3 && bits === 32)))
+    throw new Error(`${file}: needs 16 kHz mono, 16-bit or float samples`);
+  const count = data.length / (bits / 8);
+  const samples = new Float32Array(count);
+  for (let i = 0; i < count; ++i) samples[i] = format === 3 ? data.readFloatLE(4 * i) : data.readInt16LE(2 * i) / 32768;
+  return samples;
+}
+
+let samples;
+try {
+  samples = readWav(wavPath);
+} catch (error) {
+  console.error(`compare_native: ${error.message}`);
+  process.exit(2);
+}
+const { default: createTalkingheadCore } = await import(path.join(repo, 'web/dist/talkinghead_core.js'));
+const core = await createTalkingheadCore({ wasmBinary: fs.readFileSync(path.join(repo, 'web/dist/talkinghead_core.wasm')) });
+core.FS.mkdir('/models');
+for (const name of fs.readdirSync(path.join(repo, 'models')))
+  core.FS.writeFile(`/models/${name}`, fs.readFileSync(path.join(repo, 'models', name)));
+
+const started = performance.now();
+const track = core.animateOnline(samples);
+const milliseconds = performance.now() - started;
+const lines = fs.readFileSync(csvPath, 'utf8').trim().split('\n');
+const header = lines[0].split(',');
+const frames = track.values.length / track.faps.length;
+if (frames !== lines.length - 1) {
+  console.error(`compare_native: the core made ${frames} frames, ${csvPath} has ${lines.length - 1}`);
+  process.exit(1);
+}
+const largest = new Map();
+for (let t = 1; t < lines.length; ++t) {
+  const row = lines[t].split(',').map(Number);
+  for (let c = 1; c < header.length; ++c) {
+    const fap = Number(header[c].replace('fap', ''));
+    const value = track.values[(t - 1) * track.faps.length + track.faps.indexOf(fap)];
+    const difference = Math.abs(value - row[c]);
+    if (!(largest.get(fap)?.difference >= difference)) largest.set(fap, { difference, frame: t - 1 });
+  }
+}
+const audioSeconds = samples.length / 16000;
+console.log(`${frames} frames (${audioSeconds.toFixed(1)} s of speech) in ${(milliseconds / 1000).toFixed(2)} s: ` +
+            `${(audioSeconds * 1000 / milliseconds).toFixed(0)} times real time`);
+console.log('largest difference per FAP (FAP units, at frame):');
+console.log([...largest].map(([fap, { difference, frame }]) => `${fap}: ${difference.toExponential(1)} (${frame})`).join(', '));
+const worst = Math.max(...[...largest.values()].map((entry) => entry.difference));
+console.log(`largest: ${worst.toExponential(2)}; tolerance ${tolerance}`);
+process.exit(worst <= tolerance ? 0 : 1);
