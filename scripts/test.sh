@@ -20,13 +20,14 @@
 #                   clang and lld, AddressSanitizer + UBSan, at -O1 with libstdc++'s assertions and -Werror: the
 #                   tests, the fuzzers and the benchmarks' smoke pass run on it. (The Release build, with GCC, is
 #                   scripts/setup.sh's.)
-#   5. tests        ctest --parallel (cores) --output-on-failure on it, every label (tests/CMakeLists.txt says what each
+#   5. web build    scripts/build-web.sh: the WebAssembly core into web/dist/ (emscripten from Debian's archive)
+#   6. tests        ctest --parallel (cores) --output-on-failure on it, every label (tests/CMakeLists.txt says what each
 #                   means), leak detection on; any sanitizer report fails its test
-#   6. tsan         ThreadSanitizer build in build-tsan/ of the tests labelled `threads` only (the thread
+#   7. tsan         ThreadSanitizer build in build-tsan/ of the tests labelled `threads` only (the thread
 #                   hand-offs: the export's pipeline, the live session's ring, worker and frame queue), then those
 #                   tests; any report fails them
-#   7. fuzz         scripts/fuzz.sh on build-asan/'s fuzzers for FUZZ_SECONDS (default 60)
-#   8. bench smoke  build-asan/bench/{features,animation,render,export}_bench --quick: one pass of every
+#   8. fuzz         scripts/fuzz.sh on build-asan/'s fuzzers for FUZZ_SECONDS (default 60)
+#   9. bench smoke  build-asan/bench/{features,animation,render,export}_bench --quick: one pass of every
 #                   benchmark (proves it runs, times nothing)
 # Then a summary of the parts; the last line is "N passed, M failed", the ctest results of both runs together.
 # Exits non-zero if any part failed.
@@ -191,6 +192,9 @@ part "format" check_format
 
 part "build (asan+ubsan)" build_sanitized
 built=$part_status
+
+# The WebAssembly core, which the tests labelled `web` compare with the native program.
+part "web build" bash scripts/build-web.sh
 if ((built == 0)); then
   part "asan+ubsan tests" run_ctest "$asan_dir"
   annotate_counts "$asan_dir"

@@ -7,9 +7,9 @@
 // Thread contract: pure functions.
 #pragma once
 
-#include <charconv>
 #include <cctype>
 #include <cerrno>
+#include <charconv>
 #include <cstdlib>
 #include <optional>
 #include <string>

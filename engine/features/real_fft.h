@@ -48,8 +48,8 @@ class RealFft {
  private:
   int size_;
   std::unique_ptr<Transform> transform_;
-  float* time_ = nullptr;                       // owned by transform_
-  std::complex<float>* spectrum_ = nullptr;     // owned by transform_
+  float* time_ = nullptr;                    // owned by transform_
+  std::complex<float>* spectrum_ = nullptr;  // owned by transform_
 };
 
 }  // namespace th::features

@@ -1,12 +1,12 @@
 // The portable random draws (engine/core/portable_random.h): from the same seed, the same numbers as the
 // native build's standard library (GCC's) draws, so the native outputs did not change when the engine moved
 // to them; and numbers that no library's algorithm decides, so the WebAssembly build draws them too.
+#include "core/portable_random.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <random>
-
-#include "core/portable_random.h"
 
 namespace {
 

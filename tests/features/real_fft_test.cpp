@@ -1,5 +1,7 @@
 // The real FFT's two back ends (engine/features/real_fft.h): Eigen's, which the WebAssembly build uses, gives
 // FFTW's spectrum and inverse to float precision, on speech and on a tone.
+#include "features/real_fft.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -11,7 +13,6 @@
 #include "audio/audio_file.h"
 #include "core/data_path.h"
 #include "core/error.h"
-#include "features/real_fft.h"
 
 namespace {
 

@@ -1,11 +1,16 @@
-// The WebAssembly core's frames beside native `talkinghead animate --online`'s, FAP by FAP:
+// The WebAssembly core's frames beside native talkinghead's on the same speech, FAP by FAP:
 //
 //   build/talkinghead animate SPEECH.wav -o native.csv --online
 //   node web/tools/compare_native.mjs SPEECH.wav native.csv
 //
-// SPEECH.wav: 16 kHz mono (16-bit or float; the core takes 16 kHz samples, and this tool does not resample).
-// Prints the largest difference per FAP (FAP units) and the time the core took; exits 1 if a FAP differs by
-// more than --tolerance (default 0.01 FAP units), 2 on bad input.
+//   build/talkinghead live --headless --input SPEECH.wav --speed 20 --no-idle --dump live.csv
+//   node web/tools/compare_native.mjs SPEECH.wav live.csv --stream default      # the live preset's decoder
+//
+// With --stream PRESET the samples go through the core's StreamDecoder in blocks of 128 (an AudioWorklet's), and
+// the time each block took is reported (median, 99th percentile, largest). SPEECH.wav: 16 kHz mono (16-bit or
+// float; the core takes 16 kHz samples, and this tool does not resample). Prints the largest difference per FAP
+// (FAP units) and the time the core took; exits 1 if a FAP differs by more than --tolerance (default 0.01 FAP
+// units, a hundred-thousandth of the jaw's range), 2 on bad input.
 import fs from 'node:fs';
 import path from 'node:path';
 import { fileURLToPath } from 'node:url';
@@ -13,10 +18,14 @@ import { fileURLToPath } from 'node:url';
 const here = path.dirname(fileURLToPath(import.meta.url));
 const repo = path.resolve(here, '../..');
 const args = process.argv.slice(2);
-const toleranceAt = args.indexOf('--tolerance');
-const tolerance = toleranceAt >= 0 ? Number(args.splice(toleranceAt, 2)[1]) : 0.01;
+function option(name, fallback) {
+  const at = args.indexOf(name);
+  return at >= 0 ? args.splice(at, 2)[1] : fallback;
+}
+const tolerance = Number(option('--tolerance', '0.01'));
+const preset = option('--stream', null);
 if (args.length !== 2 || !(tolerance >= 0)) {
-  console.error('usage: node web/tools/compare_native.mjs SPEECH.wav NATIVE.csv [--tolerance FAPU]');
+  console.error('usage: node web/tools/compare_native.mjs SPEECH.wav NATIVE.csv [--stream PRESET] [--tolerance FAPU]');
   process.exit(2);
 }
 const [wavPath, csvPath] = args;
@@ -46,6 +55,37 @@ function readWav(file) {
   return samples;
 }
 
+// The core's frames: {faps: [numbers], frames: [Float64Array per frame]} and what the run took.
+function animateAll(core, samples) {
+  const track = core.animateOnline(samples);
+  const frames = [];
+  for (let at = 0; at < track.values.length; at += track.faps.length)
+    frames.push(track.values.subarray(at, at + track.faps.length));
+  return { faps: track.faps, frames };
+}
+function stream(core, samples, presetName) {
+  const decoder = new core.StreamDecoder(presetName, false);
+  const frames = [], blockMs = [];
+  const take = () => { for (let frame; (frame = decoder.next()) !== null;) frames.push(frame.faps); };
+  for (let at = 0; at < samples.length; at += 128) {
+    const block = samples.subarray(at, Math.min(samples.length, at + 128));
+    const started = performance.now();
+    decoder.input().set(block);
+    decoder.accept(block.length);
+    take();
+    blockMs.push(performance.now() - started);
+  }
+  decoder.finish();
+  take();
+  const faps = decoder.fapNumbers();
+  decoder.delete();
+  blockMs.sort((a, b) => a - b);
+  const at = (q) => blockMs[Math.min(blockMs.length - 1, Math.floor(q * blockMs.length))].toFixed(3);
+  console.log(`blocks of 128 samples: median ${at(0.5)} ms, 99th percentile ${at(0.99)} ms, largest ` +
+              `${blockMs[blockMs.length - 1].toFixed(3)} ms`);
+  return { faps, frames };
+}
+
 let samples;
 try {
   samples = readWav(wavPath);
@@ -60,13 +100,12 @@ for (const name of fs.readdirSync(path.join(repo, 'models')))
   core.FS.writeFile(`/models/${name}`, fs.readFileSync(path.join(repo, 'models', name)));
 
 const started = performance.now();
-const track = core.animateOnline(samples);
+const made = preset ? stream(core, samples, preset) : animateAll(core, samples);
 const milliseconds = performance.now() - started;
 const lines = fs.readFileSync(csvPath, 'utf8').trim().split('\n');
 const header = lines[0].split(',');
-const frames = track.values.length / track.faps.length;
-if (frames !== lines.length - 1) {
-  console.error(`compare_native: the core made ${frames} frames, ${csvPath} has ${lines.length - 1}`);
+if (made.frames.length !== lines.length - 1) {
+  console.error(`compare_native: the core made ${made.frames.length} frames, ${csvPath} has ${lines.length - 1}`);
   process.exit(1);
 }
 const largest = new Map();
@@ -74,14 +113,15 @@ for (let t = 1; t < lines.length; ++t) {
   const row = lines[t].split(',').map(Number);
   for (let c = 1; c < header.length; ++c) {
     const fap = Number(header[c].replace('fap', ''));
-    const value = track.values[(t - 1) * track.faps.length + track.faps.indexOf(fap)];
+    const column = made.faps.indexOf(fap);
+    const value = column >= 0 ? made.frames[t - 1][column] : 0;  // a FAP the core does not set is 0
     const difference = Math.abs(value - row[c]);
     if (!(largest.get(fap)?.difference >= difference)) largest.set(fap, { difference, frame: t - 1 });
   }
 }
 const audioSeconds = samples.length / 16000;
-console.log(`${frames} frames (${audioSeconds.toFixed(1)} s of speech) in ${(milliseconds / 1000).toFixed(2)} s: ` +
-            `${(audioSeconds * 1000 / milliseconds).toFixed(0)} times real time`);
+console.log(`${made.frames.length} frames (${audioSeconds.toFixed(1)} s of speech) in ${(milliseconds / 1000).toFixed(2)} s ` +
+            `(models loaded and run): ${(audioSeconds * 1000 / milliseconds).toFixed(0)} times real time`);
 console.log('largest difference per FAP (FAP units, at frame):');
 console.log([...largest].map(([fap, { difference, frame }]) => `${fap}: ${difference.toExponential(1)} (${frame})`).join(', '));
 const worst = Math.max(...[...largest.values()].map((entry) => entry.difference));
