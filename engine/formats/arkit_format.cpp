@@ -5,7 +5,6 @@
 #include <ostream>
 
 #include "core/error.h"
-#include "face/face_model.h"
 #include "formats/weight_tables.h"
 
 namespace th::formats {
@@ -13,19 +12,6 @@ int arkitIndex(std::string_view name) {
   for (std::size_t i = 0; i < kArkitNames.size(); ++i)
     if (kArkitNames[i] == name) return static_cast<int>(i);
   throw Error("ARKit: no shape named " + std::string(name));
-}
-
-ArkitScale arkitScaleFor(const face::FaceModel& face) {
-  ArkitScale scale;
-  // The FAP 3 value whose jaw angle is the jawOpen shape's: invert jawAngleFor by bisection.
-  const double target = face.jaw().shapeAngle;
-  double low = 0.0, high = 8192.0;
-  for (int i = 0; i < 60; ++i) {
-    const double middle = 0.5 * (low + high);
-    (face.jawAngleFor(middle) < target ? low : high) = middle;
-  }
-  scale.jawOpen = 0.5 * (low + high);
-  return scale;
 }
 
 Eigen::MatrixXd arkitWeights(const face::FapTrack& track, const ArkitScale& scale) {

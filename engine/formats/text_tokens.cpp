@@ -1,9 +1,12 @@
 #include "formats/text_tokens.h"
 
+#include <algorithm>
 #include <array>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <string>
 #include <system_error>
 
 #include "core/error.h"
@@ -26,6 +29,51 @@ std::string formatNumber(double value) {
   return buffer.data();
 }
 
+// printf rounds exactly; at the fewest digits that read back as the same double, it gives to_chars' text for
+// every value below 2^53 (above, to_chars pads the shortest digits with zeros where printf writes the exact
+// integer). The fallback where the library has no floating-point to_chars (LLVM's before 16: the WebAssembly
+// build's).
+namespace {
+
+enum class Notation { kFixed, kScientific };
+
+std::string printed(Notation notation, int precision, double value) {
+  std::array<char, 768> buffer{};
+  const int length = notation == Notation::kFixed
+                         ? std::snprintf(buffer.data(), buffer.size(), "%.*f", precision, value)
+                         : std::snprintf(buffer.data(), buffer.size(), "%.*e", precision, value);
+  return std::string(buffer.data(), static_cast<std::size_t>(std::clamp(length, 0, 767)));
+}
+
+// The first precision from 0 at which the text reads back; `most` always does.
+std::string fewestDigits(Notation format, double value, int most) {
+  for (int precision = 0; precision < most; ++precision) {
+    std::string text = printed(format, precision, value);
+    if (std::strtod(text.c_str(), nullptr) == value) return text;
+  }
+  return printed(format, most, value);
+}
+
+std::string nonFinite(double value) {
+  if (std::isnan(value)) return std::signbit(value) ? "-nan" : "nan";
+  return value < 0 ? "-inf" : "inf";
+}
+
+}  // namespace
+
+std::string printfShortest(double value) {
+  if (!std::isfinite(value)) return nonFinite(value);
+  const std::string scientific = fewestDigits(Notation::kScientific, value, 16);
+  const std::string fixed = fewestDigits(Notation::kFixed, value, 340);
+  return fixed.size() <= scientific.size() ? fixed : scientific;
+}
+
+std::string printfFixed(double value, std::optional<int> decimals) {
+  if (!std::isfinite(value)) return nonFinite(value);
+  return decimals ? printed(Notation::kFixed, *decimals, value) : fewestDigits(Notation::kFixed, value, 340);
+}
+
+#if defined(__cpp_lib_to_chars)
 std::string shortest(double value) {
   std::array<char, 32> buffer{};
   const auto result = std::to_chars(buffer.data(), buffer.data() + buffer.size(), value);
@@ -41,6 +89,14 @@ std::string fixedNotation(double value, std::optional<int> decimals) {
                                : std::to_chars(first, last, value, std::chars_format::fixed);
   return std::string(first, result.ptr);
 }
+#else
+std::string shortest(double value) {
+  return printfShortest(value);
+}
+std::string fixedNotation(double value, std::optional<int> decimals) {
+  return printfFixed(value, decimals);
+}
+#endif
 
 std::optional<double> parseNumber(std::string_view text) {
   return parseWholeNumber<double>(text);

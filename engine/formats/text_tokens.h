@@ -25,6 +25,9 @@ std::string formatNumber(double value);  // short, with enough digits to tell va
 std::string shortest(double value);      // the shortest text that reads back as the same double
 // Fixed notation (no exponent): shortest round-trip, or with `decimals` digits after the point.
 std::string fixedNotation(double value, std::optional<int> decimals = std::nullopt);
+// The same by printf, for a standard library without floating-point to_chars (equal below 2^53).
+std::string printfShortest(double value);
+std::string printfFixed(double value, std::optional<int> decimals = std::nullopt);
 std::optional<double> parseNumber(std::string_view text);  // the whole text, or nothing
 std::optional<int> parseInt(std::string_view text);
 std::optional<long long> parseLong(std::string_view text);
