@@ -28,10 +28,16 @@ namespace {
 // animate's own options: how the offline path decodes.
 struct DecodingChoices {
   bool online = false;
+  std::string preset;  // a live preset's streaming (pipeline/live_presets.h); empty: animate's own
   std::string start = "conditional";
   void visitOptions(OptionVisitor& v) {
     v.option(online, {.name = "online",
                       .help = "Streaming forms, as live use runs them: fixed-lag head decoding, windowed inversion"});
+    v.option(preset, {.name = "preset",
+                      .help = "With --online: stream as live's preset does (its mouth and articulation models, "
+                              "window and iterations), frame for frame what live shows of the file with its head "
+                              "on time (the web package's frames)",
+                      .choices = pipeline::kLivePresetNames});
     v.option(start, {.name = "start",
                      .help = "Inversion start: conditional (audio-only conditional mean) or random (the paper's)",
                      .choices = pipeline::kInversionStartNames});
@@ -93,10 +99,25 @@ void runAnimate(const AnimateArguments& arguments) {
       arguments.avatar.empty() ? &formats::formatForWriting(arguments.output, arguments.format) : nullptr;
   checkOutputTarget(arguments.output);
   const std::optional<avatar::Avatar> character = loadCharacter(arguments.avatar);
-  const pipeline::AnimateOptions options =
-      pipeline::animateOptionsOf(arguments.models, arguments.head, arguments.idle,
-                                 arguments.decoding.online ? &arguments.streaming : nullptr, arguments.decoding.start);
-  const pipeline::AnimationModels models = pipeline::loadModels(arguments.models);
+  if (!arguments.decoding.preset.empty() && !arguments.decoding.online)
+    throw fileError(arguments.output, "--preset is a live preset's streaming: give --online too");
+  pipeline::AnimateOptions options;
+  pipeline::AnimationModels models;
+  if (arguments.decoding.preset.empty()) {
+    options = pipeline::animateOptionsOf(arguments.models, arguments.head, arguments.idle,
+                                         arguments.decoding.online ? &arguments.streaming : nullptr,
+                                         arguments.decoding.start);
+    models = pipeline::loadModels(arguments.models);
+  } else {
+    pipeline::LiveSettings live;
+    live.models = arguments.models;
+    live.head = arguments.head;
+    live.idle = arguments.idle;
+    pipeline::applyLivePreset(live, arguments.decoding.preset);
+    live.check();
+    options = pipeline::livePresetAnimateOptions(live, arguments.decoding.start);
+    models = pipeline::loadModels(live);
+  }
   const face::FapTrack track = pipeline::animateRecording(arguments.input, models, options);
   if (character) {
     writeCharacterAnimation(arguments, *character, track);

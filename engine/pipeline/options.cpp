@@ -289,6 +289,12 @@ AnimateOptions animateOptionsOf(const ModelOptions& models, const HeadMotionOpti
   return options;
 }
 
+AnimateOptions livePresetAnimateOptions(const LiveSettings& settings, std::string_view start) {
+  AnimateOptions options = animateOptionsOf(settings.models, settings.head, settings.idle, &settings.streaming, start);
+  options.mouth.maxIterations = settings.live.iterations;
+  return options;
+}
+
 LiveDecoderOptions decoderOptionsOf(const ModelOptions& models, const HeadMotionOptions& head, const IdleOptions& idle,
                                     const StreamingOptions& streaming, const LiveOptions& live) {
   LiveDecoderOptions options;

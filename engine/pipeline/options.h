@@ -137,6 +137,11 @@ void applyLivePreset(LiveSettings& settings, std::string_view preset);
 AnimateOptions animateOptionsOf(const ModelOptions& models, const HeadMotionOptions& head, const IdleOptions& idle,
                                 const StreamingOptions* online = nullptr, std::string_view start = "conditional");
 
+// The offline path's options that decode as live's decoder does with `settings` (its preset's window and
+// iterations), each frame with its own head: `animate --online --preset` and the web package's animate(), whose
+// frames are those live shows of the same file when the head waits for its frame (LiveDecoderOptions::waitForHead).
+AnimateOptions livePresetAnimateOptions(const LiveSettings& settings, std::string_view start = "conditional");
+
 // The live decoder's, from the groups live offers.
 LiveDecoderOptions decoderOptionsOf(const ModelOptions& models, const HeadMotionOptions& head, const IdleOptions& idle,
                                     const StreamingOptions& streaming, const LiveOptions& live);
