@@ -204,6 +204,34 @@ TEST_F(AnimateCliTest, VariantsAndPartsAreSelectable) {
 }
 
 // The viseme model's output in every viseme and mouth-cue format: the format named, or picked by the extension.
+// --online --preset P decodes as live's preset does, each frame with its own head: the frames `live --headless
+// --wait-for-head` shows of the same sound (the idle motion too), to the last bit, up to where live's input was cut.
+TEST_F(AnimateCliTest, APresetStreamsTheFramesLiveShowsOfTheFile) {
+  const fs::path animated = out() / "preset.csv", shown = out() / "live.csv";
+  ASSERT_EQ(
+      runCli({"animate", speech().string(), "-o", animated.string(), "--online", "--preset", "low-latency"}, logs())
+          .exitCode,
+      0);
+  ASSERT_EQ(runCli({"live", "--headless", "--input", speech().string(), "--duration", "8", "--speed", "0", "--preset",
+                    "low-latency", "--wait-for-head", "--dump", shown.string()},
+                   logs())
+                .exitCode,
+            0);
+  const th::face::FapTrack file = th::formats::readAnimation(animated);
+  const th::face::FapTrack live = th::formats::readAnimation(shown);
+  ASSERT_EQ(file.faps, live.faps);
+  ASSERT_GE(live.numFrames(), 200);
+  // The last second of live's frames saw the input end at 8 s; the file's went on.
+  const Eigen::Index compared = live.numFrames() - 30;
+  EXPECT_LT((file.values.leftCols(compared) - live.values.leftCols(compared)).cwiseAbs().maxCoeff(), 1e-9);
+  EXPECT_GT(live.values.leftCols(compared).cwiseAbs().maxCoeff(), 100.0);  // it moved
+
+  const fs::path bad = out() / "bad.csv";
+  expectOneLineFailure(runCli({"animate", speech().string(), "-o", bad.string(), "--preset", "default"}, logs()),
+                       bad.string(), "give --online too");
+  EXPECT_FALSE(fs::exists(bad));
+}
+
 TEST_F(AnimateCliTest, VisemesAndMouthCuesInEveryFormat) {
   const fs::path prompt = th::sharedDataPath("speech/arctic/arctic_a0001.wav");
   struct Case {
