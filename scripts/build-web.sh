@@ -2,7 +2,7 @@
 # Builds the engine's speech -> animation path as WebAssembly (web/CMakeLists.txt) with Debian's emscripten, and
 # puts the module in web/dist/:
 #
-#   bash scripts/build-web.sh            # -> web/dist/talkinghead_core.{js,wasm}; build folder build-web/
+#   bash scripts/build-web.sh            # -> web/dist/ (the core, its .wasm, the models); build folder build-web/
 #
 # Installs what it needs first (scripts/web-packages.txt; idempotent, as scripts/install-packages.sh). The module
 # is an ES module factory: `createTalkingheadCore({wasmBinary})` in Node (whose fetch cannot read a file path),
@@ -25,6 +25,20 @@ if [[ ! -f "$build/build.ninja" ]]; then
   }
 fi
 ninja -C "$build"
-mkdir -p "$repo/web/dist"
+mkdir -p "$repo/web/dist/models"
 cp "$build/talkinghead_core.js" "$build/talkinghead_core.wasm" "$repo/web/dist/"
-echo "build-web: web/dist/talkinghead_core.js and .wasm ($(stat -c %s "$repo/web/dist/talkinghead_core.wasm") bytes)"
+# The models the package carries: the live presets default and low-latency (the accurate preset's and animate
+# --online's offline models would take the package past 5 MB; a page fetches them from elsewhere: docs/web.md).
+for model in head.json visemes.json mouth_live.json articulation_live.json mouth_instant.json \
+  articulation_instant.json; do
+  cp "$repo/models/$model" "$repo/web/dist/models/"
+done
+# The package's development dependencies (web/package-lock.json: three for the example page, puppeteer-core for
+# the browser test, TalkingHead for its recipe), from the npm registry; no browser is downloaded (the tests use
+# Debian's chromium). Skipped when web/node_modules matches the lock file.
+if ! cmp -s "$repo/web/package-lock.json" "$repo/web/node_modules/.package-lock.json.installed" 2>/dev/null; then
+  (cd "$repo/web" && npm ci --no-audit --no-fund --loglevel=error)
+  cp "$repo/web/package-lock.json" "$repo/web/node_modules/.package-lock.json.installed"
+fi
+echo "build-web: web/dist/talkinghead_core.js and .wasm ($(stat -c %s "$repo/web/dist/talkinghead_core.wasm") bytes), \
+$(ls "$repo/web/dist/models" | wc -l) models"

@@ -1,0 +1,83 @@
+// The AudioWorklet processor: the engine's live decoder (WebAssembly) on the audio thread, fed each 128-sample
+// block of its input's first channel at the context's rate, posting each frame it decides to the node
+// (index.js's createLipSync) as a plain message. The page's thread sends the core's bytes and the preset's
+// models in processorOptions (a worklet cannot fetch); the stream is made once the core is instantiated.
+//
+// Per block: the samples go into the module's memory (no copy into a new array), the decoder runs there; a frame
+// (30 a second) is copied out of the core's record into one message. Nothing is allocated per block otherwise.
+import { installModels, loadCore } from './core.js';
+import { frameOf } from './frames.js';
+
+class LipSyncProcessor extends AudioWorkletProcessor {
+  constructor(options) {
+    super();
+    const { wasm, models, preset, waitForHead, idle, seed } = options.processorOptions;
+    this.stream = null;
+    this.stopped = false;
+    this.startTime = -1;  // the context time of the first sample decoded
+    this.port.onmessage = (event) => {
+      const type = event.data && event.data.type;
+      if (type === 'stop') this.stop();
+      else if (type === 'finish') this.finish();
+    };
+    loadCore(wasm)
+      .then((core) => {
+        if (this.stopped) return;
+        installModels(core, models);
+        this.core = core;
+        this.stream = new core.LipSyncStream(preset, sampleRate, waitForHead, idle, seed);
+        this.input = this.stream.input();
+        this.record = this.stream.record();
+        this.port.postMessage({ type: 'ready', lookaheadMs: this.stream.lookaheadMs(), sampleRate });
+      })
+      .catch((error) => {
+        this.stopped = true;
+        this.port.postMessage({ type: 'error', message: error && error.message ? error.message : String(error) });
+      });
+  }
+
+  stop() {
+    if (this.stopped) return;
+    this.stopped = true;
+    if (this.stream) {
+      this.stream.delete();
+      this.stream = null;
+    }
+    this.port.postMessage({ type: 'stopped' });
+    this.port.close();
+  }
+
+  // The input ended: the frames still due (their look-ahead reaching past the end hears nothing more).
+  finish() {
+    if (this.stopped || !this.stream) return;
+    this.stream.finish();
+    this.post(currentTime);
+    this.port.postMessage({ type: 'finished' });
+    this.stop();
+  }
+
+  process(inputs) {
+    if (this.stopped) return false;  // the processor ends: nothing runs after disconnect()
+    if (!this.stream) return true;   // not instantiated yet
+    const channel = inputs[0] && inputs[0][0];
+    if (!channel) return true;       // no source connected: no sound to decode
+    if (this.startTime < 0) this.startTime = currentTime;
+    // The memory view is re-made when the module's memory has grown (the old view is detached then).
+    if (this.input.length === 0) this.input = this.stream.input();
+    this.input.set(channel);
+    this.stream.accept(channel.length);
+    this.post(currentTime + channel.length / sampleRate);
+    return true;
+  }
+
+  post(decidedTime) {
+    while (this.stream.next()) {
+      if (this.record.length === 0) this.record = this.stream.record();
+      const frame = frameOf(this.record, this.core.layout, this.startTime);
+      frame.decidedTime = decidedTime;  // the context time by which its sound had arrived and it was decided
+      this.port.postMessage({ type: 'frame', frame });
+    }
+  }
+}
+
+registerProcessor('talkinghead-lipsync', LipSyncProcessor);
