@@ -15,6 +15,7 @@
 //    disconnect() (no frame after it).
 // 4. The benchmark: the worklet's per-block work in WebAssembly on a cross-origin isolated page, beside the native
 //    build's (bench/block_cost), the same steps on the same samples; the ratio is printed, not asserted.
+// 5. The recipe for TalkingHead's users (web/examples/talkinghead.html): its avatar speaks from our frames.
 // Writes DIR/report.json and the screenshots; exits 1 on a failed check.
 import { spawnSync } from 'node:child_process';
 import fs from 'node:fs';
@@ -224,6 +225,27 @@ try {
   check(medianLatency >= live.lookaheadMs - 1 && medianLatency <= live.lookaheadMs + 2 * 128 / 48 + 1,
     `sound to frame: median ${medianLatency?.toFixed(1)} ms, the preset's look-ahead ${live.lookaheadMs?.toFixed(1)} ms`);
   check(live.errors.length === 0, `the example page reported no errors (${live.errors.join('; ')})`);
+  await example.close();
+
+  // 5. The recipe for TalkingHead's users: its avatar's viseme targets take our frames.
+  const recipe = await open('/examples/talkinghead.html?avatar=/avatars/brunette-t.glb');
+  await recipe.waitForFunction(() => window.recipe && (window.recipe.ready || window.recipe.errors.length), { timeout: 60000 });
+  await recipe.evaluate(() => window.recipe.start());
+  let opened = 0, silent = 0;
+  const recipeStarted = Date.now();
+  while (Date.now() - recipeStarted < 15000 && !(opened > 0.3 && silent > 0.9)) {
+    const r = await recipe.evaluate(() => ({ aa: window.recipe.viseme('aa'), sil: window.recipe.viseme('sil') }));
+    if (r.aa > opened) {
+      opened = r.aa;
+      if (opened > 0.3) await recipe.screenshot({ path: path.join(out, 'talkinghead_recipe.png') });
+    }
+    if (opened > 0.3) silent = Math.max(silent, r.sil ?? 0);
+    await new Promise((resolve) => setTimeout(resolve, 40));
+  }
+  const recipeErrors = await recipe.evaluate(() => window.recipe.errors);
+  report.recipe = { largestAa: opened, silenceAfter: silent, errors: recipeErrors };
+  check(opened > 0.3 && silent > 0.9 && recipeErrors.length === 0,
+    `TalkingHead's avatar: viseme_aa up to ${opened.toFixed(2)} on speech, viseme_sil ${silent.toFixed(2)} in silence`);
 } finally {
   await browser.close();
   server.close();
