@@ -84,7 +84,7 @@ const nativeOculus = path.join(out, 'native_oculus.csv');
 run(talkinghead, ['animate', played16k, '-o', nativeFaps, '--online', '--preset', 'default']);
 run(talkinghead, ['animate', played16k, '-o', nativeOculus, '--online', '--preset', 'default', '--format', 'oculus']);
 
-const server = await serve({ mounts: { '/avatars': avatars, '/clips': out, '/data': path.dirname(beat2), '/tests': path.join(here, 'pages') }, isolated: true });
+const server = await serve({ mounts: { '/models': path.join(here, '../../models'), '/avatars': avatars, '/clips': out, '/data': path.dirname(beat2), '/tests': path.join(here, 'pages') }, isolated: true });
 const origin = `http://127.0.0.1:${server.address().port}`;
 const browser = await puppeteer.launch({
   executablePath: browserPath,
@@ -150,6 +150,16 @@ try {
   report.disconnect = stopped;
   check(stopped.before >= 10 && stopped.after === stopped.atStop && stopped.ended,
     `disconnect(): ${stopped.before} frames before, ${stopped.after - stopped.atStop} in the second after`);
+
+  // Each preset's latency: stated (the look-ahead) and measured (sound to frame, live).
+  report.latency = {};
+  for (const preset of ['default', 'low-latency', 'accurate']) {
+    const measured = await harness.evaluate((p) => window.harness.latency(p, p === 'accurate' ? '/models/' : undefined), preset);
+    report.latency[preset] = measured;
+    console.log(`     ${preset}: look-ahead ${measured.lookaheadMs.toFixed(1)} ms, sound to frame median ${measured.medianMs.toFixed(1)} ms`);
+    check(measured.medianMs >= measured.lookaheadMs - 1 && measured.medianMs <= measured.lookaheadMs + 2 * 128 / 48 + 1,
+      `${preset}: frames ${measured.medianMs.toFixed(1)} ms after their sound, the look-ahead ${measured.lookaheadMs.toFixed(1)} ms`);
+  }
 
   // 4. The benchmark, WebAssembly beside native.
   const wasm = await harness.evaluate((url) => window.harness.bench(url, 'default', 48000), '/data/2_scott_0_1_1.wav');
