@@ -20,7 +20,8 @@
 #                   clang and lld, AddressSanitizer + UBSan, at -O1 with libstdc++'s assertions and -Werror: the
 #                   tests, the fuzzers and the benchmarks' smoke pass run on it. (The Release build, with GCC, is
 #                   scripts/setup.sh's.)
-#   5. web build    scripts/build-web.sh: the WebAssembly core into web/dist/ (emscripten from Debian's archive)
+#   5. web build    scripts/build-web.sh: the web package into web/dist/ (emscripten and chromium from Debian's
+#                   archive, its development packages from npm)
 #   6. tests        ctest --parallel (cores) --output-on-failure on it, every label (tests/CMakeLists.txt says what each
 #                   means), leak detection on; any sanitizer report fails its test
 #   7. tsan         ThreadSanitizer build in build-tsan/ of the tests labelled `threads` only (the thread
