@@ -235,6 +235,20 @@ try {
   check(medianLatency >= live.lookaheadMs - 1 && medianLatency <= live.lookaheadMs + 2 * 128 / 48 + 1,
     `sound to frame: median ${medianLatency?.toFixed(1)} ms, the preset's look-ahead ${live.lookaheadMs?.toFixed(1)} ms`);
   check(live.errors.length === 0, `the example page reported no errors (${live.errors.join('; ')})`);
+  // A dropped sound file plays through the node; a dropped file that is no sound is one message.
+  const dropped = await example.evaluate(async () => {
+    const wav = await (await fetch('/clips/silence_speech_silence.wav')).blob();
+    await window.demo.playFile(new File([wav], 'clip.wav'));
+    const before = window.demo.frames;
+    await new Promise((resolve) => setTimeout(resolve, 2500));
+    const played = window.demo.frames - before;
+    await window.demo.playFile(new File(['not a sound'], 'notes.txt'));
+    return { played, source: window.demo.source, errors: window.demo.errors };
+  });
+  report.example.dropped = dropped;
+  check(dropped.played >= 50 && dropped.source === 'clip.wav', `a dropped sound file: ${dropped.played} frames in 2.5 s`);
+  check(dropped.errors.length === 1 && /notes\.txt: not a sound/.test(dropped.errors[0]),
+    `a dropped file that is no sound: "${dropped.errors.join('; ')}"`);
   await example.close();
 
   // 5. The recipe for TalkingHead's users: its avatar's viseme targets take our frames.

@@ -211,6 +211,7 @@ demo.mouthRect = () => {
   return null;
 };
 demo.start = microphone;
+demo.playFile = playFile;
 demo.stop = stop;
 
 names = await weightNames();
