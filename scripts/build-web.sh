@@ -3,6 +3,8 @@
 # puts the module in web/dist/:
 #
 #   bash scripts/build-web.sh            # -> web/dist/ (the core, its .wasm, the models); build folder build-web/
+#   bash scripts/build-web.sh --prepare  # only what it installs (no compiler at work: scripts/test.sh runs this
+#                                        # during the native build)
 #
 # Installs what it needs first (scripts/web-packages.txt; idempotent, as scripts/install-packages.sh). The module
 # is an ES module factory: `createTalkingheadCore({wasmBinary})` in Node (whose fetch cannot read a file path),
@@ -13,7 +15,28 @@ here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 repo="$(cd "$here/.." && pwd)"
 build="${TALKINGHEAD_WEB_BUILD:-$repo/build-web}"
 
+prepare_only=0
+case "${1:-}" in
+  "") ;;
+  --prepare) prepare_only=1 ;;
+  *)
+    echo "usage: bash scripts/build-web.sh [--prepare]" >&2
+    exit 2
+    ;;
+esac
+
 bash "$here/install-packages.sh" "$here/web-packages.txt"
+# The package's development dependencies (web/package-lock.json: three for the example page, puppeteer-core for
+# the browser test, TalkingHead for its recipe), from the npm registry; no browser is downloaded (the tests use
+# Debian's chromium). Skipped when web/node_modules matches the lock file.
+if ! cmp -s "$repo/web/package-lock.json" "$repo/web/node_modules/.package-lock.json.installed" 2>/dev/null; then
+  (cd "$repo/web" && npm ci --no-audit --no-fund --loglevel=error)
+  cp "$repo/web/package-lock.json" "$repo/web/node_modules/.package-lock.json.installed"
+fi
+if ((prepare_only)); then
+  echo "build-web: the packages and web/node_modules are in place"
+  exit 0
+fi
 # emscripten's optimizer imports acorn, which Debian installs for its own Node under /usr/share/nodejs.
 export NODE_PATH="/usr/share/nodejs${NODE_PATH:+:$NODE_PATH}"
 
@@ -33,12 +56,5 @@ for model in head.json visemes.json mouth_live.json articulation_live.json mouth
   articulation_instant.json; do
   cp "$repo/models/$model" "$repo/web/dist/models/"
 done
-# The package's development dependencies (web/package-lock.json: three for the example page, puppeteer-core for
-# the browser test, TalkingHead for its recipe), from the npm registry; no browser is downloaded (the tests use
-# Debian's chromium). Skipped when web/node_modules matches the lock file.
-if ! cmp -s "$repo/web/package-lock.json" "$repo/web/node_modules/.package-lock.json.installed" 2>/dev/null; then
-  (cd "$repo/web" && npm ci --no-audit --no-fund --loglevel=error)
-  cp "$repo/web/package-lock.json" "$repo/web/node_modules/.package-lock.json.installed"
-fi
 echo "build-web: web/dist/talkinghead_core.js and .wasm ($(stat -c %s "$repo/web/dist/talkinghead_core.wasm") bytes), \
 $(ls "$repo/web/dist/models" | wc -l) models"

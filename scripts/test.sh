@@ -187,6 +187,18 @@ export TSAN_OPTIONS="${TSAN_OPTIONS:-halt_on_error=1:second_deadlock_stack=1:sup
 
 part "packages" bash scripts/install-packages.sh
 
+# The web package's packages (emscripten, chromium) and npm dependencies download while the native build
+# compiles; the web build part waits for them.
+bash scripts/build-web.sh --prepare > "$logs/web-prepare.log" 2>&1 &
+web_prepare=$!
+web_build() {
+  if ! wait "$web_prepare"; then
+    cat "$logs/web-prepare.log" >&2
+    return 1
+  fi
+  bash scripts/build-web.sh
+}
+
 part "node tools" bash scripts/install-node-tools.sh "$asan_dir"
 
 part "format" check_format
@@ -194,8 +206,8 @@ part "format" check_format
 part "build (asan+ubsan)" build_sanitized
 built=$part_status
 
-# The WebAssembly core, which the tests labelled `web` compare with the native program.
-part "web build" bash scripts/build-web.sh
+# The web package, which the tests labelled `web` compare with the native program.
+part "web build" web_build
 if ((built == 0)); then
   part "asan+ubsan tests" run_ctest "$asan_dir"
   annotate_counts "$asan_dir"
