@@ -37,7 +37,7 @@ const option = (name, fallback) => { const at = args.indexOf(name); return at >=
 const talkinghead = option('--talkinghead');
 const blockCost = option('--block-cost');
 const data = path.resolve(option('--data', process.env.TALKINGHEAD_DATA || path.join(here, '../../../shared/data')));
-const out = path.resolve(option('--out', fs.mkdtempSync('/tmp/talkinghead-web-')));
+const out = path.resolve(option('--out', '') || fs.mkdtempSync('/tmp/talkinghead-web-'));
 const browserPath = option('--browser', process.env.CHROMIUM || '/usr/bin/chromium');
 fs.mkdirSync(out, { recursive: true });
 
