@@ -196,10 +196,15 @@ part "packages" bash scripts/install-packages.sh
 
 # The web package's packages (emscripten, chromium) and npm dependencies download while the native build
 # compiles; the web build part waits for them.
-bash scripts/build-web.sh --prepare > "$logs/web-prepare.log" 2>&1 &
-web_prepare=$!
+# (Each part runs in a subshell, which cannot `wait` for this shell's child: the job leaves its status in a file.)
+(
+  status=0
+  bash scripts/build-web.sh --prepare > "$logs/web-prepare.log" 2>&1 || status=$?
+  echo "$status" > "$logs/web-prepare.status"
+) &
 web_build() {
-  if ! wait "$web_prepare"; then
+  while [[ ! -f "$logs/web-prepare.status" ]]; do sleep 1; done
+  if [[ "$(cat "$logs/web-prepare.status")" != 0 ]]; then
     cat "$logs/web-prepare.log" >&2
     return 1
   fi
