@@ -100,13 +100,6 @@ run_ctest() {
   local dir="$1"
   shift
   local log="$logs/ctest-$(basename "$dir").log"
-  # A fresh build folder has no record of how long each test takes, so ctest would start them in the order they
-  # are declared and the longest could start last, alone on one core. tests/ctest_costs.txt is a sanitized
-  # run's record (name, runs, seconds): with it ctest starts the longest first.
-  if [[ ! -f "$dir/Testing/Temporary/CTestCostData.txt" ]]; then
-    mkdir -p "$dir/Testing/Temporary"
-    cp tests/ctest_costs.txt "$dir/Testing/Temporary/CTestCostData.txt"
-  fi
   ctest --test-dir "$dir" --parallel "$jobs" --output-on-failure --no-tests=error --timeout "$ctest_timeout" "$@" 2>&1 |
     tee "$log"
   return "${PIPESTATUS[0]}"
