@@ -26,15 +26,6 @@
 
 namespace {
 
-std::vector<float> convert(std::span<const float> input, double from, double to) {
-  th::audio::SincResampler resampler(from, to);
-  std::vector<float> out(resampler.maxOutput(input.size()) + resampler.maxOutput(0));
-  std::size_t n = resampler.process(input, out);
-  n += resampler.finish(std::span<float>(out).subspan(n));
-  out.resize(n);
-  return out;
-}
-
 int run(int argc, char** argv) {
   std::string wav, preset = "default";
   double rate = 48000.0;
@@ -59,7 +50,7 @@ int run(int argc, char** argv) {
   if (wav.empty() || block < 1 || block > 4096)
     throw th::Error("usage: block_cost WAV [--preset P] [--rate HZ] [--block N]");
   const th::audio::AudioClip clip = th::audio::readAudioFile(wav);
-  const std::vector<float> input = convert(clip.samples, clip.sampleRateHz, rate);
+  const std::vector<float> input = th::audio::sincResample(clip.samples, clip.sampleRateHz, rate);
 
   th::pipeline::LiveSettings settings;
   th::pipeline::applyLivePreset(settings, preset);

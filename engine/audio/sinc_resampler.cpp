@@ -118,4 +118,13 @@ std::size_t SincResampler::finish(std::span<float> output) {
   return emitUpTo(total, output);
 }
 
+std::vector<float> sincResample(std::span<const float> input, double inputRateHz, double outputRateHz) {
+  SincResampler resampler(inputRateHz, outputRateHz);
+  std::vector<float> output(resampler.maxOutput(input.size()) + resampler.maxOutput(0));
+  std::size_t n = resampler.process(input, output);
+  n += resampler.finish(std::span<float>(output).subspan(n));
+  output.resize(n);
+  return output;
+}
+
 }  // namespace th::audio

@@ -70,4 +70,7 @@ class SincResampler {
   bool finished_ = false;
 };
 
+// A whole buffer converted: the same object, fed once and finished.
+std::vector<float> sincResample(std::span<const float> input, double inputRateHz, double outputRateHz);
+
 }  // namespace th::audio

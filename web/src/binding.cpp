@@ -305,12 +305,9 @@ class Animation {
 // Samples from one rate to another with the engine's resampler (the worklet's): for a page that has sound at
 // another rate, and the benchmark page.
 val resample(const val& samples, double fromHz, double toHz) try {
-  const std::vector<float> input = emscripten::convertJSArrayToNumberVector<float>(samples);
-  th::audio::SincResampler resampler(fromHz, toHz);
-  std::vector<float> out(resampler.maxOutput(input.size()) + resampler.maxOutput(0));
-  std::size_t n = resampler.process(input, out);
-  n += resampler.finish(std::span<float>(out).subspan(n));
-  return val::global("Float32Array").new_(val(emscripten::typed_memory_view(n, out.data())));
+  const std::vector<float> out =
+      th::audio::sincResample(emscripten::convertJSArrayToNumberVector<float>(samples), fromHz, toHz);
+  return val::global("Float32Array").new_(val(emscripten::typed_memory_view(out.size(), out.data())));
 } catch (const std::exception& error) {
   throwToJavaScript(error);
 }
@@ -323,14 +320,7 @@ Animation* animateSamples(const val& samples, double sampleRateHz, const std::st
   checkRate(sampleRateHz);
   std::vector<float> pcm = emscripten::convertJSArrayToNumberVector<float>(samples);
   if (pcm.empty()) throw th::Error("no samples to animate");
-  if (sampleRateHz != kEngineRateHz) {
-    th::audio::SincResampler resampler(sampleRateHz, kEngineRateHz);
-    std::vector<float> converted(resampler.maxOutput(pcm.size()) + resampler.maxOutput(0));
-    std::size_t n = resampler.process(pcm, converted);
-    n += resampler.finish(std::span<float>(converted).subspan(n));
-    converted.resize(n);
-    pcm = std::move(converted);
-  }
+  if (sampleRateHz != kEngineRateHz) pcm = th::audio::sincResample(pcm, sampleRateHz, kEngineRateHz);
   th::pipeline::AnimateOptions options;
   th::pipeline::AnimationModels models;
   if (preset.empty()) {
