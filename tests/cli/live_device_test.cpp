@@ -119,6 +119,8 @@ bool waitUntilSomethingListens(std::chrono::seconds limit) {
 }
 
 class LiveDeviceTest : public th::test::CliTest {};
+// Measures sound against picture on the real clock: a suite of its own, which CTest runs with nothing beside it.
+class LivePlaybackTest : public LiveDeviceTest {};
 
 // The counters a run reports when it ends: "sound inputs: N opened, M lost" (-1 each if the line is missing).
 struct InputCounters {
@@ -312,7 +314,7 @@ TEST_F(LiveDeviceTest, HeadlessFailsWhenItsInputIsGoneForGood) {
 // A recording in the window is played aloud through PortAudio: the null sink's monitor, recorded meanwhile
 // with parec, holds the recording (its loudness envelope found in the capture at r > 0.8), at the time the
 // window says it was heard, and the face shows each instant within what viewers cannot detect of its sound.
-TEST_F(LiveDeviceTest, TheWindowPlaysARecordingAloud) {
+TEST_F(LivePlaybackTest, TheWindowPlaysARecordingAloud) {
   ASSERT_TRUE(startPulseAudio()) << "cannot start PulseAudio";
   ASSERT_TRUE(loadNullSink(out() / "module"));
   const Excerpt speech = writeExcerpt(2, 8, out() / "excerpt.wav");
