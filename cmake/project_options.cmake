@@ -45,3 +45,11 @@ function(talkinghead_precompile target)
   target_precompile_headers(${target} PRIVATE <algorithm> <cmath> <filesystem> <memory> <string> <string_view>
                             <vector> <Eigen/Core> ${ARGN})
 endfunction()
+
+# talkinghead_diagnostic(target): a program that measures the product for the docs (tools/diagnostics). In the
+# sanitized build, where it is compiled but no test runs it, it is compiled without optimisation, in half the time.
+function(talkinghead_diagnostic target)
+  if(TALKINGHEAD_SANITIZE)
+    target_compile_options(${target} PRIVATE -O0)
+  endif()
+endfunction()

@@ -47,7 +47,7 @@ if [[ ! -f "$build/build.ninja" ]]; then
     exit 1
   }
 fi
-ninja -C "$build"
+cmake --build "$build"
 mkdir -p "$repo/web/dist/models"
 cp "$build/talkinghead_core.js" "$build/talkinghead_core.wasm" "$repo/web/dist/"
 # The models the package carries: the live presets default and low-latency (the accurate preset's and animate

@@ -20,16 +20,17 @@
 #                   clang and lld, AddressSanitizer + UBSan, at -O1 with libstdc++'s assertions and -Werror: the
 #                   tests, the fuzzers and the benchmarks' smoke pass run on it. (The Release build, with GCC, is
 #                   scripts/setup.sh's.)
-#   5. web build    scripts/build-web.sh: the web package into web/dist/ (emscripten and chromium from Debian's
-#                   archive, its development packages from npm)
+#   5. web packages what scripts/build-web.sh needs (emscripten and chromium from Debian's archive, its development
+#                   packages from npm), fetched while the native build compiles
 #   6. tests        ctest --parallel (cores) --output-on-failure on it, every label (tests/CMakeLists.txt says what each
-#                   means), leak detection on; any sanitizer report fails its test
+#                   means), leak detection on; any sanitizer report fails its test. Longest first, from
+#                   tests/ctest_costs.txt (below). Among them the benchmarks' smoke pass (label bench: one pass of
+#                   every benchmark, which proves it runs and times nothing) and the web package's build,
+#                   Web.Build (scripts/build-web.sh into web/dist/), which the other tests labelled web need
 #   7. tsan         ThreadSanitizer build in build-tsan/ of the tests labelled `threads` only (the thread
 #                   hand-offs: the export's pipeline, the live session's ring, worker and frame queue), then those
 #                   tests; any report fails them
 #   8. fuzz         scripts/fuzz.sh on build-asan/'s fuzzers for FUZZ_SECONDS (default 60)
-#   9. bench smoke  build-asan/bench/{features,animation,render,export}_bench --quick: one pass of every
-#                   benchmark (proves it runs, times nothing)
 # Then a summary of the parts; the last line is "N passed, M failed", the ctest results of both runs together.
 # Exits non-zero if any part failed.
 #
@@ -100,6 +101,15 @@ run_ctest() {
   local dir="$1"
   shift
   local log="$logs/ctest-$(basename "$dir").log"
+  # A fresh build folder has no record of how long each test takes, so ctest would start them in the order they
+  # are declared, and a long one declared late would run alone on one core at the end. tests/ctest_costs.txt is
+  # a sanitized run's record (CTest's own file, Testing/Temporary/CTestCostData.txt, copied after a run of this
+  # script): with it ctest starts the longest first. A test missing from it (a new one) starts after those in it.
+  # The suites that measure time on the real clock run alone (SERIAL_SUITES in tests/), whatever the order.
+  if [[ ! -f "$dir/Testing/Temporary/CTestCostData.txt" ]]; then
+    mkdir -p "$dir/Testing/Temporary"
+    cp tests/ctest_costs.txt "$dir/Testing/Temporary/CTestCostData.txt"
+  fi
   ctest --test-dir "$dir" --parallel "$jobs" --output-on-failure --no-tests=error --timeout "$ctest_timeout" "$@" 2>&1 |
     tee "$log"
   return "${PIPESTATUS[0]}"
@@ -171,10 +181,14 @@ check_format() {
 lld=(-DCMAKE_EXE_LINKER_FLAGS=-fuse-ld=lld -DCMAKE_SHARED_LINKER_FLAGS=-fuse-ld=lld)
 
 # Clang: with the sanitizers it builds this code in two thirds of GCC's time. GCC builds the Release
-# (scripts/setup.sh) and the ThreadSanitizer part below.
+# (scripts/setup.sh) and the ThreadSanitizer part below. A unity build: a target's files compiled eight to a
+# translation unit, so the Eigen and standard library templates they share are instantiated, optimised and
+# instrumented once per eight files instead of once per file (the few files whose file-local names clash are
+# compiled alone: SKIP_UNITY_BUILD_INCLUSION in their folder's CMakeLists.txt).
 build_sanitized() {
   configure "$asan_dir" -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=Debug \
-    -DTALKINGHEAD_SANITIZE=ON -DTALKINGHEAD_BENCHMARKS=ON -DTALKINGHEAD_FUZZ=ON "${lld[@]}" \
+    -DTALKINGHEAD_SANITIZE=ON -DTALKINGHEAD_BENCHMARKS=ON -DTALKINGHEAD_FUZZ=ON "${lld[@]}" -DCMAKE_UNITY_BUILD=ON \
+    -DTALKINGHEAD_WEB_BUILD_TEST=ON \
     -DCMAKE_CXX_FLAGS_DEBUG="-g1 -O1 -D_GLIBCXX_ASSERTIONS" -DCMAKE_C_FLAGS_DEBUG="-g1 -O1"
   cmake --build "$asan_dir" --parallel "$jobs"
 }
@@ -188,20 +202,17 @@ export TSAN_OPTIONS="${TSAN_OPTIONS:-halt_on_error=1:second_deadlock_stack=1:sup
 part "packages" bash scripts/install-packages.sh
 
 # The web package's packages (emscripten, chromium) and npm dependencies download while the native build
-# compiles; the web build part waits for them.
+# compiles; the web packages part waits for them.
 # (Each part runs in a subshell, which cannot `wait` for this shell's child: the job leaves its status in a file.)
 (
   status=0
   bash scripts/build-web.sh --prepare > "$logs/web-prepare.log" 2>&1 || status=$?
   echo "$status" > "$logs/web-prepare.status"
 ) &
-web_build() {
+web_packages() {
   while [[ ! -f "$logs/web-prepare.status" ]]; do sleep 1; done
-  if [[ "$(cat "$logs/web-prepare.status")" != 0 ]]; then
-    cat "$logs/web-prepare.log" >&2
-    return 1
-  fi
-  bash scripts/build-web.sh
+  cat "$logs/web-prepare.log"
+  return "$(cat "$logs/web-prepare.status")"
 }
 
 part "node tools" bash scripts/install-node-tools.sh "$asan_dir"
@@ -211,8 +222,7 @@ part "format" check_format
 part "build (asan+ubsan)" build_sanitized
 built=$part_status
 
-# The web package, which the tests labelled `web` compare with the native program.
-part "web build" web_build
+part "web packages" web_packages
 if ((built == 0)); then
   part "asan+ubsan tests" run_ctest "$asan_dir"
   annotate_counts "$asan_dir"
@@ -252,16 +262,6 @@ if ((built == 0)); then
   part "fuzz (${FUZZ_SECONDS}s)" run_fuzz
 else
   skip "fuzz" "(the build failed)"
-fi
-
-if ((built == 0)); then
-  bench_smoke() {
-    "$asan_dir/bench/features_bench" --quick && "$asan_dir/bench/animation_bench" --quick &&
-      "$asan_dir/bench/render_bench" --quick && "$asan_dir/bench/export_bench" --quick
-  }
-  part "bench smoke" bench_smoke
-else
-  skip "bench smoke" "(the build failed)"
 fi
 
 printf '\n==== Summary (%s)\n' "$(if ((any_failed)); then echo FAILED; else echo all parts ok; fi)"
