@@ -85,22 +85,24 @@ inline constexpr int kLiveHeadLagFrames = 2;
 
 struct HeadSynthesisOptions {
   HeadVariant variant = HeadVariant::kTrajectory;
-  int maxLagFrames = -1;              // < 0: batch (whole input); >= 0: online with this decoding lag
-  int trajectoryLookaheadFrames = 3;  // online trajectory: decided states needed past the output frame
-  int trajectoryWindowFrames = 30;    // online trajectory: past frames in each solve
-  double amplitude = 1.0;             // times the model's amplitude
-  double smoothing = 1.0;             // times the velocity and acceleration precisions: above 1, slower and smoother
-  bool voicedOnly = true;             // unvoiced and silent frames do not move the decoder
-  double variation = 1.0;             // trajectory: times the residual motion (0: the states' smooth curve alone)
-  double pauseVariation = 0.4;        // the residual's gain in pauses (eased to after 0.3 s without a voice)
-  unsigned seed = 1;                  // of the residual motion
+  int maxLagFrames = -1;                               // < 0: batch (whole input); >= 0: online with this decoding lag
+  int trajectoryLookaheadFrames = 3;                   // online trajectory: decided states needed past the output frame
+  int trajectoryWindowFrames = 30;                     // online trajectory: past frames in each solve
+  double amplitude = 1.0;                              // times the model's amplitude
+  Eigen::Vector3d axisGain = Eigen::Vector3d::Ones();  // per axis (pitch, yaw, roll), times that (a head style's)
+  Eigen::Vector3d restPose = Eigen::Vector3d::Zero();  // degrees added to every rotation (a head style's)
+  double smoothing = 1.0;       // times the velocity and acceleration precisions: above 1, slower and smoother
+  bool voicedOnly = true;       // unvoiced and silent frames do not move the decoder
+  double variation = 1.0;       // trajectory: times the residual motion (0: the states' smooth curve alone)
+  double pauseVariation = 0.4;  // the residual's gain in pauses (eased to after 0.3 s without a voice)
+  unsigned seed = 1;            // of the residual motion
 };
 
 // The most frames a rotation waits for past its own input under these options (batch: unbounded, -1).
 int headLookaheadFrames(const HeadSynthesisOptions& options);
 
-// Rotations relative to the rest pose (3 x T, degrees) for a prosody sequence (4 x T) and its voicing (T: 1
-// voiced, 0 not; empty: every frame voiced).
+// Rotations relative to the rest pose (3 x T, degrees; plus options.restPose) for a prosody sequence (4 x T) and
+// its voicing (T: 1 voiced, 0 not; empty: every frame voiced).
 Eigen::MatrixXd synthesiseHead(const HeadModel& model, const Eigen::MatrixXd& prosody, const Eigen::RowVectorXd& voiced,
                                const HeadSynthesisOptions& options = {});
 
@@ -114,7 +116,7 @@ class HeadSynthesiser {
   void acceptProsody(const Eigen::Vector4d& prosody, bool voiced);
   void finish();
   int numReady() const;
-  Eigen::Vector3d rotation(int frame) const;  // relative to the mean pose, degrees
+  Eigen::Vector3d rotation(int frame) const;  // relative to the mean pose (plus options.restPose), degrees
   int lookaheadFrames() const;                // headLookaheadFrames of its options
   // Rotations before `frame` will not be read again: they, and the decoder's states no later frame needs, are
   // freed (an endless stream stays bounded; not the posterior-means variant's smoother).

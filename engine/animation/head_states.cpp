@@ -72,7 +72,7 @@ Eigen::MatrixXd gatedEmissions(const hmm::HmmModel& decoder, const Eigen::Matrix
 }
 
 Eigen::Vector3d outputScale(const HeadModel& model, const HeadSynthesisOptions& options) {
-  return options.amplitude * model.amplitude;
+  return options.amplitude * options.axisGain.cwiseProduct(model.amplitude);
 }
 
 Eigen::MatrixXd meanTrajectory(const HeadModel& model, const Eigen::MatrixXd& prosody, const Eigen::RowVectorXd& voiced,

@@ -11,6 +11,20 @@
 #include "hmm/viterbi.h"
 
 namespace th::animation {
+namespace {
+
+// The rest pose added to rotations (none added when it is zero: that would turn a -0 into 0, and a file's text
+// with it).
+Eigen::MatrixXd rotationsAtRest(Eigen::MatrixXd rotations, const Eigen::Vector3d& restPose) {
+  if (!restPose.isZero(0.0)) rotations.colwise() += restPose;
+  return rotations;
+}
+
+Eigen::Vector3d rotationAtRest(const Eigen::Vector3d& rotation, const Eigen::Vector3d& restPose) {
+  return restPose.isZero(0.0) ? rotation : Eigen::Vector3d(rotation + restPose);
+}
+
+}  // namespace
 
 Eigen::MatrixXd synthesiseHead(const HeadModel& model, const Eigen::MatrixXd& prosody, const Eigen::RowVectorXd& voiced,
                                const HeadSynthesisOptions& options) {
@@ -32,18 +46,20 @@ Eigen::MatrixXd synthesiseHead(const HeadModel& model, const Eigen::MatrixXd& pr
   const Eigen::MatrixXd logB = gatedEmissions(decoder, prosody, voiced, options.voicedOnly);
   const Eigen::Vector3d scale = outputScale(model, options);
   if (options.variant == HeadVariant::kPosteriorMeans) {
-    return scale.asDiagonal() * (tables.poseMeans * hmm::forwardBackward(decoder, logB).stateGivenAll);
+    return rotationsAtRest(scale.asDiagonal() * (tables.poseMeans * hmm::forwardBackward(decoder, logB).stateGivenAll),
+                           options.restPose);
   }
   const std::vector<int> states = hmm::viterbi(decoder, logB).states;
   if (options.variant == HeadVariant::kTrajectory) {
     Eigen::MatrixXd out = trajectoryFor(tables, states, 0, states.size());
     ResidualMotion residual(model, options);
     for (Eigen::Index t = 0; t < out.cols(); ++t) out.col(t) += residual.next(voiced.size() == 0 || voiced[t] > 0.0);
-    return scale.asDiagonal() * out;
+    return rotationsAtRest(scale.asDiagonal() * out, options.restPose);
   }
   Eigen::MatrixXd out(3, prosody.cols());
   for (size_t t = 0; t < states.size(); ++t)
-    out.col(static_cast<Eigen::Index>(t)) = scale.cwiseProduct(tables.poseMean[static_cast<size_t>(states[t])]);
+    out.col(static_cast<Eigen::Index>(t)) =
+        rotationAtRest(scale.cwiseProduct(tables.poseMean[static_cast<size_t>(states[t])]), options.restPose);
   return out;
 }
 
@@ -67,7 +83,9 @@ struct HeadSynthesiser::Impl {
   void drain() {
     if (options.variant == HeadVariant::kPosteriorMeans) {
       while (smoother->numReady() > static_cast<int>(ready.size())) {
-        ready.push_back(scale.cwiseProduct(tables.poseMeans * smoother->posterior(static_cast<int>(ready.size()))));
+        ready.push_back(
+            rotationAtRest(scale.cwiseProduct(tables.poseMeans * smoother->posterior(static_cast<int>(ready.size()))),
+                           options.restPose));
       }
       return;
     }
@@ -76,7 +94,8 @@ struct HeadSynthesiser::Impl {
     viterbi->forgetBefore(static_cast<int>(decided.size()));  // copied here
     if (options.variant == HeadVariant::kStateMeans) {
       while (decided.size() > ready.size())
-        ready.push_back(scale.cwiseProduct(tables.poseMean[static_cast<size_t>(decided[ready.size()])]));
+        ready.push_back(rotationAtRest(scale.cwiseProduct(tables.poseMean[static_cast<size_t>(decided[ready.size()])]),
+                                       options.restPose));
       return;
     }
     // Trajectory: frame t once the states up to t + lookahead are known (or all of them, at the end).
@@ -89,8 +108,10 @@ struct HeadSynthesiser::Impl {
       const size_t end = std::min(decided.size(), t + lookahead + 1);
       std::vector<int> window(end - begin);
       for (size_t i = begin; i < end; ++i) window[i - begin] = decided[i];
-      ready.push_back(scale.cwiseProduct(
-          trajectoryFor(tables, window, 0, window.size()).col(static_cast<Eigen::Index>(t - begin)) + residuals[t]));
+      ready.push_back(rotationAtRest(
+          scale.cwiseProduct(trajectoryFor(tables, window, 0, window.size()).col(static_cast<Eigen::Index>(t - begin)) +
+                             residuals[t]),
+          options.restPose));
     }
   }
 };

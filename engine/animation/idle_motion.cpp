@@ -73,8 +73,14 @@ void IdleMotion::apply(double seconds, double levelDb, const IdleSwitches& switc
   speaking_ = now_ - lastSpeech_ < options_.restAfterSeconds;
   const double target = speaking_ ? 1.0 : 0.0;
   headGain_ = target + (headGain_ - target) * std::exp(-elapsed / options_.restSeconds);
-  if (switches.restHead)
-    for (int fap : {48, 49, 50}) faps[static_cast<std::size_t>(fap)] *= headGain_;
+  if (switches.restHead) {
+    for (int axis = 0; axis < 3; ++axis) {
+      const double rest = angleUnits(options_.headRestDegrees[axis]);
+      double& fap = faps[static_cast<std::size_t>(48 + axis)];
+      // (A rest of 0 scales alone: adding it would turn a -0 into 0, and a file's text with it.)
+      fap = rest == 0.0 ? headGain_ * fap : rest + headGain_ * (fap - rest);
+    }
+  }
 
   // Blinks: close, hold, open; spontaneous ones slower while the voice is on, one likely where a phrase ends.
   if (voice) {

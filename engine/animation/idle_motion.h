@@ -16,8 +16,8 @@
 // 80 ms, holds 30 ms and opens in 150 ms (the opening is the slower phase). Gaze: a fixation holds for 1–5 s, then a 50
 // ms saccade moves the eyes to a point within a few degrees, half the time back to the centre. Head: a frame is speech
 // if its level is speechMarginDb over the floor (a slow follower of the quietest level); after restAfterSeconds without
-// speech the head's rotation eases to the mean pose with time constant restSeconds, and back when speech
-// returns.
+// speech the head's rotation eases to its rest pose (the mean pose, or headRestDegrees) with time constant restSeconds,
+// and back when speech returns.
 //
 // Thread contract: one thread (the render thread); deterministic for a seed.
 #pragma once
@@ -49,6 +49,8 @@ struct IdleMotionOptions {
   double floorRiseDbPerSecond = 1.0;  // how fast the tracked floor follows a louder room
   double restAfterSeconds = 0.6;
   double restSeconds = 0.5;
+  // The pose the head rests in (pitch, yaw, roll, degrees): the one a head style adds (head_style.h).
+  Eigen::Vector3d headRestDegrees = Eigen::Vector3d::Zero();
   unsigned seed = 1;
 };
 
@@ -63,7 +65,7 @@ class IdleMotion {
   explicit IdleMotion(const IdleMotionOptions& options = {});
 
   // Moves to `seconds` (non-decreasing) with the sound's level there (dB re full scale; very low for none):
-  // sets the eyelid FAPs (19, 20) and the eyeball FAPs (23–26), and scales the head FAPs (48–50) toward rest.
+  // sets the eyelid FAPs (19, 20) and the eyeball FAPs (23–26), and eases the head FAPs (48–50) toward rest.
   void apply(double seconds, double levelDb, const IdleSwitches& switches, face::FapFrame& faps);
 
   bool speaking() const { return speaking_; }

@@ -7,6 +7,7 @@
 #include <random>
 #include <vector>
 
+#include "animation/head_measures.h"
 #include "core/error.h"
 #include "core/statistics.h"
 
@@ -17,12 +18,6 @@ void requireSameShape(const Eigen::MatrixXd& predicted, const Eigen::MatrixXd& t
   if (predicted.rows() != 3 || truth.rows() != 3 || predicted.cols() != truth.cols() || truth.cols() < 2) {
     throw Error("head evaluation: need two 3 x T rotation sequences of the same length (T >= 2)");
   }
-}
-
-Eigen::Vector3d rowStd(const Eigen::MatrixXd& m) {
-  Eigen::Vector3d result;
-  for (Eigen::Index axis = 0; axis < 3; ++axis) result[axis] = standardDeviation(m.row(axis));
-  return result;
 }
 
 Eigen::MatrixXd steps(const Eigen::MatrixXd& m) {
@@ -61,42 +56,6 @@ Eigen::MatrixXd windowFeatures(const Eigen::MatrixXd& rotations, double fps, int
 }
 
 }  // namespace
-
-HeadMotionStatistics motionStatistics(const Eigen::MatrixXd& rotations, const Eigen::RowVectorXd& pauses, double fps) {
-  if (rotations.rows() != 3 || rotations.cols() < 2) throw Error("head evaluation: need a 3 x T motion with T >= 2");
-  if (pauses.size() != 0 && pauses.size() != rotations.cols())
-    throw Error("head evaluation: pauses and motion differ in length");
-  HeadMotionStatistics statistics;
-  std::vector<double> speeds;
-  double pauseSum = 0.0, speechSum = 0.0;
-  int pauseCount = 0, speechCount = 0;
-  for (Eigen::Index t = 1; t < rotations.cols(); ++t) {
-    const double speed = (rotations.col(t) - rotations.col(t - 1)).norm() * fps;
-    speeds.push_back(speed);
-    if (pauses.size() == 0) continue;
-    // A step belongs to a pause when both its frames do.
-    if (pauses[t] > 0.0 && pauses[t - 1] > 0.0) {
-      pauseSum += speed;
-      ++pauseCount;
-    } else {
-      speechSum += speed;
-      ++speechCount;
-    }
-  }
-  statistics.speedP95 = quantile(speeds, 0.95);
-  if (pauseCount > 0 && speechCount > 0 && speechSum > 0.0)
-    statistics.pauseSpeechRatio = (pauseSum / pauseCount) / (speechSum / speechCount);
-  statistics.poseStd = rowStd(rotations);
-  return statistics;
-}
-
-Eigen::RowVectorXd pauseFrames(const Eigen::RowVectorXd& levelDb, double marginDb) {
-  std::vector<double> levels(levelDb.data(), levelDb.data() + levelDb.size());
-  const double loud = quantile(levels, 0.95);
-  Eigen::RowVectorXd pauses(levelDb.size());
-  for (Eigen::Index t = 0; t < levelDb.size(); ++t) pauses[t] = levelDb[t] < loud - marginDb ? 1.0 : 0.0;
-  return pauses;
-}
 
 double frechetDistance(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b, double fps, int windowFrames) {
   return frechetDistance(std::vector<Eigen::MatrixXd>{a}, std::vector<Eigen::MatrixXd>{b}, fps, windowFrames);
@@ -180,70 +139,15 @@ HeadMetrics evaluateHead(const Eigen::MatrixXd& predicted, const Eigen::MatrixXd
   for (int axis = 0; axis < 3; ++axis) {
     metrics.correlation[axis] = pearsonCorrelation(predicted.row(axis), truth.row(axis));
   }
-  metrics.poseStd = rowStd(predicted);
-  metrics.truthPoseStd = rowStd(truth);
-  metrics.velocityStd = rowStd(steps(predicted));
-  metrics.truthVelocityStd = rowStd(steps(truth));
+  metrics.poseStd = animation::axisStd(predicted);
+  metrics.truthPoseStd = animation::axisStd(truth);
+  metrics.velocityStd = animation::axisStd(steps(predicted));
+  metrics.truthVelocityStd = animation::axisStd(steps(truth));
   const Eigen::MatrixXd predictedSteps = steps(predicted);
   int jumps = 0;
   for (Eigen::Index t = 0; t < predictedSteps.cols(); ++t) jumps += predictedSteps.col(t).norm() > jumpThreshold;
   metrics.jumpRate = static_cast<double>(jumps) / static_cast<double>(predictedSteps.cols());
   return metrics;
-}
-
-namespace {
-
-// Each value smoothed by a Gaussian of sigma frames (edges: the edge value repeated).
-std::vector<double> gaussianSmoothed(const std::vector<double>& values, double sigma) {
-  const int reach = static_cast<int>(std::ceil(4.0 * sigma));
-  std::vector<double> kernel;
-  double total = 0.0;
-  for (int k = -reach; k <= reach; ++k) total += kernel.emplace_back(std::exp(-0.5 * k * k / (sigma * sigma)));
-  const int n = static_cast<int>(values.size());
-  std::vector<double> out(values.size(), 0.0);
-  for (int t = 0; t < n; ++t) {
-    double sum = 0.0;
-    for (int k = -reach; k <= reach; ++k)
-      sum +=
-          kernel[static_cast<std::size_t>(k + reach)] * values[static_cast<std::size_t>(std::clamp(t + k, 0, n - 1))];
-    out[static_cast<std::size_t>(t)] = sum / total;
-  }
-  return out;
-}
-
-}  // namespace
-
-std::vector<int> motionBeats(const Eigen::MatrixXd& rotations, double sigmaFrames) {
-  // speed[t]: from frame t - 1 to frame t (Bailando's alignment); frame 0 takes frame 1's.
-  if (rotations.cols() < 4) return {};
-  std::vector<double> speed(static_cast<std::size_t>(rotations.cols()));
-  for (Eigen::Index t = 1; t < rotations.cols(); ++t)
-    speed[static_cast<std::size_t>(t)] = (rotations.col(t) - rotations.col(t - 1)).norm();
-  speed[0] = speed[1];
-  const std::vector<double> smooth = gaussianSmoothed(speed, sigmaFrames);
-  std::vector<int> beats;
-  for (std::size_t t = 1; t + 1 < smooth.size(); ++t)
-    if (smooth[t] < smooth[t - 1] && smooth[t] < smooth[t + 1]) beats.push_back(static_cast<int>(t));
-  return beats;
-}
-
-std::vector<int> speechBeats(const Eigen::RowVectorXd& levelDb, double minRiseDb, int minGapFrames) {
-  std::vector<double> rise(static_cast<std::size_t>(levelDb.size()), 0.0);
-  for (Eigen::Index t = 1; t < levelDb.size(); ++t)
-    rise[static_cast<std::size_t>(t)] = std::max(0.0, levelDb[t] - levelDb[t - 1]);
-  if (rise.size() < 3) return {};
-  const std::vector<double> smooth = gaussianSmoothed(rise, 1.0);
-  std::vector<int> beats;
-  for (std::size_t t = 1; t + 1 < smooth.size(); ++t) {
-    if (smooth[t] < minRiseDb || smooth[t] < smooth[t - 1] || smooth[t] <= smooth[t + 1]) continue;
-    const int frame = static_cast<int>(t);
-    if (!beats.empty() && frame - beats.back() < minGapFrames) {
-      if (smooth[t] > smooth[static_cast<std::size_t>(beats.back())]) beats.back() = frame;  // the larger kept
-      continue;
-    }
-    beats.push_back(frame);
-  }
-  return beats;
 }
 
 double beatAlign(const std::vector<int>& speech, const std::vector<int>& motion, double sigmaFrames) {

@@ -18,19 +18,9 @@
 #include <Eigen/Core>
 #include <vector>
 
+#include "animation/head_measures.h"
+
 namespace th::eval {
-
-struct HeadMotionStatistics {
-  double speedP95 = 0.0;          // deg/s
-  double pauseSpeechRatio = 0.0;  // mean speed in pauses / in speech (0 without pauses or speech)
-  Eigen::Vector3d poseStd = Eigen::Vector3d::Zero();
-};
-
-// pauses: T, 1 in a pause (pauseFrames). fps: frames per second.
-HeadMotionStatistics motionStatistics(const Eigen::MatrixXd& rotations, const Eigen::RowVectorXd& pauses, double fps);
-
-// 1 where the level is more than marginDb below the 95th percentile of levelDb, else 0.
-Eigen::RowVectorXd pauseFrames(const Eigen::RowVectorXd& levelDb, double marginDb = 30.0);
 
 // The Fréchet distance between the motions' window distributions: windows of windowFrames (hop 5 frames), each
 // described by its pose (relative to the sequence's own mean) and its mean velocity (deg/s) over 6 equal parts
@@ -47,13 +37,7 @@ Eigen::MatrixXd matchedRandomWalk(const Eigen::Vector3d& poseStd, const Eigen::V
 
 // Beat Align as SadTalker reports it (after Bailando, Siyao et al. 2022): the mean over the speech's beats of
 // exp(−d² / 2σ²), d the frames from the beat to the nearest motion beat, σ = sigmaFrames (3 at 30 fps: 100 ms);
-// 0 without motion beats. Motion beats: the local minima of the head's angular speed ‖Δ(pitch, yaw, roll)‖
-// smoothed by a Gaussian of 5 frames (where one movement ends and the next begins). Speech beats: onsets, the
-// peaks of the level's rise (its frame-to-frame increase, half-wave rectified, smoothed by a Gaussian of one
-// frame) of at least minRiseDb, at least minGapFrames apart (the larger kept): syllables that start loud,
-// stressed ones and phrase starts, as an onset detector marks them.
-std::vector<int> motionBeats(const Eigen::MatrixXd& rotations, double sigmaFrames = 5.0);
-std::vector<int> speechBeats(const Eigen::RowVectorXd& levelDb, double minRiseDb = 2.0, int minGapFrames = 6);
+// 0 without motion beats. The beats: animation/head_measures.h's motionBeats and speechBeats.
 double beatAlign(const std::vector<int>& speech, const std::vector<int>& motion, double sigmaFrames = 3.0);
 // Beat Align by chance for the same beats: the mean over the speech's beats moved by 1, 1.5, 2, 2.5 and 3 s (at
 // 30 fps; circularly within numFrames). Beat Align rises with the motion's beats per second whatever their

@@ -137,7 +137,7 @@ std::vector<HeadRecording> headTrainingSet(const HeadCorpus& corpus, const std::
 }
 
 HeadJudgedClip judgedClipOf(const HeadRecording& clip) {
-  return {&clip, clip.rotations.colwise() - clip.rotations.rowwise().mean(), pauseFrames(clip.levelDb)};
+  return {&clip, clip.rotations.colwise() - clip.rotations.rowwise().mean(), animation::pauseFrames(clip.levelDb)};
 }
 
 HeadSpeakerTruth headTruthOf(const std::vector<HeadJudgedClip>& clips) {
@@ -145,11 +145,11 @@ HeadSpeakerTruth headTruthOf(const std::vector<HeadJudgedClip>& clips) {
   for (const auto& c : clips) truth.frames += c.clip->numFrames();
   for (const auto& c : clips) {
     const double w = c.clip->numFrames() / truth.frames;
-    const HeadMotionStatistics s = motionStatistics(c.truth, c.pauses, kFps);
+    const animation::HeadMotionStatistics s = animation::motionStatistics(c.truth, c.pauses, kFps);
     truth.speedP95 += w * s.speedP95;
     truth.pauseRatio += w * s.pauseSpeechRatio;
     truth.poseStd += w * s.poseStd;
-    const std::vector<int> speech = speechBeats(c.clip->levelDb), motion = motionBeats(c.truth);
+    const std::vector<int> speech = animation::speechBeats(c.clip->levelDb), motion = animation::motionBeats(c.truth);
     truth.beatAlign += w * beatAlign(speech, motion);
     truth.chanceAlign += w * chanceBeatAlign(speech, motion, c.clip->numFrames());
     truth.beatRate += static_cast<double>(motion.size()) / (truth.frames / kFps);
@@ -170,14 +170,14 @@ HeadRow judgeHead(const std::string& name, const std::vector<HeadJudgedClip>& cl
     const double w = c.clip->numFrames() / truth.frames;
     const Eigen::MatrixXd predicted = estimate(i);
     const HeadMetrics m = evaluateHead(predicted, c.truth, stepQuantile(c.truth, 0.99));
-    const HeadMotionStatistics s = motionStatistics(predicted, c.pauses, kFps);
+    const animation::HeadMotionStatistics s = animation::motionStatistics(predicted, c.pauses, kFps);
     row.error += w * m.error;
     row.correlation += w * m.correlation;
     row.stdRatio += w * s.poseStd.cwiseQuotient(truth.poseStd);
     row.speedRatio += w * s.speedP95 / truth.speedP95;
     row.pauseRatio += w * s.pauseSpeechRatio;
     row.jumpPercent += w * 100.0 * m.jumpRate;
-    const std::vector<int> speech = speechBeats(c.clip->levelDb), motion = motionBeats(predicted);
+    const std::vector<int> speech = animation::speechBeats(c.clip->levelDb), motion = animation::motionBeats(predicted);
     row.beatAlign += w * beatAlign(speech, motion);
     row.chanceAlign += w * chanceBeatAlign(speech, motion, c.clip->numFrames());
     row.beatRate += static_cast<double>(motion.size()) / (truth.frames / kFps);
@@ -298,7 +298,7 @@ HeadBlinkReport reportHeadBlinks(const std::vector<const HeadRecording*>& takes)
     animation.values.resize(0, take->numFrames());
     animation::addIdleMotion(animation, take->levelDb, {}, {});
     const Eigen::RowVectorXd lid = animation.values.row(animation.rowOf(19));
-    const Eigen::RowVectorXd pauses = pauseFrames(take->levelDb);
+    const Eigen::RowVectorXd pauses = animation::pauseFrames(take->levelDb);
     // Frames at a pause: in one, or within 0.5 s after one begins.
     std::vector<bool> atPause(static_cast<std::size_t>(take->numFrames()), false);
     for (int t = 0; t < take->numFrames(); ++t)

@@ -276,13 +276,13 @@ TEST(HeadEvaluation, SpeedPausesFrechetAndTheMatchedWalk) {
   // Pauses: the second half is 40 dB down; a head that stops there has a pause/speech speed ratio of 0.
   Eigen::RowVectorXd level = Eigen::RowVectorXd::Constant(frames, -20.0);
   level.tail(frames / 2).setConstant(-60.0);
-  const Eigen::RowVectorXd pauses = th::eval::pauseFrames(level);
+  const Eigen::RowVectorXd pauses = th::animation::pauseFrames(level);
   EXPECT_EQ(pauses.sum(), frames / 2);
   Eigen::MatrixXd stops = walk;
   for (int t = frames / 2; t < frames; ++t) stops.col(t) = walk.col(frames / 2 - 1);
-  const th::eval::HeadMotionStatistics statistics = th::eval::motionStatistics(stops, pauses, 30.0);
+  const th::animation::HeadMotionStatistics statistics = th::animation::motionStatistics(stops, pauses, 30.0);
   EXPECT_NEAR(statistics.pauseSpeechRatio, 0.0, 1e-12);
-  EXPECT_NEAR(th::eval::motionStatistics(walk, pauses, 30.0).pauseSpeechRatio, 1.0, 0.1);
+  EXPECT_NEAR(th::animation::motionStatistics(walk, pauses, 30.0).pauseSpeechRatio, 1.0, 0.1);
   EXPECT_GT(statistics.speedP95, 0.0);
 }
 
@@ -292,7 +292,7 @@ TEST(HeadEvaluation, BeatAlignFindsMovementsThatStartOnTheSyllables) {
   const int frames = 300;
   Eigen::RowVectorXd level(frames);
   for (int t = 0; t < frames; ++t) level[t] = -50.0 + 20.0 * std::exp(-(t % 12) / 3.0);
-  const std::vector<int> syllables = th::eval::speechBeats(level);
+  const std::vector<int> syllables = th::animation::speechBeats(level);
   ASSERT_GE(syllables.size(), 22U);
   for (std::size_t k = 1; k < syllables.size(); ++k) EXPECT_EQ(syllables[k] - syllables[k - 1], 12);
   const auto nods = [&](double shift) {
@@ -302,13 +302,13 @@ TEST(HeadEvaluation, BeatAlignFindsMovementsThatStartOnTheSyllables) {
   };
   // The nod's speed is least where it turns (t = 6 + 12k + shift, between frames: no two frames tie); on the
   // syllables with shift -5.7, half a period off with 0.3.
-  const double onBeat = th::eval::beatAlign(syllables, th::eval::motionBeats(nods(-5.7)));
-  const double late = th::eval::beatAlign(syllables, th::eval::motionBeats(nods(0.3)));
+  const double onBeat = th::eval::beatAlign(syllables, th::animation::motionBeats(nods(-5.7)));
+  const double late = th::eval::beatAlign(syllables, th::animation::motionBeats(nods(0.3)));
   EXPECT_GT(onBeat, 0.9);
   EXPECT_LT(late, 0.3);  // 5 frames off: exp(-25 / 18)
-  EXPECT_EQ(th::eval::beatAlign(syllables, th::eval::motionBeats(Eigen::MatrixXd::Zero(3, frames))), 0.0);
+  EXPECT_EQ(th::eval::beatAlign(syllables, th::animation::motionBeats(Eigen::MatrixXd::Zero(3, frames))), 0.0);
   // Quiet speech has no beats; a beat needs a rise of 2 dB and 6 frames from the last.
-  EXPECT_TRUE(th::eval::speechBeats(Eigen::RowVectorXd::Constant(frames, -40.0)).empty());
+  EXPECT_TRUE(th::animation::speechBeats(Eigen::RowVectorXd::Constant(frames, -40.0)).empty());
   // Diversity: the mean over the axes of the pose's spread.
   EXPECT_NEAR(th::eval::poseDiversity(nods(0.0)), 3.0 / std::sqrt(2.0) / 3.0, 0.02);
 }
@@ -339,10 +339,10 @@ TEST(HeadEvaluation, ChanceBeatAlignTellsTimingFromTheRateOfMovements) {
     return rotations;
   };
   const std::vector<int> take = syllablesOf(), other = syllablesOf();
-  const std::vector<int> beats = th::eval::speechBeats(levelOf(take));
+  const std::vector<int> beats = th::animation::speechBeats(levelOf(take));
   ASSERT_GE(beats.size(), 40U);
-  const std::vector<int> locked = th::eval::motionBeats(headTurningOn(take));
-  const std::vector<int> unlocked = th::eval::motionBeats(headTurningOn(other));
+  const std::vector<int> locked = th::animation::motionBeats(headTurningOn(take));
+  const std::vector<int> unlocked = th::animation::motionBeats(headTurningOn(other));
   const double onBeat = th::eval::beatAlign(beats, locked);
   const double onBeatByChance = th::eval::chanceBeatAlign(beats, locked, frames);
   const double elsewhere = th::eval::beatAlign(beats, unlocked);

@@ -2,7 +2,7 @@
 // windows of speech (the mean over the axes of the rotation's std in each window, then over the windows: the
 // length of the news anchors' clips, so every set is measured alike) beside three things of the voice — the
 // pitch's spread (semitones, voiced frames), the level's spread in speech (dB) and the rate of onsets (a
-// second of speech; eval/head_evaluation.h's speechBeats). Then, each speaker left out in turn, the spread
+// second of speech; animation/head_measures.h's speechBeats). Then, each speaker left out in turn, the spread
 // predicted from the others: by their geometric mean (one size for everyone), and by a least-squares line of
 // the log spread on the voice's three; and the shipped head's spread on the same windows (the "ours" column),
 // alone and with one gain. Not the product: a workbench for the head's size (docs/head.md).
@@ -124,7 +124,7 @@ void measureSpeaker(Speaker& speaker, const th::animation::HeadModel& model, int
 }
 
 void addRecording(Speaker& speaker, const HeadRecording& r, const Eigen::MatrixXd& synthesised, int window) {
-  const Eigen::RowVectorXd pauses = th::eval::pauseFrames(r.levelDb);
+  const Eigen::RowVectorXd pauses = th::animation::pauseFrames(r.levelDb);
   for (int start = 0; start + window <= r.numFrames(); start += window / 2) {
     if (pauses.segment(start, window).mean() > 0.5) continue;  // a window of speech
     speaker.windowSpreads.push_back(th::eval::poseDiversity(r.rotations.middleCols(start, window)));
@@ -143,7 +143,7 @@ void addRecording(Speaker& speaker, const HeadRecording& r, const Eigen::MatrixX
       double lm = 0.0;
       for (double x : lv) lm += x / static_cast<double>(lv.size());
       int onsets = 0;
-      for (int b : th::eval::speechBeats(r.levelDb)) onsets += b >= start && b < start + window;
+      for (int b : th::animation::speechBeats(r.levelDb)) onsets += b >= start && b < start + window;
       Eigen::VectorXd f(6);
       f << lm, stddev(lv), stddev(st), voicedShare, onsets, steps;
       speaker.windowVoice.push_back(f);
@@ -161,10 +161,10 @@ void addRecording(Speaker& speaker, const HeadRecording& r, const Eigen::MatrixX
     speaker.speechSeconds += 1.0 / r.framesPerSecond;
     if (r.voiced[t] > 0.5) speaker.semitones.push_back(r.prosody(0, t));
   }
-  const std::vector<int> beats = th::eval::speechBeats(r.levelDb);
+  const std::vector<int> beats = th::animation::speechBeats(r.levelDb);
   speaker.onsets += static_cast<int>(beats.size());
   if (r.numFrames() >= 60 && !beats.empty()) {
-    const std::vector<int> motion = th::eval::motionBeats(r.rotations);
+    const std::vector<int> motion = th::animation::motionBeats(r.rotations);
     speaker.beatAlign += th::eval::beatAlign(beats, motion);
     double shifted = 0.0;
     for (int shift : {30, 45, 60, 75, 90}) {
@@ -174,11 +174,11 @@ void addRecording(Speaker& speaker, const HeadRecording& r, const Eigen::MatrixX
     }
     speaker.shiftedBeatAlign += shifted;
     ++speaker.beatClips;
-    const Eigen::RowVectorXd speech = Eigen::RowVectorXd::Ones(r.numFrames()) - th::eval::pauseFrames(r.levelDb);
+    const Eigen::RowVectorXd speech = Eigen::RowVectorXd::Ones(r.numFrames()) - th::animation::pauseFrames(r.levelDb);
     speaker.pitchAlign += ownAndMoved(peaks(r.prosody.row(0), r.voiced, 1.5), motion, r.numFrames());
     speaker.peakAlign += ownAndMoved(peaks(r.levelDb, speech, 4.0), motion, r.numFrames());
-    speaker.offsetAlign += ownAndMoved(th::eval::speechBeats(-r.levelDb), motion, r.numFrames());
-    speaker.modelAlign += ownAndMoved(beats, th::eval::motionBeats(synthesised), r.numFrames());
+    speaker.offsetAlign += ownAndMoved(th::animation::speechBeats(-r.levelDb), motion, r.numFrames());
+    speaker.modelAlign += ownAndMoved(beats, th::animation::motionBeats(synthesised), r.numFrames());
     // Summed in the loop: GCC's -Wnull-dereference flags Eigen's reduction over a vector that could be empty.
     Eigen::RowVectorXd speed = Eigen::RowVectorXd::Zero(r.numFrames());
     double meanSpeed = 0.0;

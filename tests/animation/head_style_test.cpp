@@ -1,0 +1,214 @@
+// A person's head style: its measures on motion made here, the fit of the shipped head model to a real speaker
+// (and to the same speaker made twice and half as lively), the rest pose it adds and the idle behaviour eases to,
+// its file, and the clips it refuses.
+#include "animation/head_style.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <numbers>
+#include <string>
+
+#include "animation/head_measures.h"
+#include "animation/idle_motion.h"
+#include "core/error.h"
+#include "core/temporary_file.h"
+#include "eval/head_corpus.h"
+#include "support/files.h"
+
+namespace th::animation {
+namespace {
+
+constexpr double kFps = 30.0;
+
+const HeadModel& shippedHead() {
+  static const HeadModel model = loadHeadModel(std::filesystem::path(TALKINGHEAD_SOURCE_DIR) / "models/head.json");
+  return model;
+}
+
+// BEAT2's speaker: the first three quarters of the take (47.6 s), the part the shipped model trained on least
+// matters here (the style is fitted to whatever clip it is given).
+const HeadRecording& beat2Clip() {
+  static const HeadRecording clip = [] {
+    const HeadRecording take = th::eval::loadBeat2Head();
+    return framesOf(take, 0, take.numFrames() * 3 / 4);
+  }();
+  return clip;
+}
+
+// The fit to that clip (made once: each fit plays the model some 150 times).
+const HeadStyle& beat2Style() {
+  static const HeadStyle style = fitHeadStyle(shippedHead(), beat2Clip());
+  return style;
+}
+
+TEST(HeadStyleMeasures, SpreadSpeedBeatsAndPausesOfAKnownMotion) {
+  // 20 s: yaw a sine of 6 degrees' amplitude and a 2 s period; pitch 2 degrees, roll still. The sound is loud for
+  // the first 15 s and silent for the last 5, where the head moves at a third of the speed.
+  const int frames = 600;
+  Eigen::MatrixXd rotations = Eigen::MatrixXd::Zero(3, frames);
+  Eigen::RowVectorXd level = Eigen::RowVectorXd::Constant(frames, -20.0);
+  double phase = 0.0;
+  for (int t = 0; t < frames; ++t) {
+    const bool pause = t >= 450;
+    if (pause) level[t] = -80.0;
+    phase += 2.0 * std::numbers::pi / (2.0 * kFps) * (pause ? 1.0 / 3.0 : 1.0);
+    rotations(1, t) = 6.0 * std::sin(phase);
+    rotations(0, t) = 2.0 * std::sin(phase);
+  }
+  const HeadStyleMeasures m = measureHeadStyle(rotations, level, kFps);
+  EXPECT_NEAR(m.seconds, 20.0, 1e-12);
+  EXPECT_NEAR(m.spread[1], 6.0 / std::sqrt(2.0), 0.5);
+  EXPECT_NEAR(m.spread[0], 2.0 / std::sqrt(2.0), 0.2);
+  EXPECT_EQ(m.spread[2], 0.0);
+  // The fastest: 6.3 degrees times 2π / 2 s, nearly, at the sine's zero crossings.
+  const double peakSpeed = std::hypot(6.0, 2.0) * std::numbers::pi;
+  EXPECT_GT(m.speedP95, 0.9 * peakSpeed);
+  EXPECT_LT(m.speedP95, 1.01 * peakSpeed);
+  EXPECT_TRUE(m.pauses);
+  EXPECT_NEAR(m.pauseSpeechRatio, 1.0 / 3.0, 0.05);
+  // The speed's minima are the sine's turns, two a period: 15 in the 7.5 periods of speech, 1 or 2 in the 0.83
+  // of the pause.
+  EXPECT_NEAR(m.beatsPerSecond, 16.5 / 20.0, 0.1);
+  // Without a second of quiet there are no pauses to speak of.
+  const HeadStyleMeasures loud = measureHeadStyle(rotations, Eigen::RowVectorXd::Constant(frames, -20.0), kFps);
+  EXPECT_FALSE(loud.pauses);
+  EXPECT_EQ(loud.pauseSpeechRatio, 0.0);
+}
+
+TEST(HeadStyle, TheFitMovesTheShippedModelLikeTheSpeakerOnTheirOwnSpeech) {
+  const HeadStyle& style = beat2Style();
+  std::printf(
+      "[ INFO     ] %s, %.1f s: spread %.2f / %.2f / %.2f deg, p95 speed %.1f deg/s, %.2f beats/s, pause/speech "
+      "%.2f; fitted gain %.2f / %.2f / %.2f, smoothing %.2f, variation %.2f, pause variation %.2f: p95 speed %.1f, "
+      "%.2f beats/s, pause/speech %.2f\n",
+      style.source.c_str(), style.person.seconds, style.person.spread[0], style.person.spread[1],
+      style.person.spread[2], style.person.speedP95, style.person.beatsPerSecond, style.person.pauseSpeechRatio,
+      style.axisGain[0], style.axisGain[1], style.axisGain[2], style.smoothing, style.variation, style.pauseVariation,
+      style.fitted.speedP95, style.fitted.beatsPerSecond, style.fitted.pauseSpeechRatio);
+  EXPECT_EQ(style.source, beat2Clip().name);
+  EXPECT_GT(style.person.seconds, 40.0);
+  // The spread is matched on every axis by construction, speed and beats by the grid, the pauses by their gain.
+  for (int axis = 0; axis < 3; ++axis)
+    EXPECT_NEAR(style.fitted.spread[axis] / style.person.spread[axis], 1.0, 0.02) << "axis " << axis;
+  EXPECT_NEAR(std::log(style.fitted.speedP95 / style.person.speedP95), 0.0, std::log(1.25));
+  EXPECT_NEAR(std::log(style.fitted.beatsPerSecond / style.person.beatsPerSecond), 0.0, std::log(1.3));
+  ASSERT_TRUE(style.person.pauses);
+  EXPECT_NEAR(style.fitted.pauseSpeechRatio, style.person.pauseSpeechRatio, 0.15);
+  EXPECT_NEAR((style.restPose - beat2Clip().rotations.rowwise().mean()).norm(), 0.0, 1e-12);
+}
+
+TEST(HeadStyle, ALivelierPersonGetsALargerGainAndAStillerOneASmaller) {
+  const HeadStyle& style = beat2Style();
+  for (const double size : {2.0, 0.5}) {
+    HeadRecording other = beat2Clip();
+    const Eigen::Vector3d mean = other.rotations.rowwise().mean();
+    other.rotations = ((other.rotations.colwise() - mean) * size).colwise() + mean;
+    const HeadStyle scaled = fitHeadStyle(shippedHead(), other);
+    // Spread and speed scale alike, so the same smoothing fits and the gain follows the size.
+    EXPECT_EQ(scaled.smoothing, style.smoothing) << "size " << size;
+    EXPECT_EQ(scaled.variation, style.variation) << "size " << size;
+    for (int axis = 0; axis < 3; ++axis)
+      EXPECT_NEAR(scaled.axisGain[axis] / style.axisGain[axis], size, 0.02 * size) << "axis " << axis;
+  }
+}
+
+TEST(HeadStyle, TheSynthesisAddsTheRestPoseAndTheIdleHeadEasesToIt) {
+  HeadStyle style = beat2Style();
+  style.restPose = Eigen::Vector3d(4.0, -6.0, 2.0);
+  HeadSynthesisOptions plain;
+  HeadSynthesisOptions styled;
+  applyHeadStyle(style, styled);
+  EXPECT_EQ(styled.axisGain, style.axisGain);
+  EXPECT_EQ(styled.smoothing, style.smoothing);
+  EXPECT_EQ(styled.pauseVariation, style.pauseVariation);
+  const HeadRecording& clip = beat2Clip();
+  const Eigen::MatrixXd rest = synthesiseHead(shippedHead(), clip.prosody, clip.voiced, plain);
+  styled.axisGain = Eigen::Vector3d::Ones();
+  styled.smoothing = plain.smoothing;
+  styled.variation = plain.variation;
+  styled.pauseVariation = plain.pauseVariation;
+  const Eigen::MatrixXd moved = synthesiseHead(shippedHead(), clip.prosody, clip.voiced, styled);
+  EXPECT_LT(((moved - rest).colwise() - style.restPose).cwiseAbs().maxCoeff(), 1e-9);
+
+  // In silence the idle behaviour brings the head to the rest pose, not to zero.
+  IdleMotionOptions options;
+  options.headRestDegrees = style.restPose;
+  IdleMotion idle(options);
+  face::FapFrame faps{};
+  const double unitsPerDegree = std::numbers::pi / 180.0 / face::kAngleUnit;
+  for (int frame = 0; frame < 150; ++frame) {
+    faps[48] = faps[49] = faps[50] = 20.0 * unitsPerDegree;  // the synthesis's head, far from the rest
+    idle.apply(frame / kFps, frame < 30 ? -20.0 : -90.0, {}, faps);
+  }
+  for (int axis = 0; axis < 3; ++axis)
+    EXPECT_NEAR(faps[static_cast<std::size_t>(48 + axis)] / unitsPerDegree, style.restPose[axis], 0.05);
+}
+
+TEST(HeadStyle, TheFileKeepsEverythingAndBadFilesFailNamingTheField) {
+  const HeadStyle& style = beat2Style();
+  const TemporaryFolder folder;
+  const auto path = folder.path() / "scott.head-style.json";
+  saveHeadStyle(path, style);
+  EXPECT_TRUE(isHeadStyleFile(path));
+  const HeadStyle back = loadHeadStyle(path);
+  EXPECT_EQ(back.source, style.source);
+  EXPECT_LT((back.axisGain - style.axisGain).norm(), 1e-12);
+  EXPECT_LT((back.restPose - style.restPose).norm(), 1e-12);
+  EXPECT_EQ(back.smoothing, style.smoothing);
+  EXPECT_EQ(back.variation, style.variation);
+  EXPECT_EQ(back.pauseVariation, style.pauseVariation);
+  EXPECT_LT((back.person.spread - style.person.spread).norm(), 1e-12);
+  EXPECT_EQ(back.person.pauses, style.person.pauses);
+  EXPECT_EQ(back.fitted.beatsPerSecond, style.fitted.beatsPerSecond);
+
+  const auto failsWith = [&](const std::string& text, const std::string& expected) {
+    const auto bad = folder.path() / "bad.json";
+    std::ofstream(bad) << text;
+    try {
+      loadHeadStyle(bad);
+      ADD_FAILURE() << "no error for " << text;
+    } catch (const Error& error) {
+      const std::string message = error.what();
+      EXPECT_NE(message.find(bad.string()), std::string::npos) << message;
+      EXPECT_NE(message.find(expected), std::string::npos) << message;
+      EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+    }
+  };
+  failsWith(R"({"format": "talkinghead-animation", "version": 1})", "format");
+  failsWith("not json", "JSON");
+  const std::string text = th::test::readText(path);
+  const auto replaced = [&](const std::string& from, const std::string& to) {
+    std::string copy = text;
+    copy.replace(copy.find(from), from.size(), to);
+    return copy;
+  };
+  failsWith(replaced("\"smoothing\": ", "\"smoothing\": -"), "synthesis.smoothing");
+  failsWith(replaced("\"axis_gain\": [", "\"axis_gain\": [1, "), "synthesis.axis_gain");
+}
+
+TEST(HeadStyle, ClipsTooShortSilentOrStillAreRefusedNamingTheClip) {
+  const HeadRecording& clip = beat2Clip();
+  const auto refuses = [&](const HeadRecording& bad, const std::string& expected) {
+    try {
+      fitHeadStyle(shippedHead(), bad);
+      ADD_FAILURE() << "no error for " << expected;
+    } catch (const Error& error) {
+      const std::string message = error.what();
+      EXPECT_NE(message.find(bad.name), std::string::npos) << message;
+      EXPECT_NE(message.find(expected), std::string::npos) << message;
+    }
+  };
+  refuses(framesOf(clip, 0, 150), "a style needs 10 s");
+  HeadRecording silent = clip;
+  silent.voiced.setZero();
+  refuses(silent, "no speech");
+  HeadRecording still = clip;
+  still.rotations.colwise() = clip.rotations.col(0);
+  refuses(still, "does not move");
+}
+
+}  // namespace
+}  // namespace th::animation
