@@ -236,7 +236,8 @@ HeadStyle loadHeadStyle(const std::filesystem::path& path) {
   const std::string& format = fields.string(fields.member(document, "format", ""), "format");
   if (format != kStyleFormat) fields.fail("format", "is \"" + format + "\", not \"" + kStyleFormat + "\"");
   const std::int64_t version = fields.integer(fields.member(document, "version", ""), "version");
-  if (version != kStyleVersion) fields.fail("version", "is " + std::to_string(version) + "; this program reads version 1");
+  if (version != kStyleVersion)
+    fields.fail("version", "is " + std::to_string(version) + "; this program reads version 1");
   fields.onlyKnownFields(document, {"format", "version", "source", "rest_pose_deg", "synthesis", "person", "fitted"},
                          "");
   HeadStyle style;
