@@ -22,7 +22,7 @@
 #                   scripts/setup.sh's.)
 #   5. web packages what scripts/build-web.sh needs (emscripten and chromium from Debian's archive, its development
 #                   packages from npm), fetched while the native build compiles
-#   6. tests        ctest --parallel (cores + 1) --output-on-failure on it, every label (tests/CMakeLists.txt says
+#   6. tests        ctest --parallel (cores) --output-on-failure on it, every label (tests/CMakeLists.txt says
 #                   what each means), leak detection on; any sanitizer report fails its test. Longest first, from
 #                   tests/ctest_costs.txt (below). Among them the benchmarks' smoke pass (label bench: one pass of
 #                   every benchmark, which proves it runs and times nothing) and the web package's build,
@@ -72,9 +72,6 @@ fi
 asan_dir="${ASAN_BUILD_DIR:-build-asan}"
 tsan_dir="${TSAN_BUILD_DIR:-build-tsan}"
 jobs="$(nproc 2>/dev/null || echo 2)"
-# One test more than there are cores: several tests spend most of their time waiting on a real clock, a browser
-# or a sound server, and a core would idle beside them. (The ones that measure time on the real clock run alone.)
-test_jobs=$((jobs + 1))
 ctest_timeout="${CTEST_TIMEOUT_SECONDS:-900}"
 export FUZZ_SECONDS="${FUZZ_SECONDS:-60}"
 
@@ -113,7 +110,7 @@ run_ctest() {
     mkdir -p "$dir/Testing/Temporary"
     cp tests/ctest_costs.txt "$dir/Testing/Temporary/CTestCostData.txt"
   fi
-  ctest --test-dir "$dir" --parallel "$test_jobs" --output-on-failure --no-tests=error --timeout "$ctest_timeout" "$@" 2>&1 |
+  ctest --test-dir "$dir" --parallel "$jobs" --output-on-failure --no-tests=error --timeout "$ctest_timeout" "$@" 2>&1 |
     tee "$log"
   return "${PIPESTATUS[0]}"
 }
