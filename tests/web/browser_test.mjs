@@ -257,7 +257,7 @@ try {
   await recipe.evaluate(() => window.recipe.start());
   let opened = 0, silent = 0;
   const recipeStarted = Date.now();
-  while (Date.now() - recipeStarted < 15000 && !(opened > 0.3 && silent > 0.9)) {
+  while (Date.now() - recipeStarted < 45000 && !(opened > 0.3 && silent > 0.9)) {
     const r = await recipe.evaluate(() => ({ aa: window.recipe.viseme('aa'), sil: window.recipe.viseme('sil') }));
     if (r.aa > opened) {
       opened = r.aa;
