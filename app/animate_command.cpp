@@ -19,6 +19,7 @@
 #include "core/text_files.h"
 #include "formats/animation_format.h"
 #include "formats/gltf_animation.h"
+#include "head_style_clip.h"
 #include "pipeline/offline.h"
 #include "pipeline/options.h"
 
@@ -101,18 +102,21 @@ void runAnimate(const AnimateArguments& arguments) {
   const std::optional<avatar::Avatar> character = loadCharacter(arguments.avatar);
   if (!arguments.decoding.preset.empty() && !arguments.decoding.online)
     throw fileError(arguments.output, "--preset is a live preset's streaming: give --online too");
+  pipeline::HeadMotionOptions head = arguments.head;
+  pipeline::IdleOptions idle = arguments.idle;
+  resolveHeadStyleClip(head, idle, arguments.models, std::cerr);
   pipeline::AnimateOptions options;
   pipeline::AnimationModels models;
   if (arguments.decoding.preset.empty()) {
-    options = pipeline::animateOptionsOf(arguments.models, arguments.head, arguments.idle,
+    options = pipeline::animateOptionsOf(arguments.models, head, idle,
                                          arguments.decoding.online ? &arguments.streaming : nullptr,
                                          arguments.decoding.start);
     models = pipeline::loadModels(arguments.models);
   } else {
     pipeline::LiveSettings live;
     live.models = arguments.models;
-    live.head = arguments.head;
-    live.idle = arguments.idle;
+    live.head = head;
+    live.idle = idle;
     pipeline::applyLivePreset(live, arguments.decoding.preset);
     live.check();
     options = pipeline::livePresetAnimateOptions(live, arguments.decoding.start);

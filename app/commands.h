@@ -24,5 +24,6 @@ void addLiveCommand(CLI::App& app);        // live: the window, or --headless
 void addTrackCommand(CLI::App& app);       // track: a talking video -> landmarks per frame
 void addSideBySideCommand(CLI::App& app);  // sidebyside: a clip beside our face driven by its sound
 void addRecordCommand(CLI::App& app);      // record: webcam + microphone, a take for train --video
+void addStyleCommand(CLI::App& app);       // style: a talking clip -> the person's head style
 
 }  // namespace th::app

@@ -31,6 +31,7 @@
 #include "formats/animation_format.h"
 #include "formats/arkit_format.h"
 #include "formats/mp4_writer.h"
+#include "head_style_clip.h"
 #include "interrupt.h"
 #include "pipeline/offline.h"
 #include "pipeline/options.h"
@@ -211,6 +212,7 @@ void runExport(const ExportArguments& arguments) {
   job.models = arguments.models;
   job.head = arguments.head;
   job.idle = arguments.idle;
+  if (arguments.animation.empty()) resolveHeadStyleClip(job.head, job.idle, job.models, std::cerr);
   std::optional<ProgressBar> progress;  // made when the number of frames is known
   const auto showProgress = [&](int frames, int total) {
     if (!progress) progress.emplace(static_cast<double>(total), "export", std::cerr, progressAt(arguments.fps));

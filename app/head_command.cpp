@@ -29,6 +29,7 @@ struct HeadArguments {
   double trainingFraction = 0.75;
   int lagFrames = animation::kLiveHeadLagFrames;
   bool beat2Only = false;  // train: the single-speaker model of the paper's setting
+  bool styleFrom = false;  // eval: the head style from another clip of each held-out speaker
   animation::HeadModelOptions options;
 };
 
@@ -160,7 +161,52 @@ void printBlinks(const eval::HeadBlinkReport& report) {
               all.seconds, all.perMinute, all.atPausesPerMinute, all.inSpeechPerMinute);
 }
 
+void printStyleSpeaker(const eval::HeadStyleSpeaker& result) {
+  std::printf("\n%s left out:", result.speaker.c_str());
+  for (std::size_t i = 0; i < result.scored.size(); ++i) {
+    const animation::HeadStyle& style = result.styles[i];
+    std::printf("\n  %s styled from %s (gain %.2f / %.2f / %.2f, smoothing %.2f, variation %.2f, pause gain %.2f)",
+                result.scored[i].c_str(), result.styledFrom[i].c_str(), style.axisGain[0], style.axisGain[1],
+                style.axisGain[2], style.smoothing, style.variation, style.pauseVariation);
+  }
+  std::printf("\n");
+  printHeader(result.truth);
+  printRow(result.unstyled);
+  printRow(result.styled);
+  std::printf(
+      "  spread over the truth's (geometric mean over the axes): styled %.2f, unstyled %.2f; styled: speed %s, "
+      "pauses %s, FD %s the unstyled one's, %s (no step longer than the person's longest)\n",
+      result.styledSpread, result.unstyledSpread, result.speedMet ? "meets" : "MISSES",
+      result.pausesMet ? "meet" : "MISS", result.frechetBelow ? "below" : "NOT below",
+      result.noJumps ? "no jumps"
+                     : ("JUMPS: " + std::to_string(result.styledJumps) + " of " + std::to_string(result.steps) +
+                        " steps longer than the person's longest, the longest " +
+                        std::to_string(result.longestStepRatio).substr(0, 4) + "x it")
+                           .c_str());
+}
+
+void runStyleEval(const HeadArguments& arguments) {
+  const eval::HeadCorpus corpus = eval::loadHeadCorpus(arguments.trainingFraction);
+  std::printf(
+      "Head style from another clip of the same speaker: for each speaker, the recipe trained on the others, "
+      "styled from a clip of theirs that is not scored (BEAT2's scott: the first %.0f %% of his only posed take, "
+      "%.1f s, scoring the rest; a speaker with one clip: each half from the other), beside it unstyled. The "
+      "columns as eval head prints them; each row the mean of 5 seeds.\n",
+      100.0 * arguments.trainingFraction, corpus.beat2Train.numFrames() / kFps);
+  const eval::HeadStyleReport report = eval::evaluateHeadStyles(
+      corpus, {.model = arguments.options, .lagFrames = arguments.lagFrames}, printStyleSpeaker);
+  std::printf(
+      "\nStyled, over the %zu held-out speakers: spread over the truth's, geometric mean %.2f (target 0.8-1.25; "
+      "unstyled %.2f), from %.2f to %.2f (0.6-1.7)\n",
+      report.speakers.size(), report.spreadGeometricMean, report.unstyledGeometricMean, report.spreadLowest,
+      report.spreadHighest);
+}
+
 void runEval(const HeadArguments& arguments) {
+  if (arguments.styleFrom) {
+    runStyleEval(arguments);
+    return;
+  }
   // The model files first: a bad one fails at once, before the training.
   std::unique_ptr<HeadModel> compare;
   if (!arguments.compare.empty()) compare = std::make_unique<HeadModel>(animation::loadHeadModel(arguments.compare));
@@ -225,6 +271,8 @@ void addEvalHeadCommand(CLI::App& eval) {
   head->add_option("--lag-frames,--lag", arguments->lagFrames, "Decoding lag of the online variant, frames")
       ->check(CLI::Range(0, 300))
       ->capture_default_str();
+  head->add_flag("--style-from", arguments->styleFrom,
+                 "Instead: each held-out speaker's head style from another clip of theirs, styled beside unstyled");
   head->callback([arguments] { runEval(*arguments); });
 }
 

@@ -21,6 +21,7 @@ int main(int argc, char** argv) {
   th::app::addTrackCommand(app);
   th::app::addSideBySideCommand(app);
   th::app::addRecordCommand(app);
+  th::app::addStyleCommand(app);
   // docs/cli.md: the reference of every command above, from the commands themselves (hidden from --help).
   app.add_subcommand("reference", "Print the command-line reference (Markdown)")->group("")->callback([&app] {
     th::app::writeCliReference(app, std::cout);

@@ -21,6 +21,7 @@
 #include "face/fap_track.h"
 #include "face_stage.h"
 #include "formats/mp4_writer.h"
+#include "head_style_clip.h"
 #include "interrupt.h"
 #include "pipeline/offline.h"
 #include "pipeline/options.h"
@@ -120,10 +121,12 @@ void runSideBySide(const SideBySideArguments& arguments) {
   const pipeline::AnimationModels models = pipeline::loadModels(arguments.models);
   tracking::VideoReader clip(arguments.clip);
   const audio::AudioClip sound = tracking::readClipSound(arguments.clip);
+  pipeline::HeadMotionOptions head = arguments.head;
+  pipeline::IdleOptions idle = arguments.idle;
+  resolveHeadStyleClip(head, idle, arguments.models, std::cerr);
   face::FapTrack animation;
   try {
-    animation = pipeline::animate(sound.samples, models,
-                                  pipeline::animateOptionsOf(arguments.models, arguments.head, arguments.idle));
+    animation = pipeline::animate(sound.samples, models, pipeline::animateOptionsOf(arguments.models, head, idle));
   } catch (const Error& error) {
     throw fileError(arguments.clip, error.what());
   }

@@ -27,6 +27,7 @@
 #include "formats/gltf_animation.h"
 #include "outputs/avatar_frame.h"
 #include "outputs/live_display.h"
+#include "pipeline/head_style_source.h"
 #include "pipeline/live_decoder.h"
 #include "pipeline/offline.h"
 #include "pipeline/options.h"
@@ -153,7 +154,13 @@ th::pipeline::LiveSettings settingsOf(const th_stream_options* options) {
     // The visemes come from the articulation unless it is off: a viseme model named, or none, turns it off.
     settings.models.articulationModel = "none";
   }
+  if (options->head_style != nullptr) settings.head.style = options->head_style;
   return settings;
+}
+
+// The head style the settings name, read or fitted for the loaded head model (none without one).
+void resolveStyle(th::pipeline::LiveSettings& settings, const th::pipeline::AnimationModels& models) {
+  if (models.head) th::pipeline::resolveHeadStyle(settings.head, settings.idle, *models.head);
 }
 
 th_frame frameOf(const th::outputs::AvatarFrame& avatar) {
@@ -281,6 +288,7 @@ th_status th_models_open(const th_stream_options* options, th_models** models) {
     auto opened = std::make_unique<th_models>();
     opened->settings = settingsOf(options != nullptr ? &*known : nullptr);
     opened->stream = std::make_shared<const th::pipeline::AnimationModels>(th::pipeline::loadModels(opened->settings));
+    resolveStyle(opened->settings, *opened->stream);
     *models = opened.release();
   });
 }
@@ -360,8 +368,9 @@ th_status th_animate_file(const char* recording, const th_stream_options* option
       readSized(options, defaultStreamOptions(), kFirstStreamOptionsSize, "th_animate_file");
   if (!known) return TH_ERROR_ARGUMENT;
   return guarded(TH_ERROR_FILE, [&] {
-    const th::pipeline::LiveSettings settings = settingsOf(options != nullptr ? &*known : nullptr);
+    th::pipeline::LiveSettings settings = settingsOf(options != nullptr ? &*known : nullptr);
     const th::pipeline::AnimationModels models = th::pipeline::loadModels(settings.models);
+    resolveStyle(settings, models);
     auto made = std::make_unique<th_animation>();
     made->track = animateWithProgress(recording, models, settings, progressOf(known->progress, known->user_data));
     *animation = made.release();
@@ -472,6 +481,8 @@ th_status th_export(const char* recording, const char* mp4, const th_export_opti
     job.video.avatar = character ? &*character : nullptr;
     if (known->models != nullptr) {
       job.models = known->models->settings.models;
+      job.head = known->models->settings.head;  // its head style among them
+      job.idle = known->models->settings.idle;
       job.loadedModels = known->models->fileModels();
     }
     const std::function<bool(double)> cancelled = progressOf(known->progress, known->user_data);

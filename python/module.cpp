@@ -68,7 +68,7 @@ class Progress {
 };
 
 struct ModelChoice {
-  std::optional<std::string> head, mouth, visemes;
+  std::optional<std::string> head, mouth, visemes, headStyle;
   // NULL for the installed model, the path otherwise ("" switches the part off).
   th_stream_options options(double rate, bool waitForHead) const {
     th_stream_options o;
@@ -76,6 +76,7 @@ struct ModelChoice {
     o.head_model = head ? head->c_str() : nullptr;
     o.mouth_model = mouth ? mouth->c_str() : nullptr;
     o.viseme_model = visemes ? visemes->c_str() : nullptr;
+    o.head_style = headStyle ? headStyle->c_str() : nullptr;
     o.sample_rate_hz = rate;
     o.wait_for_head = waitForHead ? 1 : 0;
     return o;
@@ -260,21 +261,24 @@ PYBIND11_MODULE(_talkinghead, module) {
   py::class_<Models>(module, "Models",
                      "The models read once, for many streams, animations and exports (on any threads)")
       .def(py::init([](std::optional<std::string> head, std::optional<std::string> mouth,
-                       std::optional<std::string> visemes) {
-             return std::make_unique<Models>(ModelChoice{head, mouth, visemes});
+                       std::optional<std::string> visemes, std::optional<std::string> headStyle) {
+             return std::make_unique<Models>(ModelChoice{head, mouth, visemes, headStyle});
            }),
            py::arg("head_model") = py::none(), py::arg("mouth_model") = py::none(),
-           py::arg("viseme_model") = py::none());
+           py::arg("viseme_model") = py::none(), py::arg("head_style") = py::none());
 
   py::class_<Stream>(module, "Stream", "Speech in as it comes, animation frames out (30 a second)")
       .def(py::init([](double sampleRate, std::optional<std::string> head, std::optional<std::string> mouth,
-                       std::optional<std::string> visemes, bool waitForHead, const Models* models) {
-             if (models != nullptr && (head || mouth || visemes))
-               throw TalkingheadError("Stream: models, or the model files, not both");
-             return std::make_unique<Stream>(sampleRate, ModelChoice{head, mouth, visemes}, waitForHead, models);
+                       std::optional<std::string> visemes, bool waitForHead, const Models* models,
+                       std::optional<std::string> headStyle) {
+             if (models != nullptr && (head || mouth || visemes || headStyle))
+               throw TalkingheadError("Stream: models, or the model files and head style, not both");
+             return std::make_unique<Stream>(sampleRate, ModelChoice{head, mouth, visemes, headStyle}, waitForHead,
+                                             models);
            }),
            py::arg("sample_rate") = 16000.0, py::arg("head_model") = py::none(), py::arg("mouth_model") = py::none(),
-           py::arg("viseme_model") = py::none(), py::arg("wait_for_head") = false, py::arg("models") = py::none())
+           py::arg("viseme_model") = py::none(), py::arg("wait_for_head") = false, py::arg("models") = py::none(),
+           py::arg("head_style") = py::none())
       .def("push", &Stream::push, py::arg("samples"), "Mono samples (float32; other dtypes are converted)")
       .def("finish", &Stream::finish, "The input has ended: the last frames become ready")
       .def("pull", &Stream::pull, "The frames ready: a dict of arrays (index, time, faps, arkit, visemes, vrm, ...)")
@@ -306,10 +310,11 @@ PYBIND11_MODULE(_talkinghead, module) {
   module.def(
       "animate",
       [](const std::string& path, std::optional<std::string> head, std::optional<std::string> mouth,
-         std::optional<std::string> visemes, const Models* models, std::optional<py::function> callable) {
-        if (models != nullptr && (head || mouth || visemes))
-          throw TalkingheadError("animate: models, or the model files, not both");
-        const ModelChoice choice{head, mouth, visemes};
+         std::optional<std::string> visemes, const Models* models, std::optional<py::function> callable,
+         std::optional<std::string> headStyle) {
+        if (models != nullptr && (head || mouth || visemes || headStyle))
+          throw TalkingheadError("animate: models, or the model files and head style, not both");
+        const ModelChoice choice{head, mouth, visemes, headStyle};
         th_stream_options options = choice.options(16000.0, false);
         Progress progress(std::move(callable));
         options.progress = progress.function();
@@ -326,6 +331,7 @@ PYBIND11_MODULE(_talkinghead, module) {
       },
       py::arg("path"), py::arg("head_model") = py::none(), py::arg("mouth_model") = py::none(),
       py::arg("viseme_model") = py::none(), py::arg("models") = py::none(), py::arg("progress") = py::none(),
+      py::arg("head_style") = py::none(),
       "A recording animated offline; progress(fraction) is called at the start and the end, and a true result "
       "cancels (talkinghead.Cancelled)");
   module.def(

@@ -3,6 +3,7 @@
 // the preset typed, then the options typed.
 #include <cstdio>
 #include <filesystem>
+#include <iostream>
 #include <memory>
 #include <string>
 
@@ -11,6 +12,7 @@
 #include "cli_options.h"
 #include "commands.h"
 #include "core/error.h"
+#include "head_style_clip.h"
 #include "live/headless.h"
 #include "live/settings_file.h"
 #include "live/window.h"
@@ -52,6 +54,14 @@ pipeline::LiveSettings resolveSettings(LiveArguments& arguments, const CLI::App&
     settings.check();
   } catch (const Error& error) {
     throw Error(std::string("live: ") + error.what());
+  }
+  try {
+    resolveHeadStyleClip(settings.head, settings.idle, settings.models, std::cerr);
+  } catch (const Error& error) {
+    // A style the saved settings name that is gone is left out; one typed now is an error.
+    if (command.count("--head-style") > 0) throw;
+    std::cerr << "talkinghead: live: the saved head style is left out: " << error.what() << '\n';
+    pipeline::clearHeadStyle(settings.head, settings.idle);
   }
   return settings;
 }

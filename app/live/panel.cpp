@@ -245,6 +245,15 @@ void LivePanel::settingsSection(const PanelView& view, PanelChanges& changes) {
   changes.redecode |= made.redecode;
   changes.newPlayout |= made.newPlayout;
   changes.idle |= made.idle;
+  if (view.headStyles.size() > 1) {
+    // A person's head style (talkinghead style, or --head-style): the head moves like them, or as the model does.
+    int chosen = view.headStyle;
+    std::vector<const char*> names;
+    for (const std::string& name : view.headStyles) names.push_back(name.c_str());
+    if (ImGui::Combo("head style", &chosen, names.data(), static_cast<int>(names.size())) && chosen != view.headStyle)
+      changes.headStyle = chosen;
+    if (!view.headStyleLine.empty()) ImGui::TextWrapped("%s", view.headStyleLine.c_str());
+  }
   ImGui::TextUnformatted(view.speaking ? "(speech)" : "(silence: head at rest)");
   ImGui::InputText("head model", headPath_.data(), headPath_.size());
   ImGui::InputText("mouth model", mouthPath_.data(), mouthPath_.size());

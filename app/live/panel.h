@@ -35,6 +35,7 @@ struct PanelChanges {
   bool idle = false;          // the idle behaviour's pace
   bool device = false;        // another sound input, or a rescan
   bool outputs = false;       // an output switched on or off
+  int headStyle = -1;         // the head style chosen: an index into PanelView::headStyles (-1: no change)
 };
 
 // The settings' widgets, and what their changes ask for (a preset's values applied, a min-f0-hz at or above
@@ -50,6 +51,9 @@ struct PanelView {
   const std::string& modelError;                    // the last model file that would not load (the running ones stay)
   std::vector<outputs::OutputStatus> outputs = {};  // the open outputs', in the order VMC, OSC, VTube Studio
   std::string character = {};                       // the character drawn and what drives it ("" : our face)
+  std::vector<std::string> headStyles = {};         // the head styles offered, "none" first (the window's list)
+  int headStyle = 0;                                // the one in use
+  std::string headStyleLine = {};  // what it is (describeHeadStyle), or the last one that would not load
 };
 
 class LivePanel {

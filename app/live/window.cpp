@@ -22,6 +22,7 @@
 #include "avatar/avatar_pose.h"
 #include "character.h"
 #include "core/error.h"
+#include "head_style_clip.h"
 #include "interrupt.h"
 #include "live/frame_stats.h"
 #include "live/panel.h"
@@ -134,6 +135,7 @@ class LiveWindow {
     }
     models_ = loadModelsOf(settings_);  // a bad model file is an error before the window is of any use
     panel_.showModelPaths(settings_.models.headModelPath().string(), settings_.mouthModelPath().string());
+    offerHeadStyles();
     pipeline::LiveSource source;
     if (!arguments_.input.empty()) {
       source.recording = audio::readRecording(arguments_.input).samples;
@@ -378,7 +380,10 @@ class LiveWindow {
                                               .speaking = display_.speaking(),
                                               .modelError = modelError_,
                                               .outputs = outputStatuses(),
-                                              .character = characterLine_},
+                                              .character = characterLine_,
+                                              .headStyles = headStyleNames(),
+                                              .headStyle = headStyle_,
+                                              .headStyleLine = headStyleLine_},
                                              size, panelWidth_);
     ImGui::Render();
     ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
@@ -400,7 +405,52 @@ class LiveWindow {
 
   std::vector<outputs::OutputStatus> outputStatuses() const { return display_.statuses(); }
 
+  // The panel's head styles: none, the one the settings name (fitted already), and those `talkinghead style`
+  // keeps (read when chosen).
+  void offerHeadStyles() {
+    headStyles_ = {{.name = "none (the model's own motion)", .file = {}, .style = {}}};
+    if (settings_.head.fittedStyle) {
+      headStyles_.push_back({.name = std::filesystem::path(settings_.head.style).filename().string(),
+                             .file = settings_.head.style,
+                             .style = settings_.head.fittedStyle});
+      headStyle_ = 1;
+      headStyleLine_ = describeHeadStyle(*settings_.head.fittedStyle);
+    }
+    for (const std::filesystem::path& file : listHeadStyles()) {
+      std::error_code error;
+      if (headStyles_.size() > 1 && std::filesystem::equivalent(file, headStyles_[1].file, error)) continue;
+      headStyles_.push_back({.name = file.stem().string(), .file = file, .style = {}});
+    }
+  }
+
+  std::vector<std::string> headStyleNames() const {
+    std::vector<std::string> names;
+    for (const HeadStyleChoice& choice : headStyles_) names.push_back(choice.name);
+    return names;
+  }
+
+  void chooseHeadStyle(int index) {
+    HeadStyleChoice& choice = headStyles_.at(static_cast<std::size_t>(index));
+    try {
+      if (index == 0) {
+        pipeline::clearHeadStyle(settings_.head, settings_.idle);
+        headStyleLine_.clear();
+      } else {
+        if (!choice.style) choice.style = animation::loadHeadStyle(choice.file);
+        settings_.head.style = choice.file.string();
+        pipeline::useHeadStyle(*choice.style, settings_.head, settings_.idle);
+        headStyleLine_ = describeHeadStyle(*choice.style);
+      }
+      headStyle_ = index;
+      display_.setIdle(settings_.idle);  // the rest pose
+      live_->setDecoderOptions(settings_.decoderOptions());
+    } catch (const Error& error) {
+      headStyleLine_ = error.what();  // the running style stays
+    }
+  }
+
   void apply(const PanelChanges& changes) {
+    if (changes.headStyle >= 0) chooseHeadStyle(changes.headStyle);
     if (changes.outputs) openOutputs();
     if (changes.newPlayout)
       playout_ = pipeline::Playout(pipeline::PlayoutOptions{.interpolate = settings_.live.interpolate});
@@ -449,6 +499,12 @@ class LiveWindow {
     return false;
   }
 
+  struct HeadStyleChoice {
+    std::string name;
+    std::filesystem::path file;                 // empty: none
+    std::optional<animation::HeadStyle> style;  // read when first chosen
+  };
+
   LiveWindowArguments arguments_;
   pipeline::LiveSettings settings_;
   std::optional<avatar::Avatar> character_;  // --avatar: the user's character, drawn instead of our face
@@ -465,6 +521,9 @@ class LiveWindow {
   std::shared_ptr<outputs::IssuedToken> issuedToken_ = std::make_shared<outputs::IssuedToken>();
   std::uint64_t sessionsSeen_ = 0;
   std::string modelError_;
+  std::vector<HeadStyleChoice> headStyles_;
+  int headStyle_ = 0;
+  std::string headStyleLine_;
   LivePanel panel_;
   FrameStats stats_;
   KeptColumnCheck keptColumn_;

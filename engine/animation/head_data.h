@@ -11,6 +11,7 @@
 
 #include <Eigen/Core>
 #include <filesystem>
+#include <span>
 #include <string>
 #include <utility>
 #include <vector>
@@ -39,5 +40,19 @@ Eigen::MatrixXd smoothFrames(const Eigen::MatrixXd& frames, double sigmaFrames);
 // prosody of the second part was computed on the whole take, so its running normalisations start warm, as
 // they would be a minute into a live session).
 HeadRecording framesOf(const HeadRecording& take, int begin, int count);
+
+// A take from its head rotations (3 x N, degrees, at poseFps frames a second from 0 s) and its sound (mono,
+// 16 kHz): the rotations at 30 fps (taken as they are when poseFps is 30, else linear between pose frames, the
+// last held no further than the pose goes) beside the prosody, voicing and level of the sound; both cut to the
+// shorter. Throws th::Error naming `name` when fewer than two frames are left.
+HeadRecording headRecordingOf(const Eigen::MatrixXd& rotations, double poseFps, std::span<const float> samples16k,
+                              const std::string& name, const ProsodyOptions& prosody = {});
+
+// A head-pose CSV and the recording of the same take. The rotation columns are {pitch,yaw,roll}_deg (what
+// `talkinghead track` writes; StyleTalk's) or neckhead_{pitch,yaw,roll}_deg (BEAT2's); the rate is time_s's
+// (30 fps without that column). A track's rows where no face was found (its `face` column 0) hold a neighbour's
+// pose; fewer than half of them with a face is an error. Errors are one line naming the file.
+HeadRecording readHeadRecording(const std::filesystem::path& wav, const std::filesystem::path& poseCsv,
+                                const ProsodyOptions& prosody = {});
 
 }  // namespace th::animation

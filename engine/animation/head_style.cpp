@@ -1,6 +1,8 @@
 #include "animation/head_style.h"
 
+#include <algorithm>
 #include <array>
+#include <cctype>
 #include <cmath>
 #include <limits>
 #include <vector>
@@ -202,14 +204,6 @@ HeadStyle fitHeadStyle(const HeadModel& model, const HeadRecording& clip, const 
   return style;
 }
 
-void applyHeadStyle(const HeadStyle& style, HeadSynthesisOptions& options) {
-  options.axisGain = style.axisGain;
-  options.smoothing = style.smoothing;
-  options.variation = style.variation;
-  options.pauseVariation = style.pauseVariation;
-  options.restPose = style.restPose;
-}
-
 void saveHeadStyle(const std::filesystem::path& path, const HeadStyle& style) {
   Json out = Json::object();
   out["format"] = kStyleFormat;
@@ -274,6 +268,29 @@ bool isHeadStyleFile(const std::filesystem::path& path) {
   } catch (const Error&) {
     return false;
   }
+}
+
+HeadStyle headStyleFromFile(const HeadModel& model, const std::filesystem::path& file,
+                            const HeadStyleFitOptions& options) {
+  std::error_code error;
+  if (!std::filesystem::is_regular_file(file, error)) throw fileError(file, "no such file");
+  if (isHeadStyleFile(file)) return loadHeadStyle(file);
+  std::string extension = file.extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  if (extension == ".json") return loadHeadStyle(file);  // its error says what is wrong with it
+  if (extension != ".csv") {
+    throw fileError(file,
+                    "not a head style (a style file, a head-pose CSV with its WAV beside it, or a talking video)");
+  }
+  const std::filesystem::path sound = std::filesystem::path(file).replace_extension(".wav");
+  if (!std::filesystem::is_regular_file(sound, error))
+    throw fileError(file, "a head-pose CSV needs the sound of the same take beside it, " + sound.filename().string());
+  HeadRecording clip = readHeadRecording(sound, file);
+  clip.name = file.string();  // the fit's errors name the file
+  HeadStyle style = fitHeadStyle(model, clip, options);
+  style.source = file.filename().string();
+  return style;
 }
 
 }  // namespace th::animation

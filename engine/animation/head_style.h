@@ -63,14 +63,29 @@ HeadStyleMeasures measureHeadStyle(const Eigen::MatrixXd& rotations, const Eigen
 // clip, when it is too short, has too little voiced speech or no head motion.
 HeadStyle fitHeadStyle(const HeadModel& model, const HeadRecording& clip, const HeadStyleFitOptions& options = {});
 
-// Sets the synthesis's per-axis gain, smoothing, variation, pause gain and rest pose to the style's (the options'
-// amplitude, a user's overall scale, is left as it is).
-void applyHeadStyle(const HeadStyle& style, HeadSynthesisOptions& options);
+// Sets the synthesis's per-axis gain, pause gain and rest pose to the style's, and multiplies its smoothing and
+// variation by the style's (the options' own, 1 by default, are a user's adjustments on top of the person's, as
+// the amplitude, left as it is, is an overall scale).
+// (Inline: the web build, which neither fits nor reads styles, applies them too.)
+inline void applyHeadStyle(const HeadStyle& style, HeadSynthesisOptions& options) {
+  options.axisGain = style.axisGain;
+  options.smoothing *= style.smoothing;
+  options.variation *= style.variation;
+  options.pauseVariation = style.pauseVariation;
+  options.restPose = style.restPose;
+}
 
 // A small JSON file ("format": "talkinghead-head-style"). Errors name the file.
 void saveHeadStyle(const std::filesystem::path& path, const HeadStyle& style);
 HeadStyle loadHeadStyle(const std::filesystem::path& path);
 // Whether the file is a head-style file (a JSON object whose format says so), without throwing.
 bool isHeadStyleFile(const std::filesystem::path& path);
+
+// The style a file gives: a style file as saved; else a head-pose CSV (readHeadRecording's, head_data.h) with the
+// recording of the same take beside it (NAME.wav, as `talkinghead track` writes them), fitted to `model`. A
+// video is tracked first, which this library does not do: the app's --head-style does. Errors are one line
+// naming the file.
+HeadStyle headStyleFromFile(const HeadModel& model, const std::filesystem::path& file,
+                            const HeadStyleFitOptions& options = {});
 
 }  // namespace th::animation

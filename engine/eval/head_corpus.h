@@ -17,11 +17,6 @@
 
 namespace th::eval {
 
-// Reads a head-pose CSV at 30 fps — columns neckhead_{pitch,yaw,roll}_deg (BEAT2) or {pitch,yaw,roll}_deg
-// (StyleTalk) — and a recording of the same take. Errors name the file.
-animation::HeadRecording loadHeadRecording(const std::filesystem::path& wav, const std::filesystem::path& headPoseCsv,
-                                           const animation::ProsodyOptions& prosody = {});
-
 // The BEAT2 take in the shared data folder (speaker "scott").
 animation::HeadRecording loadBeat2Head(const animation::ProsodyOptions& prosody = {});
 

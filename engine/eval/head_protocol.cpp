@@ -3,9 +3,11 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <set>
 #include <tuple>
 
+#include "animation/head_style.h"
 #include "animation/idle_motion.h"
 #include "animation/time_split.h"
 #include "eval/head_corpus.h"
@@ -287,6 +289,115 @@ HeadProtocolResult evaluateHeadLeaveOneSpeakerOut(const HeadCorpus& corpus, cons
   }
   result.summary = summariseHeadSpeakers(result.speakers);
   return result;
+}
+
+HeadStyleReport evaluateHeadStyles(const HeadCorpus& corpus, const HeadProtocolOptions& options,
+                                   const std::function<void(const HeadStyleSpeaker&)>& onSpeaker) {
+  // Each speaker's (scored clip, style clip) pairs.
+  struct Pair {
+    HeadRecording scored;
+    HeadRecording style;
+  };
+  std::vector<std::pair<std::string, std::vector<Pair>>> speakers;
+  speakers.push_back({corpus.beat2Test.speaker, {{corpus.beat2Test, corpus.beat2Train}}});
+  std::vector<std::string> names;
+  for (const auto& clip : corpus.styleTalk)
+    if (std::find(names.begin(), names.end(), clip.speaker) == names.end()) names.push_back(clip.speaker);
+  for (const std::string& name : names) {
+    std::vector<const HeadRecording*> own;
+    for (const auto& clip : corpus.styleTalk)
+      if (clip.speaker == name) own.push_back(&clip);
+    std::vector<Pair> pairs;
+    if (own.size() >= 2) {
+      for (std::size_t i = 0; i < own.size(); ++i) pairs.push_back({*own[i], *own[(i + 1) % own.size()]});
+    } else {
+      const HeadRecording& only = *own.front();
+      const int half = only.numFrames() / 2;
+      HeadRecording first = animation::framesOf(only, 0, half);
+      HeadRecording second = animation::framesOf(only, half, only.numFrames() - half);
+      first.name += " (first half)";
+      second.name += " (second half)";
+      pairs.push_back({first, second});
+      pairs.push_back({second, first});
+    }
+    speakers.push_back({name, std::move(pairs)});
+  }
+
+  // A single clip's halves are shorter than a user's 20-60 s: the fit takes them down to 8 s.
+  animation::HeadStyleFitOptions fit;
+  fit.minSeconds = 8.0;
+  HeadStyleReport report;
+  double logSum = 0.0, unstyledLogSum = 0.0;
+  report.spreadLowest = std::numeric_limits<double>::infinity();
+  report.spreadHighest = 0.0;
+  for (auto& [speaker, pairs] : speakers) {
+    HeadStyleSpeaker result;
+    result.speaker = speaker;
+    const HeadModel model = train(headTrainingSet(corpus, speaker), options.model, nullptr);
+    std::vector<HeadJudgedClip> clips;
+    std::vector<HeadSynthesisOptions> styled;
+    for (const Pair& pair : pairs) {
+      clips.push_back(judgedClipOf(pair.scored));
+      result.scored.push_back(pair.scored.name);
+      result.styledFrom.push_back(pair.style.name);
+      result.styles.push_back(animation::fitHeadStyle(model, pair.style, fit));
+      HeadSynthesisOptions synthesis;
+      animation::applyHeadStyle(result.styles.back(), synthesis);
+      styled.push_back(synthesis);
+    }
+    result.truth = headTruthOf(clips);
+    // A jump: a step (frame to frame) longer than the person's longest in that clip.
+    const auto longestStep = [](const Eigen::MatrixXd& rotations) {
+      return (rotations.rightCols(rotations.cols() - 1) - rotations.leftCols(rotations.cols() - 1))
+          .colwise()
+          .norm()
+          .maxCoeff();
+    };
+    int steps = 0;
+    const auto seeded = [&](const std::string& name, bool withStyle, int* jumps) {
+      std::vector<HeadRow> runs;
+      for (unsigned seed = 1; seed <= options.seeds; ++seed) {
+        runs.push_back(judgeHead(name, clips, result.truth, [&](std::size_t i) {
+          HeadSynthesisOptions synthesis = withStyle ? styled[i] : HeadSynthesisOptions{};
+          synthesis.seed = seed;
+          Eigen::MatrixXd motion =
+              animation::synthesiseHead(model, clips[i].clip->prosody, clips[i].clip->voiced, synthesis);
+          const double longest = longestStep(clips[i].truth);
+          for (Eigen::Index t = 1; t < motion.cols(); ++t) {
+            const double step = (motion.col(t) - motion.col(t - 1)).norm();
+            *jumps += step > longest;
+            if (withStyle) result.longestStepRatio = std::max(result.longestStepRatio, step / longest);
+            ++steps;
+          }
+          return motion;
+        }));
+      }
+      return meanHeadRow(name + " (" + std::to_string(options.seeds) + " seeds)", runs);
+    };
+    int unstyledJumps = 0;
+    result.unstyled = seeded("unstyled (the default)", false, &unstyledJumps);
+    steps = 0;
+    result.styled = seeded("styled from another clip", true, &result.styledJumps);
+    result.steps = steps;
+    const auto geometricMean = [](const Eigen::Vector3d& ratios) { return std::exp(ratios.array().log().mean()); };
+    result.styledSpread = geometricMean(result.styled.stdRatio);
+    result.unstyledSpread = geometricMean(result.unstyled.stdRatio);
+    const HeadTargets targets;
+    result.speedMet = result.styled.speedRatio <= targets.maxSpeedRatio;
+    result.pausesMet =
+        !result.truth.pauses || result.styled.pauseRatio <= result.truth.pauseRatio + targets.maxPauseExcess;
+    result.frechetBelow = result.styled.frechet < result.unstyled.frechet;
+    result.noJumps = result.styledJumps == 0;
+    logSum += std::log(result.styledSpread);
+    unstyledLogSum += std::log(result.unstyledSpread);
+    report.spreadLowest = std::min(report.spreadLowest, result.styledSpread);
+    report.spreadHighest = std::max(report.spreadHighest, result.styledSpread);
+    if (onSpeaker) onSpeaker(result);
+    report.speakers.push_back(std::move(result));
+  }
+  report.spreadGeometricMean = std::exp(logSum / static_cast<double>(report.speakers.size()));
+  report.unstyledGeometricMean = std::exp(unstyledLogSum / static_cast<double>(report.speakers.size()));
+  return report;
 }
 
 HeadBlinkReport reportHeadBlinks(const std::vector<const HeadRecording*>& takes) {

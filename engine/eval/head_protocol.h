@@ -21,6 +21,7 @@
 
 #include "animation/head_data.h"
 #include "animation/head_model.h"
+#include "animation/head_style.h"
 
 namespace th::eval {
 
@@ -164,6 +165,46 @@ struct HeadProtocolResult {
 // train for a while).
 HeadProtocolResult evaluateHeadLeaveOneSpeakerOut(const HeadCorpus& corpus, const HeadProtocolOptions& options,
                                                   const std::function<void(const HeadSpeakerResult&)>& onSpeaker = {});
+
+// A person's head style judged (`eval head --style-from`): each held-out speaker's clips animated by the fold's
+// model (trained without them) styled from another clip of the same speaker (animation/head_style.h), beside the
+// same model unstyled, on the same clips. The style always comes from a clip that is not scored: BEAT2's speaker
+// from the first part of his take (the held-out part is its last quarter), a StyleTalk speaker's clip from their
+// next clip, and a speaker with one clip by halves, each half styled from the other.
+struct HeadStyleSpeaker {
+  std::string speaker;
+  std::vector<std::string> scored;      // the clips scored, and for each
+  std::vector<std::string> styledFrom;  // the clip its style came from
+  std::vector<animation::HeadStyle> styles;
+  HeadSpeakerTruth truth;
+  HeadRow unstyled;  // the default (mean over seeds)
+  HeadRow styled;
+  int styledJumps = 0;            // the styled motion's steps longer than the person's longest in that clip, all seeds
+  int steps = 0;                  // of which there are this many
+  double longestStepRatio = 0.0;  // the styled motion's longest step over the person's longest
+  // Against the truth: per-axis spread ratio (geometric mean over the axes), and the targets the styled row
+  // meets: speed at most 1.25 of the truth's, pauses at most the truth's + 0.15, a Fréchet distance below the
+  // unstyled one's, no jumps (no step longer than any the person makes; the row's jump% counts steps over the
+  // person's 99th percentile, which the person's own motion has 1 % of).
+  double styledSpread = 0.0;
+  double unstyledSpread = 0.0;
+  bool speedMet = false;
+  bool pausesMet = false;
+  bool frechetBelow = false;
+  bool noJumps = false;
+};
+
+struct HeadStyleReport {
+  std::vector<HeadStyleSpeaker> speakers;  // BEAT2's speaker first, then StyleTalk's
+  double spreadGeometricMean = 0.0;        // of the styled per-speaker spread ratios
+  double spreadLowest = 0.0;
+  double spreadHighest = 0.0;
+  double unstyledGeometricMean = 0.0;
+};
+
+// `onSpeaker`, if given, sees each speaker as soon as it is judged.
+HeadStyleReport evaluateHeadStyles(const HeadCorpus& corpus, const HeadProtocolOptions& options,
+                                   const std::function<void(const HeadStyleSpeaker&)>& onSpeaker = {});
 
 // The idle behaviour's blinks on a take's sound, as animate and export add them: how many a minute, and how many
 // start at a pause (in one, 30 dB under the loud frames, or within 0.5 s after one begins), per minute of such

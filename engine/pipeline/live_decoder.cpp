@@ -171,6 +171,8 @@ bool LiveDecoder::next(AnimationFrame& frame) {
   frame.timeSeconds = nextIndex_ / animation::kAnimationFramesPerSecond;
   frame.prosodyIndex = shown;
   frame.headStates = headStage_ ? std::min(headStage_->numStates(), AnimationFrame::kMaxHeadStates) : 0;
+  // Until its head is decided (the first frames, when the head is shown late), a frame's head is at rest.
+  frame.headDegrees = options_.head.restPose;
   if (shown >= 0 && shown < decided) {
     prosodyExtractor_.getFrame(shown, row_);
     frame.f0Hz = row_[features::FeatureLayout::kF0Hz];

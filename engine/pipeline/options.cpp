@@ -60,6 +60,21 @@ void HeadMotionOptions::visitOptions(OptionVisitor& v) {
                        .help = "Head: the motion the voice does not explain, times this (0: the smooth curve alone)",
                        .min = 0.0,
                        .max = 3.0});
+  v.option(style, {.name = "head-style",
+                   .help = "Head: move like the person in this clip (a talking video, a head-pose CSV with its "
+                           "WAV beside it, or a style file); 20-60 s of them talking",
+                   .panel = false});
+}
+
+void useHeadStyle(const animation::HeadStyle& style, HeadMotionOptions& head, IdleOptions& idle) {
+  head.fittedStyle = style;
+  idle.headRestDegrees = style.restPose;
+}
+
+void clearHeadStyle(HeadMotionOptions& head, IdleOptions& idle) {
+  head.style.clear();
+  head.fittedStyle.reset();
+  idle.headRestDegrees.setZero();
 }
 
 void IdleOptions::visitOptions(OptionVisitor& v) {
@@ -77,6 +92,7 @@ animation::IdleMotionOptions IdleOptions::motionOptions() const {
   animation::IdleMotionOptions options;
   options.blinksPerMinute = blinksPerMinute;
   options.seed = seed;
+  options.headRestDegrees = headRestDegrees;
   return options;
 }
 
@@ -280,6 +296,7 @@ AnimateOptions animateOptionsOf(const ModelOptions& models, const HeadMotionOpti
   options.head.smoothing = head.smoothing;
   options.head.variation = head.variation;
   options.head.seed = idle.seed;
+  if (head.fittedStyle) animation::applyHeadStyle(*head.fittedStyle, options.head);
   options.mouth.method = mouthMethodOf(models.mouth);
   options.mouth.start = start == "random" ? hmm::InversionStart::kRandom : hmm::InversionStart::kConditionalMean;
   options.mouth.windowFrames = online != nullptr ? online->window : 0;
@@ -304,6 +321,7 @@ LiveDecoderOptions decoderOptionsOf(const ModelOptions& models, const HeadMotion
   options.head.smoothing = head.smoothing;
   options.head.variation = head.variation;
   options.head.seed = idle.seed;
+  if (head.fittedStyle) animation::applyHeadStyle(*head.fittedStyle, options.head);
   options.mouth.method = mouthMethodOf(models.mouth);
   options.mouth.windowFrames = streaming.window;
   options.mouth.maxIterations = live.iterations;

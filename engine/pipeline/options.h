@@ -18,6 +18,7 @@
 #include <string>
 #include <string_view>
 
+#include "animation/head_style.h"
 #include "core/options.h"
 #include "pipeline/live_decoder.h"
 #include "pipeline/live_presets.h"
@@ -52,16 +53,28 @@ struct HeadMotionOptions {
   double amplitude = animation::HeadSynthesisOptions{}.amplitude;  // times the model's rotations
   double smoothing = animation::HeadSynthesisOptions{}.smoothing;  // times the velocity and acceleration precisions
   double variation = animation::HeadSynthesisOptions{}.variation;  // times the motion the voice does not explain
+  // A person's head style (animation/head_style.h): the file it comes from (a style file, a head-pose CSV with
+  // its WAV, or a talking video), and the style itself once read or fitted (useHeadStyle); empty: none.
+  std::string style;
+  std::optional<animation::HeadStyle> fittedStyle;
   void visitOptions(OptionVisitor& v);
 };
 
 struct IdleOptions {
   bool idle = true;  // blinks, gaze shifts, the head at rest in silence
   double blinksPerMinute = animation::IdleMotionOptions{}.blinksPerMinute;
-  unsigned seed = animation::HeadSynthesisOptions{}.seed;  // of the head's variation and of the idle behaviour
+  unsigned seed = animation::HeadSynthesisOptions{}.seed;     // of the head's variation and of the idle behaviour
+  Eigen::Vector3d headRestDegrees = Eigen::Vector3d::Zero();  // where the head rests: a head style's (not an option)
   void visitOptions(OptionVisitor& v);
   animation::IdleMotionOptions motionOptions() const;
 };
+
+// The style into both: the head's synthesis moves like the person (animateOptionsOf and decoderOptionsOf apply
+// head.fittedStyle) and the idle head rests where theirs does.
+void useHeadStyle(const animation::HeadStyle& style, HeadMotionOptions& head, IdleOptions& idle);
+// Back to the model's own motion and rest.
+void clearHeadStyle(HeadMotionOptions& head, IdleOptions& idle);
+// (resolveHeadStyle, pipeline/head_style_source.h, reads or fits the style head.style names.)
 
 // The streaming decoders' decisions (animate --online, live).
 struct StreamingOptions {

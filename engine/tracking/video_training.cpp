@@ -15,10 +15,9 @@
 #include "core/error.h"
 #include "core/parallel_for.h"
 #include "core/text_files.h"
+#include "face/fap.h"
 
 namespace th::tracking {
-
-namespace {
 
 bool isVideoName(const std::filesystem::path& path) {
   const std::string extension = lowercaseExtension(path);
@@ -26,6 +25,8 @@ bool isVideoName(const std::filesystem::path& path) {
     if (extension == known) return true;
   return false;
 }
+
+namespace {
 
 bool upToDate(const std::filesystem::path& track, const std::filesystem::path& video) {
   std::error_code error;
@@ -288,6 +289,27 @@ animation::MouthModel trainVideoMouthModel(const std::vector<animation::MouthRec
   animation::MouthModel model = animation::trainMouthModel(recordings, options);
   model.visualFaps = faps;
   return model;
+}
+
+animation::HeadRecording headRecordingOf(const Track& fittedTrack, std::span<const float> samples16k) {
+  if (fittedTrack.fittedFaps.empty()) throw Error(fittedTrack.video.string() + ": the track has no fitted head");
+  const int found = fittedTrack.framesFound();
+  const auto frames = static_cast<Eigen::Index>(fittedTrack.frames.size());
+  if (2 * found < frames) {
+    throw fileError(fittedTrack.video, "the face was found in " + std::to_string(found) + " of its " +
+                                           std::to_string(frames) + " frames; a head style needs it in most");
+  }
+  // FAPs 48-50, the head's pitch, yaw and roll in angle units, as degrees (track.h's pitch_deg ...).
+  constexpr double kDegreesPerUnit = face::kAngleUnit * 180.0 / 3.14159265358979323846;
+  Eigen::MatrixXd rotations(3, frames);
+  for (Eigen::Index f = 0; f < frames; ++f) {
+    for (int axis = 0; axis < 3; ++axis)
+      rotations(axis, f) =
+          fittedTrack.frames[static_cast<size_t>(f)].fit.faps[static_cast<size_t>(48 + axis)] * kDegreesPerUnit;
+  }
+  animation::HeadRecording take = animation::headRecordingOf(rotations, fittedTrack.framesPerSecond, samples16k,
+                                                             fittedTrack.video.filename().string());
+  return take;
 }
 
 }  // namespace th::tracking

@@ -21,6 +21,7 @@
 #include <string>
 #include <vector>
 
+#include "animation/head_data.h"
 #include "animation/mouth_data.h"
 #include "animation/mouth_model.h"
 #include "audio/audio_file.h"
@@ -30,8 +31,11 @@
 
 namespace th::tracking {
 
-// The videos in a folder (not its sub-folders), by name: .mpg .mpeg .mp4 .m4v .avi .mov .mkv .webm, any case.
-// Throws th::Error naming the folder if it is missing or holds none.
+// Whether a file's name is a video's, by its extension: .mpg .mpeg .mp4 .m4v .avi .mov .mkv .webm, any case.
+bool isVideoName(const std::filesystem::path& path);
+
+// The videos in a folder (not its sub-folders), by name (isVideoName). Throws th::Error naming the folder if it
+// is missing or holds none.
 std::vector<std::filesystem::path> listVideos(const std::filesystem::path& folder);
 
 // A clip's sound at 16 kHz: its own audio track, else the WAV of its name beside it (clipSoundFile: a silent
@@ -48,6 +52,11 @@ std::filesystem::path clipSoundFile(const std::filesystem::path& video);  // "a/
 animation::MouthRecording mouthRecordingOf(const Track& fittedTrack, std::span<const float> samples16k,
                                            double framesPerSecond = 30.0, double soundLateSeconds = 0.0,
                                            Eigen::MatrixXd* lipShape = nullptr);
+
+// The head's rotations of a fitted track (FAPs 48-50 as degrees) beside the prosody of the clip's 16 kHz sound, at
+// 30 fps (animation::headRecordingOf): the person a head style is fitted to. Throws th::Error naming the video
+// when the face was found in fewer than half of its frames.
+animation::HeadRecording headRecordingOf(const Track& fittedTrack, std::span<const float> samples16k);
 
 // How far a clip's sound lags its picture, estimated from the clip itself: the lag that best lines up the
 // frame-to-frame changes of the sound's level with those of the mouth (the jaw FAP and the lip opening, each

@@ -114,7 +114,7 @@ TH_API th_status th_frame_init_sized(th_frame* frame, size_t struct_size);
 typedef int (*th_progress_fn)(double fraction_done, void* user_data);
 
 /* Its first version ends at wait_for_head; the fields after it were appended (a program built before them has no
- * progress callback). */
+ * progress callback and no head style). */
 typedef struct th_stream_options {
   size_t struct_size;       /* sizeof(th_stream_options) as the caller was compiled: th_stream_options_init */
   const char* head_model;   /* a model file; NULL: the installed one; "": no head motion */
@@ -126,6 +126,10 @@ typedef struct th_stream_options {
                                late); 1: each frame waits for its own head (th_stream_latency_ms says how long) */
   th_progress_fn progress;  /* th_animate_file*: called as the work goes on (NULL: not) */
   void* user_data;          /* handed to progress */
+  const char* head_style;   /* the head moves like a person: a style file (`talkinghead style` makes one from a
+                               talking video) or a head-pose CSV (time_s, pitch_deg, yaw_deg, roll_deg) with the
+                               WAV of its name beside it; NULL: the model's own motion. Read with the models: a
+                               models handle keeps it for its streams, animations and exports */
 } th_stream_options;
 
 /* The defaults: the installed models, 16000 Hz, frames not waiting for the head, no callback. */

@@ -13,6 +13,8 @@
 
 #include "animation/head_measures.h"
 #include "animation/idle_motion.h"
+#include "audio/audio_file.h"
+#include "core/data_path.h"
 #include "core/error.h"
 #include "core/temporary_file.h"
 #include "eval/head_corpus.h"
@@ -124,6 +126,13 @@ TEST(HeadStyle, TheSynthesisAddsTheRestPoseAndTheIdleHeadEasesToIt) {
   EXPECT_EQ(styled.axisGain, style.axisGain);
   EXPECT_EQ(styled.smoothing, style.smoothing);
   EXPECT_EQ(styled.pauseVariation, style.pauseVariation);
+  // A user's smoothing and variation act on top of the person's.
+  HeadSynthesisOptions adjusted;
+  adjusted.smoothing = 2.0;
+  adjusted.variation = 0.5;
+  applyHeadStyle(style, adjusted);
+  EXPECT_DOUBLE_EQ(adjusted.smoothing, 2.0 * style.smoothing);
+  EXPECT_DOUBLE_EQ(adjusted.variation, 0.5 * style.variation);
   const HeadRecording& clip = beat2Clip();
   const Eigen::MatrixXd rest = synthesiseHead(shippedHead(), clip.prosody, clip.voiced, plain);
   styled.axisGain = Eigen::Vector3d::Ones();
@@ -187,6 +196,66 @@ TEST(HeadStyle, TheFileKeepsEverythingAndBadFilesFailNamingTheField) {
   };
   failsWith(replaced("\"smoothing\": ", "\"smoothing\": -"), "synthesis.smoothing");
   failsWith(replaced("\"axis_gain\": [", "\"axis_gain\": [1, "), "synthesis.axis_gain");
+}
+
+// A track's pose CSV at a 25 fps video's rate, some frames without a face, beside the take's sound.
+TEST(HeadStyle, APoseCsvAtAVideosRateIsReadAtThirtyFramesASecond) {
+  const TemporaryFolder folder;
+  const auto csv = folder.path() / "take.csv";
+  const double seconds = 12.0;
+  {
+    std::ofstream out(csv);
+    out << "time_s,face,pitch_deg,yaw_deg,roll_deg,residual_px\n";
+    for (int f = 0; f <= static_cast<int>(seconds * 25); ++f) {
+      const double t = f / 25.0;
+      out << t << ',' << (f % 10 == 3 ? 0 : 1) << ',' << 10.0 * t << ',' << -2.0 * t << ',' << 1.5 << ",0.5\n";
+    }
+  }
+  std::vector<float> sound = audio::readAudioFile(th::sharedDataPath("beat2/2_scott_0_1_1.wav")).samples;
+  sound.resize(static_cast<std::size_t>((seconds + 1.0) * 16000));
+  audio::writeWav16(folder.path() / "take.wav", sound, 16000);
+  const HeadRecording read = readHeadRecording(folder.path() / "take.wav", csv);
+  EXPECT_EQ(read.name, "take");
+  EXPECT_EQ(read.numFrames(), static_cast<int>(seconds * 30) + 1);
+  for (int i = 0; i < read.numFrames(); ++i) {
+    EXPECT_NEAR(read.rotations(0, i), 10.0 * i / 30.0, 1e-9) << i;
+    EXPECT_NEAR(read.rotations(1, i), -2.0 * i / 30.0, 1e-9) << i;
+    EXPECT_NEAR(read.rotations(2, i), 1.5, 1e-12) << i;
+  }
+  EXPECT_EQ(read.prosody.cols(), read.numFrames());
+  EXPECT_GT(read.voiced.mean(), 0.2);
+
+  // A style file is read as it is, whatever its name.
+  const auto styleFile = folder.path() / "scott.style";
+  saveHeadStyle(styleFile, beat2Style());
+  EXPECT_EQ(headStyleFromFile(shippedHead(), styleFile).smoothing, beat2Style().smoothing);
+
+  const auto failsWith = [&](const std::filesystem::path& file, const std::string& expected) {
+    try {
+      headStyleFromFile(shippedHead(), file);
+      ADD_FAILURE() << "no error for " << file;
+    } catch (const Error& error) {
+      const std::string message = error.what();
+      EXPECT_NE(message.find(file.string()), std::string::npos) << message;
+      EXPECT_NE(message.find(expected), std::string::npos) << message;
+      EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+    }
+  };
+  const auto lonely = folder.path() / "lonely.csv";
+  std::filesystem::copy_file(csv, lonely);
+  failsWith(lonely, "lonely.wav");
+  const auto faceless = folder.path() / "faceless.csv";
+  {
+    std::ofstream out(faceless);
+    out << "time_s,face,pitch_deg,yaw_deg,roll_deg\n";
+    for (int f = 0; f < 300; ++f) out << f / 25.0 << ',' << (f < 100 ? 1 : 0) << ",1,2,3\n";
+  }
+  std::filesystem::copy_file(folder.path() / "take.wav", folder.path() / "faceless.wav");
+  failsWith(faceless, "the face was found in 100 of its 300 frames");
+  const auto text = folder.path() / "notes.txt";
+  std::ofstream(text) << "hello";
+  failsWith(text, "not a head style");
+  failsWith(folder.path() / "missing.csv", "no such file");
 }
 
 TEST(HeadStyle, ClipsTooShortSilentOrStillAreRefusedNamingTheClip) {

@@ -70,6 +70,18 @@ TEST(LibraryStructSize, FieldsPastTheCallersSizeAreTheirDefaults) {
   th_animation* animation = nullptr;
   ASSERT_EQ(th_animate_file(speech().c_str(), &options, &animation), TH_OK) << th_last_error();
   EXPECT_EQ(calls, 0);
+  // Nor a head style: one built before it was appended reads none, even with a bad one lying past its size.
+  th_stream_options beforeStyle;
+  ASSERT_EQ(th_stream_options_init_sized(&beforeStyle, offsetof(th_stream_options, head_style)), TH_OK);
+  beforeStyle.head_style = "/no/such/style.json";
+  th_animation* unstyled = nullptr;
+  ASSERT_EQ(th_animate_file(speech().c_str(), &beforeStyle, &unstyled), TH_OK) << th_last_error();
+  th_animation_free(unstyled);
+  th_stream_options current;
+  ASSERT_EQ(th_stream_options_init(&current), TH_OK);
+  current.head_style = "/no/such/style.json";
+  EXPECT_EQ(th_animate_file(speech().c_str(), &current, &unstyled), TH_ERROR_FILE);
+  EXPECT_NE(std::string(th_last_error()).find("/no/such/style.json"), std::string::npos) << th_last_error();
   // A frame of the first version's size: the appended rotation is left as it was.
   th_frame frame;
   std::memset(&frame, 0x7f, sizeof frame);

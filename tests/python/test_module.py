@@ -198,3 +198,37 @@ def test_models_read_once_give_what_each_call_reads_for_itself(prompt):
                                   talkinghead.animate(prompt).arrays()["faps"])
     with pytest.raises(talkinghead.Error, match="not both"):
         talkinghead.Stream(models=models, head_model="")
+
+
+def test_a_head_style_moves_the_head_in_files_streams_and_shared_models(prompt, tmp_path):
+    # A style that only moves the rest pose: every frame's head turns by it, whichever way the speech is animated.
+    rest = np.array([6.0, -9.0, 3.0])
+    measures = {"spread_deg": [1, 1, 1], "speed_p95_deg_s": 1, "pause_speech_ratio": 0, "pauses": False,
+                "beats_per_second": 1, "seconds": 20}
+    style = tmp_path / "rest.json"
+    style.write_text(json.dumps({"format": "talkinghead-head-style", "version": 1, "source": "test",
+                                 "rest_pose_deg": rest.tolist(),
+                                 "synthesis": {"axis_gain": [1, 1, 1], "smoothing": 1, "variation": 1,
+                                               "pause_variation": 0.4},
+                                 "person": measures, "fitted": measures}))
+    plain = talkinghead.animate(prompt).arrays()["head"]
+    styled = talkinghead.animate(prompt, head_style=str(style)).arrays()["head"]
+    np.testing.assert_allclose(styled - plain, np.tile(rest, (len(plain), 1)), atol=1e-4)
+    models = talkinghead.Models(head_style=str(style))
+    np.testing.assert_array_equal(talkinghead.animate(prompt, models=models).arrays()["head"], styled)
+
+    samples, rate = read_wav(prompt)
+
+    def streamed(stream):
+        with stream:
+            stream.push(samples)
+            stream.finish()
+            return stream.pull()["head"]
+
+    alone = streamed(talkinghead.Stream(sample_rate=rate))
+    np.testing.assert_allclose(streamed(talkinghead.Stream(sample_rate=rate, head_style=str(style))) - alone,
+                               np.tile(rest, (len(alone), 1)), atol=1e-4)
+    np.testing.assert_array_equal(streamed(talkinghead.Stream(sample_rate=rate, models=models)),
+                                  streamed(talkinghead.Stream(sample_rate=rate, head_style=str(style))))
+    with pytest.raises(talkinghead.Error, match="gone.json"):
+        talkinghead.Models(head_style=str(tmp_path / "gone.json"))
