@@ -4,17 +4,24 @@
 // pauses, the distribution of the motion).
 #include <chrono>
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
 #include <memory>
 #include <string>
+#include <system_error>
 #include <vector>
 
 #include "animation/head_data.h"
 #include "animation/head_model.h"
 #include "commands.h"
 #include "core/atomic_file.h"
+#include "core/error.h"
+#include "core/progress.h"
 #include "eval/head_protocol.h"
+#include "face/face_model.h"
 #include "hmm/entropic_training.h"
+#include "pipeline/options.h"
+#include "tracking/video_training.h"
 
 namespace th::app {
 namespace {
@@ -30,6 +37,10 @@ struct HeadArguments {
   int lagFrames = animation::kLiveHeadLagFrames;
   bool beat2Only = false;  // train: the single-speaker model of the paper's setting
   bool styleFrom = false;  // eval: the head style from another clip of each held-out speaker
+  std::string video;       // train: a folder of the user's own talking videos, trained on beside the corpora
+  std::string tracks;      // train --video: where the tracks are kept (default: beside the output)
+  int holdOutEvery = 5;    // train --video: every N-th clip held out
+  bool outputGiven = false;
   animation::HeadModelOptions options;
 };
 
@@ -67,7 +78,13 @@ HeadModel train(const std::vector<HeadRecording>& parts, const animation::HeadMo
   return model;
 }
 
+void runTrainVideo(const HeadArguments& arguments);
+
 void runTrain(const HeadArguments& arguments) {
+  if (!arguments.video.empty()) {
+    runTrainVideo(arguments);
+    return;
+  }
   checkOutputTarget(arguments.output);
   const eval::HeadCorpus corpus = eval::loadHeadCorpus(arguments.trainingFraction);
   const std::vector<HeadRecording> parts =
@@ -185,6 +202,100 @@ void printStyleSpeaker(const eval::HeadStyleSpeaker& result) {
                            .c_str());
 }
 
+// `train head --video DIR`: the corpora and the user's own clips (one more speaker), every N-th clip held out
+// and judged as eval head judges a speaker, beside the shipped model.
+void runTrainVideo(const HeadArguments& arguments) {
+  if (!arguments.outputGiven) throw Error("train head --video: give -o FILE.json (the shipped model stays as it is)");
+  const std::filesystem::path output = arguments.output;
+  if (output.extension() != ".json") throw fileError(output, "a model is written as JSON: give a .json name");
+  checkOutputTarget(output);
+  if (arguments.beat2Only) throw Error("train head --video: --beat2 trains BEAT2's speaker alone; leave it out");
+  std::filesystem::path tracks = arguments.tracks;
+  if (tracks.empty()) tracks = std::filesystem::path(output).replace_extension().string() + "_tracks";
+  const std::vector<std::filesystem::path> videos = tracking::listVideos(arguments.video);
+  const HeadModel shipped = animation::loadHeadModel(pipeline::ModelOptions{}.headModelPath());
+
+  const face::FaceModel face = face::FaceModel::buildDefault();
+  tracking::VideoCorpus clips;
+  std::error_code error;
+  const bool tracksExisted = std::filesystem::exists(tracks, error);
+  try {
+    ProgressOptions clipCount;
+    clipCount.unitsPerSecond = 0.0;  // clips, not seconds of media: no real-time factor
+    ProgressBar bar(static_cast<double>(videos.size()), "track", std::cerr, clipCount);
+    clips = tracking::loadVideoCorpus(videos, face, {.trackFolder = tracks, .heads = true},
+                                      [&](int done, int) { bar.update(done); });
+    bar.finish();
+  } catch (...) {
+    if (!tracksExisted) std::filesystem::remove(tracks, error);  // made for this run and still empty
+    throw;
+  }
+  for (const auto& skipped : clips.skipped) std::cerr << "left out: " << skipped.reason << '\n';
+  const std::string speaker = std::filesystem::path(arguments.video).filename().empty()
+                                  ? std::filesystem::path(arguments.video).parent_path().filename().string()
+                                  : std::filesystem::path(arguments.video).filename().string();
+  std::vector<HeadRecording> own;
+  for (const auto& clip : clips.clips) {
+    if (!clip.head) {
+      std::cerr << "left out: " << clip.headMissing << '\n';
+      continue;
+    }
+    own.push_back(*clip.head);
+    own.back().speaker = speaker;
+    own.back().name = clip.video.filename().string();
+  }
+  if (own.empty()) throw fileError(arguments.video, "no clip has a head to train on");
+  // Held out: every N-th clip; a single clip's last quarter.
+  std::vector<HeadRecording> training, heldOut;
+  if (own.size() == 1) {
+    const int split = own.front().numFrames() * 3 / 4;
+    training.push_back(animation::framesOf(own.front(), 0, split));
+    heldOut.push_back(animation::framesOf(own.front(), split, own.front().numFrames() - split));
+    heldOut.back().name += " (last quarter)";
+  } else {
+    for (std::size_t i = 0; i < own.size(); ++i) {
+      const bool held =
+          static_cast<int>(i % static_cast<std::size_t>(arguments.holdOutEvery)) == arguments.holdOutEvery - 1 ||
+          (own.size() < static_cast<std::size_t>(arguments.holdOutEvery) && i + 1 == own.size());
+      (held ? heldOut : training).push_back(own[i]);
+    }
+  }
+  const eval::HeadCorpus corpus = eval::loadHeadCorpus(arguments.trainingFraction);
+  std::vector<HeadRecording> parts = eval::headTrainingSet(corpus, "");
+  int ownFrames = 0;
+  for (const auto& clip : training) {
+    parts.push_back(clip);
+    ownFrames += clip.numFrames();
+  }
+  double seconds = 0.0;
+  const HeadModel model = train(parts, arguments.options, &seconds);
+  animation::saveHeadModel(output, model, arguments.options);
+  std::printf(
+      "%s: %zu clips tracked, %zu trained on (%.1f s) beside the corpora, %zu held out; %d states, trained in "
+      "%.1f s; wrote %s\n",
+      speaker.c_str(), own.size(), training.size(), ownFrames / kFps, heldOut.size(), model.hmm.numStates(), seconds,
+      output.string().c_str());
+
+  std::vector<eval::HeadJudgedClip> judged;
+  for (const auto& clip : heldOut) judged.push_back(eval::judgedClipOf(clip));
+  const HeadSpeakerTruth truth = eval::headTruthOf(judged);
+  const auto seeded = [&](const std::string& name, const HeadModel& m) {
+    std::vector<HeadRow> runs;
+    for (unsigned seed = 1; seed <= 5; ++seed) {
+      runs.push_back(eval::judgeHead(name, judged, truth, [&](std::size_t i) {
+        return animation::synthesiseHead(m, judged[i].clip->prosody, judged[i].clip->voiced, {.seed = seed});
+      }));
+    }
+    return eval::meanHeadRow(name + " (5 seeds)", runs);
+  };
+  std::printf("\nThe held-out clips (");
+  for (std::size_t i = 0; i < heldOut.size(); ++i) std::printf("%s%s", i ? ", " : "", heldOut[i].name.c_str());
+  std::printf("), as eval head judges a speaker:\n");
+  printHeader(truth);
+  printRow(seeded("trained with these clips", model));
+  printRow(seeded("the shipped model", shipped));
+}
+
 void runStyleEval(const HeadArguments& arguments) {
   const eval::HeadCorpus corpus = eval::loadHeadCorpus(arguments.trainingFraction);
   std::printf(
@@ -252,7 +363,18 @@ void addTrainCommand(CLI::App& app) {
   addModelOptions(head, *arguments);
   head->add_option("-o,--output", arguments->output, "Model file to write")->capture_default_str();
   head->add_flag("--beat2", arguments->beat2Only, "BEAT2's one speaker only (the paper's setting)");
-  head->callback([arguments] { runTrain(*arguments); });
+  head->add_option("--video", arguments->video,
+                   "A folder of your own talking videos (one person), tracked and trained on beside the corpora; "
+                   "every N-th clip held out and judged (give -o)");
+  head->add_option("--tracks", arguments->tracks,
+                   "With --video: where the tracks are kept and re-used (default: beside the output, NAME_tracks)");
+  head->add_option("--hold-out-every", arguments->holdOutEvery, "With --video: every N-th clip is held out")
+      ->check(CLI::Range(2, 100))
+      ->capture_default_str();
+  head->callback([arguments, head] {
+    arguments->outputGiven = head->count("--output") > 0;
+    runTrain(*arguments);
+  });
   addTrainMouthCommand(*train);
   addTrainVisemesCommand(*train);
   addTrainArticulationCommand(*train);

@@ -67,7 +67,9 @@ void runTrainVideo(const TrainVideoArguments& arguments) {
   std::error_code error;
   const bool tracksExisted = std::filesystem::exists(tracks, error);
   try {
-    ProgressBar bar(static_cast<double>(videos.size()), "track", std::cerr);
+    ProgressOptions clipCount;
+    clipCount.unitsPerSecond = 0.0;  // clips, not seconds of media: no real-time factor
+    ProgressBar bar(static_cast<double>(videos.size()), "track", std::cerr, clipCount);
     corpus = tracking::loadVideoCorpus(videos, face,
                                        {.trackFolder = tracks, .threads = arguments.threads, .synchronise = true},
                                        [&](int done, int) { bar.update(done); });

@@ -299,7 +299,12 @@ HeadStyleReport evaluateHeadStyles(const HeadCorpus& corpus, const HeadProtocolO
     HeadRecording style;
   };
   std::vector<std::pair<std::string, std::vector<Pair>>> speakers;
-  speakers.push_back({corpus.beat2Test.speaker, {{corpus.beat2Test, corpus.beat2Train}}});
+  {
+    Pair beat2{corpus.beat2Test, corpus.beat2Train};
+    beat2.scored.name += " (held-out part)";
+    beat2.style.name += " (training part)";
+    speakers.push_back({corpus.beat2Test.speaker, {beat2}});
+  }
   std::vector<std::string> names;
   for (const auto& clip : corpus.styleTalk)
     if (std::find(names.begin(), names.end(), clip.speaker) == names.end()) names.push_back(clip.speaker);

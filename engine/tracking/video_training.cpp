@@ -247,6 +247,13 @@ VideoCorpus loadVideoCorpus(const std::vector<std::filesystem::path>& videos, co
                                             clip.soundOffset.lateSeconds, &clip.lipShape);
       }
       if (clip.recording.numFrames() < 2) throw fileError(video, "is shorter than two animation frames");
+      if (options.heads) {
+        try {
+          clip.head = headRecordingOf(*track, sound.samples);
+        } catch (const Error& error) {
+          clip.headMissing = error.what();
+        }
+      }
       clip.meanResidualPixels = meanResidual(*track);
       clip.faceFoundShare = static_cast<double>(track->framesFound()) / static_cast<double>(track->frames.size());
       loaded[i] = std::move(clip);

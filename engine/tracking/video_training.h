@@ -17,6 +17,7 @@
 
 #include <filesystem>
 #include <functional>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -91,6 +92,10 @@ struct VideoClip {
   double meanResidualPixels = 0.0;
   double faceFoundShare = 0.0;  // of its frames
   bool trackedNow = false;      // false: its track was read from trackFolder
+  // With VideoCorpusOptions::heads: the head's motion beside the prosody of the sound (headRecordingOf), or
+  // why there is none (the clip's mouth is used all the same).
+  std::optional<animation::HeadRecording> head;
+  std::string headMissing;
 };
 
 struct SkippedClip {
@@ -117,6 +122,7 @@ struct VideoCorpusOptions {
   unsigned threads = 0;      // 0: the machine's cores
   bool synchronise = false;  // estimate each clip's sound offset (estimateSoundOffset) and take it out
   SoundSyncOptions sync{};
+  bool heads = false;  // also each clip's head motion (VideoClip::head), for training the head model
 };
 
 // progress(clipsDone, clipsTotal) after each clip.

@@ -4,6 +4,7 @@
 // clips it refuses in one line.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -11,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "animation/head_model.h"
 #include "animation/head_style.h"
 #include "audio/audio_file.h"
 #include "cli_runner.h"
@@ -157,10 +159,32 @@ TEST_F(HeadStyleCliTest, StylesGoToTheFolderTheLivePanelListsWithoutAnOutputName
   EXPECT_TRUE(th::animation::isHeadStyleFile(config / "talkinghead" / "head-styles" / "obama.json"));
 }
 
+// train head --video: the user's clip tracked and trained on beside the corpora (a small model, quickly), its
+// last quarter held out and judged beside the shipped model.
+TEST_F(HeadStyleCliTest, TrainHeadOnOnesOwnVideoHoldsOutAndJudgesPartOfIt) {
+  const fs::path folder = out() / "me";
+  fs::create_directories(folder);
+  fs::copy_file(styleVideo(), folder / "take.mp4");
+  fs::copy_file(th::sharedDataPath("talking/styletalk/Obama_clip1.wav"), folder / "take.wav");
+  const fs::path model = out() / "head.json";
+  expectOneLineFailure(runCli({"train", "head", "--video", folder.string()}, logs()), "", "give -o");
+  const CliResult result = runCli({"train", "head", "--video", folder.string(), "-o", model.string(), "--start-states",
+                                   "6", "--iterations", "5", "--residual-from-training"},
+                                  logs());
+  ASSERT_EQ(result.exitCode, 0) << result.err;
+  EXPECT_NE(result.out.find("me: 1 clips tracked, 1 trained on"), std::string::npos) << result.out;
+  EXPECT_NE(result.out.find("take.mp4 (last quarter)"), std::string::npos) << result.out;
+  EXPECT_NE(result.out.find("trained with these clips (5 seeds)"), std::string::npos) << result.out;
+  EXPECT_NE(result.out.find("the shipped model (5 seeds)"), std::string::npos) << result.out;
+  const th::animation::HeadModel trained = th::animation::loadHeadModel(model);
+  EXPECT_NE(std::find(trained.speakers.begin(), trained.speakers.end(), "me"), trained.speakers.end());
+  EXPECT_TRUE(fs::exists(out() / "head_tracks" / "take.mp4.csv"));
+}
+
 TEST_F(HeadStyleCliTest, BadClipsFailInOneLineAndLeaveNoFile) {
   const fs::path output = out() / "style.json";
   expectOneLineFailure(runCli({"style", (out() / "missing.mp4").string(), "-o", output.string()}, logs()),
-                       (out() / "missing.mp4").string(), "");
+                       (out() / "missing.mp4").string(), "no such file");
   // Too short: the tracking tests' faceless video is 2 s.
   const fs::path faceless = out() / "faceless.mp4";
   th::test::writeFacelessVideo(faceless);
