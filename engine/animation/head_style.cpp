@@ -67,7 +67,24 @@ HeadStyleMeasures meanMeasures(const std::vector<Eigen::MatrixXd>& motions, cons
 struct Candidate {
   HeadSynthesisOptions options;
   HeadStyleMeasures measures;
+  double longestStep = 0.0;  // degrees, frame to frame, the longest of any seed's
 };
+
+// The longest frame-to-frame step of a 3 x T motion, degrees.
+double longestStepOf(const Eigen::MatrixXd& motion) {
+  if (motion.cols() < 2) return 0.0;
+  return (motion.rightCols(motion.cols() - 1) - motion.leftCols(motion.cols() - 1)).colwise().norm().maxCoeff();
+}
+
+// How far a candidate is from the person: its speed and beats (log ratios), and a step longer than any the person
+// makes in the clip, which a viewer sees as a jump, rules it out before any other (the least such overshoot
+// wins when every candidate has one).
+double lossOf(const Candidate& candidate, const HeadStyleMeasures& person, double personsLongestStep) {
+  const double speed = logRatio(candidate.measures.speedP95, person.speedP95);
+  const double beats = logRatio(candidate.measures.beatsPerSecond, person.beatsPerSecond);
+  const double overshoot = candidate.longestStep / personsLongestStep - 1.0;
+  return speed * speed + beats * beats + (overshoot > 0.0 ? 1e3 * (1.0 + overshoot) : 0.0);
+}
 
 Candidate candidateFor(const HeadModel& model, const HeadRecording& clip, const HeadStyleMeasures& person,
                        HeadSynthesisOptions options, const HeadStyleFitOptions& fit) {
@@ -76,8 +93,12 @@ Candidate candidateFor(const HeadModel& model, const HeadRecording& clip, const 
   const HeadStyleMeasures unit = meanMeasures(motions, clip, fit.minPauseSeconds);
   for (int axis = 0; axis < 3; ++axis)
     options.axisGain[axis] = unit.spread[axis] > 0.0 ? person.spread[axis] / unit.spread[axis] : 1.0;
-  for (auto& motion : motions) motion = options.axisGain.asDiagonal() * motion;
-  return {options, meanMeasures(motions, clip, fit.minPauseSeconds)};
+  double longest = 0.0;
+  for (auto& motion : motions) {
+    motion = options.axisGain.asDiagonal() * motion;
+    longest = std::max(longest, longestStepOf(motion));
+  }
+  return {options, meanMeasures(motions, clip, fit.minPauseSeconds), longest};
 }
 
 Json vector3(const Eigen::Vector3d& v) {
@@ -162,6 +183,7 @@ HeadStyle fitHeadStyle(const HeadModel& model, const HeadRecording& clip, const 
   style.person = measureHeadStyle(clip.rotations, clip.levelDb, clip.framesPerSecond, options.minPauseSeconds);
   if (style.person.spread.minCoeff() <= 1e-6) throw Error(name + ": the head does not move");
 
+  const double personsLongestStep = longestStepOf(clip.rotations.colwise() - clip.rotations.rowwise().mean());
   // Speed and beats: smoothing and variation, each at the gain that gives the person's spread.
   HeadSynthesisOptions base;
   Candidate best;
@@ -172,9 +194,7 @@ HeadStyle fitHeadStyle(const HeadModel& model, const HeadRecording& clip, const 
       trial.smoothing = smoothing;
       trial.variation = variation;
       const Candidate candidate = candidateFor(model, clip, style.person, trial, options);
-      const double speed = logRatio(candidate.measures.speedP95, style.person.speedP95);
-      const double beats = logRatio(candidate.measures.beatsPerSecond, style.person.beatsPerSecond);
-      const double loss = speed * speed + beats * beats;
+      const double loss = lossOf(candidate, style.person, personsLongestStep);
       if (loss < bestLoss) {
         bestLoss = loss;
         best = candidate;
@@ -189,7 +209,9 @@ HeadStyle fitHeadStyle(const HeadModel& model, const HeadRecording& clip, const 
       HeadSynthesisOptions trial = speedAndBeats.options;
       trial.pauseVariation = pauseVariation;
       const Candidate candidate = candidateFor(model, clip, style.person, trial, options);
-      const double gap = std::abs(candidate.measures.pauseSpeechRatio - style.person.pauseSpeechRatio);
+      const double overshoot = candidate.longestStep / personsLongestStep - 1.0;
+      const double gap = std::abs(candidate.measures.pauseSpeechRatio - style.person.pauseSpeechRatio) +
+                         (overshoot > 0.0 ? 1e3 * (1.0 + overshoot) : 0.0);
       if (gap < bestPause) {
         bestPause = gap;
         best = candidate;

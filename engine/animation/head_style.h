@@ -12,7 +12,8 @@
 // as much as people do on average. The fit plays the model on the clip's own speech and sets, on a small grid,
 // the synthesis's smoothing and residual variation so that its speed and beats a second match the person's
 // (each at the per-axis gain that makes its spread the person's), then the residual's gain in pauses so that
-// its pause/speech speed ratio does too. Each candidate is the mean over a few seeds of the residual motion.
+// its pause/speech speed ratio does too. Each candidate is the mean over a few seeds of the residual motion; one
+// whose motion steps further in a frame than the person ever does in the clip (a jump, to a viewer) is ruled out.
 // The rest pose is the clip's mean pose: the synthesis adds it, and the idle behaviour eases the head to it.
 // Thread contract: pure functions (save and load read and write the file).
 #pragma once

@@ -100,6 +100,19 @@ TEST(HeadStyle, TheFitMovesTheShippedModelLikeTheSpeakerOnTheirOwnSpeech) {
   ASSERT_TRUE(style.person.pauses);
   EXPECT_NEAR(style.fitted.pauseSpeechRatio, style.person.pauseSpeechRatio, 0.15);
   EXPECT_NEAR((style.restPose - beat2Clip().rotations.rowwise().mean()).norm(), 0.0, 1e-12);
+  // No step the person does not make: the styled motion's longest, under each of the fit's seeds, is within the
+  // person's longest.
+  const auto longestStep = [](const Eigen::MatrixXd& motion) {
+    return (motion.rightCols(motion.cols() - 1) - motion.leftCols(motion.cols() - 1)).colwise().norm().maxCoeff();
+  };
+  const double persons = longestStep(beat2Clip().rotations);
+  for (unsigned seed = 1; seed <= HeadStyleFitOptions{}.seeds; ++seed) {
+    HeadSynthesisOptions synthesis;
+    applyHeadStyle(style, synthesis);
+    synthesis.seed = seed;
+    const Eigen::MatrixXd motion = synthesiseHead(shippedHead(), beat2Clip().prosody, beat2Clip().voiced, synthesis);
+    EXPECT_LE(longestStep(motion), persons) << "seed " << seed;
+  }
 }
 
 TEST(HeadStyle, ALivelierPersonGetsALargerGainAndAStillerOneASmaller) {
