@@ -22,6 +22,7 @@
 #include "hmm/entropic_training.h"
 #include "pipeline/options.h"
 #include "tracking/video_training.h"
+#include "video_folder.h"
 
 namespace th::app {
 namespace {
@@ -210,26 +211,13 @@ void runTrainVideo(const HeadArguments& arguments) {
   if (output.extension() != ".json") throw fileError(output, "a model is written as JSON: give a .json name");
   checkOutputTarget(output);
   if (arguments.beat2Only) throw Error("train head --video: --beat2 trains BEAT2's speaker alone; leave it out");
-  std::filesystem::path tracks = arguments.tracks;
-  if (tracks.empty()) tracks = std::filesystem::path(output).replace_extension().string() + "_tracks";
+  const std::filesystem::path tracks = tracksFolderFor(output, arguments.tracks);
   const std::vector<std::filesystem::path> videos = tracking::listVideos(arguments.video);
   const HeadModel shipped = animation::loadHeadModel(pipeline::ModelOptions{}.headModelPath());
 
-  const face::FaceModel face = face::FaceModel::buildDefault();
-  tracking::VideoCorpus clips;
-  std::error_code error;
-  const bool tracksExisted = std::filesystem::exists(tracks, error);
-  try {
-    ProgressOptions clipCount;
-    clipCount.unitsPerSecond = 0.0;  // clips, not seconds of media: no real-time factor
-    ProgressBar bar(static_cast<double>(videos.size()), "track", std::cerr, clipCount);
-    clips = tracking::loadVideoCorpus(videos, face, {.trackFolder = tracks, .heads = true},
-                                      [&](int done, int) { bar.update(done); });
-    bar.finish();
-  } catch (...) {
-    if (!tracksExisted) std::filesystem::remove(tracks, error);  // made for this run and still empty
-    throw;
-  }
+  tracking::VideoCorpusOptions withHeads;
+  withHeads.heads = true;
+  const tracking::VideoCorpus clips = trackVideos(videos, tracks, withHeads);
   for (const auto& skipped : clips.skipped) std::cerr << "left out: " << skipped.reason << '\n';
   const std::string speaker = std::filesystem::path(arguments.video).filename().empty()
                                   ? std::filesystem::path(arguments.video).parent_path().filename().string()

@@ -2,13 +2,13 @@
 
 #include <algorithm>
 #include <cstdio>
-#include <cstdlib>
 #include <system_error>
 
 #include "audio/audio_file.h"
 #include "core/error.h"
 #include "core/progress.h"
 #include "face/face_model.h"
+#include "live/settings_file.h"
 #include "tracking/track.h"
 #include "tracking/video_training.h"
 
@@ -60,11 +60,8 @@ std::string describeHeadStyle(const animation::HeadStyle& style) {
 }
 
 std::filesystem::path headStyleFolder() {
-  if (const char* config = std::getenv("XDG_CONFIG_HOME"); config != nullptr && *config != '\0')
-    return std::filesystem::path(config) / "talkinghead" / "head-styles";
-  if (const char* home = std::getenv("HOME"); home != nullptr && *home != '\0')
-    return std::filesystem::path(home) / ".config" / "talkinghead" / "head-styles";
-  return {};
+  const std::filesystem::path folder = configFolder();
+  return folder.empty() ? folder : folder / "head-styles";
 }
 
 std::vector<std::filesystem::path> listHeadStyles() {

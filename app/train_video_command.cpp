@@ -19,6 +19,7 @@
 #include "face/face_model.h"
 #include "pipeline/animation_models.h"
 #include "tracking/video_training.h"
+#include "video_folder.h"
 
 namespace th::app {
 namespace {
@@ -54,30 +55,17 @@ void runTrainVideo(const TrainVideoArguments& arguments) {
   const std::filesystem::path output = arguments.output;
   if (output.extension() != ".json") throw fileError(output, "a model is written as JSON: give a .json name");
   checkOutputTarget(output);
-  std::filesystem::path tracks = arguments.tracks;
-  if (tracks.empty()) tracks = std::filesystem::path(output).replace_extension().string() + "_tracks";
+  const std::filesystem::path tracks = tracksFolderFor(output, arguments.tracks);
   const std::vector<std::filesystem::path> videos = tracking::listVideos(arguments.folder);
   // The comparison model is read first: a wrong path fails before the tracking.
   const std::filesystem::path comparePath =
       arguments.compare.empty() ? pipeline::shippedModel("mouth.json") : std::filesystem::path(arguments.compare);
   const animation::MouthModel compared = animation::loadMouthModel(comparePath);
 
-  const face::FaceModel face = face::FaceModel::buildDefault();
-  tracking::VideoCorpus corpus;
-  std::error_code error;
-  const bool tracksExisted = std::filesystem::exists(tracks, error);
-  try {
-    ProgressOptions clipCount;
-    clipCount.unitsPerSecond = 0.0;  // clips, not seconds of media: no real-time factor
-    ProgressBar bar(static_cast<double>(videos.size()), "track", std::cerr, clipCount);
-    corpus = tracking::loadVideoCorpus(videos, face,
-                                       {.trackFolder = tracks, .threads = arguments.threads, .synchronise = true},
-                                       [&](int done, int) { bar.update(done); });
-    bar.finish();
-  } catch (...) {
-    if (!tracksExisted) std::filesystem::remove(tracks, error);  // made for this run and still empty
-    throw;
-  }
+  tracking::VideoCorpusOptions options;
+  options.threads = arguments.threads;
+  options.synchronise = true;
+  const tracking::VideoCorpus corpus = trackVideos(videos, tracks, options);
   int trackedNow = 0;
   double residual = 0.0, found = 0.0;
   for (const tracking::VideoClip& clip : corpus.clips) {

@@ -8,12 +8,17 @@
 
 namespace th::app {
 
-std::filesystem::path defaultLiveSettingsPath() {
+std::filesystem::path configFolder() {
   if (const char* config = std::getenv("XDG_CONFIG_HOME"); config != nullptr && *config != '\0')
-    return std::filesystem::path(config) / "talkinghead" / "live.json";
+    return std::filesystem::path(config) / "talkinghead";
   if (const char* home = std::getenv("HOME"); home != nullptr && *home != '\0')
-    return std::filesystem::path(home) / ".config" / "talkinghead" / "live.json";
+    return std::filesystem::path(home) / ".config" / "talkinghead";
   return {};
+}
+
+std::filesystem::path defaultLiveSettingsPath() {
+  const std::filesystem::path folder = configFolder();
+  return folder.empty() ? folder : folder / "live.json";
 }
 
 pipeline::LiveSettings loadLiveSettings(const std::filesystem::path& path) {

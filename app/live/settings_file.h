@@ -14,7 +14,10 @@
 
 namespace th::app {
 
-// $XDG_CONFIG_HOME/talkinghead/live.json, else ~/.config/talkinghead/live.json; empty if neither is known.
+// The program's settings folder: $XDG_CONFIG_HOME/talkinghead, else ~/.config/talkinghead; empty if neither is
+// known.
+std::filesystem::path configFolder();
+// live.json in it.
 std::filesystem::path defaultLiveSettingsPath();
 // A missing file (or an empty path) gives the defaults; a file that is not valid JSON or holds a bad value
 // throws th::Error naming it and the key. Unknown keys are ignored (a newer version's file).
