@@ -51,11 +51,11 @@ std::string describeHeadStyle(const animation::HeadStyle& style) {
   std::snprintf(text, sizeof text,
                 "%s, %.1f s: spread %.1f / %.1f / %.1f deg (pitch / yaw / roll), p95 speed %.0f deg/s, %.2f beats/s, "
                 "pause/speech %.2f; the model styled: gain %.2f / %.2f / %.2f, smoothing %.2f, variation %.2f, "
-                "pause gain %.2f, p95 speed %.0f deg/s, %.2f beats/s, pause/speech %.2f",
+                "pause gain %.2f, p95 speed %.0f deg/s, %.2f beats/s, pause/speech %.2f, limited to %.0f deg/s",
                 style.source.c_str(), person.seconds, person.spread[0], person.spread[1], person.spread[2],
                 person.speedP95, person.beatsPerSecond, person.pauseSpeechRatio, style.axisGain[0], style.axisGain[1],
                 style.axisGain[2], style.smoothing, style.variation, style.pauseVariation, fitted.speedP95,
-                fitted.beatsPerSecond, fitted.pauseSpeechRatio);
+                fitted.beatsPerSecond, fitted.pauseSpeechRatio, person.speedP99);
   return text;
 }
 

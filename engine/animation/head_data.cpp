@@ -14,8 +14,6 @@
 namespace th::animation {
 namespace {
 
-constexpr double kHeadFps = 30.0;
-
 // The rotation columns of either kind of head-pose CSV.
 std::array<int, 3> poseColumns(const NumericTable& pose) {
   if (pose.findColumn("neckhead_pitch_deg") >= 0)
@@ -27,15 +25,16 @@ std::array<int, 3> poseColumns(const NumericTable& pose) {
                   "needs one set, as `talkinghead track` writes)");
 }
 
-// 3 x N rotations at `fps` as frames at kHeadFps: as they are when the rates agree (a 30 fps pose), else linear.
+// 3 x N rotations at `fps` as frames at kHeadFramesPerSecond: as they are when the rates agree (a 30 fps pose), else
+// linear.
 Eigen::MatrixXd atHeadRate(const Eigen::MatrixXd& rotations, double fps) {
-  if (std::abs(fps - kHeadFps) < 1e-3 * kHeadFps) return rotations;
+  if (std::abs(fps - kHeadFramesPerSecond) < 1e-3 * kHeadFramesPerSecond) return rotations;
   const Eigen::Index poseFrames = rotations.cols();
   const double lastSeconds = static_cast<double>(poseFrames - 1) / fps;
-  const auto frames = static_cast<Eigen::Index>(std::floor(lastSeconds * kHeadFps + 1e-9)) + 1;
+  const auto frames = static_cast<Eigen::Index>(std::floor(lastSeconds * kHeadFramesPerSecond + 1e-9)) + 1;
   Eigen::MatrixXd out(3, frames);
   for (Eigen::Index i = 0; i < frames; ++i) {
-    const double position = static_cast<double>(i) / kHeadFps * fps;
+    const double position = static_cast<double>(i) / kHeadFramesPerSecond * fps;
     const auto before = std::min<Eigen::Index>(static_cast<Eigen::Index>(position), poseFrames - 1);
     const Eigen::Index after = std::min<Eigen::Index>(before + 1, poseFrames - 1);
     const double share = position - static_cast<double>(before);
@@ -87,7 +86,7 @@ HeadRecording headRecordingOf(const Eigen::MatrixXd& rotations, double poseFps, 
   if (frames < 2) throw Error(name + ": the sound is shorter than two animation frames");
   HeadRecording take;
   take.name = name;
-  take.framesPerSecond = kHeadFps;
+  take.framesPerSecond = kHeadFramesPerSecond;
   take.rotations = pose.leftCols(frames);
   take.prosody = heard.prosody.leftCols(frames);
   take.voiced = heard.voiced.head(frames);
@@ -106,14 +105,14 @@ HeadRecording readHeadRecording(const std::filesystem::path& wav, const std::fil
     for (int axis = 0; axis < 3; ++axis)
       rotations(axis, t) = pose.rows[static_cast<size_t>(t)][static_cast<size_t>(columns[static_cast<size_t>(axis)])];
   }
-  double fps = kHeadFps;
+  double fps = kHeadFramesPerSecond;
   if (const int time = pose.findColumn("time_s"); time >= 0) {
     const double first = pose.rows.front()[static_cast<size_t>(time)];
     const double last = pose.rows.back()[static_cast<size_t>(time)];
     if (!(last > first)) throw fileError(poseCsv, "its time_s does not increase");
     fps = static_cast<double>(rows - 1) / (last - first);
     // Times printed to a tenth of a millisecond: a 30 fps pose reads as 30 within that.
-    if (std::abs(fps - kHeadFps) < 0.01 * kHeadFps) fps = kHeadFps;
+    if (std::abs(fps - kHeadFramesPerSecond) < 0.01 * kHeadFramesPerSecond) fps = kHeadFramesPerSecond;
   }
   if (const int face = pose.findColumn("face"); face >= 0) {
     double found = 0.0;

@@ -21,10 +21,12 @@
 
 namespace th::animation {
 
+inline constexpr double kHeadFramesPerSecond = 30.0;  // the frame rate of every head stream here
+
 struct HeadRecording {
   std::string speaker;  // who speaks ("scott", "Obama", ...): models normalise per speaker
   std::string name;     // the clip
-  double framesPerSecond = 30.0;
+  double framesPerSecond = kHeadFramesPerSecond;
   double startSeconds = 0.0;   // time of column 0 in the original take
   Eigen::MatrixXd rotations;   // 3 x T: pitch, yaw, roll in degrees
   Eigen::MatrixXd prosody;     // 4 x T: ProsodyTracker output

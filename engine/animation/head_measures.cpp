@@ -36,6 +36,7 @@ HeadMotionStatistics motionStatistics(const Eigen::MatrixXd& rotations, const Ei
     }
   }
   statistics.speedP95 = quantile(speeds, 0.95);
+  statistics.speedP99 = quantile(speeds, 0.99);
   if (pauseCount > 0 && speechCount > 0 && speechSum > 0.0)
     statistics.pauseSpeechRatio = (pauseSum / pauseCount) / (speechSum / speechCount);
   statistics.poseStd = axisStd(rotations);

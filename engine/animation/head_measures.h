@@ -17,6 +17,7 @@ namespace th::animation {
 
 struct HeadMotionStatistics {
   double speedP95 = 0.0;          // deg/s
+  double speedP99 = 0.0;          // deg/s: a step longer than this is what eval head counts as a jump
   double pauseSpeechRatio = 0.0;  // mean speed in pauses / in speech (0 without pauses or speech)
   Eigen::Vector3d poseStd = Eigen::Vector3d::Zero();
 };

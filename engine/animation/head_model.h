@@ -96,6 +96,10 @@ struct HeadSynthesisOptions {
   double variation = 1.0;       // trajectory: times the residual motion (0: the states' smooth curve alone)
   double pauseVariation = 0.4;  // the residual's gain in pauses (eased to after 0.3 s without a voice)
   unsigned seed = 1;            // of the residual motion
+  // Above 0: no frame-to-frame step (the norm over the axes, degrees, before the amplitude) is longer than this;
+  // a longer one is shortened to it and the rest follows in the next frames. A head style sets it to the
+  // person's fast steps (their 99th percentile), so the styled head does not move faster than they do.
+  double maxStepDegrees = 0.0;
 };
 
 // The most frames a rotation waits for past its own input under these options (batch: unbounded, -1).
@@ -105,6 +109,9 @@ int headLookaheadFrames(const HeadSynthesisOptions& options);
 // its voicing (T: 1 voiced, 0 not; empty: every frame voiced).
 Eigen::MatrixXd synthesiseHead(const HeadModel& model, const Eigen::MatrixXd& prosody, const Eigen::RowVectorXd& voiced,
                                const HeadSynthesisOptions& options = {});
+
+// HeadSynthesisOptions::maxStepDegrees's limit on 3 x T rotations, in place (nothing when it is 0).
+void limitHeadSteps(Eigen::MatrixXd& rotations, double maxStepDegrees);
 
 class HeadSynthesiser {
  public:

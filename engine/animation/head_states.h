@@ -93,7 +93,7 @@ class ResidualMotion {
   }
 
   Eigen::Vector3d next(bool voiced) {
-    constexpr double kFps = 30.0;
+    constexpr double kFps = kHeadFramesPerSecond;
     framesSinceVoice_ = voiced ? 0 : framesSinceVoice_ + 1;
     const double target = framesSinceVoice_ <= kHoldSeconds * kFps ? 1.0 : pauseGain_;
     gain_ += (target - gain_) / (kEaseSeconds * kFps);

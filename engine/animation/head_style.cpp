@@ -49,6 +49,7 @@ HeadStyleMeasures meanMeasures(const std::vector<Eigen::MatrixXd>& motions, cons
     const HeadStyleMeasures m = measureHeadStyle(motion, clip.levelDb, clip.framesPerSecond, minPauseSeconds);
     mean.spread += m.spread;
     mean.speedP95 += m.speedP95;
+    mean.speedP99 += m.speedP99;
     mean.pauseSpeechRatio += m.pauseSpeechRatio;
     mean.beatsPerSecond += m.beatsPerSecond;
     mean.pauses = m.pauses;
@@ -57,6 +58,7 @@ HeadStyleMeasures meanMeasures(const std::vector<Eigen::MatrixXd>& motions, cons
   const auto n = static_cast<double>(motions.size());
   mean.spread /= n;
   mean.speedP95 /= n;
+  mean.speedP99 /= n;
   mean.pauseSpeechRatio /= n;
   mean.beatsPerSecond /= n;
   return mean;
@@ -93,6 +95,8 @@ Candidate candidateFor(const HeadModel& model, const HeadRecording& clip, const 
   const HeadStyleMeasures unit = meanMeasures(motions, clip, fit.minPauseSeconds);
   for (int axis = 0; axis < 3; ++axis)
     options.axisGain[axis] = unit.spread[axis] > 0.0 ? person.spread[axis] / unit.spread[axis] : 1.0;
+  // Measured without the step limit applyHeadStyle adds: the fit chooses how the head moves, the limit only
+  // shortens the rare steps faster than the person's (a fit that counted on it would choose faster motion).
   double longest = 0.0;
   for (auto& motion : motions) {
     motion = options.axisGain.asDiagonal() * motion;
@@ -109,6 +113,7 @@ Json measuresJson(const HeadStyleMeasures& m) {
   Json out = Json::object();
   out["spread_deg"] = vector3(m.spread);
   out["speed_p95_deg_s"] = m.speedP95;
+  out["speed_p99_deg_s"] = m.speedP99;
   out["pause_speech_ratio"] = m.pauseSpeechRatio;
   out["pauses"] = m.pauses;
   out["beats_per_second"] = m.beatsPerSecond;
@@ -127,14 +132,18 @@ Eigen::Vector3d readVector3(const JsonFields& fields, const Json& value, const s
 
 HeadStyleMeasures readMeasures(const JsonFields& fields, const Json& object, const std::string& field) {
   fields.object(object, field);
-  fields.onlyKnownFields(
-      object, {"spread_deg", "speed_p95_deg_s", "pause_speech_ratio", "pauses", "beats_per_second", "seconds"}, field);
+  fields.onlyKnownFields(object,
+                         {"spread_deg", "speed_p95_deg_s", "speed_p99_deg_s", "pause_speech_ratio", "pauses",
+                          "beats_per_second", "seconds"},
+                         field);
   const auto number = [&](std::string_view key) {
     return fields.number(fields.member(object, key, field), JsonFields::dotted(field, key));
   };
   HeadStyleMeasures m;
   m.spread = readVector3(fields, fields.member(object, "spread_deg", field), JsonFields::dotted(field, "spread_deg"));
   m.speedP95 = number("speed_p95_deg_s");
+  // Styles saved before the step limit have none: their head is not limited.
+  if (object.contains("speed_p99_deg_s")) m.speedP99 = number("speed_p99_deg_s");
   m.pauseSpeechRatio = number("pause_speech_ratio");
   m.pauses = fields.boolean(fields.member(object, "pauses", field), JsonFields::dotted(field, "pauses"));
   m.beatsPerSecond = number("beats_per_second");
@@ -154,6 +163,7 @@ HeadStyleMeasures measureHeadStyle(const Eigen::MatrixXd& rotations, const Eigen
   m.seconds = static_cast<double>(rotations.cols()) / fps;
   m.spread = statistics.poseStd;
   m.speedP95 = statistics.speedP95;
+  m.speedP99 = statistics.speedP99;
   m.pauses = pauses.sum() / fps >= minPauseSeconds && pauses.sum() < static_cast<double>(pauses.size());
   m.pauseSpeechRatio = m.pauses ? statistics.pauseSpeechRatio : 0.0;
   m.beatsPerSecond = static_cast<double>(motionBeats(centred).size()) / m.seconds;

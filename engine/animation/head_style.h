@@ -31,6 +31,7 @@ namespace th::animation {
 struct HeadStyleMeasures {
   Eigen::Vector3d spread = Eigen::Vector3d::Zero();  // per-axis standard deviation, degrees
   double speedP95 = 0.0;                             // deg/s
+  double speedP99 = 0.0;          // deg/s: the styled head steps no faster (0 in a style saved without it: no limit)
   double pauseSpeechRatio = 0.0;  // mean speed in pauses over speech; 0 when the clip has too few pauses
   bool pauses = false;            // at least minPauseSeconds of pauses, so pauseSpeechRatio means something
   double beatsPerSecond = 0.0;    // motion beats (head_measures.h)
@@ -74,6 +75,7 @@ inline void applyHeadStyle(const HeadStyle& style, HeadSynthesisOptions& options
   options.variation *= style.variation;
   options.pauseVariation = style.pauseVariation;
   options.restPose = style.restPose;
+  options.maxStepDegrees = style.person.speedP99 / kHeadFramesPerSecond;
 }
 
 // A small JSON file ("format": "talkinghead-head-style"). Errors name the file.

@@ -24,7 +24,42 @@ Eigen::Vector3d rotationAtRest(const Eigen::Vector3d& rotation, const Eigen::Vec
   return restPose.isZero(0.0) ? rotation : Eigen::Vector3d(rotation + restPose);
 }
 
+// Shortens each frame-to-frame step longer than the options' maxStepDegrees (times the amplitude) to that length,
+// frame by frame as they come, so the batch and the online synthesis limit alike.
+class StepLimiter {
+ public:
+  explicit StepLimiter(double limit) : limit_(limit) {}
+  explicit StepLimiter(const HeadSynthesisOptions& options) : StepLimiter(options.maxStepDegrees * options.amplitude) {}
+
+  Eigen::Vector3d next(const Eigen::Vector3d& rotation) {
+    if (limit_ <= 0.0) return rotation;
+    if (started_) {
+      const Eigen::Vector3d step = rotation - last_;
+      const double length = step.norm();
+      last_ = length > limit_ ? Eigen::Vector3d(last_ + step * (limit_ / length)) : rotation;
+    } else {
+      last_ = rotation;
+      started_ = true;
+    }
+    return last_;
+  }
+
+  void apply(Eigen::MatrixXd& rotations) {
+    if (limit_ <= 0.0) return;
+    for (Eigen::Index t = 0; t < rotations.cols(); ++t) rotations.col(t) = next(rotations.col(t));
+  }
+
+ private:
+  double limit_;
+  bool started_ = false;
+  Eigen::Vector3d last_ = Eigen::Vector3d::Zero();
+};
+
 }  // namespace
+
+void limitHeadSteps(Eigen::MatrixXd& rotations, double maxStepDegrees) {
+  StepLimiter(maxStepDegrees).apply(rotations);
+}
 
 Eigen::MatrixXd synthesiseHead(const HeadModel& model, const Eigen::MatrixXd& prosody, const Eigen::RowVectorXd& voiced,
                                const HeadSynthesisOptions& options) {
@@ -45,22 +80,24 @@ Eigen::MatrixXd synthesiseHead(const HeadModel& model, const Eigen::MatrixXd& pr
   const StateTables tables = tablesOf(model, options.smoothing);
   const Eigen::MatrixXd logB = gatedEmissions(decoder, prosody, voiced, options.voicedOnly);
   const Eigen::Vector3d scale = outputScale(model, options);
+  Eigen::MatrixXd out;
   if (options.variant == HeadVariant::kPosteriorMeans) {
-    return rotationsAtRest(scale.asDiagonal() * (tables.poseMeans * hmm::forwardBackward(decoder, logB).stateGivenAll),
-                           options.restPose);
+    out = scale.asDiagonal() * (tables.poseMeans * hmm::forwardBackward(decoder, logB).stateGivenAll);
+  } else {
+    const std::vector<int> states = hmm::viterbi(decoder, logB).states;
+    if (options.variant == HeadVariant::kTrajectory) {
+      out = trajectoryFor(tables, states, 0, states.size());
+      ResidualMotion residual(model, options);
+      for (Eigen::Index t = 0; t < out.cols(); ++t) out.col(t) += residual.next(voiced.size() == 0 || voiced[t] > 0.0);
+      out = scale.asDiagonal() * out;
+    } else {
+      out.resize(3, prosody.cols());
+      for (size_t t = 0; t < states.size(); ++t)
+        out.col(static_cast<Eigen::Index>(t)) = scale.cwiseProduct(tables.poseMean[static_cast<size_t>(states[t])]);
+    }
   }
-  const std::vector<int> states = hmm::viterbi(decoder, logB).states;
-  if (options.variant == HeadVariant::kTrajectory) {
-    Eigen::MatrixXd out = trajectoryFor(tables, states, 0, states.size());
-    ResidualMotion residual(model, options);
-    for (Eigen::Index t = 0; t < out.cols(); ++t) out.col(t) += residual.next(voiced.size() == 0 || voiced[t] > 0.0);
-    return rotationsAtRest(scale.asDiagonal() * out, options.restPose);
-  }
-  Eigen::MatrixXd out(3, prosody.cols());
-  for (size_t t = 0; t < states.size(); ++t)
-    out.col(static_cast<Eigen::Index>(t)) =
-        rotationAtRest(scale.cwiseProduct(tables.poseMean[static_cast<size_t>(states[t])]), options.restPose);
-  return out;
+  StepLimiter(options).apply(out);
+  return rotationsAtRest(std::move(out), options.restPose);
 }
 
 struct HeadSynthesiser::Impl {
@@ -79,13 +116,17 @@ struct HeadSynthesiser::Impl {
   FrameStore<Eigen::Vector3d> ready;
   bool finished = false;
   std::unique_ptr<hmm::ForwardFilter> filter;  // P(state | prosody so far), for display
+  std::unique_ptr<StepLimiter> limiter;
+
+  // The next ready rotation, from its value in degrees relative to the rest pose.
+  void emit(const Eigen::Vector3d& rotation) {
+    ready.push_back(rotationAtRest(limiter->next(rotation), options.restPose));
+  }
 
   void drain() {
     if (options.variant == HeadVariant::kPosteriorMeans) {
       while (smoother->numReady() > static_cast<int>(ready.size())) {
-        ready.push_back(
-            rotationAtRest(scale.cwiseProduct(tables.poseMeans * smoother->posterior(static_cast<int>(ready.size()))),
-                           options.restPose));
+        emit(scale.cwiseProduct(tables.poseMeans * smoother->posterior(static_cast<int>(ready.size()))));
       }
       return;
     }
@@ -94,8 +135,7 @@ struct HeadSynthesiser::Impl {
     viterbi->forgetBefore(static_cast<int>(decided.size()));  // copied here
     if (options.variant == HeadVariant::kStateMeans) {
       while (decided.size() > ready.size())
-        ready.push_back(rotationAtRest(scale.cwiseProduct(tables.poseMean[static_cast<size_t>(decided[ready.size()])]),
-                                       options.restPose));
+        emit(scale.cwiseProduct(tables.poseMean[static_cast<size_t>(decided[ready.size()])]));
       return;
     }
     // Trajectory: frame t once the states up to t + lookahead are known (or all of them, at the end).
@@ -108,10 +148,8 @@ struct HeadSynthesiser::Impl {
       const size_t end = std::min(decided.size(), t + lookahead + 1);
       std::vector<int> window(end - begin);
       for (size_t i = begin; i < end; ++i) window[i - begin] = decided[i];
-      ready.push_back(rotationAtRest(
-          scale.cwiseProduct(trajectoryFor(tables, window, 0, window.size()).col(static_cast<Eigen::Index>(t - begin)) +
-                             residuals[t]),
-          options.restPose));
+      emit(scale.cwiseProduct(
+          trajectoryFor(tables, window, 0, window.size()).col(static_cast<Eigen::Index>(t - begin)) + residuals[t]));
     }
   }
 };
@@ -125,6 +163,7 @@ HeadSynthesiser::HeadSynthesiser(const HeadModel& model, const HeadSynthesisOpti
   impl_->scale = outputScale(model, options);
   if (options.variant == HeadVariant::kTrajectory) impl_->residual = std::make_unique<ResidualMotion>(model, options);
   impl_->filter = std::make_unique<hmm::ForwardFilter>(impl_->decoder);
+  impl_->limiter = std::make_unique<StepLimiter>(options);
   if (options.maxLagFrames < 0) return;
   if (options.variant == HeadVariant::kPosteriorMeans) {
     impl_->smoother = std::make_unique<hmm::FixedLagSmoother>(impl_->decoder, options.maxLagFrames);

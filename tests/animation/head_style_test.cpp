@@ -46,6 +46,11 @@ const HeadStyle& beat2Style() {
   return style;
 }
 
+// The longest frame-to-frame step of a 3 x T motion, degrees.
+double longestStepOf(const Eigen::MatrixXd& motion) {
+  return (motion.rightCols(motion.cols() - 1) - motion.leftCols(motion.cols() - 1)).colwise().norm().maxCoeff();
+}
+
 TEST(HeadStyleMeasures, SpreadSpeedBeatsAndPausesOfAKnownMotion) {
   // 20 s: yaw a sine of 6 degrees' amplitude and a 2 s period; pitch 2 degrees, roll still. The sound is loud for
   // the first 15 s and silent for the last 5, where the head moves at a third of the speed.
@@ -102,16 +107,13 @@ TEST(HeadStyle, TheFitMovesTheShippedModelLikeTheSpeakerOnTheirOwnSpeech) {
   EXPECT_NEAR((style.restPose - beat2Clip().rotations.rowwise().mean()).norm(), 0.0, 1e-12);
   // No step the person does not make: the styled motion's longest, under each of the fit's seeds, is within the
   // person's longest.
-  const auto longestStep = [](const Eigen::MatrixXd& motion) {
-    return (motion.rightCols(motion.cols() - 1) - motion.leftCols(motion.cols() - 1)).colwise().norm().maxCoeff();
-  };
-  const double persons = longestStep(beat2Clip().rotations);
+  const double persons = longestStepOf(beat2Clip().rotations);
   for (unsigned seed = 1; seed <= HeadStyleFitOptions{}.seeds; ++seed) {
     HeadSynthesisOptions synthesis;
     applyHeadStyle(style, synthesis);
     synthesis.seed = seed;
     const Eigen::MatrixXd motion = synthesiseHead(shippedHead(), beat2Clip().prosody, beat2Clip().voiced, synthesis);
-    EXPECT_LE(longestStep(motion), persons) << "seed " << seed;
+    EXPECT_LE(longestStepOf(motion), persons) << "seed " << seed;
   }
 }
 
@@ -169,6 +171,46 @@ TEST(HeadStyle, TheSynthesisAddsTheRestPoseAndTheIdleHeadEasesToIt) {
     EXPECT_NEAR(faps[static_cast<std::size_t>(48 + axis)] / unitsPerDegree, style.restPose[axis], 0.05);
 }
 
+TEST(HeadStyle, AStepLongerThanTheLimitIsShortenedAndTheRestFollows) {
+  Eigen::MatrixXd motion = Eigen::MatrixXd::Zero(3, 8);
+  motion.rightCols(6).row(1).setConstant(10.0);  // a 10 degree jump in yaw at frame 2
+  Eigen::MatrixXd limited = motion;
+  limitHeadSteps(limited, 3.0);
+  const Eigen::RowVectorXd expected = (Eigen::RowVectorXd(8) << 0, 0, 3, 6, 9, 10, 10, 10).finished();
+  EXPECT_LT((limited.row(1) - expected).cwiseAbs().maxCoeff(), 1e-12) << limited;
+  EXPECT_TRUE(limited.row(0).isZero(0.0));
+  Eigen::MatrixXd unlimited = motion;
+  limitHeadSteps(unlimited, 0.0);
+  EXPECT_EQ(unlimited, motion);
+}
+
+TEST(HeadStyle, TheStyledHeadStepsNoFasterThanThePersonsFastSteps) {
+  const HeadStyle& style = beat2Style();
+  ASSERT_GT(style.person.speedP99, style.person.speedP95);
+  HeadSynthesisOptions synthesis;
+  applyHeadStyle(style, synthesis);
+  const double limit = style.person.speedP99 / kFps;
+  EXPECT_DOUBLE_EQ(synthesis.maxStepDegrees, limit);
+  const HeadRecording& clip = beat2Clip();
+  HeadSynthesisOptions free = synthesis;
+  free.maxStepDegrees = 0.0;
+  const Eigen::MatrixXd unlimited = synthesiseHead(shippedHead(), clip.prosody, clip.voiced, free);
+  const Eigen::MatrixXd batch = synthesiseHead(shippedHead(), clip.prosody, clip.voiced, synthesis);
+  // Without the limit some steps are faster (so the limit does something), with it none, and the motion is the
+  // same but for those: its spread within 2 %.
+  EXPECT_GT(longestStepOf(unlimited), limit);
+  EXPECT_LE(longestStepOf(batch), limit + 1e-9);
+  for (int axis = 0; axis < 3; ++axis)
+    EXPECT_NEAR(axisStd(batch)[axis] / axisStd(unlimited)[axis], 1.0, 0.02) << "axis " << axis;
+  // Live (decoded with a lag) alike, and twice the amplitude allows twice the step.
+  synthesis.maxLagFrames = 2;
+  EXPECT_LE(longestStepOf(synthesiseHead(shippedHead(), clip.prosody, clip.voiced, synthesis)), limit + 1e-9);
+  synthesis.amplitude = 2.0;
+  const Eigen::MatrixXd larger = synthesiseHead(shippedHead(), clip.prosody, clip.voiced, synthesis);
+  EXPECT_LE(longestStepOf(larger), 2.0 * limit + 1e-9);
+  EXPECT_GT(longestStepOf(larger), limit);
+}
+
 TEST(HeadStyle, TheFileKeepsEverythingAndBadFilesFailNamingTheField) {
   const HeadStyle& style = beat2Style();
   const TemporaryFolder folder;
@@ -184,6 +226,7 @@ TEST(HeadStyle, TheFileKeepsEverythingAndBadFilesFailNamingTheField) {
   EXPECT_EQ(back.pauseVariation, style.pauseVariation);
   EXPECT_LT((back.person.spread - style.person.spread).norm(), 1e-12);
   EXPECT_EQ(back.person.pauses, style.person.pauses);
+  EXPECT_EQ(back.person.speedP99, style.person.speedP99);
   EXPECT_EQ(back.fitted.beatsPerSecond, style.fitted.beatsPerSecond);
 
   const auto failsWith = [&](const std::string& text, const std::string& expected) {
@@ -209,6 +252,16 @@ TEST(HeadStyle, TheFileKeepsEverythingAndBadFilesFailNamingTheField) {
   };
   failsWith(replaced("\"smoothing\": ", "\"smoothing\": -"), "synthesis.smoothing");
   failsWith(replaced("\"axis_gain\": [", "\"axis_gain\": [1, "), "synthesis.axis_gain");
+  // A style saved before the step limit (no 99th-percentile speed) is read, and limits nothing.
+  std::string older = text;
+  const auto field = older.find("\"speed_p99_deg_s\"");
+  ASSERT_NE(field, std::string::npos);
+  older.erase(field, older.find('\n', field) + 1 - field);
+  const auto olderPath = folder.path() / "older.json";
+  std::ofstream(olderPath) << older;
+  HeadSynthesisOptions synthesis;
+  applyHeadStyle(loadHeadStyle(olderPath), synthesis);
+  EXPECT_EQ(synthesis.maxStepDegrees, 0.0);
 }
 
 // A track's pose CSV at a 25 fps video's rate, some frames without a face, beside the take's sound.
