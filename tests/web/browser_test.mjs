@@ -2,6 +2,7 @@
 // (puppeteer-core with the system browser; nothing is downloaded).
 //
 //   node tests/web/browser_test.mjs --talkinghead build/talkinghead --block-cost build/bench/block_cost --out DIR
+//        [--passes 5]
 //
 // 1. Equality: BEAT2's 64 s played through the worklet (an OfflineAudioContext at the file's 16 kHz, every
 //    sample as in the file; the default preset, each frame with its own head) against native
@@ -14,7 +15,8 @@
 // 3. The error paths (a closed context, a rate it cannot resample, an unknown preset, a file that is no sound) and
 //    disconnect() (no frame after it).
 // 4. The benchmark: the worklet's per-block work in WebAssembly on a cross-origin isolated page, beside the native
-//    build's (bench/block_cost), the same steps on the same samples; the ratio is printed, not asserted.
+//    build's (bench/block_cost), the same steps on the same samples, each block the least of --passes passes; the
+//    ratio is printed, not asserted.
 // 5. The recipe for TalkingHead's users (web/examples/talkinghead.html): its avatar speaks from our frames.
 // Writes DIR/report.json and the screenshots; exits 1 on a failed check.
 import { spawnSync } from 'node:child_process';
@@ -36,6 +38,7 @@ const args = process.argv.slice(2);
 const option = (name, fallback) => { const at = args.indexOf(name); return at >= 0 ? args[at + 1] : fallback; };
 const talkinghead = option('--talkinghead');
 const blockCost = option('--block-cost');
+const passes = Number(option('--passes', '5'));
 const data = path.resolve(option('--data', process.env.TALKINGHEAD_DATA || path.join(here, '../../../shared/data')));
 const out = path.resolve(option('--out', '') || fs.mkdtempSync('/tmp/talkinghead-web-'));
 const browserPath = option('--browser', process.env.CHROMIUM || '/usr/bin/chromium');
@@ -162,13 +165,20 @@ try {
   }
 
   // 4. The benchmark, WebAssembly beside native.
-  const wasm = await harness.evaluate((url) => window.harness.bench(url, 'default', 48000), '/data/2_scott_0_1_1.wav');
-  const nativeCost = JSON.parse(run(blockCost, [beat2, '--preset', 'default', '--rate', '48000']));
+  // On a page of its own, the harness's closed: nothing else of this test runs in the browser while it times.
+  await harness.close();
+  const benchPage = await open('/tests/harness.html');
+  await benchPage.waitForFunction(() => window.harness && window.harness.ready, { timeout: 30000 });
+  const wasm = await benchPage.evaluate((url, n) => window.harness.bench(url, 'default', 48000, n), '/data/2_scott_0_1_1.wav', passes);
+  await benchPage.close();
+  const nativeCost = JSON.parse(run(blockCost, [beat2, '--preset', 'default', '--rate', '48000', '--passes', String(passes)]));
   report.benchmark = { wasm, native: nativeCost, medianRatio: wasm.median_ms / nativeCost.median_ms, p99Ratio: wasm.p99_ms / nativeCost.p99_ms };
-  console.log(`     per 128-sample block at 48 kHz: WebAssembly median ${wasm.median_ms.toFixed(3)} ms, p99 ${wasm.p99_ms.toFixed(3)} ms; ` +
-              `native median ${nativeCost.median_ms.toFixed(3)} ms, p99 ${nativeCost.p99_ms.toFixed(3)} ms ` +
-              `(${report.benchmark.medianRatio.toFixed(2)}x, ${report.benchmark.p99Ratio.toFixed(2)}x)`);
-  check(wasm.isolated && wasm.blocks === nativeCost.blocks, `the benchmark page timed ${wasm.blocks} blocks, native ${nativeCost.blocks}`);
+  console.log(`     per 128-sample block at 48 kHz, the least of ${wasm.passes} passes: WebAssembly median ${wasm.median_ms.toFixed(3)} ms, ` +
+              `p99 ${wasm.p99_ms.toFixed(3)} ms; native median ${nativeCost.median_ms.toFixed(3)} ms, p99 ${nativeCost.p99_ms.toFixed(3)} ms ` +
+              `(${report.benchmark.medianRatio.toFixed(2)}x, ${report.benchmark.p99Ratio.toFixed(2)}x); the slowest pass's p99 as timed: ` +
+              `WebAssembly ${wasm.slowest_pass_p99_ms.toFixed(3)} ms, native ${nativeCost.slowest_pass_p99_ms.toFixed(3)} ms`);
+  check(wasm.isolated && wasm.blocks === nativeCost.blocks && wasm.passes === nativeCost.passes,
+    `the benchmark page timed ${wasm.blocks} blocks ${wasm.passes} times, native ${nativeCost.blocks} ${nativeCost.passes} times`);
 
   // 2. The example page, live from the (fake) microphone.
   const example = await open('/examples/?avatar=/avatars/brunette-t.glb');
