@@ -24,7 +24,7 @@ Eigen::Vector3d directionOf(const face::FapDefinition& fap) {
   return {fap.direction[0], fap.direction[1], fap.direction[2]};
 }
 
-Eigen::Vector3d vectorFrom(const Json& json, const std::filesystem::path& file, const char* field) {
+Eigen::Vector3d threeVectorFrom(const Json& json, const std::filesystem::path& file, const char* field) {
   if (!json.contains(field) || !json[field].is_array() || json[field].size() != 3)
     throw fileError(file, std::string("fap_map.") + field + " must be a list of 3 numbers");
   Eigen::Vector3d v;
@@ -105,9 +105,9 @@ nlohmann::json mouthFapMapJson(const MouthFapMap& map) {
 MouthFapMap mouthFapMapFromJson(const Json& json, const std::filesystem::path& file) {
   if (!json.is_object()) throw fileError(file, "fap_map must be an object");
   MouthFapMap map;
-  map.hingeAxis = vectorFrom(json, file, "hinge_axis");
+  map.hingeAxis = threeVectorFrom(json, file, "hinge_axis");
   if (std::abs(map.hingeAxis.norm() - 1.0) > 1e-6) throw fileError(file, "fap_map.hinge_axis must be a unit vector");
-  map.chinFromPivot = vectorFrom(json, file, "chin_from_pivot_mns");
+  map.chinFromPivot = threeVectorFrom(json, file, "chin_from_pivot_mns");
   for (const char* field : {"chin_follow", "shape_angle_deg"})
     if (!json.contains(field) || !json[field].is_number() || !std::isfinite(json[field].get<double>()))
       throw fileError(file, std::string("fap_map.") + field + " must be a finite number");
