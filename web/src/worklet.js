@@ -15,6 +15,10 @@ class LipSyncProcessor extends AudioWorkletProcessor {
     this.stream = null;
     this.stopped = false;
     this.startTime = -1;  // the context time of the first sample decoded
+    // What a block without input is, once the stream has started: a source that pauses (a paused media
+    // element, a muted track, an oscillator not yet running) leaves the input with no channels, and the stream
+    // must hear that silence, or every later frame would be stamped as early as the blocks it missed.
+    this.silence = new Float32Array(128);
     this.port.onmessage = (event) => {
       const type = event.data && event.data.type;
       if (type === 'stop') this.stop();
@@ -59,8 +63,11 @@ class LipSyncProcessor extends AudioWorkletProcessor {
   process(inputs) {
     if (this.stopped) return false;  // the processor ends: nothing runs after disconnect()
     if (!this.stream) return true;   // not instantiated yet
-    const channel = inputs[0] && inputs[0][0];
-    if (!channel) return true;       // no source connected: no sound to decode
+    let channel = inputs[0] && inputs[0][0];
+    if (!channel) {
+      if (this.startTime < 0) return true;  // nothing has been heard yet: the stream starts with the first sound
+      channel = this.silence;
+    }
     if (this.startTime < 0) this.startTime = currentTime;
     // The memory view is re-made when the module's memory has grown (the old view is detached then).
     if (this.input.length === 0) this.input = this.stream.input();
