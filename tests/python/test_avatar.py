@@ -45,8 +45,10 @@ def avatars(data):
     return os.path.join(data, "face", "avatars")
 
 
-@pytest.mark.parametrize("name", ["brunette-t.glb", "vroid.glb"])
-@pytest.mark.parametrize("form", ["talk.glb", "talk.gltf", "animation.gltf"])
+# Every form on one character and one form on the other (the VRoid one takes five seconds a form under the
+# sanitizers): the binding passes both through to the library, whose own tests write both forms of both.
+@pytest.mark.parametrize("name,form", [("brunette-t.glb", "talk.glb"), ("brunette-t.glb", "talk.gltf"),
+                                       ("brunette-t.glb", "animation.gltf"), ("vroid.glb", "talk.glb")])
 def test_the_character_gets_the_speech_as_its_animation(animation, avatars, tmp_path, name, form):
     out = str(tmp_path / form)
     only = form.startswith("animation")

@@ -132,10 +132,10 @@ TEST(VideoCorpus, KeepsTheTracksReusesThemOnlyAsMadeAndLeavesOutAClipWithoutAFac
   const fs::path faceless = folder.path() / "faceless.mp4";
   th::test::writeFacelessVideo(faceless);
   std::vector<fs::path> videos = gridClips(2);
-  videos.insert(videos.begin() + 1, faceless);
+  videos.back() = faceless;  // a clip, then one without a face
   const fs::path tracks = folder.path() / "tracks";
   const th::tracking::VideoCorpus first = th::tracking::loadVideoCorpus(videos, faceModel(), onThreads(2, tracks));
-  ASSERT_EQ(first.clips.size(), 2u);
+  ASSERT_EQ(first.clips.size(), 1u);
   ASSERT_EQ(first.skipped.size(), 1u);
   EXPECT_EQ(first.skipped[0].video, faceless);
   EXPECT_NE(first.skipped[0].reason.find("no face"), std::string::npos) << first.skipped[0].reason;
@@ -149,11 +149,9 @@ TEST(VideoCorpus, KeepsTheTracksReusesThemOnlyAsMadeAndLeavesOutAClipWithoutAFac
   }
   // Again: read from the tracks, the same numbers (to the CSV's precision).
   const th::tracking::VideoCorpus second = th::tracking::loadVideoCorpus(videos, faceModel(), onThreads(1, tracks));
-  ASSERT_EQ(second.clips.size(), 2u);
-  for (std::size_t i = 0; i < 2; ++i) {
-    EXPECT_FALSE(second.clips[i].trackedNow);
-    EXPECT_LT((second.clips[i].recording.visual - first.clips[i].recording.visual).cwiseAbs().maxCoeff(), 1e-3);
-  }
+  ASSERT_EQ(second.clips.size(), 1u);
+  EXPECT_FALSE(second.clips[0].trackedNow);
+  EXPECT_LT((second.clips[0].recording.visual - first.clips[0].recording.visual).cwiseAbs().maxCoeff(), 1e-3);
   // Tracks made another way (another tracker version, other options) are made again.
   std::ofstream(tracks / "tracker.txt") << "talkinghead tracker 1\n";
   const th::tracking::VideoCorpus third = th::tracking::loadVideoCorpus(videos, faceModel(), onThreads(2, tracks));
