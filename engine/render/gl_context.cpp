@@ -5,11 +5,14 @@
 #define GLFW_INCLUDE_NONE
 #include <GL/osmesa.h>
 #include <GLFW/glfw3.h>
+#include <dlfcn.h>
 
 #include <algorithm>
 #include <atomic>
 #include <cstdlib>
 #include <mutex>
+#include <string>
+#include <type_traits>
 
 #include "core/error.h"
 
@@ -29,8 +32,43 @@ void loadEntryPoints(int kind, GLADloadfunc loader, const char* what) {
   loadedKind.store(kind);
 }
 
+// OSMesa, opened the first time an off-screen context is made, not linked: it brings LLVM (llvmpipe) with it,
+// whose loading every process would otherwise pay at start, drawing or not (a tenth of a second of the CLI's
+// start here). TALKINGHEAD_OSMESA_LIBRARY is its SONAME, read from the library at configure time.
+struct OsMesa {
+  decltype(&::OSMesaCreateContextAttribs) createContextAttribs = nullptr;
+  decltype(&::OSMesaDestroyContext) destroyContext = nullptr;
+  decltype(&::OSMesaMakeCurrent) makeCurrent = nullptr;
+  decltype(&::OSMesaGetCurrentContext) getCurrentContext = nullptr;
+  decltype(&::OSMesaGetProcAddress) getProcAddress = nullptr;
+};
+
+const OsMesa& osMesa() {
+  static const OsMesa functions = [] {
+    // Never closed: contexts and the GL entry points glad keeps point into it until the process ends.
+    void* library = dlopen(TALKINGHEAD_OSMESA_LIBRARY, RTLD_NOW | RTLD_LOCAL);
+    if (library == nullptr) {
+      const char* reason = dlerror();
+      throw Error(std::string("OSMesa: cannot load ") + TALKINGHEAD_OSMESA_LIBRARY + " (" +
+                  (reason != nullptr ? reason : "unknown error") + "); Debian's libosmesa6 provides it");
+    }
+    OsMesa loaded;
+    const auto find = [library](auto& function, const char* name) {
+      function = reinterpret_cast<std::remove_reference_t<decltype(function)>>(dlsym(library, name));
+      if (function == nullptr) throw Error(std::string("OSMesa: ") + TALKINGHEAD_OSMESA_LIBRARY + " has no " + name);
+    };
+    find(loaded.createContextAttribs, "OSMesaCreateContextAttribs");
+    find(loaded.destroyContext, "OSMesaDestroyContext");
+    find(loaded.makeCurrent, "OSMesaMakeCurrent");
+    find(loaded.getCurrentContext, "OSMesaGetCurrentContext");
+    find(loaded.getProcAddress, "OSMesaGetProcAddress");
+    return loaded;
+  }();
+  return functions;
+}
+
 GLADapiproc osmesaProc(const char* name) {
-  return reinterpret_cast<GLADapiproc>(OSMesaGetProcAddress(name));
+  return reinterpret_cast<GLADapiproc>(osMesa().getProcAddress(name));
 }
 GLADapiproc glfwProc(const char* name) {
   return reinterpret_cast<GLADapiproc>(glfwGetProcAddress(name));
@@ -87,25 +125,27 @@ OffscreenContext::OffscreenContext(int framebufferWidth, int framebufferHeight)
                                  // framebuffer objects have depth buffers of their own)
                             OSMESA_PROFILE, OSMESA_CORE_PROFILE, OSMESA_CONTEXT_MAJOR_VERSION, 3,
                             OSMESA_CONTEXT_MINOR_VERSION, 3, 0};
-  OSMesaContext context = OSMesaCreateContextAttribs(attributes, nullptr);
+  OSMesaContext context = osMesa().createContextAttribs(attributes, nullptr);
   if (context == nullptr) throw Error("OSMesa: could not create an OpenGL 3.3 core off-screen context");
   context_ = context;
   try {
     makeCurrent();
   } catch (...) {
-    OSMesaDestroyContext(context);
+    osMesa().destroyContext(context);
     throw;
   }
 }
 
 OffscreenContext::~OffscreenContext() {
   OSMesaContext context = static_cast<OSMesaContext>(context_);
-  if (OSMesaGetCurrentContext() == context) OSMesaMakeCurrent(nullptr, nullptr, 0, 0, 0);
-  OSMesaDestroyContext(context);
+  const OsMesa& mesa = osMesa();
+  if (mesa.getCurrentContext() == context) mesa.makeCurrent(nullptr, nullptr, 0, 0, 0);
+  mesa.destroyContext(context);
 }
 
 void OffscreenContext::makeCurrent() {
-  if (OSMesaMakeCurrent(static_cast<OSMesaContext>(context_), buffer_.data(), GL_UNSIGNED_BYTE, width_, height_) == 0)
+  if (osMesa().makeCurrent(static_cast<OSMesaContext>(context_), buffer_.data(), GL_UNSIGNED_BYTE, width_, height_) ==
+      0)
     throw Error("OSMesa: could not make the off-screen context current");
   loadEntryPoints(1, osmesaProc, "OSMesa");
 }
