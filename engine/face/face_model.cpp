@@ -126,6 +126,30 @@ Eigen::Matrix3Xd FaceModel::deform(const FapFrame& faps, const VertexSelection& 
   return deformSelected(faps, &selection);
 }
 
+namespace {
+
+// The vertex of an entry of a rig list: a vertex, or a vertex and its share.
+int vertexOfEntry(int vertex) {
+  return vertex;
+}
+int vertexOfEntry(const std::pair<int, float>& entry) {
+  return entry.first;
+}
+
+// Calls turn(column, entry) for each entry of a rig list whose vertex is deformed: all of them (a vertex is its own
+// column) without a selection, the selection's `chosen` ones with it.
+template <class List, class Turn>
+void forEachDeformed(const List& list, const std::vector<VertexSelection::RigEntry>* chosen, Turn turn) {
+  if (chosen) {
+    for (const VertexSelection::RigEntry& entry : *chosen)
+      turn(entry.column, list[static_cast<std::size_t>(entry.index)]);
+  } else {
+    for (const auto& entry : list) turn(vertexOfEntry(entry), entry);
+  }
+}
+
+}  // namespace
+
 VertexSelection FaceModel::select(const std::vector<int>& vertices) const {
   VertexSelection selection;
   selection.vertices = vertices;
@@ -141,6 +165,20 @@ VertexSelection FaceModel::select(const std::vector<int>& vertices) const {
     for (const FieldEntry& entry : linear_[fap])
       if (const int c = selection.columnOf[static_cast<std::size_t>(entry.vertex)]; c >= 0)
         selection.fields[fap].push_back({c, entry.displacement});
+  const auto chosen = [&](const auto& list) {
+    std::vector<VertexSelection::RigEntry> entries;
+    for (std::size_t i = 0; i < list.size(); ++i)
+      if (const int c = selection.columnOf[static_cast<std::size_t>(vertexOfEntry(list[i]))]; c >= 0)
+        entries.push_back({c, static_cast<int>(i)});
+    return entries;
+  };
+  selection.tongue = chosen(tongueRoll_);
+  selection.jaw = chosen(jawVertices_);
+  for (std::size_t e = 0; e < eyes_.size(); ++e) {
+    selection.upperLid[e] = chosen(eyes_[e].upperLid);
+    selection.lowerLid[e] = chosen(eyes_[e].lowerLid);
+    selection.ball[e] = chosen(eyes_[e].ball);
+  }
   return selection;
 }
 
@@ -176,14 +214,13 @@ Eigen::Matrix3Xd FaceModel::deformSelected(const FapFrame& faps, const VertexSel
   // (+x) counter-clockwise seen from the front, its right clockwise, so both borders rise.
   const double tongueRoll = std::max(0.0, faps[47]) * kAngleUnit;
   if (tongueRoll != 0.0) {
-    for (const auto& [vertex, share] : tongueRoll_) {
-      const int column = columnOf(vertex);
-      if (column < 0) continue;
-      const double a = share * tongueRoll, c = std::cos(a), s = std::sin(a);
-      const double x = v(0, column), y = v(1, column) - tongueAxisY_;
-      v(0, column) = c * x - s * y;
-      v(1, column) = tongueAxisY_ + s * x + c * y;
-    }
+    forEachDeformed(tongueRoll_, selection ? &selection->tongue : nullptr,
+                    [&](int column, const std::pair<int, float>& entry) {
+                      const double a = entry.second * tongueRoll, c = std::cos(a), s = std::sin(a);
+                      const double x = v(0, column), y = v(1, column) - tongueAxisY_;
+                      v(0, column) = c * x - s * y;
+                      v(1, column) = tongueAxisY_ + s * x + c * y;
+                    });
   }
 
   // Jaw: each vertex turns by its share of the angle and slides by its share of the thrust and shift. The
@@ -193,13 +230,11 @@ Eigen::Matrix3Xd FaceModel::deformSelected(const FapFrame& faps, const VertexSel
                                  faps[15] * units_.mw * -Eigen::Vector3d::UnitX()) /
                                 chinFollow_;
   if (angle != 0.0 || slide.squaredNorm() > 0.0) {
-    for (int vertex : jawVertices_) {
-      const int column = columnOf(vertex);
-      if (column < 0) continue;
+    forEachDeformed(jawVertices_, selection ? &selection->jaw : nullptr, [&](int column, int vertex) {
       const double share = jawFollow_[vertex];
       v.col(column) =
           jaw_.pivot + Eigen::AngleAxisd(share * angle, jaw_.axis) * (v.col(column) - jaw_.pivot) + share * slide;
-    }
+    });
   }
 
   // Eyelids and eyeballs.
@@ -217,15 +252,19 @@ Eigen::Matrix3Xd FaceModel::deformSelected(const FapFrame& faps, const VertexSel
     };
     if (closeUpper != 0.0) {
       const double turn = lidAngle(left ? "3.1" : "3.2", closeUpper * units_.irisd);
-      for (const auto& [vertex, share] : eye.upperLid)
-        if (const int c = columnOf(vertex); c >= 0)
-          v.col(c) = eye.centre + Eigen::AngleAxisd(share * turn, Eigen::Vector3d::UnitX()) * (v.col(c) - eye.centre);
+      forEachDeformed(
+          eye.upperLid, selection ? &selection->upperLid[e] : nullptr, [&](int c, const std::pair<int, float>& entry) {
+            v.col(c) =
+                eye.centre + Eigen::AngleAxisd(entry.second * turn, Eigen::Vector3d::UnitX()) * (v.col(c) - eye.centre);
+          });
     }
     if (closeLower != 0.0) {
       const double turn = lidAngle(left ? "3.3" : "3.4", -closeLower * units_.irisd);
-      for (const auto& [vertex, share] : eye.lowerLid)
-        if (const int c = columnOf(vertex); c >= 0)
-          v.col(c) = eye.centre + Eigen::AngleAxisd(share * turn, Eigen::Vector3d::UnitX()) * (v.col(c) - eye.centre);
+      forEachDeformed(
+          eye.lowerLid, selection ? &selection->lowerLid[e] : nullptr, [&](int c, const std::pair<int, float>& entry) {
+            v.col(c) =
+                eye.centre + Eigen::AngleAxisd(entry.second * turn, Eigen::Vector3d::UnitX()) * (v.col(c) - eye.centre);
+          });
     }
     const double yaw = faps[left ? 23 : 24] * kAngleUnit, pitch = faps[left ? 25 : 26] * kAngleUnit;
     const double thrust = faps[left ? 27 : 28] * units_.es;
@@ -233,9 +272,9 @@ Eigen::Matrix3Xd FaceModel::deformSelected(const FapFrame& faps, const VertexSel
       const Eigen::Matrix3d turn =
           (Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitY()) * Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitX()))
               .toRotationMatrix();
-      for (int vertex : eye.ball)
-        if (const int c = columnOf(vertex); c >= 0)
-          v.col(c) = eye.centre + turn * (v.col(c) - eye.centre) + thrust * Eigen::Vector3d::UnitZ();
+      forEachDeformed(eye.ball, selection ? &selection->ball[e] : nullptr, [&](int c, int) {
+        v.col(c) = eye.centre + turn * (v.col(c) - eye.centre) + thrust * Eigen::Vector3d::UnitZ();
+      });
     }
   }
 

@@ -80,6 +80,15 @@ struct VertexSelection {
   std::vector<int> columnOf;  // per mesh vertex: its (first) column, or -1 when not chosen
   // Per FAP number: the linear fields (FaceModel::linearField) at the chosen vertices only.
   std::vector<std::vector<FieldEntry>> fields;
+  // Per part of the rig that turns vertices (the tongue's roll, the jaw, each eye's lids and ball): its entries
+  // whose vertex is chosen, as the vertex's column and the entry's place in the model's list, so that deforming a
+  // few vertices does not walk every vertex the jaw moves.
+  struct RigEntry {
+    int column;
+    int index;
+  };
+  std::vector<RigEntry> tongue, jaw;
+  std::array<std::vector<RigEntry>, 2> upperLid, lowerLid, ball;
 };
 
 class FaceModel {
