@@ -40,15 +40,10 @@ const int kTryAgain = AVERROR(EAGAIN);
 const int kStreamNotFound = AVERROR_STREAM_NOT_FOUND;
 const int kDecoderNotFound = AVERROR_DECODER_NOT_FOUND;
 
-struct FormatCloser {
-  void operator()(AVFormatContext* context) const { avformat_close_input(&context); }
-};
-using FormatHandle = std::unique_ptr<AVFormatContext, FormatCloser>;
+using FormatHandle = ffmpeg::InputHandle;
 using ffmpeg::CodecHandle;
 using ffmpeg::FrameHandle;
 using ffmpeg::PacketHandle;
-
-using ffmpeg::Dictionary;
 
 constexpr double kMaxSampleMagnitude = 1e6;  // as readAudioFile: 120 dB over full scale is corrupt data
 
@@ -182,25 +177,6 @@ void sendPacket(AVCodecContext* codec, const AVPacket* packet, AVFrame* frame, M
   }
 }
 
-FormatHandle openContainer(const std::filesystem::path& path) {
-  Dictionary options;
-  // Local files only: a playlist or concat list inside the file must not make FFmpeg open URLs.
-  av_dict_set(&options.entries, "protocol_whitelist", "file", 0);
-  // "file:" keeps a name with a colon in it ("take:2.mpg") from being read as a protocol.
-  const std::string url = "file:" + path.string();
-  AVFormatContext* raw = nullptr;
-  const int opened = avformat_open_input(&raw, url.c_str(), nullptr, &options.entries);
-  if (opened < 0) {  // avformat_open_input frees the context itself on failure
-    throw fileError(path, "not a readable media file (FFmpeg: " + ffmpeg::message(opened) + ")");
-  }
-  FormatHandle format(raw);
-  const int found = avformat_find_stream_info(format.get(), nullptr);
-  if (found < 0) {
-    throw fileError(path, "not a readable media file (FFmpeg cannot read its streams: " + ffmpeg::message(found) + ")");
-  }
-  return format;
-}
-
 }  // namespace
 
 AudioClip readMediaAudio(const std::filesystem::path& path, const AudioReadOptions& options) {
@@ -213,7 +189,7 @@ AudioClip readMediaAudio(const std::filesystem::path& path, const AudioReadOptio
   if (error) throw fileError(path, "cannot read: " + error.message());
   if (size == 0) throw fileError(path, "empty file (0 bytes)");
 
-  FormatHandle format = openContainer(path);
+  FormatHandle format = ffmpeg::openInputFile(path);
   const AVCodec* decoder = nullptr;
   const int streamIndex = av_find_best_stream(format.get(), AVMEDIA_TYPE_AUDIO, -1, -1, &decoder, 0);
   if (streamIndex == kStreamNotFound) throw fileError(path, "has no audio stream");

@@ -11,6 +11,7 @@
 
 extern "C" {
 #include <libavcodec/avcodec.h>
+#include <libavformat/avformat.h>
 #include <libavutil/dict.h>
 #include <libavutil/error.h>
 #include <libavutil/frame.h>
@@ -18,9 +19,12 @@ extern "C" {
 }
 
 #include <cstdio>
+#include <filesystem>
 #include <memory>
 #include <mutex>
 #include <string>
+
+#include "core/error.h"
 
 namespace th::ffmpeg {
 
@@ -36,6 +40,10 @@ struct PacketFreer {
 using CodecHandle = std::unique_ptr<AVCodecContext, CodecFreer>;
 using FrameHandle = std::unique_ptr<AVFrame, FrameFreer>;
 using PacketHandle = std::unique_ptr<AVPacket, PacketFreer>;
+struct InputCloser {
+  void operator()(AVFormatContext* context) const { avformat_close_input(&context); }
+};
+using InputHandle = std::unique_ptr<AVFormatContext, InputCloser>;
 
 // FFmpeg's error code as text ("Permission denied", "End of file", ...).
 // An AVDictionary of options, freed on scope exit (FFmpeg's open calls replace it with the unused ones).
@@ -59,6 +67,27 @@ inline std::string message(int code) {
 inline void silenceLogging() {
   static std::once_flag once;
   std::call_once(once, [] { av_log_set_level(AV_LOG_QUIET); });
+}
+
+// A local media file opened for reading, its streams' parameters read; th::Error "PATH: not a readable media file
+// (FFmpeg: ...)" when it cannot be.
+inline InputHandle openInputFile(const std::filesystem::path& path) {
+  Dictionary options;
+  // Local files only: a playlist or concat list inside the file must not make FFmpeg open URLs.
+  av_dict_set(&options.entries, "protocol_whitelist", "file", 0);
+  // "file:" keeps a name with a colon in it ("take:2.mpg") from being read as a protocol.
+  const std::string url = "file:" + path.string();
+  AVFormatContext* raw = nullptr;
+  const int opened = avformat_open_input(&raw, url.c_str(), nullptr, &options.entries);
+  if (opened < 0) {  // avformat_open_input frees the context itself on failure
+    throw fileError(path, "not a readable media file (FFmpeg: " + message(opened) + ")");
+  }
+  InputHandle input(raw);
+  const int found = avformat_find_stream_info(input.get(), nullptr);
+  if (found < 0) {
+    throw fileError(path, "not a readable media file (FFmpeg cannot read its streams: " + message(found) + ")");
+  }
+  return input;
 }
 
 }  // namespace th::ffmpeg

@@ -3,8 +3,6 @@
 #include <chrono>
 #include <ctime>
 #include <memory>
-#include <opencv2/core/utils/logger.hpp>
-#include <opencv2/videoio.hpp>
 #include <system_error>
 #include <vector>
 
@@ -13,6 +11,7 @@
 #include "audio/resampler.h"
 #include "core/audio_ring.h"
 #include "core/error.h"
+#include "tracking/camera_module.h"
 
 namespace th::tracking {
 namespace {
@@ -49,9 +48,10 @@ RecordedTake recordTalkingVideo(const RecordingOptions& options, const std::func
 
   // Both devices are looked for before anything is written; a missing one is named with the other.
   std::string missing;
-  cv::utils::logging::setLogLevel(cv::utils::logging::LOG_LEVEL_SILENT);  // our message is the one line
-  cv::VideoCapture camera(options.camera, cv::CAP_V4L2);
-  if (!camera.isOpened())
+  const CameraModule& module = cameraModule();
+  std::unique_ptr<CameraDevice> camera =
+      module.openCamera(options.camera, options.width, options.height, options.framesPerSecond);
+  if (!camera)
     missing = "no camera (/dev/video" + std::to_string(options.camera) + " cannot be opened; --camera picks another)";
   std::unique_ptr<audio::PortAudioSystem> system;
   try {
@@ -64,18 +64,14 @@ RecordedTake recordTalkingVideo(const RecordingOptions& options, const std::func
   }
   if (!missing.empty()) throw Error("record: " + missing);
 
-  camera.set(cv::CAP_PROP_FRAME_WIDTH, options.width);
-  camera.set(cv::CAP_PROP_FRAME_HEIGHT, options.height);
-  camera.set(cv::CAP_PROP_FPS, options.framesPerSecond);
   cv::Mat frame;
-  if (!camera.read(frame) || frame.empty()) throw Error("record: the camera gives no picture");
+  if (!camera->grab() || !camera->retrieve(frame)) throw Error("record: the camera gives no picture");
   const cv::Size size = frame.size();
 
   // Hidden names until the take is complete.
   const std::filesystem::path partialVideo = folder / ("." + name + ".avi.partial");
-  cv::VideoWriter writer(partialVideo.string(), cv::CAP_FFMPEG, cv::VideoWriter::fourcc('M', 'J', 'P', 'G'),
-                         options.framesPerSecond, size);
-  if (!writer.isOpened()) throw fileError(take.video, "cannot be written (Motion-JPEG through OpenCV)");
+  std::unique_ptr<TakeVideoWriter> writer = module.openWriter(partialVideo, options.framesPerSecond, size);
+  if (!writer) throw fileError(take.video, "cannot be written (Motion-JPEG through OpenCV)");
   struct Cleanup {
     std::filesystem::path path;
     bool keep = false;
@@ -108,7 +104,7 @@ RecordedTake recordTalkingVideo(const RecordingOptions& options, const std::func
   cv::Mat shown = frame.clone();  // the latest camera frame grabbed
   std::string& stoppedBy = take.stoppedBy;
   while (stoppedBy.empty()) {
-    if (!camera.grab()) {
+    if (!camera->grab()) {
       stoppedBy = "the camera went away";
       break;
     }
@@ -117,10 +113,10 @@ RecordedTake recordTalkingVideo(const RecordingOptions& options, const std::func
     // Every output frame due before this grab shows the frame before it.
     while (static_cast<double>(startNs) + static_cast<double>(take.framesWritten) * periodNs <
            static_cast<double>(grabbedNs)) {
-      writer.write(shown);
+      writer->write(shown);
       ++take.framesWritten;
     }
-    camera.retrieve(shown);
+    camera->retrieve(shown);
     takeSound();
     if (!microphone.active()) stoppedBy = "the sound input went away";
     if (stopRequested && stopRequested()) stoppedBy = "interrupted";
@@ -128,7 +124,7 @@ RecordedTake recordTalkingVideo(const RecordingOptions& options, const std::func
       stoppedBy = "the duration was reached";
   }
   takeSound();
-  writer.release();
+  writer->finish();
   if (take.framesWritten < 2 || sound.empty()) throw Error("record: " + stoppedBy + " before anything was recorded");
   // A device that would not run at 16 kHz ran at its own rate (Capture); the take is kept at 16 kHz.
   const std::vector<float> sound16k = rate == kTakeRateHz ? sound : audio::resample(sound, rate, kTakeRateHz);

@@ -1,5 +1,6 @@
-// Frames of a video file, in order, as 8-bit BGR images with their times: OpenCV's VideoCapture (its FFmpeg
-// back-end: MPEG-1/2 as in GRID, MP4, AVI, MKV, ...), opened on local files only.
+// Frames of a video file, in order, as 8-bit BGR images with their times, decoded by FFmpeg (MPEG-1/2 as in GRID,
+// MP4, AVI, MKV, ...) and converted as OpenCV's VideoCapture converts them (tracks of GRID, StyleTalk and news
+// clips are byte for byte those read through it), turned upright by the stream's display matrix; local files only.
 //
 //   th::tracking::VideoReader video(th::sharedDataPath("grid/s1/bbal7s.mpg"));   // 25 fps, 360x288
 //   cv::Mat frame;
@@ -8,7 +9,7 @@
 //
 // Frame f's time is f / fps (the container's nominal rate), so times are exact multiples of the frame period
 // even where the container's time stamps jitter. Bad input throws th::Error with one line "PATH: what is wrong":
-// missing, not a video OpenCV can open, no frame rate, no frame at all. A file that breaks off part-way ends
+// missing, not a video FFmpeg can open, no frame rate, no frame at all. A file that breaks off part-way ends
 // at its last good frame (read() returns false), as players do; framesRead() tells how many came.
 //
 // Thread contract: one thread per reader.
