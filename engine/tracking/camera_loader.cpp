@@ -1,6 +1,7 @@
 // cameraModule(): libtalkinghead_camera.so opened on first use (camera_module.h).
 #include <dlfcn.h>
 
+#include <algorithm>
 #include <string>
 #include <system_error>
 #include <vector>
@@ -19,9 +20,10 @@ std::vector<std::filesystem::path> modulePlaces() {
   const std::filesystem::path program = std::filesystem::read_symlink("/proc/self/exe", error);
   if (!error) {
     places.push_back(program.parent_path() / kModuleFile);
-    places.push_back(program.parent_path().parent_path() / "lib" / "talkinghead" / kModuleFile);
+    places.push_back(program.parent_path().parent_path() / TALKINGHEAD_CAMERA_MODULE_INSTALLED / kModuleFile);
   }
-  places.emplace_back(TALKINGHEAD_CAMERA_MODULE_BUILT);
+  const std::filesystem::path built(TALKINGHEAD_CAMERA_MODULE_BUILT);
+  if (std::find(places.begin(), places.end(), built) == places.end()) places.push_back(built);
   return places;
 }
 

@@ -6,9 +6,9 @@
 //   const th::tracking::CameraModule& module = th::tracking::cameraModule();   // throws if it cannot be opened
 //   std::unique_ptr<th::tracking::CameraDevice> camera = module.openCamera(0, 640, 480, 25.0);   // null: none
 //
-// The module is looked for beside the running program, in ../lib/talkinghead/ from it (an installed tree), then
-// where this build made it. Thread contract: cameraModule() may be called from any thread; a device or writer is
-// used by one thread.
+// The module is looked for beside the running program, in the installed tree's lib/talkinghead/ (from the
+// program's bin/: ../lib/talkinghead/, or its multiarch lib folder), then where this build made it. Thread contract:
+// cameraModule() may be called from any thread; a device or writer is used by one thread.
 #pragma once
 
 #include <filesystem>

@@ -48,7 +48,13 @@ RecordedTake recordTalkingVideo(const RecordingOptions& options, const std::func
 
   // Both devices are looked for before anything is written; a missing one is named with the other.
   std::string missing;
-  const CameraModule& module = cameraModule();
+  const CameraModule* modulePointer = nullptr;
+  try {
+    modulePointer = &cameraModule();
+  } catch (const Error& noModule) {
+    throw Error(std::string("record: ") + noModule.what());
+  }
+  const CameraModule& module = *modulePointer;
   std::unique_ptr<CameraDevice> camera =
       module.openCamera(options.camera, options.width, options.height, options.framesPerSecond);
   if (!camera)
