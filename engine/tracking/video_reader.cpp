@@ -25,7 +25,6 @@ struct ScalerFreer {
   void operator()(SwsContext* context) const { sws_freeContext(context); }
 };
 
-const int kEndOfFile = AVERROR_EOF;
 const int kTryAgain = AVERROR(EAGAIN);
 
 }  // namespace
@@ -61,11 +60,8 @@ struct VideoReader::Capture {
         avcodec_send_packet(codec.get(), nullptr);
         continue;
       }
-      if (packet->stream_index == stream) {
-        const int sent = avcodec_send_packet(codec.get(), packet.get());
-        // A damaged packet is skipped, as players do; the decoder goes on with the next one.
-        (void)sent;
-      }
+      // A damaged packet is skipped (its error ignored), as players do; the decoder goes on with the next one.
+      if (packet->stream_index == stream) avcodec_send_packet(codec.get(), packet.get());
       av_packet_unref(packet.get());
     }
     return false;
