@@ -14,6 +14,14 @@ Eigen::Vector3d axisStd(const Eigen::MatrixXd& rotations) {
   return result;
 }
 
+double longestStep(const Eigen::MatrixXd& rotations) {
+  if (rotations.cols() < 2) return 0.0;
+  return (rotations.rightCols(rotations.cols() - 1) - rotations.leftCols(rotations.cols() - 1))
+      .colwise()
+      .norm()
+      .maxCoeff();
+}
+
 HeadMotionStatistics motionStatistics(const Eigen::MatrixXd& rotations, const Eigen::RowVectorXd& pauses, double fps) {
   if (rotations.rows() != 3 || rotations.cols() < 2) throw Error("head motion: need a 3 x T motion with T >= 2");
   if (pauses.size() != 0 && pauses.size() != rotations.cols())

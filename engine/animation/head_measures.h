@@ -25,6 +25,10 @@ struct HeadMotionStatistics {
 // Per axis, the standard deviation over the frames (degrees): how far the head spreads.
 Eigen::Vector3d axisStd(const Eigen::MatrixXd& rotations);
 
+// The longest frame-to-frame step of 3 x T rotations, degrees (0 with fewer than two frames): a step longer than
+// the person's longest is what a viewer sees as a jump.
+double longestStep(const Eigen::MatrixXd& rotations);
+
 // pauses: T, 1 in a pause (pauseFrames); empty: no pauses known. fps: frames per second.
 HeadMotionStatistics motionStatistics(const Eigen::MatrixXd& rotations, const Eigen::RowVectorXd& pauses, double fps);
 

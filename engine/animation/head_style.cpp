@@ -72,12 +72,6 @@ struct Candidate {
   double longestStep = 0.0;  // degrees, frame to frame, the longest of any seed's
 };
 
-// The longest frame-to-frame step of a 3 x T motion, degrees.
-double longestStepOf(const Eigen::MatrixXd& motion) {
-  if (motion.cols() < 2) return 0.0;
-  return (motion.rightCols(motion.cols() - 1) - motion.leftCols(motion.cols() - 1)).colwise().norm().maxCoeff();
-}
-
 // How far a candidate is from the person: its speed and beats (log ratios), and a step longer than any the person
 // makes in the clip, which a viewer sees as a jump, rules it out before any other (the least such overshoot
 // wins when every candidate has one).
@@ -100,7 +94,7 @@ Candidate candidateFor(const HeadModel& model, const HeadRecording& clip, const 
   double longest = 0.0;
   for (auto& motion : motions) {
     motion = options.axisGain.asDiagonal() * motion;
-    longest = std::max(longest, longestStepOf(motion));
+    longest = std::max(longest, longestStep(motion));
   }
   return {options, meanMeasures(motions, clip, fit.minPauseSeconds), longest};
 }
@@ -136,11 +130,16 @@ HeadStyleMeasures readMeasures(const JsonFields& fields, const Json& object, con
                          {"spread_deg", "speed_p95_deg_s", "speed_p99_deg_s", "pause_speech_ratio", "pauses",
                           "beats_per_second", "seconds"},
                          field);
+  // Speeds, spreads, ratios and durations: a negative one is a damaged file (a negative speed limit would read as
+  // none).
   const auto number = [&](std::string_view key) {
-    return fields.number(fields.member(object, key, field), JsonFields::dotted(field, key));
+    const double value = fields.number(fields.member(object, key, field), JsonFields::dotted(field, key));
+    if (value < 0.0) fields.fail(JsonFields::dotted(field, key), "is negative");
+    return value;
   };
   HeadStyleMeasures m;
   m.spread = readVector3(fields, fields.member(object, "spread_deg", field), JsonFields::dotted(field, "spread_deg"));
+  if (m.spread.minCoeff() < 0.0) fields.fail(JsonFields::dotted(field, "spread_deg"), "has a negative spread");
   m.speedP95 = number("speed_p95_deg_s");
   // Styles saved before the step limit have none: their head is not limited.
   if (object.contains("speed_p99_deg_s")) m.speedP99 = number("speed_p99_deg_s");
@@ -193,7 +192,7 @@ HeadStyle fitHeadStyle(const HeadModel& model, const HeadRecording& clip, const 
   style.person = measureHeadStyle(clip.rotations, clip.levelDb, clip.framesPerSecond, options.minPauseSeconds);
   if (style.person.spread.minCoeff() <= 1e-6) throw Error(name + ": the head does not move");
 
-  const double personsLongestStep = longestStepOf(clip.rotations.colwise() - clip.rotations.rowwise().mean());
+  const double personsLongestStep = longestStep(clip.rotations.colwise() - clip.rotations.rowwise().mean());
   // Speed and beats: smoothing and variation, each at the gain that gives the person's spread.
   HeadSynthesisOptions base;
   Candidate best;

@@ -28,6 +28,7 @@ Eigen::Vector3d rotationAtRest(const Eigen::Vector3d& rotation, const Eigen::Vec
 // frame by frame as they come, so the batch and the online synthesis limit alike.
 class StepLimiter {
  public:
+  StepLimiter() = default;  // no limit
   explicit StepLimiter(double limit) : limit_(limit) {}
   explicit StepLimiter(const HeadSynthesisOptions& options) : StepLimiter(options.maxStepDegrees * options.amplitude) {}
 
@@ -50,7 +51,7 @@ class StepLimiter {
   }
 
  private:
-  double limit_;
+  double limit_ = 0.0;
   bool started_ = false;
   Eigen::Vector3d last_ = Eigen::Vector3d::Zero();
 };
@@ -116,11 +117,11 @@ struct HeadSynthesiser::Impl {
   FrameStore<Eigen::Vector3d> ready;
   bool finished = false;
   std::unique_ptr<hmm::ForwardFilter> filter;  // P(state | prosody so far), for display
-  std::unique_ptr<StepLimiter> limiter;
+  StepLimiter limiter;
 
   // The next ready rotation, from its value in degrees relative to the rest pose.
   void emit(const Eigen::Vector3d& rotation) {
-    ready.push_back(rotationAtRest(limiter->next(rotation), options.restPose));
+    ready.push_back(rotationAtRest(limiter.next(rotation), options.restPose));
   }
 
   void drain() {
@@ -163,7 +164,7 @@ HeadSynthesiser::HeadSynthesiser(const HeadModel& model, const HeadSynthesisOpti
   impl_->scale = outputScale(model, options);
   if (options.variant == HeadVariant::kTrajectory) impl_->residual = std::make_unique<ResidualMotion>(model, options);
   impl_->filter = std::make_unique<hmm::ForwardFilter>(impl_->decoder);
-  impl_->limiter = std::make_unique<StepLimiter>(options);
+  impl_->limiter = StepLimiter(options);
   if (options.maxLagFrames < 0) return;
   if (options.variant == HeadVariant::kPosteriorMeans) {
     impl_->smoother = std::make_unique<hmm::FixedLagSmoother>(impl_->decoder, options.maxLagFrames);

@@ -7,6 +7,7 @@
 #include <set>
 #include <tuple>
 
+#include "animation/head_measures.h"
 #include "animation/head_style.h"
 #include "animation/idle_motion.h"
 #include "animation/time_split.h"
@@ -352,12 +353,6 @@ HeadStyleReport evaluateHeadStyles(const HeadCorpus& corpus, const HeadProtocolO
     }
     result.truth = headTruthOf(clips);
     // A jump: a step (frame to frame) longer than the person's longest in that clip.
-    const auto longestStep = [](const Eigen::MatrixXd& rotations) {
-      return (rotations.rightCols(rotations.cols() - 1) - rotations.leftCols(rotations.cols() - 1))
-          .colwise()
-          .norm()
-          .maxCoeff();
-    };
     int steps = 0;
     const auto seeded = [&](const std::string& name, bool withStyle, int* jumps) {
       std::vector<HeadRow> runs;
@@ -367,7 +362,7 @@ HeadStyleReport evaluateHeadStyles(const HeadCorpus& corpus, const HeadProtocolO
           synthesis.seed = seed;
           Eigen::MatrixXd motion =
               animation::synthesiseHead(model, clips[i].clip->prosody, clips[i].clip->voiced, synthesis);
-          const double longest = longestStep(clips[i].truth);
+          const double longest = animation::longestStep(clips[i].truth);
           for (Eigen::Index t = 1; t < motion.cols(); ++t) {
             const double step = (motion.col(t) - motion.col(t - 1)).norm();
             *jumps += step > longest;

@@ -46,9 +46,13 @@ const HeadStyle& beat2Style() {
   return style;
 }
 
-// The longest frame-to-frame step of a 3 x T motion, degrees.
-double longestStepOf(const Eigen::MatrixXd& motion) {
-  return (motion.rightCols(motion.cols() - 1) - motion.leftCols(motion.cols() - 1)).colwise().norm().maxCoeff();
+TEST(HeadStyleMeasures, TheLongestStepIsTheLargestFrameToFrameDistance) {
+  Eigen::MatrixXd rotations = Eigen::MatrixXd::Zero(3, 4);
+  rotations.col(1) << 3.0, 4.0, 0.0;  // a step of 5 degrees
+  rotations.col(2) << 3.0, 4.0, 2.0;  // 2
+  rotations.col(3) << 0.0, 0.0, 2.0;  // 5 again, back
+  EXPECT_DOUBLE_EQ(longestStep(rotations), 5.0);
+  EXPECT_EQ(longestStep(rotations.leftCols(1)), 0.0);
 }
 
 TEST(HeadStyleMeasures, SpreadSpeedBeatsAndPausesOfAKnownMotion) {
@@ -107,13 +111,13 @@ TEST(HeadStyle, TheFitMovesTheShippedModelLikeTheSpeakerOnTheirOwnSpeech) {
   EXPECT_NEAR((style.restPose - beat2Clip().rotations.rowwise().mean()).norm(), 0.0, 1e-12);
   // No step the person does not make: the styled motion's longest, under each of the fit's seeds, is within the
   // person's longest.
-  const double persons = longestStepOf(beat2Clip().rotations);
+  const double persons = longestStep(beat2Clip().rotations);
   for (unsigned seed = 1; seed <= HeadStyleFitOptions{}.seeds; ++seed) {
     HeadSynthesisOptions synthesis;
     applyHeadStyle(style, synthesis);
     synthesis.seed = seed;
     const Eigen::MatrixXd motion = synthesiseHead(shippedHead(), beat2Clip().prosody, beat2Clip().voiced, synthesis);
-    EXPECT_LE(longestStepOf(motion), persons) << "seed " << seed;
+    EXPECT_LE(longestStep(motion), persons) << "seed " << seed;
   }
 }
 
@@ -198,17 +202,17 @@ TEST(HeadStyle, TheStyledHeadStepsNoFasterThanThePersonsFastSteps) {
   const Eigen::MatrixXd batch = synthesiseHead(shippedHead(), clip.prosody, clip.voiced, synthesis);
   // Without the limit some steps are faster (so the limit does something), with it none, and the motion is the
   // same but for those: its spread within 2 %.
-  EXPECT_GT(longestStepOf(unlimited), limit);
-  EXPECT_LE(longestStepOf(batch), limit + 1e-9);
+  EXPECT_GT(longestStep(unlimited), limit);
+  EXPECT_LE(longestStep(batch), limit + 1e-9);
   for (int axis = 0; axis < 3; ++axis)
     EXPECT_NEAR(axisStd(batch)[axis] / axisStd(unlimited)[axis], 1.0, 0.02) << "axis " << axis;
   // Live (decoded with a lag) alike, and twice the amplitude allows twice the step.
   synthesis.maxLagFrames = 2;
-  EXPECT_LE(longestStepOf(synthesiseHead(shippedHead(), clip.prosody, clip.voiced, synthesis)), limit + 1e-9);
+  EXPECT_LE(longestStep(synthesiseHead(shippedHead(), clip.prosody, clip.voiced, synthesis)), limit + 1e-9);
   synthesis.amplitude = 2.0;
   const Eigen::MatrixXd larger = synthesiseHead(shippedHead(), clip.prosody, clip.voiced, synthesis);
-  EXPECT_LE(longestStepOf(larger), 2.0 * limit + 1e-9);
-  EXPECT_GT(longestStepOf(larger), limit);
+  EXPECT_LE(longestStep(larger), 2.0 * limit + 1e-9);
+  EXPECT_GT(longestStep(larger), limit);
 }
 
 TEST(HeadStyle, TheFileKeepsEverythingAndBadFilesFailNamingTheField) {
@@ -252,6 +256,11 @@ TEST(HeadStyle, TheFileKeepsEverythingAndBadFilesFailNamingTheField) {
   };
   failsWith(replaced("\"smoothing\": ", "\"smoothing\": -"), "synthesis.smoothing");
   failsWith(replaced("\"axis_gain\": [", "\"axis_gain\": [1, "), "synthesis.axis_gain");
+  // A negative speed limit would read as none.
+  failsWith(replaced("\"speed_p99_deg_s\": ", "\"speed_p99_deg_s\": -"), "speed_p99_deg_s is negative");
+  std::string negativeSpread = text;
+  negativeSpread.insert(negativeSpread.find_first_of("0123456789", negativeSpread.find("\"spread_deg\"")), "-");
+  failsWith(negativeSpread, "spread_deg has a negative spread");
   // A style saved before the step limit (no 99th-percentile speed) is read, and limits nothing.
   std::string older = text;
   const auto field = older.find("\"speed_p99_deg_s\"");
