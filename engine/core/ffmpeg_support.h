@@ -44,6 +44,14 @@ struct InputCloser {
   void operator()(AVFormatContext* context) const { avformat_close_input(&context); }
 };
 using InputHandle = std::unique_ptr<AVFormatContext, InputCloser>;
+// An output's context with its file (closed first, when one was opened).
+struct OutputCloser {
+  void operator()(AVFormatContext* context) const {
+    if (context->pb != nullptr) avio_closep(&context->pb);
+    avformat_free_context(context);
+  }
+};
+using OutputHandle = std::unique_ptr<AVFormatContext, OutputCloser>;
 
 // FFmpeg's error code as text ("Permission denied", "End of file", ...).
 // An AVDictionary of options, freed on scope exit (FFmpeg's open calls replace it with the unused ones).

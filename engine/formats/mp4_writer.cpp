@@ -56,19 +56,13 @@ constexpr int kHdHeight = 720;              // from this height on, BT.709; belo
 const char* const kX264Presets[] = {"ultrafast", "superfast", "veryfast", "faster",   "fast",
                                     "medium",    "slow",      "slower",   "veryslow", "placebo"};
 
-struct OutputCloser {
-  void operator()(AVFormatContext* context) const {
-    if (context->pb != nullptr) avio_closep(&context->pb);
-    avformat_free_context(context);
-  }
-};
 struct ScalerFreer {
   void operator()(SwsContext* context) const { sws_freeContext(context); }
 };
 struct ResamplerFreer {
   void operator()(SwrContext* context) const { swr_free(&context); }
 };
-using OutputHandle = std::unique_ptr<AVFormatContext, OutputCloser>;
+using ffmpeg::OutputHandle;
 using ScalerHandle = std::unique_ptr<SwsContext, ScalerFreer>;
 using ResamplerHandle = std::unique_ptr<SwrContext, ResamplerFreer>;
 

@@ -43,7 +43,7 @@ const CameraModule& openModule() {
     }
     const auto entry = reinterpret_cast<CameraModuleEntry>(dlsym(module, TALKINGHEAD_CAMERA_MODULE_ENTRY));
     const CameraModule* loaded = entry != nullptr ? entry() : nullptr;
-    if (loaded == nullptr || loaded->openCamera == nullptr || loaded->openWriter == nullptr)
+    if (loaded == nullptr || loaded->openCamera == nullptr)
       throw fileError(place, "is not talkinghead's camera module");
     return *loaded;
   }

@@ -1,56 +1,78 @@
-// libtalkinghead_camera.so: the camera and the take's writer through OpenCV's video I/O (camera_module.h says why a
-// module of their own).
+// libtalkinghead_camera.so: the camera through FFmpeg's Video4Linux2 input (camera_module.h says why a module of
+// its own).
 #include "tracking/camera_module.h"
 
-#include <opencv2/core/utils/logger.hpp>
-#include <opencv2/videoio.hpp>
+extern "C" {
+#include <libavdevice/avdevice.h>
+}
+
+#include <cmath>
+#include <mutex>
+#include <string>
+#include <utility>
+
+#include "core/ffmpeg_support.h"
+#include "tracking/bgr_pictures.h"
 
 namespace th::tracking {
 namespace {
 
-class OpenCvCamera final : public CameraDevice {
+class V4l2Camera final : public CameraDevice {
  public:
-  explicit OpenCvCamera(int index) : capture_(index, cv::CAP_V4L2) {}
-  bool opened() const { return capture_.isOpened(); }
-  void ask(int width, int height, double framesPerSecond) {
-    capture_.set(cv::CAP_PROP_FRAME_WIDTH, width);
-    capture_.set(cv::CAP_PROP_FRAME_HEIGHT, height);
-    capture_.set(cv::CAP_PROP_FPS, framesPerSecond);
+  // Null members when /dev/videoN cannot be opened or decoded.
+  V4l2Camera(int index, int width, int height, double framesPerSecond) {
+    static std::once_flag registered;
+    std::call_once(registered, [] { avdevice_register_all(); });
+    ffmpeg::silenceLogging();  // the caller's message is the one line
+    const AVInputFormat* v4l2 = av_find_input_format("video4linux2");
+    if (v4l2 == nullptr || !packet_ || !frame_) return;
+    ffmpeg::Dictionary options;
+    av_dict_set(&options.entries, "video_size", (std::to_string(width) + "x" + std::to_string(height)).c_str(), 0);
+    av_dict_set(&options.entries, "framerate", std::to_string(std::lround(framesPerSecond)).c_str(), 0);
+    const std::string device = "/dev/video" + std::to_string(index);
+    AVFormatContext* raw = nullptr;
+    if (avformat_open_input(&raw, device.c_str(), v4l2, &options.entries) < 0) return;  // frees raw itself
+    input_.reset(raw);
+    if (input_->nb_streams < 1) return;
+    const AVCodecParameters& parameters = *input_->streams[0]->codecpar;
+    const AVCodec* decoder = avcodec_find_decoder(parameters.codec_id);  // raw YUYV, or the camera's own MJPEG
+    if (decoder == nullptr) return;
+    ffmpeg::CodecHandle codec(avcodec_alloc_context3(decoder));
+    if (!codec || avcodec_parameters_to_context(codec.get(), &parameters) < 0 ||
+        avcodec_open2(codec.get(), decoder, nullptr) < 0)
+      return;
+    codec_ = std::move(codec);
   }
-  bool grab() override { return capture_.grab(); }
-  bool retrieve(cv::Mat& frame) override { return capture_.retrieve(frame) && !frame.empty(); }
+
+  bool opened() const { return codec_ != nullptr; }
+
+  bool grab() override {
+    av_packet_unref(packet_.get());
+    return av_read_frame(input_.get(), packet_.get()) >= 0;
+  }
+
+  bool retrieve(cv::Mat& frame) override {
+    if (packet_->size <= 0 || avcodec_send_packet(codec_.get(), packet_.get()) < 0) return false;
+    av_packet_unref(packet_.get());  // decoded once
+    if (avcodec_receive_frame(codec_.get(), frame_.get()) < 0) return false;
+    return converter_.convert(*frame_, frame) && !frame.empty();
+  }
 
  private:
-  cv::VideoCapture capture_;
-};
-
-class OpenCvWriter final : public TakeVideoWriter {
- public:
-  OpenCvWriter(const std::filesystem::path& path, double framesPerSecond, cv::Size size)
-      : writer_(path.string(), cv::CAP_FFMPEG, cv::VideoWriter::fourcc('M', 'J', 'P', 'G'), framesPerSecond, size) {}
-  bool opened() const { return writer_.isOpened(); }
-  void write(const cv::Mat& frame) override { writer_.write(frame); }
-  void finish() override { writer_.release(); }
-
- private:
-  cv::VideoWriter writer_;
+  ffmpeg::InputHandle input_;
+  ffmpeg::CodecHandle codec_;
+  ffmpeg::PacketHandle packet_{av_packet_alloc()};
+  ffmpeg::FrameHandle frame_{av_frame_alloc()};
+  BgrConverter converter_;
 };
 
 std::unique_ptr<CameraDevice> openCamera(int index, int width, int height, double framesPerSecond) {
-  cv::utils::logging::setLogLevel(cv::utils::logging::LOG_LEVEL_SILENT);  // the caller's message is the one line
-  auto camera = std::make_unique<OpenCvCamera>(index);
+  auto camera = std::make_unique<V4l2Camera>(index, width, height, framesPerSecond);
   if (!camera->opened()) return nullptr;
-  camera->ask(width, height, framesPerSecond);
   return camera;
 }
 
-std::unique_ptr<TakeVideoWriter> openWriter(const std::filesystem::path& path, double framesPerSecond, cv::Size size) {
-  auto writer = std::make_unique<OpenCvWriter>(path, framesPerSecond, size);
-  if (!writer->opened()) return nullptr;
-  return writer;
-}
-
-const CameraModule kModule{openCamera, openWriter};
+const CameraModule kModule{openCamera};
 
 }  // namespace
 }  // namespace th::tracking

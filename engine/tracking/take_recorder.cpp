@@ -12,6 +12,7 @@
 #include "core/audio_ring.h"
 #include "core/error.h"
 #include "tracking/camera_module.h"
+#include "tracking/mjpeg_writer.h"
 
 namespace th::tracking {
 namespace {
@@ -76,8 +77,12 @@ RecordedTake recordTalkingVideo(const RecordingOptions& options, const std::func
 
   // Hidden names until the take is complete.
   const std::filesystem::path partialVideo = folder / ("." + name + ".avi.partial");
-  std::unique_ptr<TakeVideoWriter> writer = module.openWriter(partialVideo, options.framesPerSecond, size);
-  if (!writer) throw fileError(take.video, "cannot be written (Motion-JPEG through OpenCV)");
+  std::unique_ptr<MjpegWriter> writer;
+  try {
+    writer = std::make_unique<MjpegWriter>(partialVideo, options.framesPerSecond, size.width, size.height);
+  } catch (const Error& unwritable) {
+    throw fileError(take.video, std::string("cannot be written (") + unwritable.what() + ")");
+  }
   struct Cleanup {
     std::filesystem::path path;
     bool keep = false;

@@ -4,8 +4,6 @@ extern "C" {
 #include <libavcodec/avcodec.h>
 #include <libavformat/avformat.h>
 #include <libavutil/display.h>
-#include <libavutil/imgutils.h>
-#include <libswscale/swscale.h>
 }
 
 #include <algorithm>
@@ -17,13 +15,10 @@ extern "C" {
 
 #include "core/error.h"
 #include "core/ffmpeg_support.h"
+#include "tracking/bgr_pictures.h"
 
 namespace th::tracking {
 namespace {
-
-struct ScalerFreer {
-  void operator()(SwsContext* context) const { sws_freeContext(context); }
-};
 
 const int kTryAgain = AVERROR(EAGAIN);
 
@@ -37,8 +32,7 @@ struct VideoReader::Capture {
   ffmpeg::CodecHandle codec;
   ffmpeg::PacketHandle packet{av_packet_alloc()};
   ffmpeg::FrameHandle frame{av_frame_alloc()};
-  std::unique_ptr<SwsContext, ScalerFreer> scaler;
-  std::vector<std::uint8_t> converted;  // swscale's output, rows at an aligned stride
+  BgrConverter converter;
   int stream = -1;
   int turnDegrees = 0;  // clockwise, to show the picture upright: 0, 90, 180 or 270
   bool draining = false;
@@ -69,20 +63,8 @@ struct VideoReader::Capture {
 
   // The decoded picture as an 8-bit BGR image, turned upright.
   bool toBgr(cv::Mat& bgr) {
-    const int width = frame->width, height = frame->height;
-    if (width <= 0 || height <= 0) return false;
-    scaler.reset(sws_getCachedContext(scaler.release(), width, height, static_cast<AVPixelFormat>(frame->format), width,
-                                      height, AV_PIX_FMT_BGR24, SWS_BICUBIC, nullptr, nullptr, nullptr));
-    if (!scaler) return false;
-    // swscale's vector code may write a little past a row's end: its rows get an aligned stride and the buffer a
-    // tail of its own, and the picture is copied out of it.
-    const int stride = FFALIGN(3 * width, 64);
-    converted.resize(static_cast<std::size_t>(stride) * static_cast<std::size_t>(height) + 64);
-    std::uint8_t* planes[4] = {converted.data(), nullptr, nullptr, nullptr};
-    int strides[4] = {stride, 0, 0, 0};
-    sws_scale(scaler.get(), frame->data, frame->linesize, 0, height, planes, strides);
     cv::Mat picture;
-    cv::Mat(height, width, CV_8UC3, converted.data(), static_cast<std::size_t>(stride)).copyTo(picture);
+    if (!converter.convert(*frame, picture)) return false;
     switch (turnDegrees) {
       case 90:
         cv::rotate(picture, bgr, cv::ROTATE_90_CLOCKWISE);

@@ -5,6 +5,7 @@
 #include <fstream>
 #include <functional>
 #include <iostream>
+#include <opencv2/core.hpp>
 #include <string>
 #include <vector>
 
@@ -13,6 +14,7 @@
 #include "core/error.h"
 #include "core/temporary_file.h"
 #include "support/files.h"
+#include "tracking/mjpeg_writer.h"
 #include "tracking/track.h"
 #include "tracking/video_reader.h"
 #include "tracking_test_support.h"
@@ -62,6 +64,56 @@ TEST(VideoReader, BadFilesFailInOneLineNamingThem) {
   th::test::expectFileError(errorOf([&] { th::tracking::VideoReader video(text); }), text, "not a video");
   th::test::expectFileError(errorOf([&] { th::tracking::VideoReader video(folder.path()); }), folder.path(),
                             "not a file");
+}
+
+// A take's video as record writes it: every frame comes back, at its rate and size, close to the picture written.
+TEST(MjpegWriter, AGridClipsFramesComeBackAtTheirRateAndCloseToTheOriginal) {
+  th::TemporaryFolder folder;
+  const fs::path copy = folder.path() / "take.avi";
+  std::vector<cv::Mat> written;
+  {
+    th::tracking::VideoReader source(gridClip("bbal7s"));
+    th::tracking::MjpegWriter writer(copy, 25.0, source.width(), source.height());
+    cv::Mat frame;
+    double seconds = 0.0;
+    while (source.read(frame, seconds) && written.size() < 20) {
+      writer.write(frame);
+      written.push_back(frame);
+    }
+    writer.finish();
+  }
+  th::tracking::VideoReader back(copy);
+  EXPECT_DOUBLE_EQ(back.framesPerSecond(), 25.0);
+  EXPECT_EQ(back.width(), 360);
+  EXPECT_EQ(back.height(), 288);
+  cv::Mat frame;
+  double seconds = 0.0;
+  std::size_t frames = 0;
+  while (back.read(frame, seconds)) {
+    ASSERT_LT(frames, written.size());
+    // JPEG at quantiser 2 and 4:2:0 colour: a few levels on average, against 255.
+    EXPECT_LT(cv::norm(frame, written[frames], cv::NORM_L1) / static_cast<double>(frame.total() * 3), 4.0)
+        << "frame " << frames;
+    ++frames;
+  }
+  EXPECT_EQ(frames, written.size());
+}
+
+TEST(MjpegWriter, WrongPicturesAndPlacesFailInOneLineNamingTheFile) {
+  th::TemporaryFolder folder;
+  const fs::path take = folder.path() / "take.avi";
+  th::test::expectFileError(errorOf([&] { th::tracking::MjpegWriter writer(take, 25.0, 0, 480); }), take,
+                            "picture size");
+  const fs::path nowhere = folder.path() / "missing" / "take.avi";
+  th::test::expectFileError(errorOf([&] { th::tracking::MjpegWriter writer(nowhere, 25.0, 64, 48); }), nowhere,
+                            "cannot be written");
+  th::tracking::MjpegWriter writer(take, 25.0, 64, 48);
+  th::test::expectFileError(errorOf([&] { writer.write(cv::Mat(48, 32, CV_8UC3, cv::Scalar::all(0))); }), take,
+                            "32 x 48");
+  writer.write(cv::Mat(48, 64, CV_8UC3, cv::Scalar::all(128)));
+  writer.finish();
+  th::test::expectFileError(errorOf([&] { writer.write(cv::Mat(48, 64, CV_8UC3, cv::Scalar::all(0))); }), take,
+                            "after it was finished");
 }
 
 TEST(LandmarkDetector, AMissingShapePredictorIsNamed) {

@@ -3,12 +3,12 @@
 #include <Eigen/Core>
 #include <cmath>
 #include <numbers>
-#include <opencv2/videoio.hpp>
 #include <vector>
 
 #include "core/error.h"
 #include "eval/mouth_evaluation.h"
 #include "formats/mp4_writer.h"
+#include "tracking/mjpeg_writer.h"
 #include "tracking/video_reader.h"
 
 namespace th::test {
@@ -38,12 +38,11 @@ void writeFacelessVideo(const std::filesystem::path& path) {
 
 void writeSoundlessCopy(const std::filesystem::path& source, const std::filesystem::path& path) {
   tracking::VideoReader reader(source);
-  cv::VideoWriter writer(path.string(), cv::CAP_FFMPEG, cv::VideoWriter::fourcc('M', 'J', 'P', 'G'),
-                         reader.framesPerSecond(), cv::Size(reader.width(), reader.height()));
-  if (!writer.isOpened()) throw fileError(path, "OpenCV cannot write Motion-JPEG AVI here");
+  tracking::MjpegWriter writer(path, reader.framesPerSecond(), reader.width(), reader.height());
   cv::Mat frame;
   double seconds = 0.0;
   while (reader.read(frame, seconds)) writer.write(frame);
+  writer.finish();
 }
 
 std::vector<double> levelPerFrame(const audio::AudioClip& sound, double framesPerSecond, std::size_t frames) {
