@@ -19,6 +19,11 @@ class LipSyncProcessor extends AudioWorkletProcessor {
     // element, a muted track, an oscillator not yet running) leaves the input with no channels, and the stream
     // must hear that silence, or every later frame would be stamped as early as the blocks it missed.
     this.silence = new Float32Array(128);
+    // The context time the next block starts at. A block later than that follows render quanta this node was not
+    // called for (the audio thread behind under load): the time missed is heard as silence, so the stream's
+    // clock (samples decoded) stays the context's and every later frame keeps its time.
+    this.nextTime = -1;
+    this.skippedBlocks = 0;  // how many such blocks, reported with each frame
     this.port.onmessage = (event) => {
       const type = event.data && event.data.type;
       if (type === 'stop') this.stop();
@@ -68,13 +73,25 @@ class LipSyncProcessor extends AudioWorkletProcessor {
       if (this.startTime < 0) return true;  // nothing has been heard yet: the stream starts with the first sound
       channel = this.silence;
     }
-    if (this.startTime < 0) this.startTime = currentTime;
+    if (this.startTime < 0) this.startTime = this.nextTime = currentTime;
+    const missed = Math.round((currentTime - this.nextTime) * sampleRate / 128);
+    // At most a quarter of a second of them in one call (a block of silence costs what a block of sound does);
+    // a longer gap moves the stream's start instead, its frames' times jumping with the context's.
+    const filled = Math.min(Math.max(missed, 0), Math.ceil(0.25 * sampleRate / 128));
+    for (let i = 0; i < filled; ++i) this.decode(this.silence);
+    if (missed > filled) this.startTime += ((missed - filled) * 128) / sampleRate;
+    this.skippedBlocks += Math.max(missed, 0);
+    this.decode(channel);
+    this.nextTime = currentTime + channel.length / sampleRate;
+    this.post(this.nextTime);
+    return true;
+  }
+
+  decode(samples) {
     // The memory view is re-made when the module's memory has grown (the old view is detached then).
     if (this.input.length === 0) this.input = this.stream.input();
-    this.input.set(channel);
-    this.stream.accept(channel.length);
-    this.post(currentTime + channel.length / sampleRate);
-    return true;
+    this.input.set(samples);
+    this.stream.accept(samples.length);
   }
 
   post(decidedTime) {
@@ -82,6 +99,7 @@ class LipSyncProcessor extends AudioWorkletProcessor {
       if (this.record.length === 0) this.record = this.stream.record();
       const frame = frameOf(this.record, this.core.layout, this.startTime);
       frame.decidedTime = decidedTime;  // the context time by which its sound had arrived and it was decided
+      frame.skippedBlocks = this.skippedBlocks;
       this.port.postMessage({ type: 'frame', frame });
     }
   }

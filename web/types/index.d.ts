@@ -11,6 +11,8 @@ export interface LipSyncFrame {
   index: number;
   /** From createLipSync: the context time by which its sound had arrived and it was decided (time + latency). */
   decidedTime?: number;
+  /** From createLipSync: render quanta so far that the audio thread did not give the node (it fell behind), heard as silence. */
+  skippedBlocks?: number;
   /** The mouth class shown (0 silence, 1 PP, ...; -1 none yet). */
   mouthClass: number;
   /** The sound's level, dB re full scale (NaN from animate()). */
