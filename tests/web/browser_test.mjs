@@ -89,9 +89,13 @@ run(talkinghead, ['animate', played16k, '-o', nativeOculus, '--online', '--prese
 
 const server = await serve({ mounts: { '/models': path.join(here, '../../models'), '/avatars': avatars, '/clips': out, '/data': path.dirname(beat2), '/tests': path.join(here, 'pages') }, isolated: true });
 const origin = `http://127.0.0.1:${server.address().port}`;
+// Chromium's sound goes to no server: the live device tests start and kill a PulseAudio daemon beside this test,
+// and a browser whose output stream was on it stopped rendering (its AudioContext never resumed, the page's calls
+// hung until the protocol's 180 s timeout). With no server it plays to its own fake output, on its own clock.
 const browser = await puppeteer.launch({
   executablePath: browserPath,
   headless: true,
+  env: { ...process.env, PULSE_SERVER: 'unix:/nonexistent/talkinghead-browser-test' },
   args: ['--no-sandbox', '--autoplay-policy=no-user-gesture-required', '--use-fake-ui-for-media-stream',
          '--use-fake-device-for-media-stream', `--use-file-for-fake-audio-capture=${clip}`, '--enable-unsafe-swiftshader',
          '--use-angle=swiftshader'],
