@@ -16,6 +16,8 @@ extern "C" {
 #include <libavutil/error.h>
 #include <libavutil/frame.h>
 #include <libavutil/log.h>
+#include <libavutil/rational.h>
+#include <libswscale/swscale.h>
 }
 
 #include <cstdio>
@@ -52,6 +54,15 @@ struct OutputCloser {
   }
 };
 using OutputHandle = std::unique_ptr<AVFormatContext, OutputCloser>;
+struct ScalerFreer {
+  void operator()(SwsContext* context) const { sws_freeContext(context); }
+};
+using ScalerHandle = std::unique_ptr<SwsContext, ScalerFreer>;
+
+// A frame rate as the nearest rational with terms up to 100000 (29.97 -> 2997/100).
+inline AVRational frameRateOf(double framesPerSecond) {
+  return av_d2q(framesPerSecond, 100000);
+}
 
 // FFmpeg's error code as text ("Permission denied", "End of file", ...).
 // An AVDictionary of options, freed on scope exit (FFmpeg's open calls replace it with the unused ones).

@@ -49,28 +49,22 @@ constexpr int kMaxSide = 16384;  // H.264 level 6.2's widest picture is 8192; an
 constexpr double kMaxFramesPerSecond = 1000.0;
 constexpr int kMinInputRateHz = 1000;
 constexpr int kMaxInputRateHz = 768000;
-constexpr int kRationalPrecision = 100000;  // av_d2q's largest numerator/denominator for the frame rate
 constexpr std::size_t kAudioBlock = 16384;  // input samples resampled at a time (bounds the buffers)
 constexpr int kHdHeight = 720;              // from this height on, BT.709; below it BT.601
 
 const char* const kX264Presets[] = {"ultrafast", "superfast", "veryfast", "faster",   "fast",
                                     "medium",    "slow",      "slower",   "veryslow", "placebo"};
 
-struct ScalerFreer {
-  void operator()(SwsContext* context) const { sws_freeContext(context); }
-};
 struct ResamplerFreer {
   void operator()(SwrContext* context) const { swr_free(&context); }
 };
 using ffmpeg::OutputHandle;
-using ScalerHandle = std::unique_ptr<SwsContext, ScalerFreer>;
+using ffmpeg::ScalerHandle;
 using ResamplerHandle = std::unique_ptr<SwrContext, ResamplerFreer>;
 
 using ffmpeg::Dictionary;
 
-AVRational frameRateOf(double framesPerSecond) {
-  return av_d2q(framesPerSecond, kRationalPrecision);
-}
+using ffmpeg::frameRateOf;
 
 std::string number(double value) {
   char text[32];

@@ -19,6 +19,8 @@ extern "C" {
 #include <opencv2/core/mat.hpp>
 #include <vector>
 
+#include "core/ffmpeg_support.h"
+
 namespace th::tracking {
 
 class BgrConverter {
@@ -42,10 +44,7 @@ class BgrConverter {
   }
 
  private:
-  struct ScalerFreer {
-    void operator()(SwsContext* context) const { sws_freeContext(context); }
-  };
-  std::unique_ptr<SwsContext, ScalerFreer> scaler_;
+  ffmpeg::ScalerHandle scaler_;
   std::vector<std::uint8_t> converted_;  // swscale's output, rows at an aligned stride
 };
 

@@ -14,12 +14,7 @@ extern "C" {
 namespace th::tracking {
 namespace {
 
-constexpr int kRationalPrecision = 100000;  // av_d2q's largest numerator/denominator for the frame rate
-constexpr int kQuantiser = 2;               // JPEG quality: 1 (best) .. 31
-
-struct ScalerFreer {
-  void operator()(SwsContext* context) const { sws_freeContext(context); }
-};
+constexpr int kQuantiser = 2;  // JPEG quality: 1 (best) .. 31
 
 }  // namespace
 
@@ -30,7 +25,7 @@ struct MjpegWriter::State {
   ffmpeg::CodecHandle codec;
   ffmpeg::FrameHandle picture{av_frame_alloc()};
   ffmpeg::PacketHandle packet{av_packet_alloc()};
-  std::unique_ptr<SwsContext, ScalerFreer> scaler;
+  ffmpeg::ScalerHandle scaler;
   AVStream* stream = nullptr;
   std::int64_t framesWritten = 0;
   bool finished = false;
@@ -79,8 +74,8 @@ MjpegWriter::MjpegWriter(const std::filesystem::path& path, double framesPerSeco
   codec.height = height;
   codec.pix_fmt = AV_PIX_FMT_YUVJ420P;
   codec.color_range = AVCOL_RANGE_JPEG;
-  codec.time_base = av_inv_q(av_d2q(framesPerSecond, kRationalPrecision));
-  codec.framerate = av_d2q(framesPerSecond, kRationalPrecision);
+  codec.framerate = ffmpeg::frameRateOf(framesPerSecond);
+  codec.time_base = av_inv_q(codec.framerate);
   codec.flags |= AV_CODEC_FLAG_QSCALE;
   codec.global_quality = FF_QP2LAMBDA * kQuantiser;
   if (s.output->oformat->flags & AVFMT_GLOBALHEADER) codec.flags |= AV_CODEC_FLAG_GLOBAL_HEADER;

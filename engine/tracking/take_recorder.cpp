@@ -77,12 +77,6 @@ RecordedTake recordTalkingVideo(const RecordingOptions& options, const std::func
 
   // Hidden names until the take is complete.
   const std::filesystem::path partialVideo = folder / ("." + name + ".avi.partial");
-  std::unique_ptr<MjpegWriter> writer;
-  try {
-    writer = std::make_unique<MjpegWriter>(partialVideo, options.framesPerSecond, size.width, size.height);
-  } catch (const Error& unwritable) {
-    throw fileError(take.video, std::string("cannot be written (") + unwritable.what() + ")");
-  }
   struct Cleanup {
     std::filesystem::path path;
     bool keep = false;
@@ -91,6 +85,12 @@ RecordedTake recordTalkingVideo(const RecordingOptions& options, const std::func
       if (!keep) std::filesystem::remove(path, ignored);
     }
   } cleanup{partialVideo};
+  std::unique_ptr<MjpegWriter> writer;
+  try {
+    writer = std::make_unique<MjpegWriter>(partialVideo, options.framesPerSecond, size.width, size.height);
+  } catch (const Error& unwritable) {
+    throw fileError(take.video, std::string("cannot be written (") + unwritable.what() + ")");
+  }
 
   AudioRing ring(static_cast<std::size_t>(kTakeRateHz) * 10);
   audio::Capture microphone(*system, options.soundDevice, kTakeRateHz, ring);
