@@ -12,7 +12,11 @@
 # track, and at 64x48 and 5 fps; `features`; `render` frames; `strip`; `live --headless --dump`. A command that
 # fails is reported and its files are missing from the list, so the diff shows it. Also: `live --headless` with
 # other decoder options (under their first names, which every build takes), `animate --online`, visemes, and the
-# Ready Player Me test character exported and written as a glTF animation.
+# Ready Player Me test character exported and written as a glTF animation. What a character receives live: the
+# datagrams `live --headless` sends to VMC (perfect-sync names), VRChat (with binary parameters) and plain OSC.
+# And the library's stream: every field of every frame libtalkinghead (BINARY's folder's capi/) gives for the
+# prompt pushed in 10 ms blocks, with and without waiting for the head (tools/fingerprints/library_frames.c,
+# compiled here against that library).
 set -uo pipefail
 
 if (($# != 2)); then
@@ -53,4 +57,32 @@ if [[ -f "$avatar" ]]; then
   run export "$prompt" -o avatar.mp4 --size 160x120 --fps 10 --avatar "$avatar"
   run animate "$prompt" -o avatar_animation.gltf --avatar "$avatar" --animation-only
 fi
+
+# The live outputs, caught on local ports (any that are free).
+ports=($(/usr/bin/python3 -c 'import socket
+socks = [socket.socket(socket.AF_INET, socket.SOCK_DGRAM) for _ in range(3)]
+for s in socks: s.bind(("127.0.0.1", 0))
+print(*(s.getsockname()[1] for s in socks))'))
+ready="$(mktemp -u)"
+/usr/bin/python3 "$repo/tools/fingerprints/udp_capture.py" "$ready" "${ports[0]}:live_vmc.hex" \
+  "${ports[1]}:live_vrchat.hex" "${ports[2]}:live_osc.hex" &
+capture=$!
+for _ in $(seq 100); do [[ -e "$ready" ]] && break; sleep 0.05; done
+rm -f "$ready"
+run live --headless --input "$prompt" --speed 4 --vmc "127.0.0.1:${ports[0]}" --vmc-names perfect-sync \
+  --vrchat "127.0.0.1:${ports[1]}" --vrchat-bits 4 --osc "127.0.0.1:${ports[2]}"
+wait "$capture"
+
+# The library's stream.
+library="$(dirname "$binary")/capi"
+scratch="$(mktemp -d)"
+if cc -std=c11 -O1 -I "$repo/include" -I "$library/include" "$repo/tools/fingerprints/library_frames.c" \
+    "$library/libtalkinghead.so" -Wl,-rpath,"$library" -lsndfile -o "$scratch/library_frames"; then
+  "$scratch/library_frames" "$prompt" 0 > library_stream.txt || echo "output_fingerprints: failed: library stream" >&2
+  "$scratch/library_frames" "$prompt" 1 > library_stream_head.txt ||
+    echo "output_fingerprints: failed: library stream (waiting for the head)" >&2
+else
+  echo "output_fingerprints: failed: compiling library_frames.c against $library" >&2
+fi
+rm -rf "$scratch"
 find . -type f | sort | xargs md5sum
