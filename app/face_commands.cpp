@@ -36,7 +36,6 @@
 #include "pipeline/offline.h"
 #include "pipeline/options.h"
 #include "pipeline/recording_export.h"
-#include "render/avatar_renderer.h"
 #include "render/camera.h"
 #include "render/face_renderer.h"
 #include "render/gl_context.h"
@@ -69,14 +68,14 @@ void runRender(const RenderArguments& arguments) {
   if (!std::filesystem::is_directory(folder, error)) throw fileError(folder, "is not a folder and cannot be made one");
   const double fps = arguments.fps > 0.0 ? arguments.fps : animation.framesPerSecond;
   const auto frames = static_cast<int>(std::ceil(animation.durationSeconds() * fps - 1e-9));
-  OffscreenDrawing drawing(character ? &*character : nullptr, width, height);
+  OffscreenHead stage(character ? &*character : nullptr, {.width = width, .height = height});
   ProgressBar progress(frames, "render", std::cerr, progressAt(fps));
   char name[32];
   for (int frame = 0; frame < frames; ++frame) {
     InterruptGuard::check();
     std::snprintf(name, sizeof name, "frame_%06d.png", frame);
     const double seconds = frame / fps;
-    render::writePng(folder / name, drawing.draw(animation, seconds));
+    render::writePng(folder / name, stage.head->draw(animation, seconds));
     progress.update(frame + 1);
   }
   progress.finish();
@@ -96,10 +95,10 @@ void runPoses(const PosesArguments& arguments) {
   checkOutputTarget(arguments.output);
   const std::vector<face::Pose> poses = face::keyPoses();
   const int rows = (static_cast<int>(poses.size()) + arguments.columns - 1) / arguments.columns;
-  OffscreenFace stage({.width = arguments.tile, .height = arguments.tile});
+  OffscreenHead stage(nullptr, {.width = arguments.tile, .height = arguments.tile});
   render::Image sheet(arguments.tile * arguments.columns, arguments.tile * rows);
   for (std::size_t i = 0; i < poses.size(); ++i) {
-    const render::Image& tile = stage.animated.draw(poses[i].faps);
+    const render::Image& tile = stage.head->draw(poses[i].faps);
     const int left = static_cast<int>(i) % arguments.columns * arguments.tile;
     const int top = static_cast<int>(i) / arguments.columns * arguments.tile;
     for (int y = 0; y < tile.height; ++y) std::copy_n(tile.pixel(0, y), tile.width * 3, sheet.pixel(left, top + y));
@@ -141,8 +140,8 @@ void runStrip(const StripArguments& arguments) {
   if (arguments.fromSeconds + (count - 1) * step > animation.durationSeconds() + 1e-9)
     throw fileError(arguments.animation,
                     "ends before the strip does (" + std::to_string(animation.durationSeconds()) + " s)");
-  OffscreenFace stage({.width = arguments.tile, .height = arguments.tile});
-  if (!arguments.wholeHead) stage.animated.frameMouth();
+  OffscreenHead stage(nullptr, {.width = arguments.tile, .height = arguments.tile});
+  if (!arguments.wholeHead) stage.head->frameMouth();
   const int rows = (count + arguments.columns - 1) / arguments.columns;
   const int labelHeight = 22;
   render::Image sheet(arguments.tile * std::min(count, arguments.columns), (arguments.tile + labelHeight) * rows);
@@ -151,7 +150,7 @@ void runStrip(const StripArguments& arguments) {
     const double seconds = arguments.fromSeconds + i * step;
     face::FapFrame faps = animation.at(seconds);
     if (!arguments.wholeHead) faps[48] = faps[49] = faps[50] = 0.0;  // the head held still under a close camera
-    const render::Image& tile = stage.animated.draw(faps);
+    const render::Image& tile = stage.head->draw(faps);
     const int left = i % arguments.columns * arguments.tile;
     const int top = i / arguments.columns * (arguments.tile + labelHeight);
     for (int y = 0; y < tile.height; ++y) std::copy_n(tile.pixel(0, y), tile.width * 3, sheet.pixel(left, top + y));

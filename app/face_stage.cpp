@@ -17,27 +17,6 @@ std::pair<int, int> parseSize(const std::string& text) {
   return {width, height};
 }
 
-OffscreenDrawing::OffscreenDrawing(const avatar::Avatar* character, int width, int height) {
-  if (character == nullptr) {
-    face_ = std::make_unique<OffscreenFace>(render::RenderOptions{.width = width, .height = height});
-    return;
-  }
-  context_ = std::make_unique<render::OffscreenContext>();
-  character_ = std::make_unique<render::AnimatedAvatar>(*character, *context_,
-                                                        render::AvatarRenderOptions{.width = width, .height = height});
-}
-
-const render::Image& OffscreenDrawing::draw(const face::FapTrack& animation, double seconds) {
-  return character_ ? character_->draw(animation, seconds) : face_->animated.draw(animation.at(seconds));
-}
-
-void OffscreenDrawing::frameMouth() {
-  if (character_)
-    character_->frameMouth();
-  else
-    face_->animated.frameMouth();
-}
-
 ProgressOptions progressAt(double framesPerSecond) {
   ProgressOptions options;
   options.unitsPerSecond = framesPerSecond;  // progress counts frames; the bar shows the real-time factor

@@ -18,7 +18,6 @@
 #include <string>
 #include <vector>
 
-#include "avatar/avatar_pose.h"
 #include "character.h"
 #include "commands.h"
 #include "core/error.h"
@@ -26,9 +25,8 @@
 #include "face/fap.h"
 #include "face/poses.h"
 #include "formats/animation_format.h"
-#include "render/animated_face.h"
-#include "render/avatar_renderer.h"
 #include "render/gl_context.h"
+#include "render/head.h"
 #include "render/image.h"
 #include "window_capture.h"
 
@@ -57,15 +55,9 @@ void runShow(const ShowArguments& arguments) {
   const face::FaceModel face = face::FaceModel::buildDefault();  // its FAPs are the sliders, whoever is drawn
   render::WindowContext window(
       {.width = arguments.width, .height = arguments.height, .title = "talkinghead", .visible = true, .vsync = true});
-  std::unique_ptr<render::AnimatedFace> animated;
-  std::unique_ptr<render::AnimatedAvatar> drawnCharacter;
-  if (character)
-    drawnCharacter = std::make_unique<render::AnimatedAvatar>(
-        *character, window, render::AvatarRenderOptions{.width = arguments.width, .height = arguments.height});
-  else
-    animated = std::make_unique<render::AnimatedFace>(
-        face, window, render::RenderOptions{.width = arguments.width, .height = arguments.height});
-  render::OrbitCamera& camera = character ? drawnCharacter->camera() : animated->camera();
+  const std::unique_ptr<render::Head> head = render::makeHead(
+      character ? &*character : nullptr, window, {.width = arguments.width, .height = arguments.height}, &face);
+  render::OrbitCamera& camera = head->camera();
   const render::OrbitCamera home = camera;
 
   IMGUI_CHECKVERSION();
@@ -93,10 +85,9 @@ void runShow(const ShowArguments& arguments) {
     if (size.first <= 0 || size.second <= 0) continue;  // minimised
     if (size != lastSize) {
       // The orbit the user set stays.
-      if (character)
-        drawnCharacter->renderer().resize(size.first, size.second);
-      else
-        animated->renderer().resize(size.first, size.second);
+      const render::OrbitCamera orbit = camera;
+      head->resize(size.first, size.second);
+      camera = orbit;
       lastSize = size;
     }
     ImGui_ImplOpenGL3_NewFrame();
@@ -117,8 +108,7 @@ void runShow(const ShowArguments& arguments) {
     ImGui::SetNextWindowPos(ImVec2(10, 10), ImGuiCond_FirstUseEver);
     ImGui::SetNextWindowSize(ImVec2(420, static_cast<float>(size.second) - 20), ImGuiCond_FirstUseEver);
     ImGui::Begin("Face");
-    if (character)
-      ImGui::Text("%s: %s", character->name.c_str(), avatar::schemeName(drawnCharacter->rig().scheme).c_str());
+    if (character) ImGui::TextUnformatted(head->description().c_str());
     if (ImGui::Button("Reset FAPs")) faps = {};
     ImGui::SameLine();
     if (ImGui::Button("Reset view")) camera = home;
@@ -163,21 +153,13 @@ void runShow(const ShowArguments& arguments) {
     ImGui::End();
     ImGui::Render();
 
-    if (character) {
-      // A playing animation with visemes drives a character's viseme targets; sliders and poses its FAPs.
-      if (seconds >= 0.0)
-        drawnCharacter->pose(avatar::avatarInputAt(*animation, seconds));
-      else
-        drawnCharacter->pose(faps, nullptr);
-      drawnCharacter->render();
-      window.makeCurrent();
-      drawnCharacter->renderer().present(size);
-    } else {
-      animated->pose(faps);
-      animated->render();
-      window.makeCurrent();
-      animated->renderer().present(size);
-    }
+    // A playing animation poses the head with its visemes too (a character's viseme targets); sliders and poses
+    // with FAPs.
+    if (seconds >= 0.0)
+      head->poseAt(*animation, seconds);
+    else
+      head->pose(faps, nullptr);
+    head->drawIntoWindow(window);
     ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
     if (!arguments.screenshot.empty() && ++frame >= arguments.frames) {
       render::writePng(arguments.screenshot, grabWindow(size));

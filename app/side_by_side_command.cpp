@@ -70,8 +70,8 @@ void writeStrip(const SideBySideArguments& arguments, tracking::VideoReader& cli
   const double fps = clip.framesPerSecond();
   const int first = static_cast<int>(std::lround(arguments.fromSeconds * fps));
   const int count = std::max(1, static_cast<int>(std::floor(arguments.seconds * fps / arguments.every + 1e-9)));
-  OffscreenDrawing drawing(character, width, height);
-  drawing.frameMouth();
+  OffscreenHead stage(character, {.width = width, .height = height});
+  stage.head->frameMouth();
   cv::Rect box;
   const int labelHeight = 20;
   const int columns = std::min(count, 10);
@@ -99,7 +99,7 @@ void writeStrip(const SideBySideArguments& arguments, tracking::VideoReader& cli
     cv::cvtColor(scaled, rgb, cv::COLOR_BGR2RGB);
     const int left = i % columns * width, top = i / columns * rowHeight;
     for (int y = 0; y < height; ++y) std::copy_n(rgb.ptr<std::uint8_t>(y), width * 3, sheet.pixel(left, top + y));
-    const render::Image& face = drawing.draw(animation, f / fps);
+    const render::Image& face = stage.head->draw(animation, f / fps);
     for (int y = 0; y < height; ++y) std::copy_n(face.pixel(0, y), width * 3, sheet.pixel(left, top + height + y));
     char label[32];
     std::snprintf(label, sizeof label, "%.2f", f / fps);
@@ -139,7 +139,7 @@ void runSideBySide(const SideBySideArguments& arguments) {
   const int height = (arguments.height > 0 ? arguments.height : clip.height()) / 2 * 2;
   const int half = std::max(2, static_cast<int>(static_cast<double>(clip.width()) * height / clip.height()) / 2 * 2);
   const double fps = clip.framesPerSecond();
-  OffscreenDrawing drawing(character ? &*character : nullptr, half, height);
+  OffscreenHead stage(character ? &*character : nullptr, {.width = half, .height = height});
   formats::Mp4Options mp4;
   mp4.width = 2 * half;
   mp4.height = height;
@@ -160,7 +160,7 @@ void runSideBySide(const SideBySideArguments& arguments) {
       cv::cvtColor(scaled, rgb, cv::COLOR_BGR2RGB);
     }
     for (int y = 0; y < height; ++y) std::copy_n(rgb.ptr<std::uint8_t>(y), half * 3, canvas.pixel(0, y));
-    const render::Image& face = drawing.draw(animation, static_cast<double>(f) / fps);
+    const render::Image& face = stage.head->draw(animation, static_cast<double>(f) / fps);
     for (int y = 0; y < height; ++y) std::copy_n(face.pixel(0, y), half * 3, canvas.pixel(half, y));
     const int scale = height >= 480 ? 2 : 1;
     drawLabel(canvas, 6, 6, "video", scale);

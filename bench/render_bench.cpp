@@ -41,8 +41,8 @@
 #include "face/face_model.h"
 #include "face/feature_points.h"
 #include "face/mesh.h"
+#include "render/animated_avatar.h"
 #include "render/animated_face.h"
-#include "render/avatar_renderer.h"
 #include "render/face_renderer.h"
 #include "render/gl_context.h"
 

@@ -19,7 +19,6 @@
 
 #include "audio/media_audio.h"
 #include "avatar/avatar_model.h"
-#include "avatar/avatar_pose.h"
 #include "character.h"
 #include "core/error.h"
 #include "head_style_clip.h"
@@ -31,9 +30,8 @@
 #include "outputs/live_output.h"
 #include "pipeline/live.h"
 #include "pipeline/playout.h"
-#include "render/animated_face.h"
-#include "render/avatar_renderer.h"
 #include "render/gl_context.h"
+#include "render/head.h"
 #include "render/image.h"
 #include "window_capture.h"
 
@@ -124,15 +122,8 @@ class LiveWindow {
         playout_(pipeline::PlayoutOptions{.interpolate = settings_.live.interpolate}),
         display_(settings_.idle, settings_.live.blinks, settings_.live.gaze) {
     const int width = 1280 - LivePanel::widthFor(1280), height = 720, samples = samplesFor(window_, arguments.msaa);
-    if (character_) {
-      avatar_ = std::make_unique<render::AnimatedAvatar>(
-          *character_, window_, render::AvatarRenderOptions{.width = width, .height = height, .samples = samples});
-      characterLine_ = character_->name + " (" + avatar::schemeName(avatar_->rig().scheme) + ")";
-    } else {
-      model_ = std::make_unique<face::FaceModel>(face::FaceModel::buildDefault());
-      face_ = std::make_unique<render::AnimatedFace>(
-          *model_, window_, render::RenderOptions{.width = width, .height = height, .samples = samples});
-    }
+    head_ = render::makeHead(character_ ? &*character_ : nullptr, window_,
+                             {.width = width, .height = height, .samples = samples});
     models_ = loadModelsOf(settings_);  // a bad model file is an error before the window is of any use
     panel_.showModelPaths(settings_.models.headModelPath().string(), settings_.mouthModelPath().string());
     offerHeadStyles();
@@ -200,10 +191,7 @@ class LiveWindow {
       const bool resized = size != lastSize;
       if (resized) {
         panelWidth_ = LivePanel::widthFor(size.first);
-        if (avatar_)
-          avatar_->resize(size.first - panelWidth_, size.second);
-        else
-          face_->resize(size.first - panelWidth_, size.second);
+        head_->resize(size.first - panelWidth_, size.second);
         lastSize = size;
         keptColumn_.again();  // new buffers: check again
       }
@@ -343,30 +331,10 @@ class LiveWindow {
     display_.present(drawn, secondsSince(opened_), shown);
     faps = drawn.faps;
     const auto setupStart = std::chrono::steady_clock::now();
-    if (avatar_) {
-      // The character's mouth by the visemes where the decoder has them (its viseme targets), else by the FAPs.
-      avatar_->pose(faps, drawn.visemeIndex >= 0 ? drawn.visemeProbabilities.data() : nullptr);
-      times.faceSetupMs = millisecondsBetween(setupStart, std::chrono::steady_clock::now());
-      if (avatar_->renderer().samples() <= 1) {
-        avatar_->renderToWindow(panelWidth_);  // as our face: no target of its own to copy
-      } else {
-        avatar_->render();
-        window_.makeCurrent();
-        avatar_->renderer().present(window_.framebufferSize(), panelWidth_);
-      }
-      return;
-    }
-    face_->pose(faps);
+    // A character's mouth by the visemes where the decoder has them (its viseme targets), else by the FAPs.
+    head_->pose(faps, drawn.visemeIndex >= 0 ? drawn.visemeProbabilities.data() : nullptr);
     times.faceSetupMs = millisecondsBetween(setupStart, std::chrono::steady_clock::now());
-    render::FaceRenderer& renderer = face_->renderer();
-    if (renderer.options().samples <= 1) {
-      renderer.renderToWindow(face_->camera(),
-                              panelWidth_);  // no target of its own to copy: the fastest way on llvmpipe
-    } else {
-      face_->render();
-      window_.makeCurrent();
-      renderer.present(window_.framebufferSize(), panelWidth_);
-    }
+    head_->drawIntoWindow(window_, panelWidth_);
   }
 
   void drawPanel(std::pair<int, int> size) {
@@ -380,7 +348,7 @@ class LiveWindow {
                                               .speaking = display_.speaking(),
                                               .modelError = modelError_,
                                               .outputs = outputStatuses(),
-                                              .character = characterLine_,
+                                              .character = head_->description(),
                                               .headStyles = headStyleNames(),
                                               .headStyle = headStyle_,
                                               .headStyleLine = headStyleLine_},
@@ -509,10 +477,7 @@ class LiveWindow {
   pipeline::LiveSettings settings_;
   std::optional<avatar::Avatar> character_;  // --avatar: the user's character, drawn instead of our face
   render::WindowContext window_;
-  std::unique_ptr<face::FaceModel> model_;
-  std::unique_ptr<render::AnimatedFace> face_;      // our face, or
-  std::unique_ptr<render::AnimatedAvatar> avatar_;  // the character
-  std::string characterLine_;                       // the panel's line about it
+  std::unique_ptr<render::Head> head_;  // our face, or the character
   pipeline::Playout playout_;
   outputs::LiveDisplay display_;  // idle motion and outputs, as every live path
   std::chrono::steady_clock::time_point opened_ = std::chrono::steady_clock::now();

@@ -1,5 +1,5 @@
 // `talkinghead live` with a window: the live pipeline's frames (pipeline/live.h) played out (pipeline/playout.h)
-// on the face (render/animated_face.h) in a GLFW window, with the Dear ImGui panel (panel.h) beside it.
+// on the face or the user's character (render/head.h) in a GLFW window, with the Dear ImGui panel (panel.h) beside it.
 //
 //   th::app::runLiveWindow({.input = "speech.wav", .settingsPath = path}, settings);
 //

@@ -1,6 +1,6 @@
 // A user's character, read from a glTF file (.glb, .gltf) or a VRM (0.x or 1.0, glTF with an extension): its
 // meshes with their morph targets, its skeleton, materials and textures, in the CPU's memory, ready to be posed
-// (avatar_pose.h) and drawn (render/avatar_renderer.h).
+// (avatar_pose.h) and drawn (render/avatar_renderer.h, render/animated_avatar.h).
 //
 //   const th::avatar::Avatar character = th::avatar::loadAvatar("brunette-t.glb");
 //   const int head = character.bones[th::avatar::kHead];        // a node index, -1 if it has none

@@ -8,9 +8,8 @@
 
 #include "core/slot_queue.h"
 #include "formats/mp4_writer.h"
-#include "render/animated_face.h"
-#include "render/avatar_renderer.h"
 #include "render/gl_context.h"
+#include "render/head.h"
 
 namespace th::pipeline {
 
@@ -34,49 +33,6 @@ class JoinOnExit {
   std::thread& worker_;
 };
 
-// What is drawn: our face or a character, posed by the animation at a time, read back, finished elsewhere.
-class Drawn {
- public:
-  virtual ~Drawn() = default;
-  virtual void draw(const face::FapTrack& animation, double seconds) = 0;
-  virtual void readRaw(RawFrame& frame) = 0;
-  virtual void finish(RawFrame& frame, Yuv420Image& image, bool bt709) const = 0;
-};
-
-class DrawnFace final : public Drawn {
- public:
-  DrawnFace(const face::FaceModel& face, render::GlContext& context, const render::RenderOptions& options)
-      : animated_(face, context, options) {}
-  void draw(const face::FapTrack& animation, double seconds) override {
-    animated_.pose(animation.at(seconds));
-    animated_.render();
-  }
-  void readRaw(RawFrame& frame) override { animated_.renderer().readRaw(frame); }
-  void finish(RawFrame& frame, Yuv420Image& image, bool bt709) const override {
-    animated_.renderer().finish(frame, image, bt709);
-  }
-
- private:
-  mutable render::AnimatedFace animated_;
-};
-
-class DrawnAvatar final : public Drawn {
- public:
-  DrawnAvatar(const avatar::Avatar& avatar, render::GlContext& context, const render::AvatarRenderOptions& options)
-      : animated_(avatar, context, options) {}
-  void draw(const face::FapTrack& animation, double seconds) override {
-    animated_.pose(avatar::avatarInputAt(animation, seconds));
-    animated_.render();
-  }
-  void readRaw(RawFrame& frame) override { animated_.renderer().readRaw(frame); }
-  void finish(RawFrame& frame, Yuv420Image& image, bool bt709) const override {
-    animated_.renderer().finish(frame, image, bt709);
-  }
-
- private:
-  mutable render::AnimatedAvatar animated_;
-};
-
 int encoderThreadsFor(const VideoExportOptions& options) {
   if (options.encoderThreads != 0) return options.encoderThreads;  // (Mp4Writer rejects a negative one)
   const unsigned cores = std::thread::hardware_concurrency();
@@ -90,15 +46,8 @@ int exportVideo(const face::FaceModel& face, const face::FapTrack& animation, st
                 const VideoExportHooks& hooks) {
   render::OffscreenContext context;
   // FXAA on one sample instead of 4x MSAA: a third of the CPU per frame on llvmpipe, nearly as smooth.
-  std::unique_ptr<Drawn> drawn;
-  if (options.avatar != nullptr)
-    drawn = std::make_unique<DrawnAvatar>(
-        *options.avatar, context,
-        render::AvatarRenderOptions{.width = options.width, .height = options.height, .samples = 1, .fxaa = true});
-  else
-    drawn = std::make_unique<DrawnFace>(
-        face, context,
-        render::RenderOptions{.width = options.width, .height = options.height, .samples = 1, .fxaa = true});
+  const std::unique_ptr<render::Head> head = render::makeHead(
+      options.avatar, context, {.width = options.width, .height = options.height, .samples = 1, .fxaa = true}, &face);
   formats::Mp4Writer writer(output, {.width = options.width,
                                      .height = options.height,
                                      .framesPerSecond = options.framesPerSecond,
@@ -123,7 +72,7 @@ int exportVideo(const face::FaceModel& face, const face::FapTrack& animation, st
       int done = 0;
       std::size_t audioDone = 0;
       while (RawFrame* raw = queue.takePublished()) {
-        drawn->finish(*raw, image, writer.usesBt709());
+        head->finish(*raw, image, writer.usesBt709());
         queue.release(raw);
         writer.addVideoFrame(image.planes());
         const std::size_t audioEnd = done + 1 == frames ? samples.size() : samplesUntil(done + 1);
@@ -142,8 +91,9 @@ int exportVideo(const face::FaceModel& face, const face::FapTrack& animation, st
       if (hooks.check) hooks.check();
       RawFrame* raw = queue.takeFree();
       if (raw == nullptr) break;  // the worker failed: its error is rethrown below
-      drawn->draw(animation, frame / options.framesPerSecond);
-      drawn->readRaw(*raw);
+      head->poseAt(animation, frame / options.framesPerSecond);
+      head->render();
+      head->readRaw(*raw);
       queue.publish(raw);
     }
     queue.close();

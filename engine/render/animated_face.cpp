@@ -1,5 +1,6 @@
 #include "render/animated_face.h"
 
+#include <utility>
 #include <vector>
 
 namespace th::render {
@@ -13,19 +14,18 @@ AnimatedFace::AnimatedFace(const face::FaceModel& model, GlContext& context, con
   renderer_.setEyeOpenings(model.eyeLidVertices(0), model.eyeLidVertices(1));
 }
 
+AnimatedFace::AnimatedFace(std::shared_ptr<const face::FaceModel> model, GlContext& context,
+                           const RenderOptions& options)
+    : AnimatedFace(*model, context, options) {
+  owned_ = std::move(model);
+}
+
 void AnimatedFace::pose(const face::FapFrame& faps) {
   if (posed_ && faps == shown_) return;
   renderer_.setPositions(model_.deform(faps));
   renderer_.setPupilScale(model_.pupilScale(faps));
   shown_ = faps;
   posed_ = true;
-}
-
-const Image& AnimatedFace::draw(const face::FapFrame& faps) {
-  pose(faps);
-  render();
-  renderer_.readPixels(image_);
-  return image_;
 }
 
 void AnimatedFace::resize(int width, int height) {

@@ -5,9 +5,7 @@
 // The character is posed and skinned on the CPU (avatar/avatar_pose.h); each frame only the vertices that
 // moved are uploaded.
 //
-//   th::render::OffscreenContext context;
-//   th::render::AnimatedAvatar character(avatar, context, {.width = 1280, .height = 720});
-//   const th::render::Image& image = character.draw(faps, visemeProbabilities);   // or nullptr
+// render/animated_avatar.h poses it and holds the camera: the character as a Head.
 //
 // Draw order: opaque and alpha-tested surfaces first, then the blended ones back to front (by each
 // primitive's centre). The camera frames the head: the vertices its head bone (or a bone under it) moves most.
@@ -120,50 +118,6 @@ class AvatarRenderer {
   std::vector<float> upload_;
   PixelRegion drawn_;
   int trianglesDrawn_ = 0;
-};
-
-// A portrait framing of the character's head: the vertices of its face mesh (the one with the most morph
-// targets) that its head bone or a bone under it moves most, their bounding box with room for the neck, seen
-// from 8° above.
-OrbitCamera frameAvatarHead(const avatar::Avatar& avatar, const std::vector<avatar::DeformedMesh>& meshes,
-                            double aspect);
-
-// Where the mouth is drawn now: the mean of the vertices its opening target (jawOpen, else viseme_aa, else VRM's
-// aa) moves most; NaN without one.
-Eigen::Vector3f avatarMouthCentre(const avatar::Avatar& avatar, const std::vector<avatar::DeformedMesh>& meshes);
-
-// The character as every program shows it: rig, renderer and a camera on the head, posed by one frame at a time.
-class AnimatedAvatar {
- public:
-  AnimatedAvatar(const avatar::Avatar& avatar, GlContext& context, const AvatarRenderOptions& options = {});
-  // The character posed by `faps` (and the mouth classes' probabilities, if any: visemes).
-  void pose(const face::FapFrame& faps, const float* classProbabilities);
-  void pose(const avatar::AvatarInput& input);
-  // An animation at a time (its visemes too, where it has them).
-  const Image& draw(const face::FapTrack& animation, double seconds);
-  void render() { renderer_.render(camera_); }
-  // The posed character straight into the window (AvatarRenderer::renderToWindow), from column `left`.
-  void renderToWindow(int left = 0) { renderer_.renderToWindow(camera_, left); }
-  const Image& draw(const face::FapFrame& faps, const float* classProbabilities);
-  void resize(int width, int height);
-  // The camera close on the lips (film strips): the mouth and the chin, where its opening target moves them;
-  // the head stays framed if it has none.
-  void frameMouth();
-
-  const avatar::Avatar& avatar() const { return avatar_; }
-  const avatar::AvatarRig& rig() const { return rig_; }
-  AvatarRenderer& renderer() { return renderer_; }
-  OrbitCamera& camera() { return camera_; }
-
- private:
-  const avatar::Avatar& avatar_;
-  avatar::AvatarRig rig_;
-  avatar::MovingVertices moving_;
-  AvatarRenderer renderer_;
-  avatar::AvatarPose pose_;
-  std::vector<avatar::DeformedMesh> meshes_;
-  OrbitCamera camera_;
-  Image image_;
 };
 
 }  // namespace th::render

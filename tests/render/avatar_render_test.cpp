@@ -12,7 +12,7 @@
 #include "avatar/avatar_model.h"
 #include "core/data_path.h"
 #include "face/fap.h"
-#include "render/avatar_renderer.h"
+#include "render/animated_avatar.h"
 #include "render/gl_context.h"
 #include "render/image.h"
 

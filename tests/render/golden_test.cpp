@@ -20,8 +20,8 @@
 #include "core/data_path.h"
 #include "face/face_model.h"
 #include "face/poses.h"
+#include "render/animated_avatar.h"
 #include "render/animated_face.h"
-#include "render/avatar_renderer.h"
 #include "render/gl_context.h"
 #include "render/image.h"
 
