@@ -346,8 +346,8 @@ int th_stream_pull(th_stream* stream, th_frame* frame) {
   const th_status status = guarded(TH_ERROR_INTERNAL, [&] {
     th::pipeline::AnimationFrame decoded;
     if (!stream->decoder->next(decoded)) return;
-    stream->display->present(decoded, decoded.timeSeconds);  // the stream's own time: the same at any pace
-    got = writeSized(frameOf(th::outputs::avatarFrameOf(decoded)), frame, "th_stream_pull") ? 1 : -1;
+    // The stream's own time: the same at any pace.
+    got = writeSized(frameOf(stream->display->present(decoded, decoded.timeSeconds)), frame, "th_stream_pull") ? 1 : -1;
   });
   return status == TH_OK ? got : -1;
 }
@@ -410,9 +410,6 @@ th_status th_animation_frame(const th_animation* animation, int index, th_frame*
     decoded.index = index;
     decoded.timeSeconds = index / track.framesPerSecond;
     decoded.faps = track.frame(index);
-    // FAPs 48-50 are the head's pitch, yaw and roll in angle units (1e-5 rad).
-    for (int axis = 0; axis < 3; ++axis)
-      decoded.headDegrees[axis] = decoded.faps[static_cast<std::size_t>(48 + axis)] * 1e-5 * 180.0 / M_PI;
     if (!track.visemes.empty()) {
       decoded.visemeIndex = index;
       decoded.mouthClass = track.visemes.classes[static_cast<std::size_t>(index)];

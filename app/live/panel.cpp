@@ -73,7 +73,8 @@ void LivePanel::frameTaken(const pipeline::AnimationFrame& frame) {
   energy_.push(frame.energy);
   jaw_.push(frame.faps[3]);
   chosenFap_.push(frame.faps[static_cast<std::size_t>(plottedFap_)]);
-  for (int axis = 0; axis < 3; ++axis) head_[static_cast<std::size_t>(axis)].push(frame.headDegrees[axis]);
+  const Eigen::Vector3d headDegrees = face::headDegreesOf(frame.faps);
+  for (int axis = 0; axis < 3; ++axis) head_[static_cast<std::size_t>(axis)].push(headDegrees[axis]);
   headPosteriors_.push(frame.headPosterior, frame.headStates);
   mouthPosteriors_.push(frame.mouthPosterior, frame.mouthStates);
 }

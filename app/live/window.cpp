@@ -328,11 +328,11 @@ class LiveWindow {
     drawn.faps = faps;
     drawn.levelDb = levelDb;
     display_.setSwitches(settings_.live.blinks, settings_.live.gaze);
-    display_.present(drawn, secondsSince(opened_), shown);
-    faps = drawn.faps;
+    const outputs::AvatarFrame& shownFrame = display_.present(drawn, secondsSince(opened_), shown);
     const auto setupStart = std::chrono::steady_clock::now();
-    // A character's mouth by the visemes where the decoder has them (its viseme targets), else by the FAPs.
-    head_->pose(faps, drawn.visemeIndex >= 0 ? drawn.visemeProbabilities.data() : nullptr);
+    // Our face by the FAPs; a character by the weights the outputs got (its mouth by the visemes where the
+    // decoder has them and it has viseme targets).
+    head_->pose(shownFrame.faps, shownFrame);
     times.faceSetupMs = millisecondsBetween(setupStart, std::chrono::steady_clock::now());
     head_->drawIntoWindow(window_, panelWidth_);
   }

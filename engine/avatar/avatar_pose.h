@@ -30,28 +30,13 @@
 #include <string>
 #include <vector>
 
+#include "avatar/avatar_input.h"
 #include "avatar/avatar_model.h"
 #include "face/fap.h"
 #include "face/fap_track.h"
 #include "face/visemes.h"
 
 namespace th::avatar {
-
-// What drives a character each frame.
-struct AvatarInput {
-  std::array<float, 52> arkit{};  // formats::kArkitNames' order
-  bool hasVisemes = false;
-  std::array<float, face::kNumOculusVisemes> oculus{};
-  std::array<float, 5> vrm{};                             // A I U E O
-  Eigen::Vector3d headDegrees = Eigen::Vector3d::Zero();  // pitch, yaw, roll
-};
-
-// From a frame's FAPs (ARKit's weights at the default scale, the head from FAPs 48–50) and, where there are
-// any, the mouth classes' probabilities (face::kNumMouthClasses; null: no visemes).
-AvatarInput avatarInputOf(const face::FapFrame& faps, const float* classProbabilities);
-// The same at a time of an animation: its FAPs there, and the visemes of its frame nearest in time where it
-// has visemes.
-AvatarInput avatarInputAt(const face::FapTrack& animation, double seconds);
 
 enum class MorphScheme { kArkit, kOculusVisemes, kVrmExpressions, kNone };
 

@@ -14,7 +14,9 @@
 // Thread contract: the table is immutable.
 #pragma once
 
+#include <Eigen/Core>
 #include <array>
+#include <numbers>
 #include <string_view>
 
 namespace th::face {
@@ -25,9 +27,17 @@ std::string_view fapuName(Fapu unit);  // "MNS", "MW", ..., "AU"; "" for kNone
 
 constexpr int kNumFaps = 68;         // numbered 1..68
 constexpr double kAngleUnit = 1e-5;  // AU in radians
+constexpr double kDegreesPerAngleUnit = kAngleUnit * 180.0 / std::numbers::pi;
 
 // One frame of FAP values: [n] is FAP n (1..68) in counts of its unit; [0] is unused.
 using FapFrame = std::array<double, kNumFaps + 1>;
+
+// The head's rotation, which a frame carries as FAPs 48, 49 and 50 (head_pitch, head_yaw, head_roll, in AU),
+// as pitch, yaw and roll in degrees (pitch down, yaw to the face's left, roll to its right positive: BEAT2's
+// convention, outputs/avatar_frame.h): the one conversion every consumer uses.
+inline Eigen::Vector3d headDegreesOf(const FapFrame& faps) {
+  return {faps[48] * kDegreesPerAngleUnit, faps[49] * kDegreesPerAngleUnit, faps[50] * kDegreesPerAngleUnit};
+}
 
 struct FapDefinition {
   int number;             // 1..68

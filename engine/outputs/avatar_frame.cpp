@@ -2,7 +2,6 @@
 
 #include <cmath>
 
-#include "face/fap_track.h"
 #include "formats/arkit_format.h"
 
 namespace th::outputs {
@@ -44,32 +43,13 @@ Eigen::Quaternionf AvatarFrame::unityHeadRotation() const {
 
 AvatarFrame avatarFrameOf(const pipeline::AnimationFrame& frame) {
   AvatarFrame avatar;
+  const bool hasVisemes = frame.visemeIndex >= 0;
+  static_cast<avatar::AvatarInput&>(avatar) =
+      avatar::avatarInputOf(frame.faps, hasVisemes ? frame.visemeProbabilities.data() : nullptr);
   avatar.index = frame.index;
   avatar.timeSeconds = frame.timeSeconds;
   avatar.faps = frame.faps;
-  avatar.headDegrees = frame.headDegrees;
-  face::FapTrack track;
-  track.values.resize(face::kNumFaps, 1);
-  for (int fap = 1; fap <= face::kNumFaps; ++fap) {
-    track.faps.push_back(fap);
-    track.values(fap - 1, 0) = frame.faps[static_cast<std::size_t>(fap)];
-  }
-  const Eigen::MatrixXd weights = formats::arkitWeights(track, formats::ArkitScale{});
-  for (std::size_t k = 0; k < avatar.arkit.size(); ++k)
-    avatar.arkit[k] = static_cast<float>(weights(static_cast<Eigen::Index>(k), 0));
-  if (frame.visemeIndex >= 0) {
-    avatar.hasVisemes = true;
-    avatar.mouthClass = frame.mouthClass;
-    Eigen::VectorXd probabilities(face::kNumMouthClasses);
-    for (int c = 0; c < face::kNumMouthClasses; ++c)
-      probabilities[c] = frame.visemeProbabilities[static_cast<std::size_t>(c)];
-    const Eigen::VectorXd oculus = face::oculusWeights(probabilities);
-    const Eigen::VectorXd vrm = face::vrmWeights(probabilities);
-    for (std::size_t k = 0; k < avatar.oculus.size(); ++k)
-      avatar.oculus[k] = static_cast<float>(oculus[static_cast<Eigen::Index>(k)]);
-    for (std::size_t k = 0; k < avatar.vrm.size(); ++k)
-      avatar.vrm[k] = static_cast<float>(vrm[static_cast<Eigen::Index>(k)]);
-  }
+  if (hasVisemes) avatar.mouthClass = frame.mouthClass;
   return avatar;
 }
 

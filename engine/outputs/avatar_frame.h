@@ -1,5 +1,7 @@
 // One frame as avatar programs take it: what the live outputs (VMC, OSC, VTube Studio) and the C library's
-// stream hand on, made from the live pipeline's AnimationFrame.
+// stream hand on, made from the live pipeline's AnimationFrame: a character's weights (avatar::AvatarInput, the
+// same a character drawn here is posed with, made by the same avatar::avatarInputOf) with the frame's number,
+// time, FAPs and mouth class.
 //
 //   const th::outputs::AvatarFrame avatar = th::outputs::avatarFrameOf(frame);
 //   send(avatar.arkit[17]);                              // jawOpen, 0..1
@@ -18,22 +20,18 @@
 #include <Eigen/Geometry>
 #include <array>
 
+#include "avatar/avatar_input.h"
 #include "face/fap.h"
 #include "face/visemes.h"
 #include "pipeline/animation_frame.h"
 
 namespace th::outputs {
 
-struct AvatarFrame {
+struct AvatarFrame : avatar::AvatarInput {
   int index = 0;
   double timeSeconds = 0.0;
   face::FapFrame faps{};
-  std::array<float, 52> arkit{};  // formats::kArkitNames' order
-  bool hasVisemes = false;
-  int mouthClass = face::kSilence;  // the class shown (face::MouthClass)
-  std::array<float, face::kNumOculusVisemes> oculus{};
-  std::array<float, 5> vrm{};                             // A I U E O
-  Eigen::Vector3d headDegrees = Eigen::Vector3d::Zero();  // pitch, yaw, roll
+  int mouthClass = face::kSilence;  // the class shown (face::MouthClass), where hasVisemes
 
   float blinkLeft() const;   // ARKit eyeBlinkLeft
   float blinkRight() const;  // eyeBlinkRight

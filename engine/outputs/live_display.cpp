@@ -13,24 +13,17 @@ void LiveDisplay::setIdle(const pipeline::IdleOptions& idle) {
   idle_ = animation::IdleMotion(idle.motionOptions());
 }
 
-void LiveDisplay::present(pipeline::AnimationFrame& frame, double clockSeconds, bool send) {
+const AvatarFrame& LiveDisplay::present(pipeline::AnimationFrame& frame, double clockSeconds, bool send) {
   // A clock that goes back (a stream's own time, starting again) continues from where it was.
   if (clockSeconds + clockOffset_ < lastClock_) clockOffset_ = lastClock_ - clockSeconds;
   lastClock_ = clockSeconds + clockOffset_;
   if (frame.index < lastSent_) lastSent_ = -1;  // a new stream, frame 0 again
-  if (on_) {
-    const face::FapFrame before = frame.faps;
-    idle_.apply(lastClock_, frame.levelDb, switches_, frame.faps);
-    // FAPs 48-50 are the head's pitch, yaw and roll in angle units (1e-5 rad): the angles move with them.
-    for (int axis = 0; axis < 3; ++axis) {
-      const auto fap = static_cast<std::size_t>(48 + axis);
-      frame.headDegrees[axis] += (frame.faps[fap] - before[fap]) * 1e-5 * 180.0 / M_PI;
-    }
-  }
-  if (!send || frame.index == lastSent_ || outputs_.empty()) return;
+  if (on_) idle_.apply(lastClock_, frame.levelDb, switches_, frame.faps);
+  shown_ = avatarFrameOf(frame);
+  if (!send || frame.index == lastSent_ || outputs_.empty()) return shown_;
   lastSent_ = frame.index;
-  const AvatarFrame avatar = avatarFrameOf(frame);
-  for (const auto& output : outputs_) output->send(avatar);
+  for (const auto& output : outputs_) output->send(shown_);
+  return shown_;
 }
 
 std::vector<int> LiveDisplay::fapNumbers(const std::vector<int>& decoded) const {

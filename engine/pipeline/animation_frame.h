@@ -17,15 +17,14 @@ namespace th::pipeline {
 struct AnimationFrame {
   int index = 0;             // frame number from the start of the stream
   double timeSeconds = 0.0;  // index / frames per second: the speech this frame shows
-  face::FapFrame faps{};     // head (48–50), jaw (3) and lip FAPs; the rest 0
+  // Head (48–50: the head's rotation, face::headDegreesOf gives it in degrees), jaw (3) and lip FAPs; the rest 0.
+  face::FapFrame faps{};
   // The frame whose prosody the head and F0 show: index, or index - the decoder's head delay when the head is
   // shown late (negative: no head yet, the rest pose).
   int prosodyIndex = 0;
   double f0Hz = 0.0;        // of frame prosodyIndex (0: unvoiced), for plots
   double energy = 0.0;      // normalised log energy of this frame
   double levelDb = -140.0;  // its level before normalisation, dB re full scale (idle motion's speech gate)
-  Eigen::Vector3d headDegrees =
-      Eigen::Vector3d::Zero();  // of frame prosodyIndex: pitch, yaw, roll relative to the mean pose
   // The head model's state posteriors at frame prosodyIndex (its forward filter: P(state | prosody so far)),
   // the first headStates of them; for the panel's plot.
   static constexpr int kMaxHeadStates = 32;

@@ -172,7 +172,7 @@ bool LiveDecoder::next(AnimationFrame& frame) {
   frame.prosodyIndex = shown;
   frame.headStates = headStage_ ? std::min(headStage_->numStates(), AnimationFrame::kMaxHeadStates) : 0;
   // Until its head is decided (the first frames, when the head is shown late), a frame's head is at rest.
-  frame.headDegrees = options_.head.restPose;
+  Eigen::Vector3d headDegrees = options_.head.restPose;  // pitch, yaw, roll relative to the mean pose
   if (shown >= 0 && shown < decided) {
     prosodyExtractor_.getFrame(shown, row_);
     frame.f0Hz = row_[features::FeatureLayout::kF0Hz];
@@ -180,14 +180,14 @@ bool LiveDecoder::next(AnimationFrame& frame) {
     frame.levelDb = prosodyExtractor_.getLevelDb(shown);
     if (headStage_) {
       headStage_->getFrame(shown, head_);
-      frame.headDegrees = head_.rotationDegrees;
+      headDegrees = head_.rotationDegrees;
       const Eigen::VectorXd& posterior = head_.filteredPosterior;
       for (Eigen::Index k = 0; k < std::min<Eigen::Index>(posterior.size(), AnimationFrame::kMaxHeadStates); ++k)
         frame.headPosterior[static_cast<std::size_t>(k)] = static_cast<float>(posterior[k]);
     }
   }
   if (headStage_) {
-    const Eigen::MatrixXd faps = animation::headFaps(frame.headDegrees);
+    const Eigen::MatrixXd faps = animation::headFaps(headDegrees);
     for (std::size_t i = 0; i < animation::kHeadFaps.size(); ++i)
       frame.faps[static_cast<std::size_t>(animation::kHeadFaps[i])] = faps(static_cast<Eigen::Index>(i), 0);
   }

@@ -115,7 +115,6 @@ void Playout::pick(double stream, PlayoutSample& out) {
   out.frame = w < 0.5 ? before : after;
   for (std::size_t n = 0; n < before.faps.size(); ++n)
     out.frame.faps[n] = (1.0 - w) * before.faps[n] + w * after.faps[n];
-  out.frame.headDegrees = (1.0 - w) * before.headDegrees + w * after.headDegrees;
 }
 
 }  // namespace th::pipeline

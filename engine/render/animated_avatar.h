@@ -38,6 +38,8 @@ class AnimatedAvatar final : public Head {
   AnimatedAvatar(const avatar::Avatar& avatar, GlContext& context, const AvatarRenderOptions& options = {});
 
   void pose(const face::FapFrame& faps, const float* visemeProbabilities) override;
+  // By the weights alone: they carry the head and the eyes too.
+  void pose(const face::FapFrame& /*faps*/, const avatar::AvatarInput& weights) override { pose(weights); }
   void poseAt(const face::FapTrack& animation, double seconds) override;
   void pose(const avatar::AvatarInput& input);
   void render() override { renderer_.render(camera_); }

@@ -33,6 +33,7 @@ class AnimatedFace final : public Head {
   void pose(const face::FapFrame& faps);
   // Our face has no viseme targets: the FAPs alone pose it.
   void pose(const face::FapFrame& faps, const float* /*visemeProbabilities*/) override { pose(faps); }
+  void pose(const face::FapFrame& faps, const avatar::AvatarInput& /*weights*/) override { pose(faps); }
   void poseAt(const face::FapTrack& animation, double seconds) override { pose(animation.at(seconds)); }
   void render() override { renderer_.render(camera_); }
   void readRaw(RawFrame& frame) override { renderer_.readRaw(frame); }

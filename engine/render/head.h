@@ -14,6 +14,7 @@
 #include <string>
 #include <utility>
 
+#include "avatar/avatar_input.h"
 #include "avatar/avatar_model.h"
 #include "face/face_model.h"
 #include "face/fap.h"
@@ -33,6 +34,9 @@ class Head {
   // Posed by one frame: its FAPs (the head's rotation among them) and, where the decoder gives them, the
   // Oculus visemes' probabilities (nullptr: none), which a character with viseme targets speaks with.
   virtual void pose(const face::FapFrame& faps, const float* visemeProbabilities) = 0;
+  // The same with a character's weights already made of that frame (avatar::avatarInputOf, as the live display
+  // makes them once a frame for the outputs too).
+  virtual void pose(const face::FapFrame& faps, const avatar::AvatarInput& weights) = 0;
   // Posed by an animation at a time: its FAPs there, and its visemes where it has them.
   virtual void poseAt(const face::FapTrack& animation, double seconds) = 0;
 

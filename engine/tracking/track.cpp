@@ -103,7 +103,7 @@ void fitTrack(Track& track, const face::FaceModel& face, const FitOptions& optio
 
 namespace {
 
-constexpr double kDegreesPerAngleUnit = face::kAngleUnit * 180.0 / 3.14159265358979323846;
+using face::kDegreesPerAngleUnit;
 
 std::vector<std::string> trackColumns(const std::vector<int>& fittedFaps, bool fitted) {
   std::vector<std::string> columns{"time_s", "face"};

@@ -22,7 +22,7 @@ AnimationFrame rampFrame(int index) {
   frame.index = index;
   frame.timeSeconds = index / 30.0;
   frame.faps[3] = 10.0 * index;
-  frame.headDegrees.x() = index;
+  frame.faps[48] = index / th::face::kDegreesPerAngleUnit;  // the head's pitch, i degrees
   return frame;
 }
 
@@ -57,7 +57,7 @@ TEST(Playout, ShowsASmoothClockBehindJitteryFramesWithoutStarving) {
       starved += sample.starved ? 1 : 0;
       // Interpolated exactly on the ramp.
       EXPECT_NEAR(sample.frame.faps[3], 300.0 * sample.streamSeconds, 1e-6);
-      EXPECT_NEAR(sample.frame.headDegrees.x(), 30.0 * sample.streamSeconds, 1e-6);
+      EXPECT_NEAR(th::face::headDegreesOf(sample.frame.faps).x(), 30.0 * sample.streamSeconds, 1e-6);
       lastDelay = std::max(lastDelay, sample.behindNewestMs);
     }
   }
@@ -154,7 +154,7 @@ TEST(Playout, ShowsTheInstantAnotherClockGives) {
   }
   ASSERT_TRUE(smooth.sampleAt(2.5 / 30.0, sample));
   EXPECT_NEAR(sample.frame.faps[3], 25.0, 1e-9);
-  EXPECT_NEAR(sample.frame.headDegrees.x(), 2.5, 1e-9);
+  EXPECT_NEAR(th::face::headDegreesOf(sample.frame.faps).x(), 2.5, 1e-9);
   ASSERT_TRUE(steps.sampleAt(2.4 / 30.0, sample));
   EXPECT_EQ(sample.frame.index, 2);
   EXPECT_NEAR(sample.frame.faps[3], 20.0, 1e-9);

@@ -41,7 +41,7 @@ namespace {
 using emscripten::val;
 
 constexpr double kEngineRateHz = 16000.0;
-constexpr double kDegreesPerAngleUnit = 1e-5 * 180.0 / 3.14159265358979323846;  // FAPs 23-26, 48-50
+using th::face::kDegreesPerAngleUnit;  // FAPs 23-26 (the eyes)
 
 // A C++ exception reaches JavaScript as a bare pointer; errors are thrown to it as Error objects instead, with the
 // engine's one-line message.
@@ -97,8 +97,7 @@ val frameLayout() {
 // A frame as the record: the avatar frame the live outputs send (outputs/avatar_frame.h), the head's rotation as
 // the quaternion of R = Ry(yaw) Rx(pitch) Rz(roll) in glTF's axes (y up, z forward, x the character's left: the
 // head's own, BEAT2's), and the eyes from FAPs 19-20 (ARKit's eyeBlink) and 23-26.
-void fillRecord(const th::pipeline::AnimationFrame& frame, Record& record) {
-  const th::outputs::AvatarFrame avatar = th::outputs::avatarFrameOf(frame);
+void fillRecord(const th::pipeline::AnimationFrame& frame, const th::outputs::AvatarFrame& avatar, Record& record) {
   record[kTime] = frame.timeSeconds;
   record[kIndex] = frame.index;
   record[kMouthClass] = avatar.hasVisemes ? avatar.mouthClass : -1;
@@ -107,8 +106,7 @@ void fillRecord(const th::pipeline::AnimationFrame& frame, Record& record) {
   std::copy(avatar.arkit.begin(), avatar.arkit.end(), record.begin() + kArkit);
   std::copy(avatar.vrm.begin(), avatar.vrm.end(), record.begin() + kVrm);
   const auto& faps = frame.faps;
-  const double pitch = faps[48] * kDegreesPerAngleUnit, yaw = faps[49] * kDegreesPerAngleUnit,
-               roll = faps[50] * kDegreesPerAngleUnit;
+  const double pitch = avatar.headDegrees[0], yaw = avatar.headDegrees[1], roll = avatar.headDegrees[2];
   constexpr double kRadians = 3.14159265358979323846 / 180.0;
   const Eigen::Quaterniond q = Eigen::AngleAxisd(yaw * kRadians, Eigen::Vector3d::UnitY()) *
                                Eigen::AngleAxisd(pitch * kRadians, Eigen::Vector3d::UnitX()) *
@@ -218,8 +216,7 @@ class LipSyncStream {
   // The next frame into record(); false when none is decided yet.
   bool next() {
     if (!decoder_->next(frame_)) return false;
-    display_.present(frame_, frame_.timeSeconds);
-    fillRecord(frame_, record_);
+    fillRecord(frame_, display_.present(frame_, frame_.timeSeconds), record_);
     return true;
   }
 
@@ -268,7 +265,7 @@ class Animation {
       for (int c = 0; c < th::face::kNumMouthClasses; ++c)
         frame.visemeProbabilities[static_cast<std::size_t>(c)] = static_cast<float>(visemes.posteriors(c, index));
     }
-    fillRecord(frame, record_);
+    fillRecord(frame, th::outputs::avatarFrameOf(frame), record_);
   }
 
   // The animation in a format of native animate's (formats/animation_format.h: "csv", "arkit", "oculus", ...).
