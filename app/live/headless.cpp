@@ -52,7 +52,7 @@ face::FapTrack trackOf(const std::vector<pipeline::AnimationFrame>& frames, cons
 
 }  // namespace
 
-void runHeadless(const HeadlessArguments& arguments, const pipeline::LiveSettings& settings) {
+void runHeadless(const HeadlessArguments& arguments, const outputs::LiveSessionSettings& settings) {
   const bool fromDevice = arguments.input.empty();
   if (fromDevice && arguments.speed != 1.0)
     throw Error("live: --speed is for --input files; a device runs in real time");
@@ -91,8 +91,9 @@ void runHeadless(const HeadlessArguments& arguments, const pipeline::LiveSetting
   // The idle motion and the outputs as the window has them; the idle clock is the stream's own time, so a
   // recording played at any speed gives the same frames.
   outputs::LiveDisplay display(settings.idle, settings.live.blinks, settings.live.gaze);
-  display.setOutputs(outputs::openOutputs(settings.outputs, live.fapNumbers(),
-                                          [issuedToken](const std::string& token) { issuedToken->set(token); }));
+  display.setOutputs(
+      settings.outputs.open({.faps = live.fapNumbers(),
+                             .tokenIssued = [issuedToken](const std::string& token) { issuedToken->set(token); }}));
   const std::string sourceName =
       fromDevice ? live.sourceName() + " (" + std::to_string(static_cast<int>(live.rateHz())) + " Hz)"
                  : live.sourceName();
@@ -164,8 +165,8 @@ void runHeadless(const HeadlessArguments& arguments, const pipeline::LiveSetting
               startMegabytes, afterAMinute, endMegabytes);
   for (const std::string& line : outputLines) std::printf("  output %s\n", line.c_str());
   if (const std::string token = issuedToken->get(); !token.empty() && !arguments.settingsPath.empty()) {
-    pipeline::LiveSettings kept = loadLiveSettings(arguments.settingsPath);
-    kept.outputs.vtsToken = token;
+    outputs::LiveSessionSettings kept = loadLiveSettings(arguments.settingsPath);
+    kept.outputs.get<outputs::VtsSettings>().token = token;
     saveLiveSettings(arguments.settingsPath, kept);
     std::printf("  VTube Studio's token kept in %s\n", arguments.settingsPath.string().c_str());
   }

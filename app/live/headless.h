@@ -13,7 +13,7 @@
 #include <filesystem>
 #include <string>
 
-#include "pipeline/options.h"
+#include "outputs/output_settings.h"
 
 namespace th::app {
 
@@ -27,6 +27,6 @@ struct HeadlessArguments {
   std::filesystem::path settingsPath;  // where VTube Studio's token is kept (empty: not kept)
 };
 
-void runHeadless(const HeadlessArguments& arguments, const pipeline::LiveSettings& settings);
+void runHeadless(const HeadlessArguments& arguments, const outputs::LiveSessionSettings& settings);
 
 }  // namespace th::app

@@ -28,7 +28,7 @@ struct LiveArguments {
   bool noSettings = false;
   HeadlessArguments run;  // --input, --speed, --duration, --repeat-to, --dump, --reconnect-seconds
   LiveWindowArguments window;
-  pipeline::LiveSettings given;  // the options as typed (which ones were: CLI11's count)
+  outputs::LiveSessionSettings given;  // the options as typed (which ones were: CLI11's count)
 };
 
 void listDevices() {
@@ -46,8 +46,8 @@ std::filesystem::path settingsPathOf(const LiveArguments& arguments) {
 }
 
 // The saved settings, then the preset typed, then every option typed.
-pipeline::LiveSettings resolveSettings(LiveArguments& arguments, const CLI::App& command,
-                                       pipeline::LiveSettings settings) {
+outputs::LiveSessionSettings resolveSettings(LiveArguments& arguments, const CLI::App& command,
+                                             outputs::LiveSessionSettings settings) {
   if (command.count("--preset") > 0) pipeline::applyLivePreset(settings, arguments.given.live.preset);
   copyTypedOptions(command, arguments.given, settings);
   try {
@@ -85,9 +85,10 @@ void runLive(LiveArguments& arguments, const CLI::App& command) {
           "in the program that receives them)");
     // Headless reads nothing else of the window's settings, only VTube Studio's token (and keeps a new one).
     arguments.run.settingsPath = settingsPathOf(arguments);
-    pipeline::LiveSettings base;
-    if (!arguments.run.settingsPath.empty() && !arguments.given.outputs.vts.empty())
-      base.outputs.vtsToken = loadLiveSettings(arguments.run.settingsPath).outputs.vtsToken;
+    outputs::LiveSessionSettings base;
+    if (!arguments.run.settingsPath.empty() && !arguments.given.outputs.get<outputs::VtsSettings>().address.empty())
+      base.outputs.get<outputs::VtsSettings>().token =
+          loadLiveSettings(arguments.run.settingsPath).outputs.get<outputs::VtsSettings>().token;
     runHeadless(arguments.run, resolveSettings(arguments, command, base));
     return;
   }

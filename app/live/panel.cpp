@@ -14,14 +14,14 @@ constexpr std::size_t kPlotFrames = 300;  // 10 s of frames in the plots
 constexpr double kWaveformSeconds = 2.0;
 const ImVec4 kErrorColour(1.0f, 0.45f, 0.35f, 1.0f);
 
-bool differ(pipeline::LiveSettings& a, pipeline::LiveSettings& b, auto member) {
+bool differ(outputs::LiveSessionSettings& a, outputs::LiveSessionSettings& b, auto member) {
   return optionsToJson(a.*member) != optionsToJson(b.*member);
 }
 
 }  // namespace
 
-PanelChanges settingsWidgets(pipeline::LiveSettings& settings, std::vector<WidgetRecord>* record) {
-  pipeline::LiveSettings before = settings;
+PanelChanges settingsWidgets(outputs::LiveSessionSettings& settings, std::vector<WidgetRecord>* record) {
+  outputs::LiveSessionSettings before = settings;
   optionWidgets(settings.live, record);
   optionWidgets(settings.models, record);
   optionWidgets(settings.streaming, record);
@@ -43,11 +43,11 @@ PanelChanges settingsWidgets(pipeline::LiveSettings& settings, std::vector<Widge
     settings.live.minF0 = before.live.minF0;
     settings.live.maxF0 = before.live.maxF0;
   }
-  if (differ(settings, before, &pipeline::LiveSettings::models)) changes.reloadModels = true;
-  if (differ(settings, before, &pipeline::LiveSettings::streaming) ||
-      differ(settings, before, &pipeline::LiveSettings::head) || settings.live.iterations != before.live.iterations ||
-      settings.live.waitForHead != before.live.waitForHead || settings.live.minF0 != before.live.minF0 ||
-      settings.live.maxF0 != before.live.maxF0)
+  if (differ(settings, before, &outputs::LiveSessionSettings::models)) changes.reloadModels = true;
+  if (differ(settings, before, &outputs::LiveSessionSettings::streaming) ||
+      differ(settings, before, &outputs::LiveSessionSettings::head) ||
+      settings.live.iterations != before.live.iterations || settings.live.waitForHead != before.live.waitForHead ||
+      settings.live.minF0 != before.live.minF0 || settings.live.maxF0 != before.live.maxF0)
     changes.redecode = true;
   if (settings.live.interpolate != before.live.interpolate) changes.newPlayout = true;
   if (settings.idle.blinksPerMinute != before.idle.blinksPerMinute) changes.idle = true;
@@ -207,22 +207,10 @@ void LivePanel::latencySection(const PanelView& view) {
 // Each output switched on and off, and how it is doing: where it sends, whether the receiver takes the frames.
 void LivePanel::outputsSection(const PanelView& view, PanelChanges& changes) {
   if (!ImGui::CollapsingHeader("Outputs", ImGuiTreeNodeFlags_DefaultOpen)) return;
-  pipeline::OutputSettings& outputs = view.settings.outputs;
-  struct Row {
-    const char* label;
-    const char* name;  // OutputStatus::name
-    std::string& address;
-    std::string_view fallback;
-  };
-  for (const Row& row : {Row{"VMC (VMagicMirror, EVMC4U, Warudo, VMC4B)", "VMC", outputs.vmc, pipeline::kVmcDefault},
-                         Row{"VMC assistant (VSeeFace, Virtual Motion Capture)", "VMC assistant", outputs.vmcAssistant,
-                             pipeline::kVmcAssistantDefault},
-                         Row{"VRChat (face-tracking avatars)", "VRChat", outputs.vrchat, pipeline::kVrchatDefault},
-                         Row{"OSC (TouchDesigner, Max, Pure Data)", "OSC", outputs.osc, pipeline::kOscDefault},
-                         Row{"VTube Studio", "VTube Studio", outputs.vts, pipeline::kVtsDefault}}) {
-    bool on = !row.address.empty();
-    if (ImGui::Checkbox(row.label, &on)) {
-      row.address = on ? std::string(row.fallback) : std::string();
+  for (const outputs::OutputRow& row : view.settings.outputs.rows()) {
+    bool on = !row.address->empty();
+    if (ImGui::Checkbox(std::string(row.title).c_str(), &on)) {
+      *row.address = on ? std::string(row.defaultAddress) : std::string();
       changes.outputs = true;
     }
     for (const outputs::OutputStatus& status : view.outputs) {
@@ -234,7 +222,7 @@ void LivePanel::outputsSection(const PanelView& view, PanelChanges& changes) {
       if (!status.connected) ImGui::PopStyleColor();
       // Refused by its user (VTube Studio's Deny): asked again only when they say so; opening the outputs again
       // asks anew.
-      if (status.refused && ImGui::Button((std::string("Ask again##") + row.name).c_str())) changes.outputs = true;
+      if (status.refused && ImGui::Button(("Ask again##" + std::string(row.name)).c_str())) changes.outputs = true;
     }
   }
 }

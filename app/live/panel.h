@@ -21,9 +21,9 @@
 #include "live/frame_stats.h"
 #include "live/option_widgets.h"
 #include "outputs/live_output.h"
+#include "outputs/output_settings.h"
 #include "pipeline/animation_frame.h"
 #include "pipeline/live.h"
-#include "pipeline/options.h"
 
 namespace th::app {
 
@@ -40,11 +40,11 @@ struct PanelChanges {
 
 // The settings' widgets, and what their changes ask for (a preset's values applied, a min-f0-hz at or above
 // max-f0-hz undone). `record`, if given, receives each widget drawn (tests compare them with the command line's).
-PanelChanges settingsWidgets(pipeline::LiveSettings& settings, std::vector<WidgetRecord>* record = nullptr);
+PanelChanges settingsWidgets(outputs::LiveSessionSettings& settings, std::vector<WidgetRecord>* record = nullptr);
 
 struct PanelView {
   pipeline::LivePipeline* live = nullptr;  // null: no pipeline yet
-  pipeline::LiveSettings& settings;
+  outputs::LiveSessionSettings& settings;
   const FrameStats& stats;
   std::uint64_t displayStarved = 0;                 // the playout's
   bool speaking = false;                            // the idle behaviour hears speech

@@ -21,8 +21,8 @@ std::filesystem::path defaultLiveSettingsPath() {
   return folder.empty() ? folder : folder / "live.json";
 }
 
-pipeline::LiveSettings loadLiveSettings(const std::filesystem::path& path) {
-  pipeline::LiveSettings settings;
+outputs::LiveSessionSettings loadLiveSettings(const std::filesystem::path& path) {
+  outputs::LiveSessionSettings settings;
   if (path.empty() || !std::filesystem::exists(path)) return settings;
   const Json document =
       readJsonFile(path, "settings file", {.maxDepth = 4, .depthNote = "settings are one flat object", .subject = ""});
@@ -35,7 +35,7 @@ pipeline::LiveSettings loadLiveSettings(const std::filesystem::path& path) {
   return settings;
 }
 
-void saveLiveSettings(const std::filesystem::path& path, pipeline::LiveSettings settings) {
+void saveLiveSettings(const std::filesystem::path& path, outputs::LiveSessionSettings settings) {
   if (path.empty()) return;
   std::filesystem::create_directories(path.parent_path());
   AtomicFile out(path);

@@ -1,7 +1,7 @@
 // The live window's settings file: every option `live` offers (pipeline/options.h's LiveSettings), saved when
 // the window closes and restored when it opens; the command line's options win over the saved ones.
 //
-//   th::pipeline::LiveSettings settings = th::app::loadLiveSettings(path);   // the defaults if there is no file
+//   th::outputs::LiveSessionSettings settings = th::app::loadLiveSettings(path);   // the defaults if there is no file
 //   th::app::saveLiveSettings(path, settings);
 //
 // The file is one JSON object, each option under its settings key (core/options.h: "head_amplitude").
@@ -10,7 +10,7 @@
 
 #include <filesystem>
 
-#include "pipeline/options.h"
+#include "outputs/output_settings.h"
 
 namespace th::app {
 
@@ -21,7 +21,8 @@ std::filesystem::path configFolder();
 std::filesystem::path defaultLiveSettingsPath();
 // A missing file (or an empty path) gives the defaults; a file that is not valid JSON or holds a bad value
 // throws th::Error naming it and the key. Unknown keys are ignored (a newer version's file).
-pipeline::LiveSettings loadLiveSettings(const std::filesystem::path& path);
-void saveLiveSettings(const std::filesystem::path& path, pipeline::LiveSettings settings);  // atomic; empty: nothing
+outputs::LiveSessionSettings loadLiveSettings(const std::filesystem::path& path);
+void saveLiveSettings(const std::filesystem::path& path,
+                      outputs::LiveSessionSettings settings);  // atomic; empty: nothing
 
 }  // namespace th::app

@@ -53,7 +53,7 @@ int samplesFor(render::WindowContext& window, int asked) {
   return window.description().find("llvmpipe") != std::string::npos ? 1 : 4;
 }
 
-std::shared_ptr<const pipeline::AnimationModels> loadModelsOf(const pipeline::LiveSettings& settings) {
+std::shared_ptr<const pipeline::AnimationModels> loadModelsOf(const outputs::LiveSessionSettings& settings) {
   return std::make_shared<const pipeline::AnimationModels>(pipeline::loadModels(settings));
 }
 
@@ -113,7 +113,7 @@ class KeptColumnCheck {
 
 class LiveWindow {
  public:
-  LiveWindow(const LiveWindowArguments& arguments, pipeline::LiveSettings settings)
+  LiveWindow(const LiveWindowArguments& arguments, outputs::LiveSessionSettings settings)
       : arguments_(arguments),
         settings_(std::move(settings)),
         character_(loadCharacter(arguments.avatar)),  // a bad file is an error before a window opens
@@ -156,7 +156,7 @@ class LiveWindow {
     openOutputs();  // a bad address is an error before the window is of any use
     live_->supervise();
     handleEvents();
-    const pipeline::LiveSettings& s = settings_;
+    const outputs::LiveSessionSettings& s = settings_;
     std::cout << "live: preset " << s.live.preset << ", head " << s.models.head << " (lag " << s.streaming.lag
               << "), mouth " << s.models.mouth << " (" << s.live.covariance << " covariance, window "
               << s.streaming.window << ", " << s.live.iterations << " iterations), " << s.mouthModelPath().string()
@@ -243,7 +243,8 @@ class LiveWindow {
     for (const outputs::OutputStatus& status : display_.statuses())
       std::printf("%s\n", outputs::describe(status, secondsOpen).c_str());
     display_.closeOutputs();  // VTube Studio's thread ends before its token is read
-    if (const std::string token = issuedToken_->get(); !token.empty()) settings_.outputs.vtsToken = token;
+    if (const std::string token = issuedToken_->get(); !token.empty())
+      settings_.outputs.get<outputs::VtsSettings>().token = token;
     saveLiveSettings(arguments_.settingsPath, settings_);
     stats_.printSummary(secondsOpen, panelDraws_);
     if (!live_->isRecording())
@@ -365,10 +366,11 @@ class LiveWindow {
   // The outputs the settings name, (re)opened; VTube Studio's token, once issued, is kept for the settings file.
   void openOutputs() {
     display_.closeOutputs();
-    if (const std::string token = issuedToken_->get(); !token.empty()) settings_.outputs.vtsToken = token;
-    display_.setOutputs(
-        outputs::openOutputs(settings_.outputs, live_->fapNumbers(),
-                             [token = issuedToken_](const std::string& issued) { token->set(issued); }));
+    if (const std::string token = issuedToken_->get(); !token.empty())
+      settings_.outputs.get<outputs::VtsSettings>().token = token;
+    display_.setOutputs(settings_.outputs.open(
+        {.faps = live_->fapNumbers(),
+         .tokenIssued = [token = issuedToken_](const std::string& issued) { token->set(issued); }}));
   }
 
   std::vector<outputs::OutputStatus> outputStatuses() const { return display_.statuses(); }
@@ -474,7 +476,7 @@ class LiveWindow {
   };
 
   LiveWindowArguments arguments_;
-  pipeline::LiveSettings settings_;
+  outputs::LiveSessionSettings settings_;
   std::optional<avatar::Avatar> character_;  // --avatar: the user's character, drawn instead of our face
   render::WindowContext window_;
   std::unique_ptr<render::Head> head_;  // our face, or the character
@@ -507,7 +509,7 @@ class LiveWindow {
 
 }  // namespace
 
-void runLiveWindow(const LiveWindowArguments& arguments, pipeline::LiveSettings settings) {
+void runLiveWindow(const LiveWindowArguments& arguments, outputs::LiveSessionSettings settings) {
   LiveWindow window(arguments, std::move(settings));
   window.run();
 }

@@ -13,7 +13,7 @@
 #include <filesystem>
 #include <string>
 
-#include "pipeline/options.h"
+#include "outputs/output_settings.h"
 
 namespace th::app {
 
@@ -30,6 +30,6 @@ struct LiveWindowArguments {
   double maxFps = 60.0;
 };
 
-void runLiveWindow(const LiveWindowArguments& arguments, pipeline::LiveSettings settings);
+void runLiveWindow(const LiveWindowArguments& arguments, outputs::LiveSessionSettings settings);
 
 }  // namespace th::app

@@ -6,7 +6,7 @@
 // the outputs (VMC, OSC, VTube Studio) as that avatar frame.
 //
 //   th::outputs::LiveDisplay display(settings.idle, settings.live.blinks, settings.live.gaze);
-//   display.setOutputs(th::outputs::openOutputs(settings.outputs, faps, tokenSaver));
+//   display.setOutputs(settings.outputs.open({.faps = faps, .tokenIssued = tokenSaver}));   // output_settings.h
 //   const th::outputs::AvatarFrame& shown = display.present(frame, clockSeconds);   // the window's wall clock, else
 //                                                                                  // the stream's time
 //

@@ -2,11 +2,27 @@
 // the face shows and sends it without blocking the caller (a lost receiver never stalls the face); what it could
 // not send is counted.
 //
-//   auto outputs = th::outputs::openOutputs(settings.outputs, decoderFaps, tokenSaver);
+//   auto outputs = settings.outputs.open({.faps = decoderFaps, .tokenIssued = tokenSaver});   // output_settings.h
 //   for (auto& output : outputs) output->send(avatar);          // each frame the face shows
 //   output->status();                                           // for the panel and the run's summary
 //
-// The outputs: VMC (vmc_output.h), plain OSC (osc_output.h), VTube Studio (vts_output.h).
+// A new output is one file and a line. The file holds its LiveOutput and its Settings: a struct with its options
+// and their defaults, declared once, under its prefix (as Kaldi's Register takes a prefix: VmcSettings' "names"
+// is `--vmc-names`, its address, the option named "", is `--vmc`), which makes the rows of the window's Outputs
+// panel and opens the output:
+//
+//   struct MySettings {
+//     static constexpr std::string_view kPrefix = "my";
+//     std::string address;                     // empty: off
+//     void visitOptions(OptionVisitor& v);     // v.option(address, {.name = "", .implicitValue = ...}) ...
+//     void addRows(std::vector<OutputRow>& rows);
+//     void open(const OutputContext& context, std::vector<std::unique_ptr<LiveOutput>>& outputs) const;
+//   };
+//
+// The line adds MySettings to OutputKinds (output_settings.h): live's flags, its settings file and the panel
+// then have it (tests/outputs/output_settings_test.cpp keeps this true).
+// The outputs: VMC (vmc_output.h), VRChat (vrchat_output.h), plain OSC (osc_output.h), VTube Studio
+// (vts_output.h).
 // Thread contract: send() and status() from one thread (the display's); an output may run a thread of its own.
 #pragma once
 
@@ -17,8 +33,8 @@
 #include <string>
 #include <vector>
 
+#include "core/options.h"
 #include "outputs/avatar_frame.h"
-#include "pipeline/options.h"
 
 namespace th::outputs {
 
@@ -59,11 +75,23 @@ class IssuedToken {
 // "VMC 127.0.0.1:39539: 900 frames sent, 30.0 a second, 0 dropped; sending" for the run's summary.
 std::string describe(const OutputStatus& status, double seconds);
 
-// The outputs the options name, opened (throws th::Error for an address that cannot be); faps: the FAPs the
-// decoder sets (plain OSC sends them). tokenIssued is called (on the VTube Studio output's thread) with a token
-// VTube Studio issues, for the settings to keep.
-std::vector<std::unique_ptr<LiveOutput>> openOutputs(const pipeline::OutputSettings& options,
-                                                     const std::vector<int>& faps,
-                                                     std::function<void(const std::string&)> tokenIssued = {});
+// What every output is opened with besides its own settings.
+struct OutputContext {
+  std::vector<int> faps;    // the FAPs the decoder sets (plain OSC sends them)
+  bool mirrorHead = false;  // the avatar turns as the speaker's mirror image (VMC, VTube Studio)
+  // Called (on the VTube Studio output's thread) with a token VTube Studio issues, for the settings to keep.
+  std::function<void(const std::string&)> tokenIssued;
+};
+
+// A row of the window's Outputs panel: a checkbox that sets an output's address (off: empty).
+struct OutputRow {
+  std::string_view title;           // "VMC (VMagicMirror, EVMC4U, Warudo, VMC4B)"
+  std::string_view name;            // its OutputStatus::name, "VMC"
+  std::string* address;             // the settings' field
+  std::string_view defaultAddress;  // switched on: this
+};
+
+// The port of a default address ("127.0.0.1:39539" → 39539): the one an address naming only a host gets.
+int defaultPortOf(std::string_view defaultAddress);
 
 }  // namespace th::outputs

@@ -33,3 +33,25 @@ OutputStatus OscOutput::status() const {
 }
 
 }  // namespace th::outputs
+
+namespace th::outputs {
+
+void OscSettings::visitOptions(OptionVisitor& v) {
+  v.option(address,
+           {.name = "",
+            .help = "Send FAPs, visemes and the head as plain OSC (TouchDesigner, Max, Pure Data): [HOST:]PORT",
+            .panel = false,
+            .implicitValue = kDefaultAddress});
+}
+
+void OscSettings::addRows(std::vector<OutputRow>& rows) {
+  rows.push_back({"OSC (TouchDesigner, Max, Pure Data)", "OSC", &address, kDefaultAddress});
+}
+
+void OscSettings::open(const OutputContext& context, std::vector<std::unique_ptr<LiveOutput>>& outputs) const {
+  if (address.empty()) return;
+  outputs.push_back(
+      std::make_unique<OscOutput>(parseUdpEndpoint(address, defaultPortOf(kDefaultAddress), "--osc"), context.faps));
+}
+
+}  // namespace th::outputs

@@ -16,6 +16,17 @@
 
 namespace th::outputs {
 
+// `live --osc [HOST:]PORT` (live_output.h: an output's settings).
+struct OscSettings {
+  static constexpr std::string_view kPrefix = "osc";
+  static constexpr std::string_view kDefaultAddress = "127.0.0.1:9100";  // beside VRChat's 9000 and 9001
+  std::string address;                                                   // empty: off
+
+  void visitOptions(OptionVisitor& v);
+  void addRows(std::vector<OutputRow>& rows);
+  void open(const OutputContext& context, std::vector<std::unique_ptr<LiveOutput>>& outputs) const;
+};
+
 class OscOutput final : public LiveOutput {
  public:
   // faps: the FAP numbers to send (the decoder's).

@@ -101,3 +101,69 @@ OutputStatus VmcOutput::status() const {
 }
 
 }  // namespace th::outputs
+
+namespace th::outputs {
+
+void VmcSettings::visitOptions(OptionVisitor& v) {
+  v.option(address,
+           {.name = "",
+            .help = "Send the face and head to a VMC Marionette (VMagicMirror, EVMC4U, Warudo, VMC4B): [HOST:]PORT",
+            .panel = false,
+            .implicitValue = kDefaultAddress});
+  v.option(assistant,
+           {.name = "assistant",
+            .help = "Send the face's blendshapes to a VMC Performer's assistant input (VSeeFace, Virtual Motion "
+                    "Capture): [HOST:]PORT",
+            .panel = false,
+            .implicitValue = kDefaultAssistantAddress});
+  static constexpr std::array<std::string_view, 4> kNames{"vrm0", "vrm1", "perfect-sync", "perfect-sync-apple"};
+  v.option(names, {.name = "names",
+                   .help = "VMC blendshape names: VRM 0.x (A I U E O Blink_L Blink_R), VRM 1.0 (aa ih ou ee oh "
+                           "blinkLeft blinkRight), ARKit's 52 as perfect-sync avatars name them (JawOpen) or "
+                           "as Apple spells them (jawOpen)",
+                   .choices = kNames,
+                   .panel = false});
+  v.option(neckLength, {.name = "neck-length-m",
+                        .help = "VMC: the neck's joint above the upper chest's (the Neck bone's local position)",
+                        .unit = "m",
+                        .min = 0.0,
+                        .max = 1.0,
+                        .panel = false,
+                        .formerName = "neck-length"});
+  v.option(headLength, {.name = "head-length-m",
+                        .help = "VMC: the head's joint above the neck's (the Head bone's local position)",
+                        .unit = "m",
+                        .min = 0.0,
+                        .max = 1.0,
+                        .panel = false,
+                        .formerName = "head-length"});
+  v.option(neckShare, {.name = "neck-share",
+                       .help = "VMC: the share of the head's rotation turned at the neck (the rest at the head)",
+                       .min = 0.0,
+                       .max = 1.0,
+                       .panel = false});
+}
+
+void VmcSettings::addRows(std::vector<OutputRow>& rows) {
+  rows.push_back({"VMC (VMagicMirror, EVMC4U, Warudo, VMC4B)", "VMC", &address, kDefaultAddress});
+  rows.push_back(
+      {"VMC assistant (VSeeFace, Virtual Motion Capture)", "VMC assistant", &assistant, kDefaultAssistantAddress});
+}
+
+void VmcSettings::open(const OutputContext& context, std::vector<std::unique_ptr<LiveOutput>>& outputs) const {
+  VmcOptions options{.names = parseVmcNames(names, "--vmc-names"),
+                     .neckLength = static_cast<float>(neckLength),
+                     .headLength = static_cast<float>(headLength),
+                     .neckShare = static_cast<float>(neckShare),
+                     .mirrorHead = context.mirrorHead};
+  if (!address.empty())
+    outputs.push_back(
+        std::make_unique<VmcOutput>(parseUdpEndpoint(address, defaultPortOf(kDefaultAddress), "--vmc"), options));
+  if (!assistant.empty()) {
+    options.role = VmcRole::kAssistant;
+    outputs.push_back(std::make_unique<VmcOutput>(
+        parseUdpEndpoint(assistant, defaultPortOf(kDefaultAssistantAddress), "--vmc-assistant"), options));
+  }
+}
+
+}  // namespace th::outputs

@@ -40,14 +40,32 @@ enum class VmcNames { kVrm0, kVrm1, kPerfectSync, kPerfectSyncApple };
 // "vrm0", "vrm1", "perfect-sync", "perfect-sync-apple"; throws th::Error naming `option` for other text.
 VmcNames parseVmcNames(std::string_view text, std::string_view option);
 
+// `live --vmc [HOST:]PORT` (to a Marionette), `--vmc-assistant` (to a Performer's assistant input) and the
+// options both share (live_output.h: an output's settings).
+struct VmcSettings {
+  static constexpr std::string_view kPrefix = "vmc";
+  static constexpr std::string_view kDefaultAddress = "127.0.0.1:39539";
+  static constexpr std::string_view kDefaultAssistantAddress = "127.0.0.1:39540";
+  std::string address;         // the VMC protocol as a Performer, to a Marionette: [HOST:]PORT (empty: off)
+  std::string assistant;       // as an Assistant, to a Performer (VSeeFace, Virtual Motion Capture) (empty: off)
+  std::string names = "vrm0";  // the blendshapes' names: parseVmcNames
+  // The neck's joint above its parent's (the upper chest) and the head's above the neck's, metres: a standard
+  // humanoid's (the two avatars of the test data: 0.124 / 0.143 and 0.091 / 0.082).
+  double neckLength = 0.13;
+  double headLength = 0.085;
+  double neckShare = 0.4;  // of the head's rotation turned at the neck, the rest at the head
+
+  void visitOptions(OptionVisitor& v);
+  void addRows(std::vector<OutputRow>& rows);
+  void open(const OutputContext& context, std::vector<std::unique_ptr<LiveOutput>>& outputs) const;
+};
+
 struct VmcOptions {
   VmcRole role = VmcRole::kPerformer;
   VmcNames names = VmcNames::kVrm0;
-  // The neck's joint above its parent's (the upper chest) and the head's above the neck's, metres: a standard
-  // humanoid's (the two avatars of the test data: 0.124 / 0.143 and 0.091 / 0.082).
-  float neckLength = 0.13f;
-  float headLength = 0.085f;
-  float neckShare = 0.4f;  // of the head's rotation turned at the neck, the rest at the head
+  float neckLength = static_cast<float>(VmcSettings{}.neckLength);  // VmcSettings says what each is
+  float headLength = static_cast<float>(VmcSettings{}.headLength);
+  float neckShare = static_cast<float>(VmcSettings{}.neckShare);
   // false: the avatar turns as the speaker does (to its own left when they turn to theirs); true: as their
   // mirror image (the yaw and the roll the other way).
   bool mirrorHead = false;

@@ -89,3 +89,36 @@ OutputStatus VrchatOutput::status() const {
 }
 
 }  // namespace th::outputs
+
+namespace th::outputs {
+
+void VrchatSettings::visitOptions(OptionVisitor& v) {
+  v.option(address, {.name = "",
+                     .help = "Drive a VRChat avatar's face-tracking parameters (VRCFaceTracking's Unified "
+                             "Expressions: JawOpen, MouthClosed, LipFunnel, EyeLid...) over OSC: [HOST:]PORT",
+                     .panel = false,
+                     .implicitValue = kDefaultAddress});
+  v.option(prefix, {.name = "prefix",
+                    .help = "VRChat: the prefix of the avatar's face-tracking parameters (\"v2/\" for "
+                            "avatars without VRCFaceTracking templates' \"FT/\")",
+                    .panel = false});
+  v.option(bits, {.name = "bits",
+                  .help = "VRChat: binary parameters per value as the avatar syncs them (NAME1, NAME2, NAME4, "
+                          "... and NAMENegative; 0: floats only)",
+                  .min = 0,
+                  .max = 8,
+                  .panel = false});
+}
+
+void VrchatSettings::addRows(std::vector<OutputRow>& rows) {
+  rows.push_back({"VRChat (face-tracking avatars)", "VRChat", &address, kDefaultAddress});
+}
+
+void VrchatSettings::open(const OutputContext& /*context*/, std::vector<std::unique_ptr<LiveOutput>>& outputs) const {
+  if (address.empty()) return;
+  outputs.push_back(
+      std::make_unique<VrchatOutput>(parseUdpEndpoint(address, defaultPortOf(kDefaultAddress), "--vrchat"),
+                                     VrchatOptions{.prefix = prefix, .bits = bits}));
+}
+
+}  // namespace th::outputs

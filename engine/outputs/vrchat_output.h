@@ -31,6 +31,19 @@ struct VrchatOptions {
   int maxDatagramBytes = 1400;
 };
 
+// `live --vrchat [HOST:]PORT` and its options (live_output.h: an output's settings).
+struct VrchatSettings {
+  static constexpr std::string_view kPrefix = "vrchat";
+  static constexpr std::string_view kDefaultAddress = "127.0.0.1:9000";  // VRChat's own input port
+  std::string address;                                                   // empty: off
+  std::string prefix = VrchatOptions{}.prefix;  // before each face parameter's name, as the avatar has them
+  int bits = VrchatOptions{}.bits;              // binary parameters per value (0: floats only)
+
+  void visitOptions(OptionVisitor& v);
+  void addRows(std::vector<OutputRow>& rows);
+  void open(const OutputContext& context, std::vector<std::unique_ptr<LiveOutput>>& outputs) const;
+};
+
 // The face's Unified Expressions values for a frame (names without the prefix), in a fixed order.
 std::vector<std::pair<std::string, float>> vrchatParameters(const AvatarFrame& frame);
 

@@ -359,3 +359,27 @@ std::uint64_t VtsOutput::connections() const {
 }
 
 }  // namespace th::outputs
+
+namespace th::outputs {
+
+void VtsSettings::visitOptions(OptionVisitor& v) {
+  v.option(address, {.name = "",
+                     .help = "Drive a VTube Studio model through its plugin API: ws://HOST:PORT",
+                     .panel = false,
+                     .implicitValue = kDefaultAddress});
+  v.option(token, {.name = "token",
+                   .help = "VTube Studio's plugin token (kept in the settings once issued; empty: ask for one)",
+                   .panel = false});
+}
+
+void VtsSettings::addRows(std::vector<OutputRow>& rows) {
+  rows.push_back({"VTube Studio", "VTube Studio", &address, kDefaultAddress});
+}
+
+void VtsSettings::open(const OutputContext& context, std::vector<std::unique_ptr<LiveOutput>>& outputs) const {
+  if (address.empty()) return;
+  outputs.push_back(std::make_unique<VtsOutput>(parseVtsUrl(address), token, context.tokenIssued,
+                                                VtsOptions{.mirrorHead = context.mirrorHead}));
+}
+
+}  // namespace th::outputs

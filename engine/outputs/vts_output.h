@@ -40,6 +40,18 @@ struct VtsOptions {
   bool mirrorHead = false;  // the avatar turns as the speaker's mirror image (as VMC's --mirror-head)
 };
 
+// `live --vts ws://HOST:PORT` and the token VTube Studio issued (live_output.h: an output's settings).
+struct VtsSettings {
+  static constexpr std::string_view kPrefix = "vts";
+  static constexpr std::string_view kDefaultAddress = "ws://localhost:8001";
+  std::string address;  // the plugin API's URL (empty: off)
+  std::string token;    // VTube Studio's authentication token, kept from the run that was issued it
+
+  void visitOptions(OptionVisitor& v);
+  void addRows(std::vector<OutputRow>& rows);
+  void open(const OutputContext& context, std::vector<std::unique_ptr<LiveOutput>>& outputs) const;
+};
+
 class VtsOutput final : public LiveOutput {
  public:
   VtsOutput(VtsEndpoint endpoint, std::string token, std::function<void(const std::string&)> tokenIssued,

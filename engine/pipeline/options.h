@@ -85,29 +85,6 @@ struct StreamingOptions {
   void visitOptions(OptionVisitor& v);
 };
 
-// Where live sends the face besides its window (outputs/live_output.h): each empty when off.
-struct OutputSettings {
-  std::string vmc;                // the VMC protocol as a Performer, to a Marionette: [HOST:]PORT
-  std::string vmcAssistant;       // as an Assistant, to a Performer (VSeeFace, Virtual Motion Capture): [HOST:]PORT
-  std::string vmcNames = "vrm0";  // the blendshapes' names (outputs/vmc_output.h)
-  double vmcNeckLength = 0.13;    // metres, the neck's joint above the upper chest's
-  double vmcHeadLength = 0.085;   // the head's above the neck's
-  double vmcNeckShare = 0.4;      // of the head's rotation turned at the neck
-  bool mirrorHead = false;        // VMC and VTube Studio: the avatar as the speaker's mirror image
-  std::string vrchat;             // VRChat's OSC input, face-tracking avatar parameters: [HOST:]PORT
-  std::string vrchatPrefix = "FT/v2/";  // before each parameter's name, as the avatar has them
-  int vrchatBits = 0;                   // binary parameters per value (0: floats only)
-  std::string osc;                      // plain OSC: [HOST:]PORT
-  std::string vts;                      // VTube Studio's plugin API: ws://HOST:PORT
-  std::string vtsToken;                 // VTube Studio's authentication token, kept from the run that was issued it
-  void visitOptions(OptionVisitor& v);
-};
-inline constexpr std::string_view kVmcDefault = "127.0.0.1:39539";
-inline constexpr std::string_view kVmcAssistantDefault = "127.0.0.1:39540";
-inline constexpr std::string_view kVrchatDefault = "127.0.0.1:9000";  // VRChat's own input port
-inline constexpr std::string_view kOscDefault = "127.0.0.1:9100";     // beside VRChat's 9000 and 9001, not on them
-inline constexpr std::string_view kVtsDefault = "ws://localhost:8001";
-
 // Live's own.
 struct LiveOptions {
   std::string preset = "default";                             // live_presets.h
@@ -126,14 +103,14 @@ struct LiveOptions {
   std::optional<int> deviceIndex() const;
 };
 
-// Everything `live` offers, as its settings file holds it (one flat object, each option under its key).
+// Everything the live decoder and its display take, as `live`'s settings file holds it (one flat object, each
+// option under its key; outputs/output_settings.h adds the outputs' to make the whole file).
 struct LiveSettings {
   ModelOptions models;
   HeadMotionOptions head;
   IdleOptions idle;
   StreamingOptions streaming;
   LiveOptions live;
-  OutputSettings outputs;
   void visitOptions(OptionVisitor& v);
   // Each option in its range, and min-f0-hz below max-f0-hz; throws th::Error naming the option.
   void check();

@@ -1,7 +1,8 @@
 // Every option `live` offers has twins: a command-line option, a key in the window's settings file, and (unless
 // it is a file path or the seed) a widget in the panel. They are made from one declaration each
-// (pipeline/options.h), and this checks that they agree: the same name, the same range or choices, the same
-// default; and that the presets set only options that exist, to values in range.
+// (pipeline/options.h, and each output's own: outputs/output_settings.h), and this checks that they agree: the same
+// name, the same range or choices, the same default; and that the presets set only options that exist, to values in
+// range.
 #include <gtest/gtest.h>
 #include <imgui.h>
 
@@ -18,13 +19,14 @@
 #include "core/options.h"
 #include "live/panel.h"
 #include "live/settings_file.h"
+#include "outputs/output_settings.h"
 #include "pipeline/live_presets.h"
 #include "pipeline/options.h"
 
 namespace {
 
 using th::OptionSpec;
-using th::pipeline::LiveSettings;
+using LiveSettings = th::outputs::LiveSessionSettings;  // everything `live` offers
 
 struct Declared {
   OptionSpec spec;
@@ -234,7 +236,7 @@ TEST(OptionTwins, AFormerNameSetsTheSameOptionAndFilesAreWrittenUnderTheNewOne) 
   currentApp.parse(std::vector<std::string>{"0.2", "--vmc-neck-length-m", "90", "--min-f0-hz", "3", "--window-frames"});
   EXPECT_EQ(former.streaming.window, 3);
   EXPECT_EQ(former.live.minF0, 90.0);
-  EXPECT_EQ(former.outputs.vmcNeckLength, 0.2);
+  EXPECT_EQ(former.outputs.get<th::outputs::VmcSettings>().neckLength, 0.2);
   EXPECT_EQ(th::optionsToJson(former), th::optionsToJson(current));
 
   LiveSettings set;
