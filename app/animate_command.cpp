@@ -79,11 +79,8 @@ void checkGltfArguments(const AnimateArguments& arguments) {
 
 void writeCharacterAnimation(const AnimateArguments& arguments, const avatar::Avatar& character,
                              const face::FapTrack& track) {
-  const formats::GltfAnimationTracks tracks = avatar::avatarAnimation(track, character, avatar::rigAvatar(character));
-  if (arguments.animationOnly)
-    formats::writeAnimationOnly(arguments.avatar, tracks, arguments.output);
-  else
-    formats::writeAvatarAnimation(arguments.avatar, tracks, arguments.output);
+  const formats::GltfAnimationTracks tracks =
+      avatar::writeSpeechOnAvatar(arguments.avatar, character, track, arguments.output, arguments.animationOnly);
   const int frames = avatar::avatarAnimationFrames(track);
   std::cout << "wrote " << arguments.output << " (glTF, "
             << (arguments.animationOnly ? "the animation alone" : "the character") << "): " << frames << " frames at "

@@ -436,13 +436,8 @@ th_status th_animation_write_avatar(const th_animation* animation, const char* a
     return fail(TH_ERROR_ARGUMENT, "th_animation_write_avatar: a NULL argument");
   return guarded(TH_ERROR_FILE, [&] {
     th::avatar::checkAvatarAnimationOutput(avatar, path, animation_only != 0);
-    const th::avatar::Avatar character = th::avatar::loadAvatar(avatar);
-    const th::formats::GltfAnimationTracks tracks =
-        th::avatar::avatarAnimation(animation->track, character, th::avatar::rigAvatar(character));
-    if (animation_only != 0)
-      th::formats::writeAnimationOnly(avatar, tracks, path);
-    else
-      th::formats::writeAvatarAnimation(avatar, tracks, path);
+    th::avatar::writeSpeechOnAvatar(avatar, th::avatar::loadAvatar(avatar), animation->track, path,
+                                    animation_only != 0);
   });
 }
 
@@ -495,17 +490,24 @@ th_status th_export(const char* recording, const char* mp4, const th_export_opti
   });
 }
 
-th_status th_export_file(const char* recording, const char* mp4, int width, int height) {
-  return th_export_file_avatar(recording, mp4, width, height, nullptr);
-}
-
-th_status th_export_file_avatar(const char* recording, const char* mp4, int width, int height, const char* avatar) {
+// Kept for programs built against 0.2 (deprecated in the header): th_export with the options they name.
+namespace {
+th_status exportSized(const char* recording, const char* mp4, int width, int height, const char* avatar) {
   th_export_options options;
   th_export_options_init(&options);
   options.width = width;
   options.height = height;
   options.avatar = avatar;
   return th_export(recording, mp4, &options);
+}
+}  // namespace
+
+th_status th_export_file(const char* recording, const char* mp4, int width, int height) {
+  return exportSized(recording, mp4, width, height, nullptr);
+}
+
+th_status th_export_file_avatar(const char* recording, const char* mp4, int width, int height, const char* avatar) {
+  return exportSized(recording, mp4, width, height, avatar);
 }
 
 const char* th_arkit_name(int index) {

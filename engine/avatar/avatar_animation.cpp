@@ -109,4 +109,15 @@ formats::GltfAnimationTracks avatarAnimation(const face::FapTrack& speech, const
   return tracks;
 }
 
+formats::GltfAnimationTracks writeSpeechOnAvatar(const std::filesystem::path& avatarFile, const Avatar& avatar,
+                                                 const face::FapTrack& speech, const std::filesystem::path& out,
+                                                 bool animationOnly) {
+  formats::GltfAnimationTracks tracks = avatarAnimation(speech, avatar, rigAvatar(avatar));
+  if (animationOnly)
+    formats::writeAnimationOnly(avatarFile, tracks, out);
+  else
+    formats::writeAvatarAnimation(avatarFile, tracks, out);
+  return tracks;
+}
+
 }  // namespace th::avatar

@@ -41,6 +41,13 @@ formats::GltfAnimationTracks avatarAnimation(const face::FapTrack& speech, const
 void checkAvatarAnimationOutput(const std::filesystem::path& avatar, const std::filesystem::path& out,
                                 bool animationOnly);
 
+// The speech on the character, written as `animate --avatar` and the library's th_animation_write_avatar write
+// it: the character's file (`avatarFile`, which `avatar` was read from) with the speech as one more glTF animation,
+// or the animation alone (`animationOnly`), at `out`, atomically. Returns the tracks written.
+formats::GltfAnimationTracks writeSpeechOnAvatar(const std::filesystem::path& avatarFile, const Avatar& avatar,
+                                                 const face::FapTrack& speech, const std::filesystem::path& out,
+                                                 bool animationOnly);
+
 // How many frames avatarAnimation makes of `speech` (at least one).
 int avatarAnimationFrames(const face::FapTrack& speech, const AvatarAnimationOptions& options = {});
 

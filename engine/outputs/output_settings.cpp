@@ -10,7 +10,7 @@ namespace {
 
 // A name kept for the life of the program: a visitor may keep the specs it is given (the help, docs, tests), and
 // a prefixed name has no other home.
-std::string_view kept(std::string name) {
+std::string_view keptName(std::string name) {
   static std::mutex mutex;
   static std::set<std::string> names;  // a node's string does not move
   const std::lock_guard lock(mutex);
@@ -29,7 +29,7 @@ class PrefixedVisitor final : public OptionVisitor {
 
  private:
   std::string_view prefixed(std::string_view name) const {
-    return kept(name.empty() ? std::string(prefix_) : std::string(prefix_) + "-" + std::string(name));
+    return keptName(name.empty() ? std::string(prefix_) : std::string(prefix_) + "-" + std::string(name));
   }
   template <typename T>
   void forward(T& value, const OptionSpec& spec) {

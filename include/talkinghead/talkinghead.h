@@ -60,8 +60,10 @@ extern "C" {
 
 #if defined(__GNUC__)
 #define TH_API __attribute__((visibility("default")))
+#define TH_DEPRECATED(replacement) __attribute__((deprecated("use " replacement)))
 #else
 #define TH_API
+#define TH_DEPRECATED(replacement)
 #endif
 
 typedef enum th_status {
@@ -190,7 +192,10 @@ typedef struct th_export_options {
   int height;               /* even, 16..4320 (default 720) */
   double frames_per_second; /* 1..120 (default 30) */
   int crf;                  /* H.264 quality, 0..51, lower is better and larger (default 20) */
-  const char* avatar;       /* a character instead of our face, as th_export_file_avatar takes it (NULL: ours) */
+  const char* avatar;       /* a character instead of our face: a .glb, .gltf or .vrm file whose ARKit, Oculus viseme
+                               or VRM morph targets and neck, head and eye bones the speech moves, as `talkinghead
+                               export --avatar` takes it (NULL: ours); one that cannot be read, or has nothing the
+                               speech can move, fails with TH_ERROR_FILE naming it, and no video is written */
   const th_models* models;  /* the models to animate with (NULL: the installed ones, read for this export) */
   th_progress_fn progress;  /* called before each frame is rendered, with the share encoded, and once (at 1)
                                when the file is written, which no longer cancels (NULL: not) */
@@ -200,14 +205,12 @@ typedef struct th_export_options {
 #define th_export_options_init(options) th_export_options_init_sized((options), sizeof(th_export_options))
 TH_API th_status th_export_options_init_sized(th_export_options* options, size_t struct_size);
 TH_API th_status th_export(const char* recording, const char* mp4, const th_export_options* options);
-/* th_export with the default options but the size. */
-TH_API th_status th_export_file(const char* recording, const char* mp4, int width, int height);
-/* The same with the user's character instead of our face: a .glb, .gltf or .vrm file whose ARKit, Oculus viseme
- * or VRM morph targets and neck, head and eye bones the speech moves (avatar NULL: our face), as `talkinghead
- * export --avatar` does. A character that cannot be read, or has nothing the speech can move, fails with
- * TH_ERROR_FILE naming it, and no video is written. */
-TH_API th_status th_export_file_avatar(const char* recording, const char* mp4, int width, int height,
-                                       const char* avatar);
+/* Deprecated (kept, and working, for programs built against 0.2): th_export with the default options but
+ * the size (th_export_options' width and height), and the character (its avatar). */
+TH_API TH_DEPRECATED("th_export with th_export_options' width and height") th_status
+    th_export_file(const char* recording, const char* mp4, int width, int height);
+TH_API TH_DEPRECATED("th_export with th_export_options' width, height and avatar") th_status
+    th_export_file_avatar(const char* recording, const char* mp4, int width, int height, const char* avatar);
 
 TH_API const char* th_arkit_name(int index);
 TH_API const char* th_viseme_name(int index);
