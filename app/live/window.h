@@ -3,7 +3,7 @@
 //
 //   th::app::runLiveWindow({.input = "speech.wav", .settingsPath = path}, settings);
 //
-// Threads (DESIGN.md, "Live"): PortAudio's callback writes into the session's ring; the session's worker
+// Threads (docs/live.md, "Threads"): PortAudio's callback writes into the session's ring; the session's worker
 // decodes; this thread (the main one: GLFW wants it) takes the frames, plays them out, renders and runs the
 // panel, in the Dear ImGui example's order: poll → take frames → draw the face → draw the panel → swap.
 //

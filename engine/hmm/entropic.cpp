@@ -1,4 +1,5 @@
-// Entropic MAP for a multinomial, solved in log space (../shared/DESIGN.md, "Entropic MAP", "Numerics that bite").
+// Entropic MAP for a multinomial, solved in log space (docs/hmm.md, "The entropic prior, and what Z means"; Brand
+// 1999).
 //
 // Write μ = λ/Z and, for each observed entry, rᵢ = ωᵢ/|Z| and uᵢ = log rᵢ + 1 + μ. Substituting θᵢ = rᵢ/yᵢ into
 // the stationarity of the Lagrangian, ωᵢ/θᵢ + Z(log θᵢ + 1) + λ = 0 (Brand 1999; entropic.h), gives
@@ -208,7 +209,7 @@ void requireFinitePriorWeight(double priorWeight, const char* function) {
 
 EntropicEstimate finish(Eigen::VectorXd probabilities, EntropicOutcome outcome, std::optional<double> multiplier,
                         const Eigen::Ref<const Eigen::VectorXd>& counts, double priorWeight) {
-  // One NaN in a transition row silently kills every state on the next pass (DESIGN.md): never hand one out.
+  // One NaN in a transition row silently kills every state on the next pass: never hand one out.
   if (!probabilities.allFinite() || (multiplier && !std::isfinite(*multiplier))) {
     throw std::logic_error("entropicMap: non-finite estimate (internal error)");
   }

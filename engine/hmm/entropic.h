@@ -13,9 +13,9 @@
 //   F(θ) = Σ ωᵢ log θᵢ + Z Σ θᵢ log θᵢ                                  (log posterior up to a constant)
 // and satisfies, for every i with ωᵢ > 0, the Lagrangian stationarity
 //   ωᵢ/θᵢ + Z (log θᵢ + 1) + λ = 0,   i.e.   θᵢ = −(ωᵢ/Z) / W(−(ωᵢ/Z)·e^(1 + λ/Z)),
-// W the Lambert function: branch W₋₁ for Z > 0, W₀ for Z < 0 (../shared/DESIGN.md, "Entropic MAP").
-// Entries with ωᵢ = 0 get θᵢ = 0 for every Z: the maximisation is over the face of the simplex spanned by the
-// observed entries, so a trimmed (absent) parameter stays absent. (For Z < 0 the unrestricted maximum would give
+// W the Lambert function: branch W₋₁ for Z > 0, W₀ for Z < 0 (docs/hmm.md, "The entropic prior, and what Z means";
+// Brand 1999). Entries with ωᵢ = 0 get θᵢ = 0 for every Z: the maximisation is over the face of the simplex spanned by
+// the observed entries, so a trimmed (absent) parameter stays absent. (For Z < 0 the unrestricted maximum would give
 // such entries the mass e^(−1−λ/Z); pass a small positive count if that smoothing is wanted.)
 //
 // Caveat, measured: for Z > 0 the W₋₁ point is always a local maximum (each Hessian entry −ωᵢ/θᵢ² + Z/θᵢ is

@@ -1,4 +1,4 @@
-// The live pipeline's threads (DESIGN.md, "Live"): a source writes samples into the session's AudioRing (an
+// The live pipeline's threads (docs/live.md, "Threads"): a source writes samples into the session's AudioRing (an
 // audio callback, or a FileFeeder); a worker thread reads them, runs the FrameDecoder, and pushes timestamped
 // AnimationFrames into a wait-free SPSC queue; the display (render thread, or a headless dump) takes them.
 //

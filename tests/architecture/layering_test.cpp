@@ -19,7 +19,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// The stages from the lowest to the highest (DESIGN.md's order; docs/architecture.md).
+// The stages from the lowest to the highest (docs/architecture.md's order).
 const std::vector<std::string> kOrder{"core",      "audio",  "hmm",    "nn",       "face", "features", "formats",
                                       "animation", "avatar", "render", "tracking", "eval", "pipeline", "outputs"};
 
