@@ -299,7 +299,19 @@ class LiveWindow {
     stats_.soundToLips((heard - shownSeconds_) * 1000.0);
   }
 
+  // The face's part of a frame: play out, display, draw.
   void drawFace(FrameTimes& times) {
+    bool shown = false;
+    pipeline::AnimationFrame frame = playOut(shown);
+    // The idle motion, and the outputs sent the face as drawn (outputs/live_display.h: as headless and the
+    // library do).
+    display_.setSwitches(settings_.live.blinks, settings_.live.gaze);
+    const outputs::AvatarFrame& drawn = display_.present(frame, secondsSince(opened_), shown);
+    drawHead(drawn, times);
+  }
+
+  // The frame the face shows at this swap; `shown` false when the playout has none (the last pose held).
+  pipeline::AnimationFrame playOut(bool& shown) {
     pipeline::PlayoutSample sample;
     // Until the first frame of a new stream (another input, another display mode), the last pose stays: no
     // jump to the neutral face between two streams.
@@ -309,9 +321,9 @@ class LiveWindow {
     // plus what drawing and the swap have lately taken). Otherwise the playout's own clock.
     const std::int64_t now = pipeline::steadyNanoseconds();
     double instant = 0.0;
-    const bool shown = live_->heardInstant(now + static_cast<std::int64_t>(stats_.displayMs() * 1e6), instant)
-                           ? playout_.sampleAt(instant, sample)
-                           : playout_.sample(now, sample);
+    shown = live_->heardInstant(now + static_cast<std::int64_t>(stats_.displayMs() * 1e6), instant)
+                ? playout_.sampleAt(instant, sample)
+                : playout_.sample(now, sample);
     if (shown) {
       faps = sample.frame.faps;
       lastDecoded_ = faps;
@@ -323,17 +335,18 @@ class LiveWindow {
       // Half a second with no stream (a lost input): the face eases to neutral, the mouth closes.
       for (double& value : lastDecoded_) value *= 0.9;
     }
-    // The idle motion, and the outputs sent the face as drawn (outputs/live_display.h: as headless and the
-    // library do).
-    pipeline::AnimationFrame drawn = shown ? sample.frame : pipeline::AnimationFrame{};
-    drawn.faps = faps;
-    drawn.levelDb = levelDb;
-    display_.setSwitches(settings_.live.blinks, settings_.live.gaze);
-    const outputs::AvatarFrame& shownFrame = display_.present(drawn, secondsSince(opened_), shown);
+    pipeline::AnimationFrame frame = shown ? sample.frame : pipeline::AnimationFrame{};
+    frame.faps = faps;
+    frame.levelDb = levelDb;
+    return frame;
+  }
+
+  // The head posed by the frame as displayed, drawn into the window beside the panel: our face by the FAPs, a
+  // character by the weights the outputs got (its mouth by the visemes where the decoder has them and it has
+  // viseme targets).
+  void drawHead(const outputs::AvatarFrame& drawn, FrameTimes& times) {
     const auto setupStart = std::chrono::steady_clock::now();
-    // Our face by the FAPs; a character by the weights the outputs got (its mouth by the visemes where the
-    // decoder has them and it has viseme targets).
-    head_->pose(shownFrame.faps, shownFrame);
+    head_->pose(drawn.faps, drawn);
     times.faceSetupMs = millisecondsBetween(setupStart, std::chrono::steady_clock::now());
     head_->drawIntoWindow(window_, panelWidth_);
   }
