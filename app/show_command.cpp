@@ -48,6 +48,32 @@ std::pair<float, float> sliderRange(const face::FapDefinition& fap) {
   return {fap.bidirectional ? -1024.0f : 0.0f, 1024.0f};
 }
 
+// A slider for every FAP the face shows, under a header per group (the jaw and the inner lip open at start);
+// true when one was moved (`faps` holds the new value).
+bool fapSliders(const face::FaceModel& face, const std::vector<std::string_view>& groups, face::FapFrame& faps) {
+  bool moved = false;
+  ImGui::PushItemWidth(-190.0f);
+  for (std::string_view group : groups) {
+    const bool openAtStart = group == "jaw" || group == "inner lip";
+    if (!ImGui::CollapsingHeader(std::string(group).c_str(), openAtStart ? ImGuiTreeNodeFlags_DefaultOpen : 0))
+      continue;
+    for (int number = 3; number <= face::kNumFaps; ++number) {
+      const face::FapDefinition& fap = face::fapDefinition(number);
+      if (!face.supports(number) || fap.group != group) continue;
+      float value = static_cast<float>(faps[static_cast<std::size_t>(number)]);
+      const auto [low, high] = sliderRange(fap);
+      char label[64];
+      std::snprintf(label, sizeof label, "%d %s", number, std::string(fap.name).c_str());
+      if (ImGui::SliderFloat(label, &value, low, high, fap.unit == face::Fapu::kAngle ? "%.0f AU" : "%.0f")) {
+        faps[static_cast<std::size_t>(number)] = value;
+        moved = true;
+      }
+    }
+  }
+  ImGui::PopItemWidth();
+  return moved;
+}
+
 void runShow(const ShowArguments& arguments) {
   std::optional<face::FapTrack> animation;
   if (!arguments.animation.empty()) animation = formats::readAnimation(arguments.animation);
@@ -130,26 +156,7 @@ void runShow(const ShowArguments& arguments) {
       seconds = std::fmod(glfwGetTime() - playStart, animation->durationSeconds());
       faps = animation->at(seconds);
     }
-    // The jaw and the inner lip open at start.
-    ImGui::PushItemWidth(-190.0f);
-    for (std::string_view group : groups) {
-      const bool openAtStart = group == "jaw" || group == "inner lip";
-      if (!ImGui::CollapsingHeader(std::string(group).c_str(), openAtStart ? ImGuiTreeNodeFlags_DefaultOpen : 0))
-        continue;
-      for (int number = 3; number <= face::kNumFaps; ++number) {
-        const face::FapDefinition& fap = face::fapDefinition(number);
-        if (!face.supports(number) || fap.group != group) continue;
-        float value = static_cast<float>(faps[static_cast<std::size_t>(number)]);
-        const auto [low, high] = sliderRange(fap);
-        char label[64];
-        std::snprintf(label, sizeof label, "%d %s", number, std::string(fap.name).c_str());
-        if (ImGui::SliderFloat(label, &value, low, high, fap.unit == face::Fapu::kAngle ? "%.0f AU" : "%.0f")) {
-          faps[static_cast<std::size_t>(number)] = value;
-          playing = false;
-        }
-      }
-    }
-    ImGui::PopItemWidth();
+    if (fapSliders(face, groups, faps)) playing = false;
     ImGui::End();
     ImGui::Render();
 

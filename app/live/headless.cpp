@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdint>
 #include <cstdio>
 #include <fstream>
 #include <memory>
@@ -48,6 +49,51 @@ face::FapTrack trackOf(const std::vector<pipeline::AnimationFrame>& frames, cons
       track.values(static_cast<Eigen::Index>(r), static_cast<Eigen::Index>(f)) =
           frames[f].faps[static_cast<std::size_t>(faps[r])];
   return track;
+}
+
+// What a run measured, for its report.
+struct RunReport {
+  std::string sourceName;
+  double seconds = 0.0;  // of sound, all passes
+  double speed = 1.0;    // times real time (0: as fast as the worker decodes)
+  bool fromDevice = false;
+  std::uint64_t framesShown = 0;
+  const MillisecondHistogram* decodeMs = nullptr;  // from the read to the frame out
+  double startMegabytes = 0.0;
+  double minuteMegabytes = -1.0;  // after the first minute of sound (-1: the run was shorter)
+  double endMegabytes = 0.0;
+  std::vector<std::string> outputLines;  // each output's counts
+};
+
+// The run's report on stdout: the source and pace, the frames, the look-ahead, the decoding time, memory, outputs.
+void printReport(const RunReport& report, pipeline::LivePipeline& live) {
+  const pipeline::SessionCounters counters = live.counters();
+  char pace[64] = "as fast as possible, not";
+  if (report.speed > 0.0) std::snprintf(pace, sizeof(pace), "%gx", report.speed);
+  std::printf("live (headless): %s, %.2f s of sound at %s real time\n", report.sourceName.c_str(), report.seconds,
+              pace);
+  std::printf(
+      "  frames: %llu decoded, %llu shown, %llu dropped; samples: %llu in, %llu overrun\n",
+      static_cast<unsigned long long>(counters.framesDecoded), static_cast<unsigned long long>(report.framesShown),
+      static_cast<unsigned long long>(counters.framesDropped), static_cast<unsigned long long>(counters.samplesIn),
+      static_cast<unsigned long long>(counters.overrunSamples));
+  if (report.fromDevice)
+    std::printf("  sound inputs: %llu opened, %llu lost\n", static_cast<unsigned long long>(live.sourcesOpened()),
+                static_cast<unsigned long long>(live.sourcesLost()));
+  const pipeline::DecoderLookahead& lookahead = live.lookahead();
+  std::printf("  look-ahead: mouth %.1f ms (features %.1f ms + %d frames), head %.1f ms (features %.1f ms + %d frames)",
+              lookahead.mouthMs, lookahead.mouthFeaturesMs, lookahead.mouthFrames, lookahead.headMs,
+              lookahead.featuresMs, lookahead.headFrames);
+  if (lookahead.headDelayFrames > 0) std::printf(", the head shown %d frames late", lookahead.headDelayFrames);
+  std::printf(": %.1f ms\n", lookahead.totalMs);
+  std::printf("  decoding, from the read to the frame out: median %.2f ms, 95th percentile %.2f ms, max %.2f ms\n",
+              report.decodeMs->percentile(50), report.decodeMs->percentile(95), report.decodeMs->largest());
+  char afterAMinute[32] = "-";
+  if (report.minuteMegabytes >= 0.0)
+    std::snprintf(afterAMinute, sizeof afterAMinute, "%.1f MB", report.minuteMegabytes);
+  std::printf("  memory (resident): %.1f MB at the start, %s after the first minute of sound, %.1f MB at the end\n",
+              report.startMegabytes, afterAMinute, report.endMegabytes);
+  for (const std::string& line : report.outputLines) std::printf("  output %s\n", line.c_str());
 }
 
 }  // namespace
@@ -139,31 +185,17 @@ void runHeadless(const HeadlessArguments& arguments, const outputs::LiveSessionS
   const double endMegabytes = residentMegabytes();
   if (fromDevice) seconds = live.deviceSeconds();
 
-  const pipeline::SessionCounters counters = live.counters();
-  char pace[64] = "as fast as possible, not";
-  if (arguments.speed > 0.0) std::snprintf(pace, sizeof(pace), "%gx", arguments.speed);
-  std::printf("live (headless): %s, %.2f s of sound at %s real time\n", sourceName.c_str(), seconds, pace);
-  std::printf("  frames: %llu decoded, %llu shown, %llu dropped; samples: %llu in, %llu overrun\n",
-              static_cast<unsigned long long>(counters.framesDecoded), static_cast<unsigned long long>(framesShown),
-              static_cast<unsigned long long>(counters.framesDropped),
-              static_cast<unsigned long long>(counters.samplesIn),
-              static_cast<unsigned long long>(counters.overrunSamples));
-  if (fromDevice)
-    std::printf("  sound inputs: %llu opened, %llu lost\n", static_cast<unsigned long long>(live.sourcesOpened()),
-                static_cast<unsigned long long>(live.sourcesLost()));
-  const pipeline::DecoderLookahead& lookahead = live.lookahead();
-  std::printf("  look-ahead: mouth %.1f ms (features %.1f ms + %d frames), head %.1f ms (features %.1f ms + %d frames)",
-              lookahead.mouthMs, lookahead.mouthFeaturesMs, lookahead.mouthFrames, lookahead.headMs,
-              lookahead.featuresMs, lookahead.headFrames);
-  if (lookahead.headDelayFrames > 0) std::printf(", the head shown %d frames late", lookahead.headDelayFrames);
-  std::printf(": %.1f ms\n", lookahead.totalMs);
-  std::printf("  decoding, from the read to the frame out: median %.2f ms, 95th percentile %.2f ms, max %.2f ms\n",
-              decodeMs.percentile(50), decodeMs.percentile(95), decodeMs.largest());
-  char afterAMinute[32] = "-";
-  if (minuteMegabytes >= 0.0) std::snprintf(afterAMinute, sizeof afterAMinute, "%.1f MB", minuteMegabytes);
-  std::printf("  memory (resident): %.1f MB at the start, %s after the first minute of sound, %.1f MB at the end\n",
-              startMegabytes, afterAMinute, endMegabytes);
-  for (const std::string& line : outputLines) std::printf("  output %s\n", line.c_str());
+  printReport({.sourceName = sourceName,
+               .seconds = seconds,
+               .speed = arguments.speed,
+               .fromDevice = fromDevice,
+               .framesShown = framesShown,
+               .decodeMs = &decodeMs,
+               .startMegabytes = startMegabytes,
+               .minuteMegabytes = minuteMegabytes,
+               .endMegabytes = endMegabytes,
+               .outputLines = outputLines},
+              live);
   if (const std::string token = issuedToken->get(); !token.empty() && !arguments.settingsPath.empty()) {
     outputs::LiveSessionSettings kept = loadLiveSettings(arguments.settingsPath);
     kept.outputs.get<outputs::VtsSettings>().token = token;
