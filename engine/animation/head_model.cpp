@@ -60,61 +60,26 @@ std::map<std::string, SpeakerNorm> speakerNorms(const std::vector<HeadRecording>
   return norms;
 }
 
-}  // namespace
-
-HeadModel trainHeadModel(const std::vector<HeadRecording>& parts, const HeadModelOptions& options) {
-  if (parts.empty()) throw Error("head model: no training data");
-  double totalFrames = 0.0;
-  for (const auto& part : parts) {
-    if (part.prosody.cols() != part.rotations.cols()) throw Error("head model: prosody and rotations differ in length");
-    if (part.voiced.size() != 0 && part.voiced.size() != part.rotations.cols())
-      throw Error("head model: voicing and rotations differ in length");
-    if (part.numFrames() < 3) throw Error("head model: a recording of fewer than 3 frames");
-    totalFrames += part.numFrames();
-  }
-  HeadModel model;
-  model.hasAcceleration = true;
-  // Each speaker's motion about its own mean pose; with normaliseSpeakers, also in units of its own spread, so
-  // a lively and a calm speaker teach the same shapes, and the output is scaled by the speakers' mean spread.
-  const std::map<std::string, SpeakerNorm> norms = speakerNorms(parts);
-  // The output's size: the speakers' geometric mean spread (spreads are scales: a speaker moving twice and one
-  // moving half as much as the output are equally far from it).
-  Eigen::Vector3d meanPose = Eigen::Vector3d::Zero();
-  Eigen::Vector3d logSpread = Eigen::Vector3d::Zero();
-  for (const auto& [speaker, norm] : norms) {
-    meanPose += norm.mean / static_cast<double>(norms.size());
-    logSpread += norm.spread.array().log().matrix() / static_cast<double>(norms.size());
-    model.speakers.push_back(speaker);
-  }
-  model.meanPose = meanPose;
-  model.amplitude =
-      options.normaliseSpeakers ? Eigen::Vector3d(logSpread.array().exp().matrix()) : Eigen::Vector3d::Ones();
-  std::vector<Eigen::MatrixXd> motion;
-  for (const auto& part : parts) {
-    const SpeakerNorm& norm = norms.at(part.speaker);
-    Eigen::MatrixXd centred = part.rotations.colwise() - norm.mean;
-    if (options.normaliseSpeakers) centred = norm.spread.cwiseInverse().asDiagonal() * centred;
-    motion.push_back(std::move(centred));
-  }
-
-  // 1. The motion HMM, with the entropic prior carving the structure.
+// Step 1: the motion HMM, with the entropic prior carving the structure.
+hmm::TrainingResult trainMotionHmm(const std::vector<Eigen::MatrixXd>& motion, double totalFrames,
+                                   const HeadModelOptions& options) {
   hmm::TrainingOptions training;
   training.numStates = options.startStates;
   training.numMixtures = 1;
   training.covariance = hmm::CovarianceType::kFull;
   training.maxIterations = options.maxIterations;
   training.seed = options.seed;
-  const hmm::TrainingResult result =
-      hmm::trainHmm(motion, training,
-                    hmm::entropicHooks({.multinomialWeight = options.entropicWeightPerFrame * totalFrames,
-                                        .covarianceWeight = options.covariancePriorWeight,
-                                        .warmupIterations = options.warmupIterations,
-                                        .rampIterations = options.rampIterations}));
-  const hmm::HmmModel& motionModel = result.model;
-  model.history = result.history;
+  return hmm::trainHmm(motion, training,
+                       hmm::entropicHooks({.multinomialWeight = options.entropicWeightPerFrame * totalFrames,
+                                           .covarianceWeight = options.covariancePriorWeight,
+                                           .warmupIterations = options.warmupIterations,
+                                           .rampIterations = options.rampIterations}));
+}
 
-  // 2. Re-map velocities, accelerations and prosody onto the motion states through γ (paper, step 3). The
-  // prosody only where the voice is: unvoiced frames are not decoded by it either (gatedEmissions).
+// Step 2: re-map velocities, accelerations and prosody onto the motion states through γ (paper, step 3). The
+// prosody only where the voice is: unvoiced frames are not decoded by it either (gatedEmissions).
+void remapOntoMotionStates(const hmm::HmmModel& motionModel, const std::vector<HeadRecording>& parts,
+                           const std::vector<Eigen::MatrixXd>& motion, HeadModel& model) {
   const int n = motionModel.numStates();
   constexpr int kDynamic = 6;
   constexpr int kProsody = ProsodyTracker::kDimension;
@@ -200,10 +165,14 @@ HeadModel trainHeadModel(const std::vector<HeadRecording>& parts, const HeadMode
                       {"motion_acceleration", kAccelerationBegin, 3},
                       {"prosody", kProsodyBegin, 4}};
   model.hmm.check();
+}
 
-  // 3. What the voice does not explain: the part of the training motion's variance, and of its frame-to-frame
-  // steps' variance, that the trajectory from the prosody leaves out. ResidualMotion draws a process with
-  // those, independent of the trajectory, so that the two together move as much as the training speakers.
+// Step 3: what the voice does not explain: the part of the training motion's variance, and of its frame-to-frame
+// steps' variance, that the trajectory from the prosody leaves out. ResidualMotion draws a process with
+// those, independent of the trajectory, so that the two together move as much as the training speakers.
+void fitResidualMotion(const std::vector<HeadRecording>& parts, const std::vector<Eigen::MatrixXd>& motion,
+                       const std::map<std::string, SpeakerNorm>& norms, const HeadModelOptions& options,
+                       HeadModel& model) {
   Eigen::Vector3d motionVariance = Eigen::Vector3d::Zero(), motionStepVariance = Eigen::Vector3d::Zero();
   Eigen::Vector3d curveVariance = Eigen::Vector3d::Zero(), curveStepVariance = Eigen::Vector3d::Zero();
   double frames = 0.0, steps = 0.0;
@@ -236,6 +205,49 @@ HeadModel trainHeadModel(const std::vector<HeadRecording>& parts, const HeadMode
   }
   model.residualStd = ((motionVariance - curveVariance) / frames).cwiseMax(0.0).cwiseSqrt();
   model.residualStepStd = ((motionStepVariance - curveStepVariance) / steps).cwiseMax(0.0).cwiseSqrt();
+}
+
+}  // namespace
+
+HeadModel trainHeadModel(const std::vector<HeadRecording>& parts, const HeadModelOptions& options) {
+  if (parts.empty()) throw Error("head model: no training data");
+  double totalFrames = 0.0;
+  for (const auto& part : parts) {
+    if (part.prosody.cols() != part.rotations.cols()) throw Error("head model: prosody and rotations differ in length");
+    if (part.voiced.size() != 0 && part.voiced.size() != part.rotations.cols())
+      throw Error("head model: voicing and rotations differ in length");
+    if (part.numFrames() < 3) throw Error("head model: a recording of fewer than 3 frames");
+    totalFrames += part.numFrames();
+  }
+  HeadModel model;
+  model.hasAcceleration = true;
+  // Each speaker's motion about its own mean pose; with normaliseSpeakers, also in units of its own spread, so
+  // a lively and a calm speaker teach the same shapes, and the output is scaled by the speakers' mean spread.
+  const std::map<std::string, SpeakerNorm> norms = speakerNorms(parts);
+  // The output's size: the speakers' geometric mean spread (spreads are scales: a speaker moving twice and one
+  // moving half as much as the output are equally far from it).
+  Eigen::Vector3d meanPose = Eigen::Vector3d::Zero();
+  Eigen::Vector3d logSpread = Eigen::Vector3d::Zero();
+  for (const auto& [speaker, norm] : norms) {
+    meanPose += norm.mean / static_cast<double>(norms.size());
+    logSpread += norm.spread.array().log().matrix() / static_cast<double>(norms.size());
+    model.speakers.push_back(speaker);
+  }
+  model.meanPose = meanPose;
+  model.amplitude =
+      options.normaliseSpeakers ? Eigen::Vector3d(logSpread.array().exp().matrix()) : Eigen::Vector3d::Ones();
+  std::vector<Eigen::MatrixXd> motion;
+  for (const auto& part : parts) {
+    const SpeakerNorm& norm = norms.at(part.speaker);
+    Eigen::MatrixXd centred = part.rotations.colwise() - norm.mean;
+    if (options.normaliseSpeakers) centred = norm.spread.cwiseInverse().asDiagonal() * centred;
+    motion.push_back(std::move(centred));
+  }
+
+  const hmm::TrainingResult result = trainMotionHmm(motion, totalFrames, options);
+  model.history = result.history;
+  remapOntoMotionStates(result.model, parts, motion, model);
+  fitResidualMotion(parts, motion, norms, options, model);
   return model;
 }
 
