@@ -250,14 +250,8 @@ std::vector<std::string> namesOf(const char* (*name)(int)) {
   return names;
 }
 
-}  // namespace
-
-PYBIND11_MODULE(_talkinghead, module) {
-  module.doc() = "talkinghead: speech in, a talking face's animation out (libtalkinghead's Python binding)";
-  const auto error = py::register_exception<TalkingheadError>(module, "Error", PyExc_RuntimeError);
-  py::register_exception<CancelledError>(module, "Cancelled", error.ptr());
-  module.attr("__version__") = TALKINGHEAD_VERSION;  // the header's; th_version() is the library's
-
+// The classes: Models, Stream, Animation.
+void bindClasses(py::module_& module) {
   py::class_<Models>(module, "Models",
                      "The models read once, for many streams, animations and exports (on any threads)")
       .def(py::init([](std::optional<std::string> head, std::optional<std::string> mouth,
@@ -306,7 +300,10 @@ PYBIND11_MODULE(_talkinghead, module) {
            py::arg("animation_only") = false,
            "Write a character (.glb, .gltf, .vrm) with this speech as its glTF animation to path (.glb, .gltf, "
            ".vrm); animation_only: the animation alone, with the character's nodes and morph target names");
+}
 
+// The functions: animate, export, and the formats' names.
+void bindFunctions(py::module_& module) {
   module.def(
       "animate",
       [](const std::string& path, std::optional<std::string> head, std::optional<std::string> mouth,
@@ -372,6 +369,18 @@ PYBIND11_MODULE(_talkinghead, module) {
         throw TalkingheadError("no animation format \"" + name + "\"");
       },
       py::arg("name"));
+}
+
+}  // namespace
+
+PYBIND11_MODULE(_talkinghead, module) {
+  module.doc() = "talkinghead: speech in, a talking face's animation out (libtalkinghead's Python binding)";
+  const auto error = py::register_exception<TalkingheadError>(module, "Error", PyExc_RuntimeError);
+  py::register_exception<CancelledError>(module, "Cancelled", error.ptr());
+  module.attr("__version__") = TALKINGHEAD_VERSION;  // the header's; th_version() is the library's
+
+  bindClasses(module);
+  bindFunctions(module);
   module.attr("arkit_names") = namesOf(th_arkit_name);
   module.attr("viseme_names") = namesOf(th_viseme_name);
   module.attr("vrm_names") = namesOf(th_vrm_name);
