@@ -48,6 +48,41 @@ Eigen::Matrix4f orthographic(float halfSize, float nearPlane, float farPlane) {
   return m;
 }
 
+// `count` directions over the sphere: a Fibonacci sphere, even and deterministic.
+std::vector<Eigen::Vector3f> fibonacciSphere(int count) {
+  std::vector<Eigen::Vector3f> directions;
+  const float golden = std::numbers::pi_v<float> * (3.0f - std::sqrt(5.0f));
+  for (int k = 0; k < count; ++k) {
+    const float z = 1.0f - 2.0f * (static_cast<float>(k) + 0.5f) / static_cast<float>(count);
+    const float r = std::sqrt(std::max(0.0f, 1.0f - z * z));
+    const float phi = static_cast<float>(k) * golden;
+    directions.emplace_back(r * std::cos(phi), r * std::sin(phi), z);
+  }
+  return directions;
+}
+
+// Each vertex's value averaged with its neighbours' over the triangles, `passes` times (a vertex only with those
+// of its own set of occluders: vertices that were not measured are left out).
+void smoothOverTriangles(Eigen::VectorXf& open, const std::vector<std::array<int, 3>>& triangles,
+                         const std::vector<std::uint32_t>& occludedBy, int passes) {
+  Eigen::VectorXf sum(open.size());
+  Eigen::VectorXf count(open.size());
+  for (int pass = 0; pass < passes; ++pass) {
+    sum = open;
+    count.setOnes();
+    for (const auto& t : triangles)
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) {
+          const int a = t[static_cast<std::size_t>(i)];
+          const int b = t[static_cast<std::size_t>(j)];
+          if (i == j || occludedBy[static_cast<std::size_t>(a)] != occludedBy[static_cast<std::size_t>(b)]) continue;
+          sum[a] += open[b];
+          count[a] += 1.0f;
+        }
+    open = sum.cwiseQuotient(count);
+  }
+}
+
 }  // namespace
 
 Eigen::VectorXf computeOpenness(const Eigen::Matrix3Xd& positions, const Eigen::Matrix3Xf& normals,
@@ -101,15 +136,7 @@ Eigen::VectorXf computeOpenness(const Eigen::Matrix3Xd& positions, const Eigen::
   glDisable(GL_BLEND);
   glPixelStorei(GL_PACK_ALIGNMENT, 4);
 
-  // Directions: a Fibonacci sphere, even and deterministic.
-  std::vector<Eigen::Vector3f> directions;
-  const float golden = std::numbers::pi_v<float> * (3.0f - std::sqrt(5.0f));
-  for (int k = 0; k < options.directions; ++k) {
-    const float z = 1.0f - 2.0f * (static_cast<float>(k) + 0.5f) / static_cast<float>(options.directions);
-    const float r = std::sqrt(std::max(0.0f, 1.0f - z * z));
-    const float phi = static_cast<float>(k) * golden;
-    directions.emplace_back(r * std::cos(phi), r * std::sin(phi), z);
-  }
+  const std::vector<Eigen::Vector3f> directions = fibonacciSphere(options.directions);
 
   // One pass per distinct set of occluders.
   std::map<std::uint32_t, std::vector<int>> receiversOf;
@@ -159,23 +186,7 @@ Eigen::VectorXf computeOpenness(const Eigen::Matrix3Xd& positions, const Eigen::
       open[receivers[i]] = weight[i] > 0.0f ? seen[i] / weight[i] : 1.0f;
   }
 
-  // Smooth over the triangles' neighbourhoods (vertices that were not measured are left out).
-  Eigen::VectorXf sum(n);
-  Eigen::VectorXf count(n);
-  for (int pass = 0; pass < options.smoothingPasses; ++pass) {
-    sum = open;
-    count.setOnes();
-    for (const auto& t : triangles)
-      for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j) {
-          const int a = t[static_cast<std::size_t>(i)];
-          const int b = t[static_cast<std::size_t>(j)];
-          if (i == j || occludedBy[static_cast<std::size_t>(a)] != occludedBy[static_cast<std::size_t>(b)]) continue;
-          sum[a] += open[b];
-          count[a] += 1.0f;
-        }
-    open = sum.cwiseQuotient(count);
-  }
+  smoothOverTriangles(open, triangles, occludedBy, options.smoothingPasses);
   return open;
 }
 
