@@ -26,7 +26,8 @@ fi
 binary="$(realpath "$1")"
 out="$2"
 repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-data="${TALKINGHEAD_DATA:-$repo/../shared/data}"
+export TALKINGHEAD_DATA="${TALKINGHEAD_DATA:-$repo/../shared/data}"  # also for a binary built elsewhere (a worktree)
+data="$TALKINGHEAD_DATA"
 speech="$data/beat2/2_scott_0_1_1.wav"
 prompt="$(find "$data" -name arctic_a0001.wav -print -quit 2>/dev/null)"
 avatar="$data/face/avatars/brunette-t.glb"
