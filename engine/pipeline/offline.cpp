@@ -4,39 +4,63 @@
 #include <map>
 
 #include "animation/fap_mapping.h"
-#include "animation/online_stages.h"
+#include "animation/recording_stages.h"
 #include "audio/media_audio.h"
 #include "core/error.h"
 
 namespace th::pipeline {
 namespace {
 
-// The articulation's classes as a stream decides them (LiveDecoder, the same stage): the network from the
-// training speech's mean, the classes by the fixed-lag decoder.
-face::VisemeTrack streamedVisemes(const animation::MouthNetwork& articulation, const animation::SpeechFrames& subframes,
-                                  const AnimateOptions& options) {
-  const animation::MouthNetworkOutput heard = animation::runMouthNetwork(articulation, subframes);
-  animation::ArticulationVisemeStage stage(articulation, options.articulation, options.articulationLagFrames);
-  animation::MouthNetworkFrame frame;
-  for (int t = 0; t < heard.numFrames(); ++t) {
-    frame.classes = heard.classes.col(t);
-    frame.shut = heard.shut[t];
-    stage.accept(frame);
+std::vector<animation::ProsodyFrame> prosodyFramesOf(const animation::SpeechAnalysis& heard) {
+  std::vector<animation::ProsodyFrame> frames(static_cast<std::size_t>(heard.numFrames()));
+  for (std::size_t t = 0; t < frames.size(); ++t) {
+    frames[t].prosody = heard.prosody.col(static_cast<Eigen::Index>(t));
+    frames[t].voiced = heard.voiced[static_cast<Eigen::Index>(t)] > 0.0;
   }
-  stage.inputFinished();
+  return frames;
+}
+
+std::vector<animation::SpeechFrame> speechFramesOf(const animation::SpeechFrames& speech) {
+  std::vector<animation::SpeechFrame> frames(static_cast<std::size_t>(speech.numFrames()));
+  for (std::size_t t = 0; t < frames.size(); ++t) {
+    frames[t].levelDb = speech.levelDb[static_cast<Eigen::Index>(t)];
+    frames[t].mfcc = speech.mfcc.col(static_cast<Eigen::Index>(t));
+  }
+  return frames;
+}
+
+face::VisemeTrack visemeTrackOf(const std::vector<animation::VisemeFrame>& frames) {
   face::VisemeTrack track;
-  track.posteriors.resize(face::kNumMouthClasses, stage.numFramesReady());
-  animation::VisemeFrame shown;
-  for (int t = 0; t < stage.numFramesReady(); ++t) {
-    stage.getFrame(t, shown);
-    track.posteriors.col(t) = shown.probabilities;
-    track.classes.push_back(shown.mouthClass);
+  track.posteriors.resize(face::kNumMouthClasses, static_cast<Eigen::Index>(frames.size()));
+  for (std::size_t t = 0; t < frames.size(); ++t) {
+    track.posteriors.col(static_cast<Eigen::Index>(t)) = frames[t].probabilities;
+    track.classes.push_back(frames[t].mouthClass);
   }
+  return track;
+}
+
+// The articulation's classes, one per animation frame (its frames are the subframes' thirds), as many as the
+// other parts have: the last repeated where the subframes end early.
+face::VisemeTrack articulatedVisemes(const animation::MouthNetwork& articulation, std::span<const float> samples16k,
+                                     const AnimateOptions& options, Eigen::Index frames) {
+  const bool wholeRecording = options.articulationLagFrames < 0;
+  const auto network = animation::makeMouthNetworkStage(articulation, /*ownMean=*/wholeRecording);
+  const auto classes =
+      animation::makeArticulationVisemeStage(articulation, options.articulation, options.articulationLagFrames);
+  const std::vector<animation::SpeechFrame> subframes = speechFramesOf(animation::speechSubframesOf(samples16k));
+  face::VisemeTrack track = visemeTrackOf(animation::runToEnd(*classes, animation::runToEnd(*network, subframes)));
+  if (track.classes.empty()) throw Error("animate: the recording is too short for the articulation");
+  track.posteriors.conservativeResize(Eigen::NoChange, frames);
+  for (Eigen::Index t = static_cast<Eigen::Index>(track.classes.size()); t < frames; ++t)
+    track.posteriors.col(t) = track.posteriors.col(t - 1);
+  track.classes.resize(static_cast<std::size_t>(frames), track.classes.back());
   return track;
 }
 
 }  // namespace
 
+// The stages the live decoder runs, chosen by the options (animation/recording_stages.h): where an option asks for
+// no bounded look-ahead, the batch decoder that hears the whole recording first.
 face::FapTrack animate(std::span<const float> samples16k, const animation::HeadModel* head,
                        const animation::MouthModel* mouth, const AnimateOptions& options,
                        const animation::VisemeModel* visemes, const animation::MouthNetwork* articulation) {
@@ -47,6 +71,7 @@ face::FapTrack animate(std::span<const float> samples16k, const animation::HeadM
   const animation::SpeechAnalysis heard = animation::analyseSpeech(samples16k);
   const Eigen::Index frames = heard.numFrames();
   if (frames <= 0) throw Error("animate: the recording is shorter than one animation frame");
+  const std::vector<animation::SpeechFrame> speech = speechFramesOf(heard.speech);
 
   // FAP number → its curve; std::map keeps the rows in FAP order.
   std::map<int, Eigen::RowVectorXd> curves;
@@ -54,29 +79,22 @@ face::FapTrack animate(std::span<const float> samples16k, const animation::HeadM
     for (std::size_t i = 0; i < numbers.size(); ++i) curves[numbers[i]] = values.row(static_cast<Eigen::Index>(i));
   };
   if (head != nullptr) {
-    const Eigen::MatrixXd rotations = animation::synthesiseHead(*head, heard.prosody, heard.voiced, options.head);
+    const std::vector<animation::HeadFrame> decided =
+        animation::runToEnd(*animation::makeHeadStage(*head, options.head), prosodyFramesOf(heard));
+    Eigen::MatrixXd rotations(3, static_cast<Eigen::Index>(decided.size()));
+    for (std::size_t t = 0; t < decided.size(); ++t)
+      rotations.col(static_cast<Eigen::Index>(t)) = decided[t].rotationDegrees;
     add({animation::kHeadFaps.begin(), animation::kHeadFaps.end()}, animation::headFaps(rotations));
   }
-  // The articulation's classes, one per animation frame (its frames are the subframes' thirds).
   face::VisemeTrack articulated;
-  if (articulation != nullptr) {
-    const animation::SpeechFrames subframes = animation::speechSubframesOf(samples16k);
-    if (options.articulationLagFrames < 0) {
-      const Eigen::VectorXd ownMean = subframes.mfcc.rowwise().mean();
-      const animation::MouthNetworkOutput heardSounds = animation::runMouthNetwork(*articulation, subframes, &ownMean);
-      articulated = animation::networkVisemes(*articulation, heardSounds.classes, options.articulation);
-    } else {
-      articulated = streamedVisemes(*articulation, subframes, options);
-    }
-    if (articulated.classes.empty()) throw Error("animate: the recording is too short for the articulation");
-    // As many frames as the other parts: the last repeated where the subframes end early.
-    articulated.posteriors.conservativeResize(Eigen::NoChange, frames);
-    for (Eigen::Index t = static_cast<Eigen::Index>(articulated.classes.size()); t < frames; ++t)
-      articulated.posteriors.col(t) = articulated.posteriors.col(t - 1);
-    articulated.classes.resize(static_cast<std::size_t>(frames), articulated.classes.back());
-  }
+  if (articulation != nullptr) articulated = articulatedVisemes(*articulation, samples16k, options, frames);
   if (mouth != nullptr) {
-    const Eigen::MatrixXd components = animation::synthesiseMouth(*mouth, heard.speech, options.mouth);
+    const std::vector<animation::MouthFrame> decided =
+        animation::runToEnd(*animation::makeMouthStage(*mouth, options.mouth), speech);
+    Eigen::MatrixXd components(decided.empty() ? 0 : decided.front().components.size(),
+                               static_cast<Eigen::Index>(decided.size()));
+    for (std::size_t t = 0; t < decided.size(); ++t)
+      components.col(static_cast<Eigen::Index>(t)) = decided[t].components;
     Eigen::MatrixXd faps = animation::mouthFapsOf(*mouth, components);
     const std::vector<int> numbers = animation::mouthFapNumbers(*mouth);
     if (articulation != nullptr) {
@@ -98,7 +116,7 @@ face::FapTrack animate(std::span<const float> samples16k, const animation::HeadM
   if (articulation != nullptr)
     track.visemes = std::move(articulated);
   else if (visemes != nullptr)
-    track.visemes = animation::decodeVisemes(*visemes, heard.speech);
+    track.visemes = visemeTrackOf(animation::runToEnd(*animation::makeVisemeStage(*visemes, -1), speech));
   return track;
 }
 

@@ -2,10 +2,10 @@
 // and `sidebyside` run. Read top to bottom, it is the flow:
 //
 //   recording ─► speech features, computed once (animation/speech_analysis.h)
-//             ─► head model: prosody ─► rotations ─► FAPs 48–50 ───┐
-//             ─► mouth model: MFCCs ─► visual components ─► jaw and lip FAPs ─┐
-//             ─► articulation: MFCCs at 90 fps ─► mouth classes (visemes, Rhubarb's cues) ─► lips closed on PP, FF
-//                (without it, the viseme model: MFCCs ─► each frame's mouth class)
+//             ─► head stage: prosody ─► rotations ─► FAPs 48–50 ───┐
+//             ─► mouth stage: MFCCs ─► visual components ─► jaw and lip FAPs ─┐
+//             ─► articulation: MFCCs at 90 fps ─► network stage ─► class stage: mouth classes (visemes,
+//                Rhubarb's cues) ─► lips closed on PP, FF (without it, the viseme stage: each frame's mouth class)
 //             ─► idle behaviour: blinks, gaze, the head at rest in silence
 //             ─► FapTrack ─► an animation file (formats/), or the face rendered and encoded (video_export.h)
 //
@@ -13,6 +13,13 @@
 //   th::face::FapTrack track = th::pipeline::animate(clip.samples, models, {});
 //   th::formats::writeAnimation("speech.fap", track);
 //
+// Each stage is the one the live decoder runs (animation/online_stage.h's shape), chosen by the options
+// (animation/recording_stages.h): the streaming stage where an option bounds the look-ahead (a lag ≥ 0, an
+// inversion window), otherwise the batch decoder that hears the whole recording first. So `animate --online`
+// runs the stages live runs.
+// Each model normalises the speech it hears itself (features/speech_normaliser.h): each starts its running
+// cepstral mean at its own training speech's mean, and the network hears 90 subframes a second, so one
+// normalisation cannot serve them all without retraining them.
 // Frame i is at i / 30 s for both parts. Head rotations are relative to the model's mean pose (the face's rest
 // pose looks ahead). A model left out leaves its FAPs out.
 // Thread contract: pure functions; models are shared read-only.
