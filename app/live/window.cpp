@@ -173,11 +173,11 @@ class LiveWindow {
   LiveWindow(const LiveWindow&) = delete;
   LiveWindow& operator=(const LiveWindow&) = delete;
 
-  // The loop, in the Dear ImGui example's order.
+  // The loop, in the Dear ImGui example's order: events, pull the decoded frames, play out, display and draw the
+  // face, draw the panel, swap.
   void run() {
     InterruptGuard interrupts;
     const auto started = std::chrono::steady_clock::now();
-    std::pair<int, int> lastSize{0, 0};
     while (!window_.shouldClose() && !InterruptGuard::requested()) {
       if (arguments_.duration > 0.0 && secondsSince(started) >= arguments_.duration) break;
       const auto loopStart = std::chrono::steady_clock::now();
@@ -188,58 +188,79 @@ class LiveWindow {
         std::this_thread::sleep_for(std::chrono::milliseconds(16));
         continue;
       }
-      const bool resized = size != lastSize;
-      if (resized) {
-        panelWidth_ = LivePanel::widthFor(size.first);
-        head_->resize(size.first - panelWidth_, size.second);
-        lastSize = size;
-        keptColumn_.again();  // new buffers: check again
-      }
+      const bool resized = fitTo(size);
       takeFrames();
-      const auto drawStart = std::chrono::steady_clock::now();
-      keptColumn_.tick();
-      const bool checking = keptColumn_.reading();
-      if (checking) keptColumn_.read(size);
-      const bool panelNow = resized || checking || !keptColumn_.kept() || panelNeedsDrawing();
-      if (panelNow) {
-        // The panel's background is this clear (llvmpipe clears with a memset, where ImGui's window background
-        // would be a blended quad the size of the column); the face's part is then drawn over.
-        const ImVec4 background = ImGui::GetStyle().Colors[ImGuiCol_WindowBg];
-        glClearColor(background.x, background.y, background.z, 1.0f);
-        glClear(GL_COLOR_BUFFER_BIT);
-      }
       FrameTimes times;
-      drawFace(times);
-      const auto faceDone = std::chrono::steady_clock::now();
-      if (panelNow) {
-        drawPanel(size);
-        if (keptColumn_.marking()) keptColumn_.mark(size);
-      }
-      const auto panelDone = std::chrono::steady_clock::now();
+      drawFrame(size, resized, times);
       if (!arguments_.screenshot.empty() && static_cast<int>(stats_.framesDrawn()) + 1 >= arguments_.frames) {
         render::writePng(arguments_.screenshot, grabWindow(size));
         std::cout << "wrote " << arguments_.screenshot << '\n';
         break;
       }
-      window_.swapBuffers();
-      const auto swapped = std::chrono::steady_clock::now();
-      noteSoundToLips();
-      times.glMs = millisecondsBetween(drawStart, faceDone) - times.faceSetupMs;
-      times.panelMs = panelNow ? millisecondsBetween(faceDone, panelDone) : -1.0;
-      times.swapMs = millisecondsBetween(panelDone, swapped);
-      times.busyMs = millisecondsBetween(loopStart, swapped);
-      times.periodMs = millisecondsBetween(lastSwap_, swapped);
-      lastSwap_ = swapped;
-      stats_.frameDrawn(times);
-      // No vsync (Xvfb, some drivers): hold the loop near its cap (60 Hz) rather than spin.
-      if (arguments_.maxFps > 0.0) {
-        const auto tick = std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-            std::chrono::duration<double>(1.0 / arguments_.maxFps));
-        nextTick_ = std::max(nextTick_ + tick, std::chrono::steady_clock::now() - std::chrono::milliseconds(50));
-        std::this_thread::sleep_until(nextTick_);
-      }
+      swap(loopStart, times);
+      holdToMaxFps();
     }
-    const double secondsOpen = secondsSince(started);
+    closeSession(secondsSince(started));
+  }
+
+ private:
+  // The face's part of the window follows its size; true when it changed.
+  bool fitTo(std::pair<int, int> size) {
+    if (size == lastSize_) return false;
+    panelWidth_ = LivePanel::widthFor(size.first);
+    head_->resize(size.first - panelWidth_, size.second);
+    lastSize_ = size;
+    keptColumn_.again();  // new buffers: check again
+    return true;
+  }
+
+  // The face, and the panel when it changed or the driver does not keep the column between swaps.
+  void drawFrame(std::pair<int, int> size, bool resized, FrameTimes& times) {
+    const auto drawStart = std::chrono::steady_clock::now();
+    keptColumn_.tick();
+    const bool checking = keptColumn_.reading();
+    if (checking) keptColumn_.read(size);
+    const bool panelNow = resized || checking || !keptColumn_.kept() || panelNeedsDrawing();
+    if (panelNow) {
+      // The panel's background is this clear (llvmpipe clears with a memset, where ImGui's window background
+      // would be a blended quad the size of the column); the face's part is then drawn over.
+      const ImVec4 background = ImGui::GetStyle().Colors[ImGuiCol_WindowBg];
+      glClearColor(background.x, background.y, background.z, 1.0f);
+      glClear(GL_COLOR_BUFFER_BIT);
+    }
+    drawFace(times);
+    const auto faceDone = std::chrono::steady_clock::now();
+    if (panelNow) {
+      drawPanel(size);
+      if (keptColumn_.marking()) keptColumn_.mark(size);
+    }
+    times.glMs = millisecondsBetween(drawStart, faceDone) - times.faceSetupMs;
+    times.panelMs = panelNow ? millisecondsBetween(faceDone, std::chrono::steady_clock::now()) : -1.0;
+  }
+
+  void swap(std::chrono::steady_clock::time_point loopStart, FrameTimes& times) {
+    const auto swapStart = std::chrono::steady_clock::now();
+    window_.swapBuffers();
+    const auto swapped = std::chrono::steady_clock::now();
+    noteSoundToLips();
+    times.swapMs = millisecondsBetween(swapStart, swapped);
+    times.busyMs = millisecondsBetween(loopStart, swapped);
+    times.periodMs = millisecondsBetween(lastSwap_, swapped);
+    lastSwap_ = swapped;
+    stats_.frameDrawn(times);
+  }
+
+  // No vsync (Xvfb, some drivers): hold the loop near its cap (60 Hz) rather than spin.
+  void holdToMaxFps() {
+    if (arguments_.maxFps <= 0.0) return;
+    const auto tick = std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+        std::chrono::duration<double>(1.0 / arguments_.maxFps));
+    nextTick_ = std::max(nextTick_ + tick, std::chrono::steady_clock::now() - std::chrono::milliseconds(50));
+    std::this_thread::sleep_until(nextTick_);
+  }
+
+  // The outputs' reports, the settings saved, the session's statistics.
+  void closeSession(double secondsOpen) {
     for (const outputs::OutputStatus& status : display_.statuses())
       std::printf("%s\n", outputs::describe(status, secondsOpen).c_str());
     display_.closeOutputs();  // VTube Studio's thread ends before its token is read
@@ -256,7 +277,6 @@ class LiveWindow {
                               playback->underruns());
   }
 
- private:
   // The pipeline watched, its frames into the playout, the panel's plots and the statistics.
   void takeFrames() {
     live_->supervise();
@@ -516,6 +536,7 @@ class LiveWindow {
   std::array<double, 2> cursor_{-1.0, -1.0};
   std::uint64_t panelDraws_ = 0;
   int panelWidth_ = LivePanel::widthFor(1280);
+  std::pair<int, int> lastSize_{0, 0};  // the framebuffer's, as the face and the panel were last fitted to
   std::chrono::steady_clock::time_point nextTick_ = std::chrono::steady_clock::now();
   std::chrono::steady_clock::time_point lastSwap_ = std::chrono::steady_clock::now();
 };
