@@ -96,6 +96,67 @@ void printReport(const RunReport& report, pipeline::LivePipeline& live) {
   for (const std::string& line : report.outputLines) std::printf("  output %s\n", line.c_str());
 }
 
+// The sound the pipeline hears: the recording (cut to --duration, looped to --repeat-to), or the device.
+// `seconds`: the recording's sound over all passes.
+pipeline::LiveSource sourceOf(const HeadlessArguments& arguments, const outputs::LiveSessionSettings& settings,
+                              pipeline::LivePipelineOptions& options, double& seconds) {
+  pipeline::LiveSource source;
+  if (arguments.input.empty()) {
+    source.device = settings.live.deviceIndex();
+    return source;
+  }
+  audio::AudioClip clip = audio::readRecording(arguments.input);
+  if (clip.samples.empty()) throw fileError(arguments.input, "has no samples");
+  if (arguments.duration > 0.0)
+    clip.samples.resize(
+        std::min(clip.samples.size(), static_cast<std::size_t>(arguments.duration * clip.sampleRateHz)));
+  seconds = std::max(static_cast<double>(clip.samples.size()) / clip.sampleRateHz, arguments.repeatTo);
+  options.repeatToSamples = static_cast<std::size_t>(arguments.repeatTo * clip.sampleRateHz);
+  source.recording = std::move(clip.samples);
+  source.name = arguments.input;
+  return source;
+}
+
+// What the display loop saw.
+struct DisplayRun {
+  std::vector<pipeline::AnimationFrame> shown;  // kept only for a dump: a soak of an hour would keep the hour
+  std::uint64_t framesShown = 0;
+  MillisecondHistogram decodeMs;
+  double startMegabytes = 0.0, minuteMegabytes = -1.0;
+};
+
+// The display loop: 60 Hz in the recording's time (faster when it plays faster; at full speed as often as it
+// can), taking whatever the worker has decoded, until the input ends.
+void displayUntilDone(pipeline::LivePipeline& live, outputs::LiveDisplay& display, const HeadlessArguments& arguments,
+                      std::chrono::steady_clock::time_point started, DisplayRun& run) {
+  const bool fromDevice = arguments.input.empty();
+  run.startMegabytes = residentMegabytes();
+  pipeline::AnimationFrame frame;
+  const auto tick = std::chrono::microseconds(
+      arguments.speed > 0.0 ? static_cast<long>(16667.0 / std::max(arguments.speed, 1.0)) : 500L);
+  auto next = std::chrono::steady_clock::now();
+  const auto take = [&] {
+    while (live.nextFrame(frame)) {
+      run.decodeMs.add(static_cast<double>(frame.decodedNs - frame.inputReadNs) * 1e-6);
+      display.present(frame, frame.timeSeconds);
+      if (!arguments.dump.empty()) run.shown.push_back(frame);
+      if (++run.framesShown == 60 * 30) run.minuteMegabytes = residentMegabytes();  // a minute of sound in
+    }
+  };
+  while (!live.done()) {
+    take();
+    const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+    // A device runs until --duration or an interrupt; a recording until it ends (or an interrupt).
+    if (InterruptGuard::requested() || (fromDevice && arguments.duration > 0.0 && elapsed >= arguments.duration))
+      live.endInput();
+    live.supervise();
+    printEvents(live);
+    next += tick;
+    std::this_thread::sleep_until(next);
+  }
+  take();
+}
+
 }  // namespace
 
 void runHeadless(const HeadlessArguments& arguments, const outputs::LiveSessionSettings& settings) {
@@ -109,25 +170,12 @@ void runHeadless(const HeadlessArguments& arguments, const outputs::LiveSessionS
   const auto models = std::make_shared<const pipeline::AnimationModels>(pipeline::loadModels(settings));
   InterruptGuard interrupts;
 
-  pipeline::LiveSource source;
   pipeline::LivePipelineOptions options{.decoder = settings.decoderOptions(),
                                         .speed = arguments.speed,
                                         .blockSamples = 256,
                                         .giveUpSeconds = arguments.reconnectSeconds};
-  double seconds = 0.0;  // of a recording's sound, all passes
-  if (!fromDevice) {
-    audio::AudioClip clip = audio::readRecording(arguments.input);
-    if (clip.samples.empty()) throw fileError(arguments.input, "has no samples");
-    if (arguments.duration > 0.0)
-      clip.samples.resize(
-          std::min(clip.samples.size(), static_cast<std::size_t>(arguments.duration * clip.sampleRateHz)));
-    seconds = std::max(static_cast<double>(clip.samples.size()) / clip.sampleRateHz, arguments.repeatTo);
-    options.repeatToSamples = static_cast<std::size_t>(arguments.repeatTo * clip.sampleRateHz);
-    source.recording = std::move(clip.samples);
-    source.name = arguments.input;
-  } else {
-    source.device = settings.live.deviceIndex();
-  }
+  double seconds = 0.0;
+  pipeline::LiveSource source = sourceOf(arguments, settings, options, seconds);
   pipeline::LivePipeline live(models, std::move(source), options);
   live.supervise();
   printEvents(live);
@@ -144,39 +192,9 @@ void runHeadless(const HeadlessArguments& arguments, const outputs::LiveSessionS
       fromDevice ? live.sourceName() + " (" + std::to_string(static_cast<int>(live.rateHz())) + " Hz)"
                  : live.sourceName();
   const auto started = std::chrono::steady_clock::now();
+  DisplayRun run;
+  displayUntilDone(live, display, arguments, started, run);
 
-  // The display loop: 60 Hz in the recording's time (faster when it plays faster; at full speed as often as it
-  // can), taking whatever the worker has decoded. Frames are kept only for a dump: a soak of an hour would
-  // otherwise keep the hour.
-  std::vector<pipeline::AnimationFrame> shown;
-  std::uint64_t framesShown = 0;
-  MillisecondHistogram decodeMs;
-  const double startMegabytes = residentMegabytes();
-  double minuteMegabytes = -1.0;
-  pipeline::AnimationFrame frame;
-  const auto tick = std::chrono::microseconds(
-      arguments.speed > 0.0 ? static_cast<long>(16667.0 / std::max(arguments.speed, 1.0)) : 500L);
-  auto next = std::chrono::steady_clock::now();
-  const auto take = [&] {
-    while (live.nextFrame(frame)) {
-      decodeMs.add(static_cast<double>(frame.decodedNs - frame.inputReadNs) * 1e-6);
-      display.present(frame, frame.timeSeconds);
-      if (!arguments.dump.empty()) shown.push_back(frame);
-      if (++framesShown == 60 * 30) minuteMegabytes = residentMegabytes();  // a minute of sound in
-    }
-  };
-  while (!live.done()) {
-    take();
-    const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
-    // A device runs until --duration or an interrupt; a recording until it ends (or an interrupt).
-    if (InterruptGuard::requested() || (fromDevice && arguments.duration > 0.0 && elapsed >= arguments.duration))
-      live.endInput();
-    live.supervise();
-    printEvents(live);
-    next += tick;
-    std::this_thread::sleep_until(next);
-  }
-  take();
   const double runSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   std::vector<std::string> outputLines;
   for (const outputs::OutputStatus& status : display.statuses())
@@ -189,10 +207,10 @@ void runHeadless(const HeadlessArguments& arguments, const outputs::LiveSessionS
                .seconds = seconds,
                .speed = arguments.speed,
                .fromDevice = fromDevice,
-               .framesShown = framesShown,
-               .decodeMs = &decodeMs,
-               .startMegabytes = startMegabytes,
-               .minuteMegabytes = minuteMegabytes,
+               .framesShown = run.framesShown,
+               .decodeMs = &run.decodeMs,
+               .startMegabytes = run.startMegabytes,
+               .minuteMegabytes = run.minuteMegabytes,
                .endMegabytes = endMegabytes,
                .outputLines = outputLines},
               live);
@@ -206,9 +224,9 @@ void runHeadless(const HeadlessArguments& arguments, const outputs::LiveSessionS
   if (!live.failure().empty()) throw Error(sourceName + ": " + live.failure() + "; no dump written");
 
   if (!arguments.dump.empty()) {
-    formats::writeAnimation(arguments.dump, trackOf(shown, display.fapNumbers(live.fapNumbers()),
+    formats::writeAnimation(arguments.dump, trackOf(run.shown, display.fapNumbers(live.fapNumbers()),
                                                     std::filesystem::path(arguments.input).stem().string()));
-    std::printf("wrote %s: %zu frames\n", arguments.dump.c_str(), shown.size());
+    std::printf("wrote %s: %zu frames\n", arguments.dump.c_str(), run.shown.size());
   }
 }
 

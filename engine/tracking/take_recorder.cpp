@@ -33,6 +33,66 @@ std::int64_t nowNs() {
       .count();
 }
 
+struct Devices {
+  std::unique_ptr<CameraDevice> camera;
+  std::unique_ptr<audio::PortAudioSystem> sound;
+};
+
+// Both devices are looked for before anything is written; a missing one is named with the other.
+Devices openDevices(const RecordingOptions& options) {
+  std::string missing;
+  const CameraModule* module = nullptr;
+  try {
+    module = &cameraModule();
+  } catch (const Error& noModule) {
+    throw Error(std::string("record: ") + noModule.what());
+  }
+  Devices devices;
+  devices.camera = module->openCamera(options.camera, options.width, options.height, options.framesPerSecond);
+  if (!devices.camera)
+    missing = "no camera (/dev/video" + std::to_string(options.camera) + " cannot be opened; --camera picks another)";
+  try {
+    devices.sound = std::make_unique<audio::PortAudioSystem>();
+    if (!options.soundDevice && !devices.sound->defaultInput())
+      throw Error("no sound input (a microphone; live --list-devices lists them)");
+    (void)audio::captureRateFor(*devices.sound, options.soundDevice, kTakeRateHz);
+  } catch (const Error& noInput) {
+    missing += (missing.empty() ? "" : ", and ") + std::string(noInput.what());
+  }
+  if (!missing.empty()) throw Error("record: " + missing);
+  return devices;
+}
+
+// Frames at the take's rate, each the latest the camera gave, and the sound, until something stops the take
+// (take.stoppedBy says what). `shown`: the first frame grabbed.
+void grabUntilStopped(CameraDevice& camera, MjpegWriter& writer, const audio::Capture& microphone,
+                      const RecordingOptions& options, const std::function<bool()>& stopRequested, cv::Mat shown,
+                      const std::function<void()>& takeSound, RecordedTake& take) {
+  const std::int64_t startNs = nowNs();
+  const double periodNs = 1e9 / options.framesPerSecond;
+  std::string& stoppedBy = take.stoppedBy;
+  while (stoppedBy.empty()) {
+    if (!camera.grab()) {
+      stoppedBy = "the camera went away";
+      break;
+    }
+    const std::int64_t grabbedNs = nowNs();
+    ++take.framesGrabbed;
+    // Every output frame due before this grab shows the frame before it.
+    while (static_cast<double>(startNs) + static_cast<double>(take.framesWritten) * periodNs <
+           static_cast<double>(grabbedNs)) {
+      writer.write(shown);
+      ++take.framesWritten;
+    }
+    camera.retrieve(shown);
+    takeSound();
+    if (!microphone.active()) stoppedBy = "the sound input went away";
+    if (stopRequested && stopRequested()) stoppedBy = "interrupted";
+    if (options.seconds > 0.0 && static_cast<double>(grabbedNs - startNs) >= options.seconds * 1e9)
+      stoppedBy = "the duration was reached";
+  }
+}
+
 }  // namespace
 
 RecordedTake recordTalkingVideo(const RecordingOptions& options, const std::function<bool()>& stopRequested,
@@ -47,29 +107,8 @@ RecordedTake recordTalkingVideo(const RecordingOptions& options, const std::func
   for (const auto& path : {take.video, take.sound})
     if (std::filesystem::exists(path, error)) throw fileError(path, "exists already (give another --name)");
 
-  // Both devices are looked for before anything is written; a missing one is named with the other.
-  std::string missing;
-  const CameraModule* modulePointer = nullptr;
-  try {
-    modulePointer = &cameraModule();
-  } catch (const Error& noModule) {
-    throw Error(std::string("record: ") + noModule.what());
-  }
-  const CameraModule& module = *modulePointer;
-  std::unique_ptr<CameraDevice> camera =
-      module.openCamera(options.camera, options.width, options.height, options.framesPerSecond);
-  if (!camera)
-    missing = "no camera (/dev/video" + std::to_string(options.camera) + " cannot be opened; --camera picks another)";
-  std::unique_ptr<audio::PortAudioSystem> system;
-  try {
-    system = std::make_unique<audio::PortAudioSystem>();
-    if (!options.soundDevice && !system->defaultInput())
-      throw Error("no sound input (a microphone; live --list-devices lists them)");
-    (void)audio::captureRateFor(*system, options.soundDevice, kTakeRateHz);
-  } catch (const Error& noInput) {
-    missing += (missing.empty() ? "" : ", and ") + std::string(noInput.what());
-  }
-  if (!missing.empty()) throw Error("record: " + missing);
+  Devices devices = openDevices(options);
+  std::unique_ptr<CameraDevice>& camera = devices.camera;
 
   cv::Mat frame;
   if (!camera->grab() || !camera->retrieve(frame)) throw Error("record: the camera gives no picture");
@@ -93,7 +132,7 @@ RecordedTake recordTalkingVideo(const RecordingOptions& options, const std::func
   }
 
   AudioRing ring(static_cast<std::size_t>(kTakeRateHz) * 10);
-  audio::Capture microphone(*system, options.soundDevice, kTakeRateHz, ring);
+  audio::Capture microphone(*devices.sound, options.soundDevice, kTakeRateHz, ring);
   const double rate = microphone.rateHz();
   if (onStart)
     onStart({.width = size.width,
@@ -110,33 +149,10 @@ RecordedTake recordTalkingVideo(const RecordingOptions& options, const std::func
     for (std::size_t got; (got = ring.read(block.data(), block.size())) > 0;)
       sound.insert(sound.end(), block.begin(), block.begin() + static_cast<std::ptrdiff_t>(got));
   };
-  const std::int64_t startNs = nowNs();
-  const double periodNs = 1e9 / options.framesPerSecond;
-  cv::Mat shown = frame.clone();  // the latest camera frame grabbed
-  std::string& stoppedBy = take.stoppedBy;
-  while (stoppedBy.empty()) {
-    if (!camera->grab()) {
-      stoppedBy = "the camera went away";
-      break;
-    }
-    const std::int64_t grabbedNs = nowNs();
-    ++take.framesGrabbed;
-    // Every output frame due before this grab shows the frame before it.
-    while (static_cast<double>(startNs) + static_cast<double>(take.framesWritten) * periodNs <
-           static_cast<double>(grabbedNs)) {
-      writer->write(shown);
-      ++take.framesWritten;
-    }
-    camera->retrieve(shown);
-    takeSound();
-    if (!microphone.active()) stoppedBy = "the sound input went away";
-    if (stopRequested && stopRequested()) stoppedBy = "interrupted";
-    if (options.seconds > 0.0 && static_cast<double>(grabbedNs - startNs) >= options.seconds * 1e9)
-      stoppedBy = "the duration was reached";
-  }
+  grabUntilStopped(*camera, *writer, microphone, options, stopRequested, frame.clone(), takeSound, take);
   takeSound();
   writer->finish();
-  if (take.framesWritten < 2 || sound.empty()) throw Error("record: " + stoppedBy + " before anything was recorded");
+  if (take.framesWritten < 2 || sound.empty()) throw Error("record: " + take.stoppedBy + " before anything was recorded");
   // A device that would not run at 16 kHz ran at its own rate (Capture); the take is kept at 16 kHz.
   const std::vector<float> sound16k = rate == kTakeRateHz ? sound : audio::resample(sound, rate, kTakeRateHz);
   audio::writeWav16(take.sound, sound16k, static_cast<int>(kTakeRateHz));
@@ -147,7 +163,7 @@ RecordedTake recordTalkingVideo(const RecordingOptions& options, const std::func
   }
   cleanup.keep = true;
   take.soundSeconds = static_cast<double>(sound16k.size()) / kTakeRateHz;
-  take.deviceLost = stoppedBy.find("went away") != std::string::npos;
+  take.deviceLost = take.stoppedBy.find("went away") != std::string::npos;
   return take;
 }
 
