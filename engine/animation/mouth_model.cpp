@@ -242,6 +242,93 @@ void saveMouthModel(const std::filesystem::path& path, const MouthModel& model, 
   hmm::saveModel(path, model.hmm, training.dump());
 }
 
+namespace {
+
+VisualBasis mouthBasisFrom(const Json& training, const std::filesystem::path& path) {
+  if (!training.contains("visual_basis") || !training["visual_basis"].is_object()) {
+    throw fileError(path, "training.visual_basis is missing");
+  }
+  const Json& basis = training["visual_basis"];
+  if (!basis.contains("explained_variance") || !basis["explained_variance"].is_number()) {
+    throw fileError(path, "training.visual_basis.explained_variance must be a number");
+  }
+  try {
+    return VisualBasis::fromParts(
+        vectorFrom(basis.value("mean", Json()), path, "mean"), vectorFrom(basis.value("scale", Json()), path, "scale"),
+        matrixFrom(basis.value("unmixing", Json()), path, "unmixing"),
+        matrixFrom(basis.value("mixing", Json()), path, "mixing"), basis["explained_variance"].get<double>());
+  } catch (const Error& error) {
+    const std::string what = error.what();
+    if (what.rfind(path.string(), 0) == 0) throw;
+    throw fileError(path, what);
+  }
+}
+
+std::vector<int> mouthVisualFapsFrom(const Json& faps, const std::filesystem::path& path, int parameters) {
+  const auto rows = static_cast<std::size_t>(parameters);
+  std::vector<int> numbers;
+  if (!faps.is_array() || faps.size() != rows)
+    throw fileError(
+        path, "training.visual_faps must list one FAP number per visual parameter (" + std::to_string(rows) + ")");
+  for (const Json& number : faps) {
+    if (!number.is_number_integer() || number.get<int>() < 1 || number.get<int>() > face::kNumFaps ||
+        (!numbers.empty() && number.get<int>() <= numbers.back()))
+      throw fileError(path, "training.visual_faps must hold FAP numbers 1..68 in ascending order");
+    numbers.push_back(number.get<int>());
+  }
+  return numbers;
+}
+
+MouthSpeechNormalisation mouthNormalisationFrom(const Json& n, const std::filesystem::path& path) {
+  const auto number = [&](const char* field) {
+    if (!n.is_object() || !n.contains(field) || !n[field].is_number())
+      throw fileError(path, std::string("training.speech_normalisation.") + field + " must be a number");
+    return n[field].get<double>();
+  };
+  MouthSpeechNormalisation normalisation;
+  normalisation.options = {.meanSeconds = number("mean_seconds"),
+                           .priorSeconds = number("prior_seconds"),
+                           .peakDecayDbPerSecond = number("peak_decay_db_per_second"),
+                           .levelUnitDb = number("level_unit_db")};
+  try {
+    normalisation.options.check();
+  } catch (const Error& error) {
+    throw fileError(path, std::string("training.speech_normalisation: ") + error.what());
+  }
+  normalisation.priorMean =
+      vectorFrom(n.value("prior_mean", Json()), path, "prior_mean", "training.speech_normalisation.");
+  if (!normalisation.priorMean.allFinite())
+    throw fileError(path, "training.speech_normalisation.prior_mean must be finite");
+  return normalisation;
+}
+
+// The audio block holds tc + tf + 1 frames of D values (D = the prior's MFCCs + the level, when normalised); the
+// visual block the basis's K components (and their deltas).
+void checkMouthBlocks(const MouthModel& model, const std::filesystem::path& path) {
+  const int contextWidth = model.contextWidth();
+  const int visualSize = model.basis.components() * (model.visualDeltas ? 2 : 1);
+  int audioSize = -1;
+  bool visualOk = false;
+  for (const auto& block : model.hmm.blocks) {
+    if (block.name == "audio" && block.begin == 0 && block.size > 0 && block.size % contextWidth == 0)
+      audioSize = block.size;
+  }
+  for (const auto& block : model.hmm.blocks) {
+    if (block.name == "visual") visualOk = block.begin == audioSize && block.size == visualSize;
+  }
+  if (audioSize < 0 || !visualOk) {
+    throw fileError(path,
+                    "a mouth model needs an audio block at 0 of (2 tc + 1) x its audio features and a visual "
+                    "block of the basis's " +
+                        std::to_string(model.basis.components()) + " components" +
+                        (model.visualDeltas ? " and their deltas" : "") + " after it");
+  }
+  if (model.normalisation && audioSize != contextWidth * (static_cast<int>(model.normalisation->priorMean.size()) + 1))
+    throw fileError(path, "the audio block does not hold (2 tc + 1) frames of the normalised MFCCs and the level");
+}
+
+}  // namespace
+
 MouthModel loadMouthModel(const std::filesystem::path& path) {
   std::string trainingText;
   MouthModel model;
@@ -263,60 +350,12 @@ MouthModel loadMouthModel(const std::filesystem::path& path) {
       throw fileError(path, "training.future_context_frames must be an integer 0..20");
     model.futureContextFrames = future.get<int>();
   }
-  if (!training.contains("visual_basis") || !training["visual_basis"].is_object()) {
-    throw fileError(path, "training.visual_basis is missing");
-  }
-  const Json& basis = training["visual_basis"];
-  if (!basis.contains("explained_variance") || !basis["explained_variance"].is_number()) {
-    throw fileError(path, "training.visual_basis.explained_variance must be a number");
-  }
-  try {
-    model.basis = VisualBasis::fromParts(
-        vectorFrom(basis.value("mean", Json()), path, "mean"), vectorFrom(basis.value("scale", Json()), path, "scale"),
-        matrixFrom(basis.value("unmixing", Json()), path, "unmixing"),
-        matrixFrom(basis.value("mixing", Json()), path, "mixing"), basis["explained_variance"].get<double>());
-  } catch (const Error& error) {
-    const std::string what = error.what();
-    if (what.rfind(path.string(), 0) == 0) throw;
-    throw fileError(path, what);
-  }
+  model.basis = mouthBasisFrom(training, path);
   if (training.contains("fap_map")) model.fapMap = mouthFapMapFromJson(training["fap_map"], path);
-  if (training.contains("visual_faps")) {
-    const Json& faps = training["visual_faps"];
-    const auto rows = static_cast<std::size_t>(model.basis.inputDimension());
-    if (!faps.is_array() || faps.size() != rows)
-      throw fileError(
-          path, "training.visual_faps must list one FAP number per visual parameter (" + std::to_string(rows) + ")");
-    for (const Json& number : faps) {
-      if (!number.is_number_integer() || number.get<int>() < 1 || number.get<int>() > face::kNumFaps ||
-          (!model.visualFaps.empty() && number.get<int>() <= model.visualFaps.back()))
-        throw fileError(path, "training.visual_faps must hold FAP numbers 1..68 in ascending order");
-      model.visualFaps.push_back(number.get<int>());
-    }
-  }
-  if (training.contains("speech_normalisation")) {
-    const Json& n = training["speech_normalisation"];
-    const auto number = [&](const char* field) {
-      if (!n.is_object() || !n.contains(field) || !n[field].is_number())
-        throw fileError(path, std::string("training.speech_normalisation.") + field + " must be a number");
-      return n[field].get<double>();
-    };
-    MouthSpeechNormalisation normalisation;
-    normalisation.options = {.meanSeconds = number("mean_seconds"),
-                             .priorSeconds = number("prior_seconds"),
-                             .peakDecayDbPerSecond = number("peak_decay_db_per_second"),
-                             .levelUnitDb = number("level_unit_db")};
-    try {
-      normalisation.options.check();
-    } catch (const Error& error) {
-      throw fileError(path, std::string("training.speech_normalisation: ") + error.what());
-    }
-    normalisation.priorMean =
-        vectorFrom(n.value("prior_mean", Json()), path, "prior_mean", "training.speech_normalisation.");
-    if (!normalisation.priorMean.allFinite())
-      throw fileError(path, "training.speech_normalisation.prior_mean must be finite");
-    model.normalisation = std::move(normalisation);
-  }
+  if (training.contains("visual_faps"))
+    model.visualFaps = mouthVisualFapsFrom(training["visual_faps"], path, model.basis.inputDimension());
+  if (training.contains("speech_normalisation"))
+    model.normalisation = mouthNormalisationFrom(training["speech_normalisation"], path);
   if (training.contains("visual_deltas")) {
     if (!training["visual_deltas"].is_boolean()) throw fileError(path, "training.visual_deltas must be true or false");
     model.visualDeltas = training["visual_deltas"].get<bool>();
@@ -328,28 +367,7 @@ MouthModel loadMouthModel(const std::filesystem::path& path) {
       throw fileError(path, "training.variance_scale must hold one positive factor per visual component (" +
                                 std::to_string(model.basis.components()) + ")");
   }
-  // The audio block holds tc + tf + 1 frames of D values (D = the prior's MFCCs + the level, when normalised); the
-  // visual block the basis's K components (and their deltas).
-  const int contextWidth = model.contextWidth();
-  const int visualSize = model.basis.components() * (model.visualDeltas ? 2 : 1);
-  int audioSize = -1;
-  bool visualOk = false;
-  for (const auto& block : model.hmm.blocks) {
-    if (block.name == "audio" && block.begin == 0 && block.size > 0 && block.size % contextWidth == 0)
-      audioSize = block.size;
-  }
-  for (const auto& block : model.hmm.blocks) {
-    if (block.name == "visual") visualOk = block.begin == audioSize && block.size == visualSize;
-  }
-  if (audioSize < 0 || !visualOk) {
-    throw fileError(path,
-                    "a mouth model needs an audio block at 0 of (2 tc + 1) x its audio features and a visual "
-                    "block of the basis's " +
-                        std::to_string(model.basis.components()) + " components" +
-                        (model.visualDeltas ? " and their deltas" : "") + " after it");
-  }
-  if (model.normalisation && audioSize != contextWidth * (static_cast<int>(model.normalisation->priorMean.size()) + 1))
-    throw fileError(path, "the audio block does not hold (2 tc + 1) frames of the normalised MFCCs and the level");
+  checkMouthBlocks(model, path);
   return model;
 }
 
