@@ -75,6 +75,48 @@ class FapStreamFormat final : public AnimationFormat {
     if (!lines.nextContent(line, true))
       throw fileError(path, "is empty (expected a header line `2.1 NAME FPS NFRAMES`)");
     const int headerLine = lines.number();
+    face::FapTrack track;
+    // Only compared with the frames read, never used to size anything: a forged header costs nothing.
+    const long long announced = readFapHeader(line, path, headerLine, track);
+
+    // Kept as sent (masks and the values they flag) and filled in at the end, once the FAPs are known.
+    SentFrames sent;
+    long long previousFrame = -1;
+    while (lines.nextContent(line, true)) {
+      const int maskLine = lines.number();
+      if (static_cast<long long>(sent.masks.size()) == announced) {
+        failAt(path, maskLine,
+               "a frame beyond the " + std::to_string(announced) + " that the header on line " +
+                   std::to_string(headerLine) + " announces");
+      }
+      const std::bitset<face::kNumFaps> mask = readFapMask(line, path, maskLine);
+      if (!lines.nextContent(line, true))
+        failAt(path, maskLine, "the file ends after this mask; expected a line with the frame number and values");
+      readFapValues(line, path, {.maskLine = maskLine, .valueLine = lines.number()}, mask, previousFrame, sent);
+    }
+    if (sent.masks.empty()) failAt(path, headerLine, "no frames follow the header");
+    if (static_cast<long long>(sent.masks.size()) != announced) {
+      failAt(path, headerLine,
+             "the header announces " + std::to_string(announced) + " frames, but the file has " +
+                 std::to_string(sent.masks.size()));
+    }
+    fillHeldValues(sent, track);
+    return track;
+  }
+
+ private:
+  struct SentFrames {
+    std::vector<std::bitset<face::kNumFaps>> masks;
+    std::vector<std::int32_t> values;  // the flagged FAPs' values, frame after frame
+    std::bitset<face::kNumFaps> everSent;
+  };
+  struct FrameLines {
+    int maskLine = 0, valueLine = 0;
+  };
+
+  // `2.1 NAME FPS NFRAMES` into the track's name and rate; returns NFRAMES.
+  static long long readFapHeader(std::string_view line, const fs::path& path, int headerLine,
+                                 face::FapTrack& track) {
     const Fields header = splitWhitespace(line, 4);
     if (header.count != 4) {
       failAt(path, headerLine,
@@ -84,98 +126,84 @@ class FapStreamFormat final : public AnimationFormat {
       failAt(path, headerLine,
              "version '" + printable(header.items[0]) + "' is not 2.1 (the header is `2.1 NAME FPS NFRAMES`)");
     }
-    face::FapTrack track;
     track.name = std::string(header.items[1]);
     const auto fps = parseNumber(header.items[2]);
     if (!fps || !std::isfinite(*fps) || *fps <= 0)
       failAt(path, headerLine, "the frame rate '" + printable(header.items[2]) + "' is not a positive number");
     track.framesPerSecond = *fps;
-    // Only compared with the frames read, never used to size anything: a forged header costs nothing.
     const auto announced = parseLong(header.items[3]);
     if (!announced || *announced < 0)
       failAt(path, headerLine,
              "the frame count '" + printable(header.items[3]) + "' is not a whole number (0 or more)");
+    return *announced;
+  }
 
-    // Kept as sent (masks and the values they flag) and filled in at the end, once the FAPs are known.
-    std::vector<std::bitset<face::kNumFaps>> masks;
-    std::vector<std::int32_t> sent;
-    std::bitset<face::kNumFaps> everSent;
-    long long previousFrame = -1;
-    while (lines.nextContent(line, true)) {
-      const int maskLine = lines.number();
-      if (static_cast<long long>(masks.size()) == *announced) {
+  static std::bitset<face::kNumFaps> readFapMask(std::string_view line, const fs::path& path, int maskLine) {
+    const Fields flags = splitWhitespace(line, face::kNumFaps);
+    if (flags.count != face::kNumFaps)
+      failAt(path, maskLine,
+             "the mask has " + std::to_string(flags.count) + " flags; expected 68 (a 0 or 1 per FAP)");
+    std::bitset<face::kNumFaps> mask;
+    for (std::size_t i = 0; i < flags.items.size(); ++i) {
+      if (flags.items[i] == "1") {
+        mask.set(i);
+      } else if (flags.items[i] != "0") {
         failAt(path, maskLine,
-               "a frame beyond the " + std::to_string(*announced) + " that the header on line " +
-                   std::to_string(headerLine) + " announces");
+               "mask flag " + std::to_string(i + 1) + " is '" + printable(flags.items[i]) + "'; expected 0 or 1");
       }
-      const Fields flags = splitWhitespace(line, face::kNumFaps);
-      if (flags.count != face::kNumFaps)
-        failAt(path, maskLine,
-               "the mask has " + std::to_string(flags.count) + " flags; expected 68 (a 0 or 1 per FAP)");
-      std::bitset<face::kNumFaps> mask;
-      for (std::size_t i = 0; i < flags.items.size(); ++i) {
-        if (flags.items[i] == "1") {
-          mask.set(i);
-        } else if (flags.items[i] != "0") {
-          failAt(path, maskLine,
-                 "mask flag " + std::to_string(i + 1) + " is '" + printable(flags.items[i]) + "'; expected 0 or 1");
-        }
-      }
-      if (!lines.nextContent(line, true))
-        failAt(path, maskLine, "the file ends after this mask; expected a line with the frame number and values");
-      const int valueLine = lines.number();
-      const Fields items = splitWhitespace(line, mask.count() + 1);
-      if (items.count != mask.count() + 1) {
-        failAt(path, valueLine,
-               "the frame number is followed by " + counted(items.count - 1, "value") + ", but the mask on line " +
-                   std::to_string(maskLine) + " flags " + counted(mask.count(), "FAP"));
-      }
-      const auto frame = parseLong(items.items[0]);
-      if (!frame || *frame < 0) {
-        failAt(path, valueLine,
-               "the frame number '" + printable(items.items[0]) + "' is not a whole number (0 or more)");
-      }
-      if (*frame <= previousFrame) {
-        failAt(path, valueLine,
-               "frame number " + std::to_string(*frame) + " follows " + std::to_string(previousFrame) +
-                   ": frame numbers must increase");
-      }
-      previousFrame = *frame;
-      std::size_t item = 1;
-      for (std::size_t i = 0; i < mask.size(); ++i) {
-        if (!mask.test(i)) continue;
-        const std::string_view token = items.items[item++];
-        const auto value = parseInt(token);
-        if (!value) {
-          failAt(path, valueLine,
-                 fapColumnName(static_cast<int>(i) + 1) + " '" + printable(token) + "' is not a 32-bit integer");
-        }
-        sent.push_back(*value);
-      }
-      masks.push_back(mask);
-      everSent |= mask;
     }
-    if (masks.empty()) failAt(path, headerLine, "no frames follow the header");
-    if (static_cast<long long>(masks.size()) != *announced) {
-      failAt(path, headerLine,
-             "the header announces " + std::to_string(*announced) + " frames, but the file has " +
-                 std::to_string(masks.size()));
-    }
+    return mask;
+  }
 
-    for (std::size_t i = 0; i < everSent.size(); ++i)
-      if (everSent.test(i)) track.faps.push_back(static_cast<int>(i) + 1);
-    // A FAP not sent in a frame holds its last value; 0 before it is first sent.
+  // The frame number, after the last one, and the values the mask flags.
+  static void readFapValues(std::string_view line, const fs::path& path, FrameLines at,
+                            const std::bitset<face::kNumFaps>& mask, long long& previousFrame, SentFrames& sent) {
+    const Fields items = splitWhitespace(line, mask.count() + 1);
+    if (items.count != mask.count() + 1) {
+      failAt(path, at.valueLine,
+             "the frame number is followed by " + counted(items.count - 1, "value") + ", but the mask on line " +
+                 std::to_string(at.maskLine) + " flags " + counted(mask.count(), "FAP"));
+    }
+    const auto frame = parseLong(items.items[0]);
+    if (!frame || *frame < 0) {
+      failAt(path, at.valueLine,
+             "the frame number '" + printable(items.items[0]) + "' is not a whole number (0 or more)");
+    }
+    if (*frame <= previousFrame) {
+      failAt(path, at.valueLine,
+             "frame number " + std::to_string(*frame) + " follows " + std::to_string(previousFrame) +
+                 ": frame numbers must increase");
+    }
+    previousFrame = *frame;
+    std::size_t item = 1;
+    for (std::size_t i = 0; i < mask.size(); ++i) {
+      if (!mask.test(i)) continue;
+      const std::string_view token = items.items[item++];
+      const auto value = parseInt(token);
+      if (!value) {
+        failAt(path, at.valueLine,
+               fapColumnName(static_cast<int>(i) + 1) + " '" + printable(token) + "' is not a 32-bit integer");
+      }
+      sent.values.push_back(*value);
+    }
+    sent.masks.push_back(mask);
+    sent.everSent |= mask;
+  }
+
+  // The track's FAPs are those ever sent; a FAP not sent in a frame holds its last value, 0 before it is first sent.
+  static void fillHeldValues(const SentFrames& sent, face::FapTrack& track) {
+    for (std::size_t i = 0; i < sent.everSent.size(); ++i)
+      if (sent.everSent.test(i)) track.faps.push_back(static_cast<int>(i) + 1);
     std::array<double, face::kNumFaps> current{};
-    track.values.resize(static_cast<Eigen::Index>(track.faps.size()), static_cast<Eigen::Index>(masks.size()));
+    track.values.resize(static_cast<Eigen::Index>(track.faps.size()), static_cast<Eigen::Index>(sent.masks.size()));
     std::size_t next = 0;
-    for (std::size_t f = 0; f < masks.size(); ++f) {
-      for (std::size_t i = 0; i < masks[f].size(); ++i)
-        if (masks[f].test(i)) current[i] = sent[next++];
+    for (std::size_t f = 0; f < sent.masks.size(); ++f) {
+      for (std::size_t i = 0; i < sent.masks[f].size(); ++i)
+        if (sent.masks[f].test(i)) current[i] = sent.values[next++];
       for (std::size_t r = 0; r < track.faps.size(); ++r)
         track.values(static_cast<Eigen::Index>(r), static_cast<Eigen::Index>(f)) =
             current[static_cast<std::size_t>(track.faps[r] - 1)];
     }
-    return track;
   }
 };
 
