@@ -389,15 +389,11 @@ void AvatarRenderer::drawBackdropBehind() {
   glDepthFunc(GL_LESS);
 }
 
-void AvatarRenderer::drawCharacter(const OrbitCamera& camera, bool withBackdrop, Layer layer) {
+// The camera and the lights, the same for every batch, set in every program once a frame (the lights turned into
+// the world's frame: they are given relative to the camera).
+void AvatarRenderer::setSceneUniforms(const Eigen::Matrix4f& view, const Eigen::Matrix4f& viewProjection,
+                                      const Eigen::Vector3f& eye) {
   Gl& g = *gl_;
-  const float aspect = static_cast<float>(options_.width) / static_cast<float>(options_.height);
-  const Eigen::Matrix4f view = camera.view();
-  const Eigen::Matrix4f viewProjection = camera.projection(aspect) * view;
-  const Eigen::Vector3f eye = camera.eye();
-  selectVisible(viewProjection, eye, layer);
-  glEnable(GL_DEPTH_TEST);
-  glDepthFunc(GL_LESS);
   const Lighting& light = options_.lighting;
   const Eigen::Matrix3f toWorld = view.topLeftCorner<3, 3>().transpose();
   const Light* lights[3] = {&light.key, &light.fill, &light.rim};
@@ -421,6 +417,18 @@ void AvatarRenderer::drawCharacter(const OrbitCamera& camera, bool withBackdrop,
     glUniform1f(program.exposure, light.exposure);
     glUniform1i(program.baseTexture, 0);
   }
+}
+
+void AvatarRenderer::drawCharacter(const OrbitCamera& camera, bool withBackdrop, Layer layer) {
+  Gl& g = *gl_;
+  const float aspect = static_cast<float>(options_.width) / static_cast<float>(options_.height);
+  const Eigen::Matrix4f view = camera.view();
+  const Eigen::Matrix4f viewProjection = camera.projection(aspect) * view;
+  const Eigen::Vector3f eye = camera.eye();
+  selectVisible(viewProjection, eye, layer);
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LESS);
+  setSceneUniforms(view, viewProjection, eye);
   glActiveTexture(GL_TEXTURE0);
 
   // One batch (selectVisible's order), with the state changed only where it differs from the last one's.

@@ -107,6 +107,7 @@ class AvatarRenderer {
   // depth) into the single-sample target.
   void drawStillLayer(const OrbitCamera& camera);
   void drawBackdropBehind();
+  void setSceneUniforms(const Eigen::Matrix4f& view, const Eigen::Matrix4f& viewProjection, const Eigen::Vector3f& eye);
 
   GlContext& context_;
   const avatar::Avatar& avatar_;
