@@ -115,6 +115,47 @@ bool isSunLetter(char32_t c) {
   return kSunLetters.find(c) != std::u32string_view::npos;
 }
 
+// The marks after a letter, from `at` on (left past them): the vowel they say, and whether they settle the
+// letter's vowel (a vowel mark or a sukun); a shadda sets `shadda`.
+std::pair<std::vector<std::string>, bool> vowelOfMarks(const std::vector<char32_t>& letters, std::size_t& at,
+                                                       bool& shadda) {
+  std::vector<std::string> vowel;
+  bool sukun = false, any = false;
+  while (at < letters.size() && isMark(letters[at])) {
+    any = true;
+    switch (letters[at]) {
+      case kFatha:
+        vowel = {"AH"};
+        break;
+      case kKasra:
+        vowel = {"IH"};
+        break;
+      case kDamma:
+        vowel = {"UH"};
+        break;
+      case kFathatan:
+        vowel = {"AH", "N"};
+        break;
+      case kKasratan:
+        vowel = {"IH", "N"};
+        break;
+      case kDammatan:
+        vowel = {"UH", "N"};
+        break;
+      case kShadda:
+        shadda = true;
+        break;
+      case kSukun:
+        sukun = true;
+        break;
+      default:
+        break;
+    }
+    ++at;
+  }
+  return std::make_pair(vowel, any && (sukun || !vowel.empty()));
+}
+
 void appendToken(const std::vector<char32_t>& letters, std::vector<std::string>& phones) {
   std::size_t i = 0;
   bool geminateNext = false;
@@ -131,43 +172,6 @@ void appendToken(const std::vector<char32_t>& letters, std::vector<std::string>&
   }
   // Whether the last thing said was a consonant with no vowel of its own yet.
   bool pendingVowel = false;
-  const auto vowelOfMarks = [&](std::size_t& at, bool& shadda) {
-    std::vector<std::string> vowel;
-    bool sukun = false, any = false;
-    while (at < letters.size() && isMark(letters[at])) {
-      any = true;
-      switch (letters[at]) {
-        case kFatha:
-          vowel = {"AH"};
-          break;
-        case kKasra:
-          vowel = {"IH"};
-          break;
-        case kDamma:
-          vowel = {"UH"};
-          break;
-        case kFathatan:
-          vowel = {"AH", "N"};
-          break;
-        case kKasratan:
-          vowel = {"IH", "N"};
-          break;
-        case kDammatan:
-          vowel = {"UH", "N"};
-          break;
-        case kShadda:
-          shadda = true;
-          break;
-        case kSukun:
-          sukun = true;
-          break;
-        default:
-          break;
-      }
-      ++at;
-    }
-    return std::make_pair(vowel, any && (sukun || !vowel.empty()));
-  };
   for (; i < letters.size();) {
     const char32_t c = letters[i++];
     if (c == kTatweel || isMark(c)) continue;
@@ -215,7 +219,7 @@ void appendToken(const std::vector<char32_t>& letters, std::vector<std::string>&
     if (consonant.empty() && implied.empty()) continue;  // a letter we do not know: nothing said for it
     bool shadda = geminateNext;
     geminateNext = false;
-    const auto [vowel, marked] = vowelOfMarks(i, shadda);
+    const auto [vowel, marked] = vowelOfMarks(letters, i, shadda);
     if (!consonant.empty()) {
       phones.push_back(consonant);
       if (shadda) phones.push_back(consonant);
