@@ -182,62 +182,10 @@ VertexSelection FaceModel::select(const std::vector<int>& vertices) const {
   return selection;
 }
 
-Eigen::Matrix3Xd FaceModel::deformSelected(const FapFrame& faps, const VertexSelection* selection) const {
-  // The column of a mesh vertex in `v` (-1: not deformed here), and the mesh vertex of a column.
-  const auto columnOf = [&](int vertex) {
-    return selection ? selection->columnOf[static_cast<std::size_t>(vertex)] : vertex;
-  };
-  const auto vertexOf = [&](Eigen::Index column) {
-    return selection ? selection->vertices[static_cast<std::size_t>(column)] : static_cast<int>(column);
-  };
-  Eigen::Matrix3Xd v;
-  if (selection) {
-    v.resize(3, static_cast<Eigen::Index>(selection->vertices.size()));
-    for (Eigen::Index c = 0; c < v.cols(); ++c) v.col(c) = mesh_.positions.col(vertexOf(c));
-  } else {
-    v = mesh_.positions;
-  }
+// Each eye's lids closed about its centre by FAPs 19–22, its ball turned by 23–26 and thrust by 27–28.
+void FaceModel::closeLidsAndTurnEyes(const FapFrame& faps, const VertexSelection* selection,
+                                     Eigen::Matrix3Xd& v) const {
   const Eigen::Matrix3Xd& rest = mesh_.positions;
-  for (int fap = 1; fap <= kNumFaps; ++fap) {
-    const double value = faps[static_cast<std::size_t>(fap)];
-    if (value == 0.0) continue;
-    if (selection) {
-      for (const VertexSelection::FieldEntry& entry : selection->fields[static_cast<std::size_t>(fap)])
-        v.col(entry.column) += value * entry.displacement.cast<double>();
-    } else {
-      for (const FieldEntry& entry : linear_[static_cast<std::size_t>(fap)])
-        v.col(entry.vertex) += value * entry.displacement.cast<double>();
-    }
-  }
-
-  // Tongue roll (unidirectional: the sides curl up): each side turns about the mid-line's axis, the face's left
-  // (+x) counter-clockwise seen from the front, its right clockwise, so both borders rise.
-  const double tongueRoll = std::max(0.0, faps[47]) * kAngleUnit;
-  if (tongueRoll != 0.0) {
-    forEachDeformed(tongueRoll_, selection ? &selection->tongue : nullptr,
-                    [&](int column, const std::pair<int, float>& entry) {
-                      const double a = entry.second * tongueRoll, c = std::cos(a), s = std::sin(a);
-                      const double x = v(0, column), y = v(1, column) - tongueAxisY_;
-                      v(0, column) = c * x - s * y;
-                      v(1, column) = tongueAxisY_ + s * x + c * y;
-                    });
-  }
-
-  // Jaw: each vertex turns by its share of the angle and slides by its share of the thrust and shift. The
-  // slide is scaled so that the chin point, whose share is chinFollow_, moves by exactly value × FAPU.
-  const double angle = jawAngleFor(faps[3]);
-  const Eigen::Vector3d slide = (std::max(0.0, faps[14]) * units_.mns * Eigen::Vector3d::UnitZ() +
-                                 faps[15] * units_.mw * -Eigen::Vector3d::UnitX()) /
-                                chinFollow_;
-  if (angle != 0.0 || slide.squaredNorm() > 0.0) {
-    forEachDeformed(jawVertices_, selection ? &selection->jaw : nullptr, [&](int column, int vertex) {
-      const double share = jawFollow_[vertex];
-      v.col(column) =
-          jaw_.pivot + Eigen::AngleAxisd(share * angle, jaw_.axis) * (v.col(column) - jaw_.pivot) + share * slide;
-    });
-  }
-
-  // Eyelids and eyeballs.
   for (int e = 0; e < 2; ++e) {
     const Eye& eye = eyes_[static_cast<std::size_t>(e)];
     const bool left = e == 0;
@@ -277,6 +225,63 @@ Eigen::Matrix3Xd FaceModel::deformSelected(const FapFrame& faps, const VertexSel
       });
     }
   }
+}
+
+Eigen::Matrix3Xd FaceModel::deformSelected(const FapFrame& faps, const VertexSelection* selection) const {
+  // The column of a mesh vertex in `v` (-1: not deformed here), and the mesh vertex of a column.
+  const auto columnOf = [&](int vertex) {
+    return selection ? selection->columnOf[static_cast<std::size_t>(vertex)] : vertex;
+  };
+  const auto vertexOf = [&](Eigen::Index column) {
+    return selection ? selection->vertices[static_cast<std::size_t>(column)] : static_cast<int>(column);
+  };
+  Eigen::Matrix3Xd v;
+  if (selection) {
+    v.resize(3, static_cast<Eigen::Index>(selection->vertices.size()));
+    for (Eigen::Index c = 0; c < v.cols(); ++c) v.col(c) = mesh_.positions.col(vertexOf(c));
+  } else {
+    v = mesh_.positions;
+  }
+  for (int fap = 1; fap <= kNumFaps; ++fap) {
+    const double value = faps[static_cast<std::size_t>(fap)];
+    if (value == 0.0) continue;
+    if (selection) {
+      for (const VertexSelection::FieldEntry& entry : selection->fields[static_cast<std::size_t>(fap)])
+        v.col(entry.column) += value * entry.displacement.cast<double>();
+    } else {
+      for (const FieldEntry& entry : linear_[static_cast<std::size_t>(fap)])
+        v.col(entry.vertex) += value * entry.displacement.cast<double>();
+    }
+  }
+
+  // Tongue roll (unidirectional: the sides curl up): each side turns about the mid-line's axis, the face's left
+  // (+x) counter-clockwise seen from the front, its right clockwise, so both borders rise.
+  const double tongueRoll = std::max(0.0, faps[47]) * kAngleUnit;
+  if (tongueRoll != 0.0) {
+    forEachDeformed(tongueRoll_, selection ? &selection->tongue : nullptr,
+                    [&](int column, const std::pair<int, float>& entry) {
+                      const double a = entry.second * tongueRoll, c = std::cos(a), s = std::sin(a);
+                      const double x = v(0, column), y = v(1, column) - tongueAxisY_;
+                      v(0, column) = c * x - s * y;
+                      v(1, column) = tongueAxisY_ + s * x + c * y;
+                    });
+  }
+
+  // Jaw: each vertex turns by its share of the angle and slides by its share of the thrust and shift. The
+  // slide is scaled so that the chin point, whose share is chinFollow_, moves by exactly value × FAPU.
+  const double angle = jawAngleFor(faps[3]);
+  const Eigen::Vector3d slide = (std::max(0.0, faps[14]) * units_.mns * Eigen::Vector3d::UnitZ() +
+                                 faps[15] * units_.mw * -Eigen::Vector3d::UnitX()) /
+                                chinFollow_;
+  if (angle != 0.0 || slide.squaredNorm() > 0.0) {
+    forEachDeformed(jawVertices_, selection ? &selection->jaw : nullptr, [&](int column, int vertex) {
+      const double share = jawFollow_[vertex];
+      v.col(column) =
+          jaw_.pivot + Eigen::AngleAxisd(share * angle, jaw_.axis) * (v.col(column) - jaw_.pivot) + share * slide;
+    });
+  }
+
+  closeLidsAndTurnEyes(faps, selection, v);
 
   // Head.
   const double pitch = faps[48] * kAngleUnit, yaw = faps[49] * kAngleUnit, roll = faps[50] * kAngleUnit;

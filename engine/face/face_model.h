@@ -146,6 +146,7 @@ class FaceModel {
 
   // deform() for the vertices of `selection`, or every vertex when it is null.
   Eigen::Matrix3Xd deformSelected(const FapFrame& faps, const VertexSelection* selection) const;
+  void closeLidsAndTurnEyes(const FapFrame& faps, const VertexSelection* selection, Eigen::Matrix3Xd& v) const;
 
   Mesh mesh_;
   FeaturePointMap points_;
