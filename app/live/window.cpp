@@ -23,11 +23,11 @@
 #include "core/error.h"
 #include "head_style_clip.h"
 #include "interrupt.h"
-#include "live/frame_stats.h"
 #include "live/panel.h"
 #include "live/settings_file.h"
 #include "outputs/live_display.h"
 #include "outputs/live_output.h"
+#include "pipeline/frame_stats.h"
 #include "pipeline/live.h"
 #include "pipeline/playout.h"
 #include "render/gl_context.h"
@@ -208,7 +208,7 @@ class LiveWindow {
         glClearColor(background.x, background.y, background.z, 1.0f);
         glClear(GL_COLOR_BUFFER_BIT);
       }
-      FrameTimes times;
+      pipeline::FrameTimes times;
       drawFace(times);
       const auto faceDone = std::chrono::steady_clock::now();
       if (panelNow) {
@@ -300,7 +300,7 @@ class LiveWindow {
   }
 
   // The face's part of a frame: play out, display, draw.
-  void drawFace(FrameTimes& times) {
+  void drawFace(pipeline::FrameTimes& times) {
     bool shown = false;
     pipeline::AnimationFrame frame = playOut(shown);
     // The idle motion, and the outputs sent the face as drawn (outputs/live_display.h: as headless and the
@@ -344,7 +344,7 @@ class LiveWindow {
   // The head posed by the frame as displayed, drawn into the window beside the panel: our face by the FAPs, a
   // character by the weights the outputs got (its mouth by the visemes where the decoder has them and it has
   // viseme targets).
-  void drawHead(const outputs::AvatarFrame& drawn, FrameTimes& times) {
+  void drawHead(const outputs::AvatarFrame& drawn, pipeline::FrameTimes& times) {
     const auto setupStart = std::chrono::steady_clock::now();
     head_->pose(drawn.faps, drawn);
     times.faceSetupMs = millisecondsBetween(setupStart, std::chrono::steady_clock::now());
@@ -505,7 +505,7 @@ class LiveWindow {
   int headStyle_ = 0;
   std::string headStyleLine_;
   LivePanel panel_;
-  FrameStats stats_;
+  pipeline::FrameStats stats_;
   KeptColumnCheck keptColumn_;
   face::FapFrame lastDecoded_{};  // the decoders' last pose (before idle motion)
   double shownSeconds_ = -1.0;    // the instant of speech drawn this frame (-1: none yet)
