@@ -245,7 +245,7 @@ th::face::FapTrack animateWithProgress(const char* recording, const th::pipeline
 
 // The stream models (live's: its mouth model and articulation) loaded at once, the file models (the offline
 // path's) on first use; both shared, so that streams and exports keep what they use after the handle is freed.
-// (A handle th_animate_file makes for itself holds the file models alone.)
+// (A handle th_animate makes for one recording holds the file models alone.)
 struct th_models {
   th::pipeline::LiveSettings settings;
   std::shared_ptr<const th::pipeline::AnimationModels> stream;
@@ -281,7 +281,7 @@ th_status checkRate(double rate, const char* function) {
 }
 
 // Which of a handle's models are read when it is made: live's, for streams (th_models_load), or the offline
-// path's alone, for the one file th_animate_file animates on a handle of its own (which reads no more than it did).
+// path's alone, for the one recording th_animate (models NULL) or th_animate_file animates on a handle of its own.
 enum class ReadNow { streamModels, fileModels };
 
 th_status loadModelsHandle(const th_models_options* options, ReadNow readNow, const char* function,
@@ -309,7 +309,6 @@ th_status openStream(const th::pipeline::LiveSettings& settings,
                      std::shared_ptr<const th::pipeline::AnimationModels> models, const th_stream_settings& given,
                      th_stream** stream) {
   const double rate = given.sample_rate_hz;
-  if (checkRate(rate, "th_stream_start") != TH_OK) return TH_ERROR_ARGUMENT;
   return guarded(TH_ERROR_FILE, [&] {
     th::pipeline::LiveDecoderOptions decoderOptions = settings.decoderOptions();
     decoderOptions.waitForHead = given.wait_for_head != 0;
@@ -367,13 +366,19 @@ void th_models_free(th_models* models) {
 }
 
 th_status th_stream_start(const th_models* models, const th_stream_settings* settings, th_stream** stream) {
-  if (models == nullptr || stream == nullptr)
-    return fail(TH_ERROR_ARGUMENT, "th_stream_start: models or stream is NULL");
+  if (stream == nullptr) return fail(TH_ERROR_ARGUMENT, "th_stream_start: stream is NULL");
   *stream = nullptr;
   const std::optional<th_stream_settings> known =
       readSized(settings, defaultStreamSettings(), kFirstStreamSettingsSize, "th_stream_start");
   if (!known) return TH_ERROR_ARGUMENT;
-  return openStream(models->settings, models->stream, *known, stream);
+  if (checkRate(known->sample_rate_hz, "th_stream_start") != TH_OK) return TH_ERROR_ARGUMENT;  // before any model
+  if (models != nullptr) return openStream(models->settings, models->stream, *known, stream);
+  // The installed models, read for this stream, which outlives the handle.
+  th_models* own = nullptr;
+  if (const th_status loaded = th_models_load(nullptr, &own); loaded != TH_OK) return loaded;
+  const th_status started = openStream(own->settings, own->stream, *known, stream);
+  th_models_free(own);
+  return started;
 }
 
 th_status th_stream_push(th_stream* stream, const float* samples, size_t count) {
@@ -416,12 +421,21 @@ void th_stream_close(th_stream* stream) {
 
 th_status th_animate(const th_models* models, const char* recording, const th_animate_options* options,
                      th_animation** animation) {
-  if (models == nullptr || recording == nullptr || animation == nullptr)
-    return fail(TH_ERROR_ARGUMENT, "th_animate: models, recording or animation is NULL");
+  if (recording == nullptr || animation == nullptr)
+    return fail(TH_ERROR_ARGUMENT, "th_animate: recording or animation is NULL");
   *animation = nullptr;
   const std::optional<th_animate_options> known =
       readSized(options, defaultAnimateOptions(), kFirstAnimateOptionsSize, "th_animate");
   if (!known) return TH_ERROR_ARGUMENT;
+  if (models == nullptr) {
+    // The installed file models, read for this recording alone (not the stream models it would not use).
+    th_models* own = nullptr;
+    if (const th_status loaded = loadModelsHandle(nullptr, ReadNow::fileModels, "th_animate", &own); loaded != TH_OK)
+      return loaded;
+    const th_status animated = th_animate(own, recording, &*known, animation);
+    th_models_free(own);
+    return animated;
+  }
   return guarded(TH_ERROR_FILE, [&] {
     auto made = std::make_unique<th_animation>();
     made->track = animateWithProgress(recording, *models->fileModels(), models->settings,

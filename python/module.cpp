@@ -161,9 +161,11 @@ class Models {
   std::shared_ptr<th_models> models_;
 };
 
-// The models given, or those the choice names, read for the one call that needs them.
+// The models given, or those the choice names, read into `own` for the one call that needs them; NULL for the
+// installed ones, which the library reads for the call (an animation only the file models it uses).
 const th_models* modelsFor(const Models* given, const ModelChoice& choice, std::optional<Models>& own) {
   if (given != nullptr) return given->get();
+  if (!choice.any()) return nullptr;
   own.emplace(choice);
   return own->get();
 }

@@ -163,7 +163,8 @@ typedef struct th_stream_settings {
 #define th_stream_settings_init(settings) th_stream_settings_init_sized((settings), sizeof(th_stream_settings))
 TH_API th_status th_stream_settings_init_sized(th_stream_settings* settings, size_t struct_size);
 
-/* A live stream on loaded models (settings NULL: the defaults). */
+/* A live stream on loaded models (NULL: the installed ones, read for this stream alone); settings NULL: the
+ * defaults. */
 TH_API th_status th_stream_start(const th_models* models, const th_stream_settings* settings, th_stream** stream);
 TH_API th_status th_stream_push(th_stream* stream, const float* samples, size_t count);
 TH_API th_status th_stream_finish(th_stream* stream);
@@ -188,8 +189,8 @@ typedef struct th_animate_options {
 TH_API th_status th_animate_options_init_sized(th_animate_options* options, size_t struct_size);
 
 /* A whole recording (WAV, FLAC, OGG, MP3, or a video's sound) animated offline on loaded models (their file
- * models, read on first use): the best the models do, with the whole recording to look at. options NULL: the
- * defaults. */
+ * models, read on first use; NULL: the installed ones, read for this recording alone): the best the models do,
+ * with the whole recording to look at. options NULL: the defaults. */
 TH_API th_status th_animate(const th_models* models, const char* recording, const th_animate_options* options,
                             th_animation** animation);
 TH_API int th_animation_frames(const th_animation* animation);

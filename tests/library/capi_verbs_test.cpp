@@ -1,6 +1,6 @@
 // The C API's options per verb through libtalkinghead: each struct's defaults from its _init, a struct_size below
-// its first version refused, NULL arguments refused with a message naming the call, and the deprecated calls on
-// th_stream_options giving the frames the new calls give.
+// its first version refused, NULL arguments refused with a message naming the call (but NULL models, the
+// installed ones), and the deprecated calls on th_stream_options giving the frames the new calls give.
 #include <gtest/gtest.h>
 
 #include <cstddef>
@@ -136,21 +136,22 @@ TEST(LibraryVerbOptions, NullArgumentsAreRefusedNamingTheCall) {
   th_models* models = nullptr;
   ASSERT_EQ(th_models_load(nullptr, &models), TH_OK) << th_last_error();
   th_stream* stream = nullptr;
-  EXPECT_EQ(th_stream_start(nullptr, nullptr, &stream), TH_ERROR_ARGUMENT);
-  EXPECT_TRUE(says("th_stream_start")) << th_last_error();
   EXPECT_EQ(th_stream_start(models, nullptr, nullptr), TH_ERROR_ARGUMENT);
+  EXPECT_TRUE(says("th_stream_start")) << th_last_error();
   th_stream_settings settings;
   th_stream_settings_init(&settings);
   settings.sample_rate_hz = 100.0;
-  EXPECT_EQ(th_stream_start(models, &settings, &stream), TH_ERROR_ARGUMENT);
-  EXPECT_TRUE(says("th_stream_start: the sample rate")) << th_last_error();
-  EXPECT_EQ(stream, nullptr);
+  for (const th_models* on : {static_cast<const th_models*>(models), static_cast<const th_models*>(nullptr)}) {
+    EXPECT_EQ(th_stream_start(on, &settings, &stream), TH_ERROR_ARGUMENT);
+    EXPECT_TRUE(says("th_stream_start: the sample rate")) << th_last_error();
+    EXPECT_EQ(stream, nullptr);
+  }
 
   th_animation* animation = nullptr;
-  EXPECT_EQ(th_animate(nullptr, speech().c_str(), nullptr, &animation), TH_ERROR_ARGUMENT);
-  EXPECT_TRUE(says("th_animate")) << th_last_error();
   EXPECT_EQ(th_animate(models, nullptr, nullptr, &animation), TH_ERROR_ARGUMENT);
+  EXPECT_TRUE(says("th_animate")) << th_last_error();
   EXPECT_EQ(th_animate(models, speech().c_str(), nullptr, nullptr), TH_ERROR_ARGUMENT);
+  EXPECT_EQ(th_animate(nullptr, nullptr, nullptr, &animation), TH_ERROR_ARGUMENT);
   EXPECT_EQ(animation, nullptr);
 
   // NULL options are the defaults.
@@ -159,13 +160,37 @@ TEST(LibraryVerbOptions, NullArgumentsAreRefusedNamingTheCall) {
   th_models_free(models);
 }
 
+TEST(LibraryVerbOptions, NoModelsAreTheInstalledOnesReadForTheCall) {
+  double rate = 0.0;
+  const std::vector<float> samples = th::test::readWavSamples(speech(), rate);
+  th_stream_settings settings;
+  th_stream_settings_init(&settings);
+  settings.sample_rate_hz = rate;
+  th_models* models = nullptr;
+  ASSERT_EQ(th_models_load(nullptr, &models), TH_OK) << th_last_error();
+  th_stream* loaded = nullptr;
+  th_stream* alone = nullptr;
+  ASSERT_EQ(th_stream_start(models, &settings, &loaded), TH_OK) << th_last_error();
+  ASSERT_EQ(th_stream_start(nullptr, &settings, &alone), TH_OK) << th_last_error();
+  expectSameFrames(pulled(alone, samples), pulled(loaded, samples));
+
+  th_animation* onModels = nullptr;
+  th_animation* onNone = nullptr;
+  ASSERT_EQ(th_animate(models, speech().c_str(), nullptr, &onModels), TH_OK) << th_last_error();
+  ASSERT_EQ(th_animate(nullptr, speech().c_str(), nullptr, &onNone), TH_OK) << th_last_error();
+  expectSameFrames(framesOf(onNone), framesOf(onModels));
+  th_models_free(models);
+}
+
 TEST(LibraryVerbOptions, AFileThatCannotBeReadIsNamed) {
   th_models* models = nullptr;
   ASSERT_EQ(th_models_load(nullptr, &models), TH_OK) << th_last_error();
   th_animation* animation = nullptr;
-  EXPECT_EQ(th_animate(models, "/nonexistent/speech.wav", nullptr, &animation), TH_ERROR_FILE);
-  EXPECT_TRUE(says("/nonexistent/speech.wav")) << th_last_error();
-  EXPECT_EQ(animation, nullptr);
+  for (const th_models* on : {static_cast<const th_models*>(models), static_cast<const th_models*>(nullptr)}) {
+    EXPECT_EQ(th_animate(on, "/nonexistent/speech.wav", nullptr, &animation), TH_ERROR_FILE);
+    EXPECT_TRUE(says("/nonexistent/speech.wav")) << th_last_error();
+    EXPECT_EQ(animation, nullptr);
+  }
   th_models_free(models);
 }
 
