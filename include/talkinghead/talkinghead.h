@@ -60,7 +60,7 @@
 
 #include <stddef.h>
 
-#include "talkinghead/version.h" /* TALKINGHEAD_VERSION_MAJOR, _MINOR, _PATCH and TALKINGHEAD_VERSION ("0.2.0") */
+#include "talkinghead/version.h" /* TALKINGHEAD_VERSION_MAJOR, _MINOR, _PATCH and TALKINGHEAD_VERSION ("0.3.0") */
 
 #ifdef __cplusplus
 extern "C" {
@@ -83,7 +83,7 @@ typedef enum th_status {
   TH_ERROR_CANCELLED = 5 /* a progress callback asked to stop: no output was made */
 } th_status;
 
-/* "0.2.0": the library's version (compare with the TALKINGHEAD_VERSION_* it was compiled against). */
+/* "0.3.0": the library's version (compare with the TALKINGHEAD_VERSION_* it was compiled against). */
 TH_API const char* th_version(void);
 /* The message of the last failure on this thread ("" if none); valid until the next call that fails. */
 TH_API const char* th_last_error(void);
