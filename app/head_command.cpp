@@ -14,8 +14,8 @@
 #include "core/error.h"
 #include "eval/head_report.h"
 #include "pipeline/options.h"
+#include "tracking/video_folder.h"
 #include "tracking/video_training.h"
-#include "video_folder.h"
 
 namespace th::app {
 namespace {
@@ -78,12 +78,12 @@ void runTrainVideo(const HeadArguments& arguments) {
   if (output.extension() != ".json") throw fileError(output, "a model is written as JSON: give a .json name");
   checkOutputTarget(output);
   if (arguments.beat2Only) throw Error("train head --video: --beat2 trains BEAT2's speaker alone; leave it out");
-  const std::filesystem::path tracks = tracksFolderFor(output, arguments.tracks);
+  const std::filesystem::path tracks = tracking::tracksFolderFor(output, arguments.tracks);
   const std::vector<std::filesystem::path> videos = tracking::listVideos(arguments.video);
   const animation::HeadModel shipped = animation::loadHeadModel(pipeline::ModelOptions{}.headModelPath());
   tracking::VideoCorpusOptions withHeads;
   withHeads.heads = true;
-  const tracking::VideoCorpus clips = trackVideos(videos, tracks, withHeads);
+  const tracking::VideoCorpus clips = tracking::trackVideos(videos, tracks, withHeads, std::cerr);
   eval::trainHeadModelWithOwnClips(clips, arguments.video, shipped, trainingOf(arguments), std::cout, std::cerr);
 }
 

@@ -13,8 +13,8 @@
 #include "core/error.h"
 #include "eval/own_mouth_training.h"
 #include "pipeline/animation_models.h"
+#include "tracking/video_folder.h"
 #include "tracking/video_training.h"
-#include "video_folder.h"
 
 namespace th::app {
 namespace {
@@ -35,7 +35,7 @@ void runTrainVideo(const TrainVideoArguments& arguments) {
     throw fileError(training.output, "a model is written as JSON: give a .json name");
   checkOutputTarget(training.output);
   training.folder = arguments.folder;
-  training.tracks = tracksFolderFor(training.output, arguments.tracks);
+  training.tracks = tracking::tracksFolderFor(training.output, arguments.tracks);
   const std::vector<std::filesystem::path> videos = tracking::listVideos(arguments.folder);
   // The comparison model is read first: a wrong path fails before the tracking.
   const std::filesystem::path comparePath =
@@ -44,7 +44,7 @@ void runTrainVideo(const TrainVideoArguments& arguments) {
   tracking::VideoCorpusOptions options;
   options.threads = arguments.threads;
   options.synchronise = true;
-  const tracking::VideoCorpus corpus = trackVideos(videos, training.tracks, options);
+  const tracking::VideoCorpus corpus = tracking::trackVideos(videos, training.tracks, options, std::cerr);
   eval::trainMouthModelOnOwnClips(corpus, training, compared, comparePath, std::cout);
 }
 
