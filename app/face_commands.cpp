@@ -39,8 +39,9 @@
 #include "render/camera.h"
 #include "render/face_renderer.h"
 #include "render/gl_context.h"
+#include "render/head.h"
 #include "render/image.h"
-#include "text_overlay.h"
+#include "render/text_label.h"
 
 namespace th::app {
 namespace {
@@ -68,7 +69,7 @@ void runRender(const RenderArguments& arguments) {
   if (!std::filesystem::is_directory(folder, error)) throw fileError(folder, "is not a folder and cannot be made one");
   const double fps = arguments.fps > 0.0 ? arguments.fps : animation.framesPerSecond;
   const auto frames = static_cast<int>(std::ceil(animation.durationSeconds() * fps - 1e-9));
-  OffscreenHead stage(character ? &*character : nullptr, {.width = width, .height = height});
+  render::OffscreenHead stage(character ? &*character : nullptr, {.width = width, .height = height});
   ProgressBar progress(frames, "render", std::cerr, progressAt(fps));
   char name[32];
   for (int frame = 0; frame < frames; ++frame) {
@@ -95,14 +96,14 @@ void runPoses(const PosesArguments& arguments) {
   checkOutputTarget(arguments.output);
   const std::vector<face::Pose> poses = face::keyPoses();
   const int rows = (static_cast<int>(poses.size()) + arguments.columns - 1) / arguments.columns;
-  OffscreenHead stage(nullptr, {.width = arguments.tile, .height = arguments.tile});
+  render::OffscreenHead stage(nullptr, {.width = arguments.tile, .height = arguments.tile});
   render::Image sheet(arguments.tile * arguments.columns, arguments.tile * rows);
   for (std::size_t i = 0; i < poses.size(); ++i) {
     const render::Image& tile = stage.head->draw(poses[i].faps);
     const int left = static_cast<int>(i) % arguments.columns * arguments.tile;
     const int top = static_cast<int>(i) / arguments.columns * arguments.tile;
     for (int y = 0; y < tile.height; ++y) std::copy_n(tile.pixel(0, y), tile.width * 3, sheet.pixel(left, top + y));
-    drawLabel(sheet, left + 8, top + 8, poses[i].title, 2);
+    render::drawLabel(sheet, left + 8, top + 8, poses[i].title, 2);
   }
   render::writePng(arguments.output, sheet);
   std::cout << "wrote " << arguments.output << ": " << poses.size() << " poses\n";
@@ -140,7 +141,7 @@ void runStrip(const StripArguments& arguments) {
   if (arguments.fromSeconds + (count - 1) * step > animation.durationSeconds() + 1e-9)
     throw fileError(arguments.animation,
                     "ends before the strip does (" + std::to_string(animation.durationSeconds()) + " s)");
-  OffscreenHead stage(nullptr, {.width = arguments.tile, .height = arguments.tile});
+  render::OffscreenHead stage(nullptr, {.width = arguments.tile, .height = arguments.tile});
   if (!arguments.wholeHead) stage.head->frameMouth();
   const int rows = (count + arguments.columns - 1) / arguments.columns;
   const int labelHeight = 22;
@@ -160,7 +161,7 @@ void runStrip(const StripArguments& arguments) {
     for (const eval::LabelInterval& phone : phones)
       if (phone.startSeconds <= seconds && seconds < phone.endSeconds && phone.label != "SIL")
         text += " " + phone.label;
-    drawLabel(sheet, left + 4, top + arguments.tile + 3, text, 2);
+    render::drawLabel(sheet, left + 4, top + arguments.tile + 3, text, 2);
   }
   render::writePng(arguments.output, sheet);
   std::cout << "wrote " << arguments.output << ": " << count << " frames from " << arguments.fromSeconds << " s, every "

@@ -1,38 +1,24 @@
-// `talkinghead eval mouth`: the audio → mouth AV-HMM on BEAT2, trained on the first part of the take and
-// measured by the paper's ε and ρ on both parts, per synthesis method, beside baselines.
+// `talkinghead train mouth` and `talkinghead eval mouth`: their options. The default models come from tracked
+// talking video (eval/mouth_corpus_report.h); with --beat2, the paper's model on BEAT2 (eval/beat2_mouth_report.h).
 #include <unistd.h>
 
-#include <algorithm>
-#include <chrono>
-#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
+#include <iostream>
 #include <memory>
-#include <mutex>
-#include <optional>
 #include <sstream>
 #include <string>
+#include <system_error>
 #include <vector>
 
-#include "animation/mouth_data.h"
 #include "animation/mouth_model.h"
-#include "animation/time_split.h"
 #include "cli_options.h"
 #include "commands.h"
-#include "core/atomic_file.h"
-#include "core/data_path.h"
 #include "core/error.h"
-#include "core/parallel_for.h"
-#include "core/statistics.h"
 #include "core/subprocess.h"
-#include "eval/mouth_corpus.h"
-#include "eval/mouth_evaluation.h"
-#include "eval/mouth_sweep.h"
-#include "face/feature_points.h"
-#include "hmm/audio_retraining.h"
-#include "mouth_corpus_command.h"
+#include "eval/beat2_mouth_report.h"
+#include "eval/mouth_corpus_report.h"
 
 namespace th::app {
 namespace {
@@ -55,6 +41,58 @@ struct MouthArguments {
   int iterations = 30;
 };
 
+// The default models' arguments: the recipe (eval/mouth_protocol.h's MouthRecipe, whose defaults are the
+// shipped model's), where the tracks are kept and what else `eval mouth` judges.
+struct MouthCorpusArguments {
+  eval::MouthRecipe recipe;
+  std::string tracks;  // empty: eval::defaultMouthTrackFolder()
+  // train: folders of talking clips, "FOLDER" or "FOLDER=SPEAKER" (eval/talking_corpus.h); empty: the shared
+  // corpora (sharedTalkingFolders), GRID s1's every fifth clip held out.
+  std::vector<std::string> corpora;
+  std::vector<std::string> compare;  // eval: other model files judged on the same clips
+  std::string multilingual;          // eval: the folder tools/multilingual_speech.py made; empty: made in the cache
+  // eval: set recipe.model.covariance and recipe.synthesis.method when parsed (`--recipe-diagonal`,
+  // `--recipe-inversion`).
+  bool recipeDiagonal = false;
+  bool recipeInversion = false;
+};
+
+// The multilingual folder: made by the tool on first use.
+std::filesystem::path multilingualFolder(const std::string& given) {
+  if (!given.empty()) return given;
+  const std::filesystem::path folder = eval::userCacheFolder() / "multilingual";
+  std::error_code missing;
+  if (!std::filesystem::is_regular_file(folder / "index.csv", missing)) {
+    const std::string tool = std::string(TALKINGHEAD_SOURCE_DIR) + "/tools/multilingual_speech.py";
+    std::fprintf(stderr, "making the multilingual test speech: %s -o %s\n", tool.c_str(), folder.c_str());
+    runProgram({"/usr/bin/python3", tool, "-o", folder.string()});
+  }
+  return folder;
+}
+
+void runEvalMouthCorpora(const MouthCorpusArguments& arguments) {
+  eval::MouthCorpusReportOptions options;
+  options.recipe = arguments.recipe;
+  for (const std::string& file : arguments.compare)
+    options.compared.emplace_back(file, animation::loadMouthModel(file));
+  options.languages = multilingualFolder(arguments.multilingual);
+  options.tracks = arguments.tracks;
+  eval::reportMouthOnTalkingCorpora(options, std::cout, std::cerr);
+}
+
+void runTrainMouthCorpora(const MouthCorpusArguments& arguments, const std::string& output) {
+  eval::MouthCorpusTraining training;
+  training.recipe = arguments.recipe;
+  training.tracks = arguments.tracks;
+  training.output = output;
+  for (const std::string& corpus : arguments.corpora) {
+    const std::size_t equals = corpus.find('=');
+    training.folders.push_back(
+        {corpus.substr(0, equals), equals == std::string::npos ? std::string() : corpus.substr(equals + 1)});
+  }
+  eval::trainMouthOnTalkingCorpora(training, std::cerr);
+}
+
 std::vector<int> integerList(const std::string& text, const std::string& option) {
   std::vector<int> values;
   std::stringstream stream(text);
@@ -72,252 +110,36 @@ std::vector<int> integerList(const std::string& text, const std::string& option)
   return values;
 }
 
-// The same frames, shifted by half their length (animation/time_split.h's baseline), level and MFCCs together.
-animation::SpeechFrames anotherSegment(const animation::SpeechFrames& speech) {
-  Eigen::MatrixXd both(speech.mfcc.rows() + 1, speech.mfcc.cols());
-  both << speech.mfcc, speech.levelDb;
-  const Eigen::MatrixXd shifted = animation::anotherSegment(both);
-  return {shifted.topRows(speech.mfcc.rows()), shifted.bottomRows(1)};
-}
-
-void printRow(const std::string& name, const Eigen::MatrixXd& estimate, const Eigen::MatrixXd& truth, int iterations) {
-  std::printf("  %-52s %6.3f  %6.3f", name.c_str(), eval::averageMse(estimate, truth),
-              eval::averageCorrelation(estimate, truth));
-  if (iterations > 0) std::printf("   %3d iterations", iterations);
-  std::printf("\n");
-}
-
-void evaluatePart(const std::string& title, const animation::MouthModel& model, const animation::MouthRecording& part,
-                  int window) {
-  const Eigen::MatrixXd truth = model.basis.transform(part.visual);
-  std::printf("  %s (%d frames)%*s      ε       ρ\n", title.c_str(), part.numFrames(),
-              static_cast<int>(40 - title.size()), "");
-  int iterations = 0;
-  using animation::MouthMethod;
-  const Eigen::MatrixXd mean =
-      animation::synthesiseMouth(model, part.speech, {.start = hmm::InversionStart::kConditionalMean}, &iterations);
-  printRow("inversion, conditional-mean start (ours)", mean, truth, iterations);
-  const Eigen::MatrixXd random =
-      animation::synthesiseMouth(model, part.speech, {.start = hmm::InversionStart::kRandom}, &iterations);
-  printRow("inversion, random start (paper)", random, truth, iterations);
-  const Eigen::MatrixXd windowed =
-      animation::synthesiseMouth(model, part.speech, {.windowFrames = window}, &iterations);
-  printRow("inversion, windows of " + std::to_string(window) + " frames (streaming)", windowed, truth, iterations);
-  printRow("MMSE estimate", animation::synthesiseMouth(model, part.speech, {.method = MouthMethod::kMmse}), truth, 0);
-  // The training data's mean: the components are zero-mean there by construction.
-  printRow("baseline: mean prediction (the training mean)", Eigen::MatrixXd::Zero(truth.rows(), truth.cols()), truth,
-           0);
-  printRow("baseline: inversion of another segment's audio",
-           animation::synthesiseMouth(model, anotherSegment(part.speech), {}), truth, 0);
-}
-
-const char* covarianceName(hmm::CovarianceType type) {
-  return type == hmm::CovarianceType::kFull ? "full" : "diag";
-}
-
-// Fig. 3 of the paper: ε and ρ on the held-out part against N, one curve per M, at the context tc chosen on the
-// validation data; one PNG per covariance type, drawn by gnuplot.
-void plotSweep(const std::filesystem::path& folder, const std::filesystem::path& csv, hmm::CovarianceType covariance,
-               int contextFrames, const std::vector<int>& mixtures) {
-  const std::string name = covarianceName(covariance);
-  const std::filesystem::path png = folder / ("mouth_sweep_" + name + ".png");
-  const std::filesystem::path script = folder / ("mouth_sweep_" + name + ".gp");
-  {
-    std::ofstream out(script);
-    out << "set terminal pngcairo size 1200,480 font 'sans,11'\n"
-        << "set output '" << png.string() << ".part'\n"
-        << "set datafile separator ','\n"
-        << "set multiplot layout 1,2 title '" << name << " covariance, tc = " << contextFrames
-        << ": held-out part of BEAT2 (inversion, conditional-mean start)'\n"
-        << "set xlabel 'states N'\nset grid\nset key outside right\n";
-    for (const char* measure : {"epsilon", "rho"}) {
-      const int column = std::string(measure) == "epsilon" ? 8 : 9;
-      out << "set ylabel '" << (std::string(measure) == "epsilon" ? "AMSE (epsilon)" : "ACC (rho)") << "'\n"
-          << "plot ";
-      for (size_t i = 0; i < mixtures.size(); ++i) {
-        out << (i ? ", " : "") << "'" << csv.string()
-            << "' using ($1 == " << (covariance == hmm::CovarianceType::kFull ? 0 : 1) << " && $2 == " << contextFrames
-            << " && $3 == " << mixtures[i] << " ? $4 : 1/0):" << column
-            << " with linespoints title 'M = " << mixtures[i] << "'";
-      }
-      out << "\n";
-    }
-    out << "unset multiplot\n";
-  }
-  runProgram({"gnuplot", script.string()});
-  std::filesystem::rename(png.string() + ".part", png);
-  std::filesystem::remove(script);
-}
-
-void runSweep(const MouthArguments& arguments, const animation::MouthRecording& train,
-              const animation::MouthRecording& test) {
+// `eval mouth --beat2 --sweep`: the grid from the lists given, the progress on a terminal's stderr.
+void runSweep(const MouthArguments& arguments) {
   if (!programExists("gnuplot"))
     throw Error("eval mouth --sweep: gnuplot is not installed (scripts/setup.sh installs it)");
-  // Choices are made on the last fifth of the training part, fitted on the rest; the held-out part is only
-  // reported.
-  const auto [fit, validation] = animation::splitByTime(train, 0.8);
-  eval::MouthSweepGrid grid{.covariances = {},
-                            .contexts = integerList(arguments.contexts, "--contexts"),
-                            .mixtures = integerList(arguments.mixtures, "--mixtures"),
-                            .states = integerList(arguments.states, "--states"),
-                            .iterations = arguments.iterations};
+  eval::Beat2MouthSweepOptions sweep{.grid = {.covariances = {},
+                                              .contexts = integerList(arguments.contexts, "--contexts"),
+                                              .mixtures = integerList(arguments.mixtures, "--mixtures"),
+                                              .states = integerList(arguments.states, "--states"),
+                                              .iterations = arguments.iterations},
+                                     .output = arguments.output,
+                                     .trainingFraction = arguments.trainingFraction};
   std::stringstream covariances(arguments.covariances);
   std::string covariance;
   while (std::getline(covariances, covariance, ',')) {
     if (covariance != "full" && covariance != "diag")
       throw Error("--covariances: \"" + covariance + "\" is not full or diag");
-    grid.covariances.push_back(covariance == "full" ? hmm::CovarianceType::kFull : hmm::CovarianceType::kDiagonal);
+    sweep.grid.covariances.push_back(covariance == "full" ? hmm::CovarianceType::kFull
+                                                          : hmm::CovarianceType::kDiagonal);
   }
-  const std::size_t total = grid.covariances.size() * grid.contexts.size() * grid.mixtures.size() * grid.states.size();
-  std::printf("sweep: %zu models, fitted on %d frames, chosen on %d, reported on the held-out %d\n", total,
-              fit.numFrames(), validation.numFrames(), test.numFrames());
   const bool terminal = isatty(fileno(stderr)) != 0;
-  const std::vector<eval::MouthSweepPoint> points =
-      eval::sweepMouthModels(grid, fit, validation, test, [terminal](std::size_t done, std::size_t all) {
-        if (terminal) std::fprintf(stderr, "\r  %zu / %zu models", done, all);
-      });
+  eval::sweepBeat2Mouth(sweep, std::cout, [terminal](std::size_t done, std::size_t all) {
+    if (terminal) std::fprintf(stderr, "\r  %zu / %zu models", done, all);
+  });
   if (terminal) std::fprintf(stderr, "\n");
-
-  std::filesystem::create_directories(arguments.output);
-  const std::filesystem::path csv = std::filesystem::path(arguments.output) / "mouth_sweep.csv";
-  eval::writeMouthSweepCsv(csv, points);
-  for (hmm::CovarianceType type : {hmm::CovarianceType::kFull, hmm::CovarianceType::kDiagonal}) {
-    int failed = 0;
-    const eval::MouthSweepPoint* best = eval::bestOnValidation(points, type, &failed);
-    if (best == nullptr) continue;
-    std::printf(
-        "%s covariance: chosen on validation N = %d, M = %d, tc = %d (validation ε %.3f, ρ %.3f) -> held-out "
-        "ε %.3f, ρ %.3f%s\n",
-        covarianceName(type), best->states, best->mixtures, best->contextFrames, best->validationEpsilon,
-        best->validationRho, best->heldOutEpsilon, best->heldOutRho,
-        failed ? (", " + std::to_string(failed) + " models could not be trained").c_str() : "");
-    plotSweep(arguments.output, csv, type, best->contextFrames, grid.mixtures);
-  }
-  std::printf("wrote %s and the plots beside it\n", csv.string().c_str());
 }
 
-// The MFCC frames of every recording in the shared folders named (files with the extension given).
-std::vector<Eigen::MatrixXd> speechOnly(const std::vector<std::string>& folders, const std::string& extension) {
-  std::vector<std::filesystem::path> files;
-  for (const auto& folder : folders) {
-    for (const auto& entry : std::filesystem::directory_iterator(sharedDataPath(folder))) {
-      if (entry.path().extension() == extension) files.push_back(entry.path());
-    }
-  }
-  std::sort(files.begin(), files.end());
-  std::vector<Eigen::MatrixXd> mfcc;
-  for (const auto& file : files) mfcc.push_back(animation::speechFramesOf(file).mfcc);
-  return mfcc;
-}
-
-// Speech without motion, for stage 2: its MFCC frames, read once and used by every model evaluated.
-struct SpeechSet {
-  std::string name;
-  std::vector<Eigen::MatrixXd> mfcc;
-  double seconds = 0.0;
-};
-
-std::vector<SpeechSet> speechSets() {
-  const struct {
-    const char* name;
-    std::vector<std::string> folders;
-    const char* extension;
-  } sources[] = {{"GRID (s1 and the samples: other speakers, 81 clips)", {"grid/s1", "grid/samples"}, ".mpg"},
-                 {"BEAT2 audio-only takes (the same speaker, 129 s)", {"beat2/audio_only"}, ".wav"}};
-  std::vector<SpeechSet> sets;
-  for (const auto& source : sources) {
-    SpeechSet set{source.name, speechOnly(source.folders, source.extension)};
-    for (const auto& mfcc : set.mfcc) set.seconds += static_cast<double>(mfcc.cols()) / 30.0;
-    sets.push_back(std::move(set));
-  }
-  return sets;
-}
-
-// Stage 2 of the paper: the audio part re-trained on speech alone (π, A, weights and the visual blocks kept).
-void runStage2(const animation::MouthModel& model, const animation::MouthRecording& test,
-               const std::vector<SpeechSet>& sets) {
-  const Eigen::MatrixXd truth = model.basis.transform(test.visual);
-  const Eigen::MatrixXd before = animation::synthesiseMouth(model, test.speech);
-  std::printf("  %-60s ε %.3f  ρ %.3f\n", "held-out part, as trained", eval::averageMse(before, truth),
-              eval::averageCorrelation(before, truth));
-  for (const auto& set : sets) {
-    std::vector<Eigen::MatrixXd> audio;
-    for (const auto& mfcc : set.mfcc)
-      audio.push_back(features::stackContext(mfcc, model.contextFrames, model.futureContextFrames));
-    const hmm::AudioRetrainingResult retrained = hmm::retrainAudio(model.hmm, audio, {});
-    animation::MouthModel adapted = model;
-    adapted.hmm = retrained.model;
-    const Eigen::MatrixXd after = animation::synthesiseMouth(adapted, test.speech);
-    std::printf("  %-60s ε %.3f  ρ %.3f   (%.0f s of speech; %d joint covariances repaired)\n",
-                ("re-trained on " + set.name).c_str(), eval::averageMse(after, truth),
-                eval::averageCorrelation(after, truth), set.seconds, retrained.repairedComponents);
-  }
-}
-
-// The jaw as the face will show it: FAP 3 from the predicted and from the true jaw opening, through the model's
-// FAP map, on the held-out part.
-void reportJawFaps(const animation::MouthModel& model, const animation::MouthRecording& test) {
-  const Eigen::RowVectorXd predictedJaw =
-      animation::jawOpeningOf(model, animation::synthesiseMouth(model, test.speech, {}));
-  const Eigen::RowVectorXd trueJaw = test.visual.row(0);
-  const Eigen::RowVectorXd predicted = animation::mouthFaps(*model.fapMap, predictedJaw).row(0);
-  const Eigen::RowVectorXd truth = animation::mouthFaps(*model.fapMap, trueJaw).row(0);
-  std::printf(
-      "  jaw → FAP 3 on the held-out part (inversion, conditional-mean start): correlation with the truth "
-      "%.3f (jaw angle %.3f); FAP 3 1st / 50th / 99th percentile %.0f / %.0f / %.0f, the truth's %.0f / %.0f "
-      "/ %.0f (true jaw %.2f° to %.2f°)\n",
-      pearsonCorrelation(predicted, truth), pearsonCorrelation(predictedJaw, trueJaw), quantile(predicted, 0.01),
-      quantile(predicted, 0.5), quantile(predicted, 0.99), quantile(truth, 0.01), quantile(truth, 0.5),
-      quantile(truth, 0.99), trueJaw.minCoeff(), trueJaw.maxCoeff());
-}
-
-void runEvalMouth(const MouthArguments& arguments) {
-  const auto [train, test] = animation::splitByTime(eval::loadBeat2Mouth(), arguments.trainingFraction);
-  if (arguments.sweep) {
-    runSweep(arguments, train, test);
-    return;
-  }
-  // A bad model file fails before anything is printed.
-  const std::optional<animation::MouthModel> given =
-      arguments.model.empty() ? std::nullopt : std::optional(animation::loadMouthModel(arguments.model));
-  std::printf(
-      "Mouth from audio on BEAT2: trained on the first %d frames, held out the last %d (%.1f s). Visual: "
-      "K = 2 ICA-after-PCA components of [jaw opening, 100 expression coefficients]; audio: 11 MFCC with "
-      "±tc frames of context. ε = AMSE normalised by the truth's variance (mean prediction: 1), ρ = ACC.\n",
-      train.numFrames(), test.numFrames(), test.numFrames() / test.framesPerSecond);
-  if (given) {
-    std::printf("\n%s: %d states, tc = %d\n", arguments.model.c_str(), given->hmm.numStates(), given->contextFrames);
-    evaluatePart("training part", *given, train, arguments.windowFrames);
-    evaluatePart("held-out part", *given, test, arguments.windowFrames);
-    if (given->fapMap) reportJawFaps(*given, test);
-    return;
-  }
-  const struct {
-    const char* name;
-    animation::MouthModelOptions options;
-  } configurations[] = {
-      {"full covariance, N = 4, M = 2, tc = 3", {.states = 4, .mixtures = 2, .covariance = hmm::CovarianceType::kFull}},
-      {"diagonal covariance, N = 19, M = 3, tc = 3",
-       {.states = 19, .mixtures = 3, .covariance = hmm::CovarianceType::kDiagonal}},
-  };
-  const std::vector<SpeechSet> speech = speechSets();
-  for (const auto& configuration : configurations) {
-    const animation::MouthModel model = animation::trainMouthModel({train}, configuration.options);
-    std::printf("\n%s (%d Baum-Welch iterations; the K components keep %.1f %% of the visual variance)\n",
-                configuration.name, model.iterations, 100.0 * model.basis.explainedVariance());
-    evaluatePart("training part", model, train, arguments.windowFrames);
-    evaluatePart("held-out part", model, test, arguments.windowFrames);
-    std::printf("  stage 2, audio re-trained on speech only (inversion, conditional-mean start):\n");
-    runStage2(model, test, speech);
-  }
-  std::printf(
-      "\nThe paper's own best, on its own data: full N = 4, M = 2: ε = 0.47, ρ = 0.75; diagonal N = 19, "
-      "M = 3: ε = 0.47, ρ = 0.76.\n");
-}
-
-// `eval mouth --recipe-NAME`: the default recipe's knobs (mouth_corpus_command.h), to measure its variants on the
+// `eval mouth --recipe-NAME`: the default recipe's knobs (eval/mouth_corpus_report.h), to measure its variants on the
 // same clips (docs/mouth.md).
-void visitRecipe(MouthCorpusArguments& recipe, OptionVisitor& v) {
+void visitRecipe(MouthCorpusArguments& arguments, OptionVisitor& v) {
+  eval::MouthRecipe& recipe = arguments.recipe;
   animation::MouthModelOptions& model = recipe.model;
   v.option(model.states, {.name = "recipe-states", .help = "Hidden states N", .min = 1, .max = 64});
   v.option(model.mixtures, {.name = "recipe-mixtures", .help = "Gaussians per state M", .min = 1, .max = 16});
@@ -354,8 +176,8 @@ void visitRecipe(MouthCorpusArguments& recipe, OptionVisitor& v) {
                                                       .max = 100});
   v.option(model.maxIterations,
            {.name = "recipe-iterations", .help = "Baum-Welch iterations at most", .min = 1, .max = 1000});
-  v.option(recipe.recipeDiagonal, {.name = "recipe-diagonal", .help = "Diagonal covariances instead of full ones"});
-  v.option(recipe.recipeInversion,
+  v.option(arguments.recipeDiagonal, {.name = "recipe-diagonal", .help = "Diagonal covariances instead of full ones"});
+  v.option(arguments.recipeInversion,
            {.name = "recipe-inversion", .help = "Synthesis by HMM inversion (EM) instead of the MMSE estimate"});
   v.option(recipe.synthesis.trajectory,
            {.name = "recipe-trajectory", .help = "the MLPG trajectory from the MMSE estimate's Gaussians"});
@@ -375,20 +197,6 @@ void visitRecipe(MouthCorpusArguments& recipe, OptionVisitor& v) {
 
 }  // namespace
 
-void runTrainMouth(const MouthArguments& arguments) {
-  checkOutputTarget(arguments.modelOutput);
-  const auto [train, test] = animation::splitByTime(eval::loadBeat2Mouth(), arguments.trainingFraction);
-  const auto start = std::chrono::steady_clock::now();
-  animation::MouthModel model = animation::trainMouthModel({train}, arguments.options);
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  // The jaw's geometry and the lip pattern come from the reference face (fap_mapping.h).
-  model.fapMap = animation::defineMouthFapMap(face::loadIctFace(face::ictFaceDirectory()));
-  animation::saveMouthModel(arguments.modelOutput, model, arguments.options);
-  std::fprintf(stderr, "mouth model: %d states x %d mixtures, tc = %d, trained on %d frames in %.1f s; wrote %s\n",
-               model.hmm.numStates(), arguments.options.mixtures, model.contextFrames, train.numFrames(), seconds,
-               arguments.modelOutput.c_str());
-}
-
 void addTrainMouthCommand(CLI::App& train) {
   auto arguments = std::make_shared<MouthArguments>();
   auto corpus = std::make_shared<MouthCorpusArguments>();
@@ -400,30 +208,32 @@ void addTrainMouthCommand(CLI::App& train) {
   mouth->add_option("-o,--output", arguments->modelOutput, "Model file to write (default models/mouth.json)");
   mouth->add_option(
       "--tracks", corpus->tracks,
-      "Folder of the clips' tracks, made on first use (default: " + std::string(kMouthTrackFolderHelp) + ")");
-  CLI::Option* states = mouth->add_option("--states", corpus->model.states, "States N (default 8; 16 with --diagonal)")
-                            ->check(CLI::Range(1, 100));
-  CLI::Option* mixtures =
-      mouth->add_option("--mixtures", corpus->model.mixtures, "Gaussians per state M (default 2; 3 with --diagonal)")
-          ->check(CLI::Range(1, 20));
-  mouth->add_option("--context", corpus->model.contextFrames, "MFCC context tc (frames either side)")
+      "Folder of the clips' tracks, made on first use (default: " + std::string(eval::kMouthTrackFolderHelp) + ")");
+  CLI::Option* states =
+      mouth->add_option("--states", corpus->recipe.model.states, "States N (default 8; 16 with --diagonal)")
+          ->check(CLI::Range(1, 100));
+  CLI::Option* mixtures = mouth
+                              ->add_option("--mixtures", corpus->recipe.model.mixtures,
+                                           "Gaussians per state M (default 2; 3 with --diagonal)")
+                              ->check(CLI::Range(1, 20));
+  mouth->add_option("--context", corpus->recipe.model.contextFrames, "MFCC context tc (frames either side)")
       ->check(CLI::Range(0, 10))
       ->capture_default_str();
   mouth
-      ->add_option("--future-context", corpus->model.futureContextFrames,
+      ->add_option("--future-context", corpus->recipe.model.futureContextFrames,
                    "MFCC context after each frame, if not tc (0: a live model that waits for no later frame)")
       ->check(CLI::Range(0, 10));
-  mouth->add_option("--components", corpus->model.visualComponents, "Visual components K")
+  mouth->add_option("--components", corpus->recipe.model.visualComponents, "Visual components K")
       ->check(CLI::Range(1, 21))
       ->capture_default_str();
   mouth->add_flag_function(
       "--diagonal",
       [arguments, corpus](std::int64_t) {
         arguments->options.covariance = hmm::CovarianceType::kDiagonal;
-        corpus->model.covariance = hmm::CovarianceType::kDiagonal;
+        corpus->recipe.model.covariance = hmm::CovarianceType::kDiagonal;
       },
       "Diagonal covariance (default full)");
-  mouth->add_option("--stage2", corpus->stageTwo, "Re-train the audio side on speech-only voices (stage 2)")
+  mouth->add_option("--stage2", corpus->recipe.stageTwo, "Re-train the audio side on speech-only voices (stage 2)")
       ->capture_default_str();
   mouth->add_option("--corpus", corpus->corpora,
                     "A folder of talking clips to train on, FOLDER or FOLDER=SPEAKER (repeatable; default: the shared "
@@ -446,13 +256,13 @@ void addTrainMouthCommand(CLI::App& train) {
       ->group("BEAT2");
   mouth->callback([arguments, corpus, beat2, states, mixtures] {
     if (*beat2) {
-      runTrainMouth(*arguments);
+      eval::trainBeat2MouthModel(arguments->modelOutput, arguments->options, arguments->trainingFraction, std::cerr);
       return;
     }
     // Diagonal Gaussians each hold less: more of them (as the paper's best diagonal model, N = 19, M = 3).
-    if (corpus->model.covariance == hmm::CovarianceType::kDiagonal) {
-      if (states->count() == 0) corpus->model.states = 16;
-      if (mixtures->count() == 0) corpus->model.mixtures = 3;
+    if (corpus->recipe.model.covariance == hmm::CovarianceType::kDiagonal) {
+      if (states->count() == 0) corpus->recipe.model.states = 16;
+      if (mixtures->count() == 0) corpus->recipe.model.mixtures = 3;
     }
     runTrainMouthCorpora(*corpus, arguments->modelOutput);
   });
@@ -469,7 +279,7 @@ void addEvalMouthCommand(CLI::App& eval) {
   mouth->add_flag("--beat2", *beat2,
                   "The paper's ε and ρ on BEAT2 per synthesis method, beside baselines (and --sweep)");
   mouth->add_option("--tracks", corpus->tracks,
-                    "Folder of the clips' tracks (default: " + std::string(kMouthTrackFolderHelp) + ")");
+                    "Folder of the clips' tracks (default: " + std::string(eval::kMouthTrackFolderHelp) + ")");
   mouth->add_option("--compare", corpus->compare, "Other mouth model files to judge on the same clips");
   mouth->add_option("--multilingual", corpus->multilingual,
                     "Folder of phone-aligned speech in other languages (tools/multilingual_speech.py; default: made "
@@ -495,12 +305,19 @@ void addEvalMouthCommand(CLI::App& eval) {
       ->group("Sweep");
   mouth->add_option("--output", arguments->output, "Sweep: folder for the CSV and the plots")->group("Sweep");
   mouth->callback([arguments, corpus, beat2] {
-    if (*beat2) {
-      runEvalMouth(*arguments);
+    if (*beat2 && arguments->sweep) {
+      runSweep(*arguments);
       return;
     }
-    if (corpus->recipeDiagonal) corpus->model.covariance = hmm::CovarianceType::kDiagonal;
-    if (corpus->recipeInversion) corpus->synthesis.method = animation::MouthMethod::kInversion;
+    if (*beat2) {
+      eval::reportBeat2Mouth({.model = arguments->model,
+                              .trainingFraction = arguments->trainingFraction,
+                              .windowFrames = arguments->windowFrames},
+                             std::cout);
+      return;
+    }
+    if (corpus->recipeDiagonal) corpus->recipe.model.covariance = hmm::CovarianceType::kDiagonal;
+    if (corpus->recipeInversion) corpus->recipe.synthesis.method = animation::MouthMethod::kInversion;
     runEvalMouthCorpora(*corpus);
   });
 }

@@ -25,8 +25,9 @@
 #include "interrupt.h"
 #include "pipeline/offline.h"
 #include "pipeline/options.h"
+#include "render/head.h"
 #include "render/image.h"
-#include "text_overlay.h"
+#include "render/text_label.h"
 #include "tracking/landmarks.h"
 #include "tracking/video_reader.h"
 #include "tracking/video_training.h"
@@ -70,7 +71,7 @@ void writeStrip(const SideBySideArguments& arguments, tracking::VideoReader& cli
   const double fps = clip.framesPerSecond();
   const int first = static_cast<int>(std::lround(arguments.fromSeconds * fps));
   const int count = std::max(1, static_cast<int>(std::floor(arguments.seconds * fps / arguments.every + 1e-9)));
-  OffscreenHead stage(character, {.width = width, .height = height});
+  render::OffscreenHead stage(character, {.width = width, .height = height});
   stage.head->frameMouth();
   cv::Rect box;
   const int labelHeight = 20;
@@ -103,7 +104,7 @@ void writeStrip(const SideBySideArguments& arguments, tracking::VideoReader& cli
     for (int y = 0; y < height; ++y) std::copy_n(face.pixel(0, y), width * 3, sheet.pixel(left, top + height + y));
     char label[32];
     std::snprintf(label, sizeof label, "%.2f", f / fps);
-    drawLabel(sheet, left + 4, top + 2 * height + 2, label, 2);
+    render::drawLabel(sheet, left + 4, top + 2 * height + 2, label, 2);
   }
   render::writePng(arguments.output, sheet);
   std::cout << "wrote " << arguments.output << ": " << count << " frames of " << arguments.clip << " from "
@@ -139,7 +140,7 @@ void runSideBySide(const SideBySideArguments& arguments) {
   const int height = (arguments.height > 0 ? arguments.height : clip.height()) / 2 * 2;
   const int half = std::max(2, static_cast<int>(static_cast<double>(clip.width()) * height / clip.height()) / 2 * 2);
   const double fps = clip.framesPerSecond();
-  OffscreenHead stage(character ? &*character : nullptr, {.width = half, .height = height});
+  render::OffscreenHead stage(character ? &*character : nullptr, {.width = half, .height = height});
   formats::Mp4Options mp4;
   mp4.width = 2 * half;
   mp4.height = height;
@@ -163,8 +164,9 @@ void runSideBySide(const SideBySideArguments& arguments) {
     const render::Image& face = stage.head->draw(animation, static_cast<double>(f) / fps);
     for (int y = 0; y < height; ++y) std::copy_n(face.pixel(0, y), half * 3, canvas.pixel(half, y));
     const int scale = height >= 480 ? 2 : 1;
-    drawLabel(canvas, 6, 6, "video", scale);
-    drawLabel(canvas, half + 6, 6, "from its sound: " + arguments.models.mouthModelPath().filename().string(), scale);
+    render::drawLabel(canvas, 6, 6, "video", scale);
+    render::drawLabel(canvas, half + 6, 6, "from its sound: " + arguments.models.mouthModelPath().filename().string(),
+                      scale);
     writer.addVideoFrame(canvas.pixels.data(), canvas.width * 3);
     bar.update(static_cast<double>(f + 1));
   }

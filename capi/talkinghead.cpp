@@ -78,16 +78,61 @@ std::optional<Struct> readSized(const Struct* given, const Struct& defaults, std
   return known;
 }
 
-// The sizes of the structs' first versions (0.2): the fields before those appended since.
+// The sizes of the structs' first versions: th_frame's and th_stream_options' of 0.2 (the fields before those
+// appended since), th_export_options' of 0.2, and the options per verb of 0.3, whole.
 constexpr std::size_t kFirstFrameSize = offsetof(th_frame, head_rotation_unity);
 constexpr std::size_t kFirstStreamOptionsSize = offsetof(th_stream_options, progress);
 constexpr std::size_t kFirstExportOptionsSize = sizeof(th_export_options);
+constexpr std::size_t kFirstModelsOptionsSize = sizeof(th_models_options);
+constexpr std::size_t kFirstStreamSettingsSize = sizeof(th_stream_settings);
+constexpr std::size_t kFirstAnimateOptionsSize = sizeof(th_animate_options);
+
+constexpr double kDefaultSampleRateHz = 16000.0;
+
+th_models_options defaultModelsOptions() {
+  th_models_options options{};
+  options.struct_size = sizeof(th_models_options);
+  return options;
+}
+
+th_stream_settings defaultStreamSettings() {
+  th_stream_settings settings{};
+  settings.struct_size = sizeof(th_stream_settings);
+  settings.sample_rate_hz = kDefaultSampleRateHz;
+  return settings;
+}
+
+th_animate_options defaultAnimateOptions() {
+  th_animate_options options{};
+  options.struct_size = sizeof(th_animate_options);
+  return options;
+}
 
 th_stream_options defaultStreamOptions() {
   th_stream_options options{};
   options.struct_size = sizeof(th_stream_options);
-  options.sample_rate_hz = 16000.0;
+  options.sample_rate_hz = kDefaultSampleRateHz;
   return options;
+}
+
+// The deprecated all-purpose options split by verb, for the calls that now do the work.
+struct OptionsPerVerb {
+  th_models_options models = defaultModelsOptions();
+  th_stream_settings stream = defaultStreamSettings();
+  th_animate_options animate = defaultAnimateOptions();
+};
+
+OptionsPerVerb split(const th_stream_options& options) {
+  OptionsPerVerb split;
+  split.models.head_model = options.head_model;
+  split.models.mouth_model = options.mouth_model;
+  split.models.viseme_model = options.viseme_model;
+  split.models.head_style = options.head_style;
+  split.stream.sample_rate_hz = options.sample_rate_hz;
+  split.stream.wait_for_head = options.wait_for_head;
+  split.animate.progress = options.progress;
+  split.animate.user_data = options.user_data;
+  return split;
 }
 
 th_export_options defaultExportOptions() {
@@ -137,9 +182,8 @@ std::function<bool(double)> progressOf(th_progress_fn progress, void* userData) 
 }
 
 // The models the options name (NULL: the installed ones; "": that part off).
-th::pipeline::LiveSettings settingsOf(const th_stream_options* options) {
+th::pipeline::LiveSettings settingsOf(const th_models_options& options) {
   th::pipeline::LiveSettings settings;
-  if (options == nullptr) return settings;
   const auto choose = [](const char* given, std::string& path, std::string& variant, const char* off) {
     if (given == nullptr) return;
     if (*given == '\0')
@@ -147,14 +191,14 @@ th::pipeline::LiveSettings settingsOf(const th_stream_options* options) {
     else
       path = given;
   };
-  choose(options->head_model, settings.models.headModel, settings.models.head, "none");
-  choose(options->mouth_model, settings.models.mouthModel, settings.models.mouth, "none");
-  if (options->viseme_model != nullptr) {
-    settings.models.visemeModel = *options->viseme_model ? options->viseme_model : "none";
+  choose(options.head_model, settings.models.headModel, settings.models.head, "none");
+  choose(options.mouth_model, settings.models.mouthModel, settings.models.mouth, "none");
+  if (options.viseme_model != nullptr) {
+    settings.models.visemeModel = *options.viseme_model ? options.viseme_model : "none";
     // The visemes come from the articulation unless it is off: a viseme model named, or none, turns it off.
     settings.models.articulationModel = "none";
   }
-  if (options->head_style != nullptr) settings.head.style = options->head_style;
+  if (options.head_style != nullptr) settings.head.style = options.head_style;
   return settings;
 }
 
@@ -201,6 +245,7 @@ th::face::FapTrack animateWithProgress(const char* recording, const th::pipeline
 
 // The stream models (live's: its mouth model and articulation) loaded at once, the file models (the offline
 // path's) on first use; both shared, so that streams and exports keep what they use after the handle is freed.
+// (A handle th_animate makes for one recording holds the file models alone.)
 struct th_models {
   th::pipeline::LiveSettings settings;
   std::shared_ptr<const th::pipeline::AnimationModels> stream;
@@ -229,19 +274,44 @@ struct th_animation {
 
 namespace {
 
-th_status checkRate(double rate) {
+th_status checkRate(double rate, const char* function) {
   if (rate >= 8000.0 && rate <= 192000.0) return TH_OK;
-  return fail(TH_ERROR_ARGUMENT, "th_stream_open: the sample rate " + std::to_string(rate) + " Hz is not 8000..192000");
+  return fail(TH_ERROR_ARGUMENT,
+              std::string(function) + ": the sample rate " + std::to_string(rate) + " Hz is not 8000..192000");
+}
+
+// Which of a handle's models are read when it is made: live's, for streams (th_models_load), or the offline
+// path's alone, for the one recording th_animate (models NULL) or th_animate_file animates on a handle of its own.
+enum class ReadNow { streamModels, fileModels };
+
+th_status loadModelsHandle(const th_models_options* options, ReadNow readNow, const char* function,
+                           th_models** models) {
+  if (models == nullptr) return fail(TH_ERROR_ARGUMENT, std::string(function) + ": models is NULL");
+  *models = nullptr;
+  const std::optional<th_models_options> known =
+      readSized(options, defaultModelsOptions(), kFirstModelsOptionsSize, function);
+  if (!known) return TH_ERROR_ARGUMENT;
+  return guarded(TH_ERROR_FILE, [&] {
+    auto opened = std::make_unique<th_models>();
+    opened->settings = settingsOf(*known);
+    if (readNow == ReadNow::streamModels) {
+      opened->stream =
+          std::make_shared<const th::pipeline::AnimationModels>(th::pipeline::loadModels(opened->settings));
+      resolveStyle(opened->settings, *opened->stream);
+    } else {
+      resolveStyle(opened->settings, *opened->fileModels());
+    }
+    *models = opened.release();
+  });
 }
 
 th_status openStream(const th::pipeline::LiveSettings& settings,
-                     std::shared_ptr<const th::pipeline::AnimationModels> models, const th_stream_options& options,
+                     std::shared_ptr<const th::pipeline::AnimationModels> models, const th_stream_settings& given,
                      th_stream** stream) {
-  const double rate = options.sample_rate_hz;
-  if (checkRate(rate) != TH_OK) return TH_ERROR_ARGUMENT;
+  const double rate = given.sample_rate_hz;
   return guarded(TH_ERROR_FILE, [&] {
     th::pipeline::LiveDecoderOptions decoderOptions = settings.decoderOptions();
-    decoderOptions.waitForHead = options.wait_for_head != 0;
+    decoderOptions.waitForHead = given.wait_for_head != 0;
     th::pipeline::StreamDecoder made = th::pipeline::makeStreamDecoder(std::move(models), decoderOptions, rate);
     auto opened = std::make_unique<th_stream>();
     opened->decoder = std::move(made.decoder);
@@ -270,56 +340,45 @@ th_status th_frame_init_sized(th_frame* frame, size_t struct_size) {
   return initSized(frame, struct_size, defaults, kFirstFrameSize, "th_frame_init");
 }
 
-th_status th_stream_options_init_sized(th_stream_options* options, size_t struct_size) {
-  return initSized(options, struct_size, defaultStreamOptions(), kFirstStreamOptionsSize, "th_stream_options_init");
+th_status th_models_options_init_sized(th_models_options* options, size_t struct_size) {
+  return initSized(options, struct_size, defaultModelsOptions(), kFirstModelsOptionsSize, "th_models_options_init");
+}
+
+th_status th_stream_settings_init_sized(th_stream_settings* settings, size_t struct_size) {
+  return initSized(settings, struct_size, defaultStreamSettings(), kFirstStreamSettingsSize,
+                   "th_stream_settings_init");
+}
+
+th_status th_animate_options_init_sized(th_animate_options* options, size_t struct_size) {
+  return initSized(options, struct_size, defaultAnimateOptions(), kFirstAnimateOptionsSize, "th_animate_options_init");
 }
 
 th_status th_export_options_init_sized(th_export_options* options, size_t struct_size) {
   return initSized(options, struct_size, defaultExportOptions(), kFirstExportOptionsSize, "th_export_options_init");
 }
 
-th_status th_models_open(const th_stream_options* options, th_models** models) {
-  if (models == nullptr) return fail(TH_ERROR_ARGUMENT, "th_models_open: models is NULL");
-  *models = nullptr;
-  const std::optional<th_stream_options> known =
-      readSized(options, defaultStreamOptions(), kFirstStreamOptionsSize, "th_models_open");
-  if (!known) return TH_ERROR_ARGUMENT;
-  return guarded(TH_ERROR_FILE, [&] {
-    auto opened = std::make_unique<th_models>();
-    opened->settings = settingsOf(options != nullptr ? &*known : nullptr);
-    opened->stream = std::make_shared<const th::pipeline::AnimationModels>(th::pipeline::loadModels(opened->settings));
-    resolveStyle(opened->settings, *opened->stream);
-    *models = opened.release();
-  });
+th_status th_models_load(const th_models_options* options, th_models** models) {
+  return loadModelsHandle(options, ReadNow::streamModels, "th_models_load", models);
 }
 
 void th_models_free(th_models* models) {
   delete models;
 }
 
-th_status th_stream_open(const th_stream_options* options, th_stream** stream) {
-  if (stream == nullptr) return fail(TH_ERROR_ARGUMENT, "th_stream_open: stream is NULL");
+th_status th_stream_start(const th_models* models, const th_stream_settings* settings, th_stream** stream) {
+  if (stream == nullptr) return fail(TH_ERROR_ARGUMENT, "th_stream_start: stream is NULL");
   *stream = nullptr;
-  const std::optional<th_stream_options> known =
-      readSized(options, defaultStreamOptions(), kFirstStreamOptionsSize, "th_stream_open");
+  const std::optional<th_stream_settings> known =
+      readSized(settings, defaultStreamSettings(), kFirstStreamSettingsSize, "th_stream_start");
   if (!known) return TH_ERROR_ARGUMENT;
-  if (checkRate(known->sample_rate_hz) != TH_OK) return TH_ERROR_ARGUMENT;  // before any model is read
-  // A models handle of its own, which the stream outlives.
-  th_models* models = nullptr;
-  if (const th_status loaded = th_models_open(options, &models); loaded != TH_OK) return loaded;
-  const th_status opened = th_stream_open_models(models, options, stream);
-  th_models_free(models);
-  return opened;
-}
-
-th_status th_stream_open_models(const th_models* models, const th_stream_options* options, th_stream** stream) {
-  if (models == nullptr || stream == nullptr)
-    return fail(TH_ERROR_ARGUMENT, "th_stream_open_models: models or stream is NULL");
-  *stream = nullptr;
-  const std::optional<th_stream_options> known =
-      readSized(options, defaultStreamOptions(), kFirstStreamOptionsSize, "th_stream_open_models");
-  if (!known) return TH_ERROR_ARGUMENT;
-  return openStream(models->settings, models->stream, *known, stream);
+  if (checkRate(known->sample_rate_hz, "th_stream_start") != TH_OK) return TH_ERROR_ARGUMENT;  // before any model
+  if (models != nullptr) return openStream(models->settings, models->stream, *known, stream);
+  // The installed models, read for this stream, which outlives the handle.
+  th_models* own = nullptr;
+  if (const th_status loaded = th_models_load(nullptr, &own); loaded != TH_OK) return loaded;
+  const th_status started = openStream(own->settings, own->stream, *known, stream);
+  th_models_free(own);
+  return started;
 }
 
 th_status th_stream_push(th_stream* stream, const float* samples, size_t count) {
@@ -360,31 +419,23 @@ void th_stream_close(th_stream* stream) {
   delete stream;
 }
 
-th_status th_animate_file(const char* recording, const th_stream_options* options, th_animation** animation) {
+th_status th_animate(const th_models* models, const char* recording, const th_animate_options* options,
+                     th_animation** animation) {
   if (recording == nullptr || animation == nullptr)
-    return fail(TH_ERROR_ARGUMENT, "th_animate_file: recording or animation is NULL");
+    return fail(TH_ERROR_ARGUMENT, "th_animate: recording or animation is NULL");
   *animation = nullptr;
-  const std::optional<th_stream_options> known =
-      readSized(options, defaultStreamOptions(), kFirstStreamOptionsSize, "th_animate_file");
+  const std::optional<th_animate_options> known =
+      readSized(options, defaultAnimateOptions(), kFirstAnimateOptionsSize, "th_animate");
   if (!known) return TH_ERROR_ARGUMENT;
-  return guarded(TH_ERROR_FILE, [&] {
-    th::pipeline::LiveSettings settings = settingsOf(options != nullptr ? &*known : nullptr);
-    const th::pipeline::AnimationModels models = th::pipeline::loadModels(settings.models);
-    resolveStyle(settings, models);
-    auto made = std::make_unique<th_animation>();
-    made->track = animateWithProgress(recording, models, settings, progressOf(known->progress, known->user_data));
-    *animation = made.release();
-  });
-}
-
-th_status th_animate_file_models(const th_models* models, const char* recording, const th_stream_options* options,
-                                 th_animation** animation) {
-  if (models == nullptr || recording == nullptr || animation == nullptr)
-    return fail(TH_ERROR_ARGUMENT, "th_animate_file_models: models, recording or animation is NULL");
-  *animation = nullptr;
-  const std::optional<th_stream_options> known =
-      readSized(options, defaultStreamOptions(), kFirstStreamOptionsSize, "th_animate_file_models");
-  if (!known) return TH_ERROR_ARGUMENT;
+  if (models == nullptr) {
+    // The installed file models, read for this recording alone (not the stream models it would not use).
+    th_models* own = nullptr;
+    if (const th_status loaded = loadModelsHandle(nullptr, ReadNow::fileModels, "th_animate", &own); loaded != TH_OK)
+      return loaded;
+    const th_status animated = th_animate(own, recording, &*known, animation);
+    th_models_free(own);
+    return animated;
+  }
   return guarded(TH_ERROR_FILE, [&] {
     auto made = std::make_unique<th_animation>();
     made->track = animateWithProgress(recording, *models->fileModels(), models->settings,
@@ -490,7 +541,79 @@ th_status th_export(const char* recording, const char* mp4, const th_export_opti
   });
 }
 
-// Kept for programs built against 0.2 (deprecated in the header): th_export with the options they name.
+// The calls deprecated in the header, kept for programs built against 0.2: each checks its arguments as it
+// always did, then hands the options it was given, split by verb, to the call that does the work.
+
+th_status th_stream_options_init_sized(th_stream_options* options, size_t struct_size) {
+  return initSized(options, struct_size, defaultStreamOptions(), kFirstStreamOptionsSize, "th_stream_options_init");
+}
+
+th_status th_models_open(const th_stream_options* options, th_models** models) {
+  if (models == nullptr) return fail(TH_ERROR_ARGUMENT, "th_models_open: models is NULL");
+  *models = nullptr;
+  const std::optional<th_stream_options> known =
+      readSized(options, defaultStreamOptions(), kFirstStreamOptionsSize, "th_models_open");
+  if (!known) return TH_ERROR_ARGUMENT;
+  const OptionsPerVerb given = split(*known);
+  return th_models_load(&given.models, models);
+}
+
+th_status th_stream_open(const th_stream_options* options, th_stream** stream) {
+  if (stream == nullptr) return fail(TH_ERROR_ARGUMENT, "th_stream_open: stream is NULL");
+  *stream = nullptr;
+  const std::optional<th_stream_options> known =
+      readSized(options, defaultStreamOptions(), kFirstStreamOptionsSize, "th_stream_open");
+  if (!known) return TH_ERROR_ARGUMENT;
+  if (checkRate(known->sample_rate_hz, "th_stream_open") != TH_OK) return TH_ERROR_ARGUMENT;  // before any model
+  const OptionsPerVerb given = split(*known);
+  // A models handle of its own, which the stream outlives.
+  th_models* models = nullptr;
+  if (const th_status loaded = th_models_load(&given.models, &models); loaded != TH_OK) return loaded;
+  const th_status started = th_stream_start(models, &given.stream, stream);
+  th_models_free(models);
+  return started;
+}
+
+th_status th_stream_open_models(const th_models* models, const th_stream_options* options, th_stream** stream) {
+  if (models == nullptr || stream == nullptr)
+    return fail(TH_ERROR_ARGUMENT, "th_stream_open_models: models or stream is NULL");
+  *stream = nullptr;
+  const std::optional<th_stream_options> known =
+      readSized(options, defaultStreamOptions(), kFirstStreamOptionsSize, "th_stream_open_models");
+  if (!known) return TH_ERROR_ARGUMENT;
+  const OptionsPerVerb given = split(*known);
+  return th_stream_start(models, &given.stream, stream);
+}
+
+th_status th_animate_file(const char* recording, const th_stream_options* options, th_animation** animation) {
+  if (recording == nullptr || animation == nullptr)
+    return fail(TH_ERROR_ARGUMENT, "th_animate_file: recording or animation is NULL");
+  *animation = nullptr;
+  const std::optional<th_stream_options> known =
+      readSized(options, defaultStreamOptions(), kFirstStreamOptionsSize, "th_animate_file");
+  if (!known) return TH_ERROR_ARGUMENT;
+  const OptionsPerVerb given = split(*known);
+  th_models* models = nullptr;
+  if (const th_status loaded = loadModelsHandle(&given.models, ReadNow::fileModels, "th_animate_file", &models);
+      loaded != TH_OK)
+    return loaded;
+  const th_status animated = th_animate(models, recording, &given.animate, animation);
+  th_models_free(models);
+  return animated;
+}
+
+th_status th_animate_file_models(const th_models* models, const char* recording, const th_stream_options* options,
+                                 th_animation** animation) {
+  if (models == nullptr || recording == nullptr || animation == nullptr)
+    return fail(TH_ERROR_ARGUMENT, "th_animate_file_models: models, recording or animation is NULL");
+  *animation = nullptr;
+  const std::optional<th_stream_options> known =
+      readSized(options, defaultStreamOptions(), kFirstStreamOptionsSize, "th_animate_file_models");
+  if (!known) return TH_ERROR_ARGUMENT;
+  const OptionsPerVerb given = split(*known);
+  return th_animate(models, recording, &given.animate, animation);
+}
+
 namespace {
 th_status exportSized(const char* recording, const char* mp4, int width, int height, const char* avatar) {
   th_export_options options;

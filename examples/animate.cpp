@@ -12,8 +12,14 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "usage: %s RECORDING OUTPUT...\n", argv[0]);
     return 2;
   }
+  th_models* loaded = nullptr;
+  if (th_models_load(nullptr, &loaded) != TH_OK) {  // the installed models
+    std::fprintf(stderr, "%s\n", th_last_error());
+    return 1;
+  }
+  const std::unique_ptr<th_models, void (*)(th_models*)> models(loaded, th_models_free);
   th_animation* made = nullptr;
-  if (th_animate_file(argv[1], nullptr, &made) != TH_OK) {
+  if (th_animate(models.get(), argv[1], nullptr, &made) != TH_OK) {
     std::fprintf(stderr, "%s\n", th_last_error());
     return 1;
   }

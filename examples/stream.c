@@ -67,15 +67,18 @@ int main(int argc, char** argv) {
     fprintf(stderr, "%s: not a 16-bit PCM WAV file\n", argv[1]);
     return 1;
   }
-  th_stream_options options;
-  th_stream_options_init(&options);
-  options.sample_rate_hz = rate;
+  th_models* models = NULL; /* the installed models */
+  th_stream_settings settings;
+  th_stream_settings_init(&settings);
+  settings.sample_rate_hz = rate;
   th_stream* stream = NULL;
-  if (th_stream_open(&options, &stream) != TH_OK) {
+  if (th_models_load(NULL, &models) != TH_OK || th_stream_start(models, &settings, &stream) != TH_OK) {
     fprintf(stderr, "%s\n", th_last_error());
+    th_models_free(models);
     free(samples);
     return 1;
   }
+  th_models_free(models); /* the stream keeps what it uses */
   printf("libtalkinghead %s: %s, %.0f Hz, frames %.0f ms after their sound\n", th_version(), argv[1], rate,
          th_stream_latency_ms(stream));
   const size_t block = (size_t)(rate / 100.0);

@@ -69,16 +69,15 @@ class Progress {
 
 struct ModelChoice {
   std::optional<std::string> head, mouth, visemes, headStyle;
+  bool any() const { return head || mouth || visemes || headStyle; }
   // NULL for the installed model, the path otherwise ("" switches the part off).
-  th_stream_options options(double rate, bool waitForHead) const {
-    th_stream_options o;
-    check(th_stream_options_init(&o));
+  th_models_options options() const {
+    th_models_options o;
+    check(th_models_options_init(&o));
     o.head_model = head ? head->c_str() : nullptr;
     o.mouth_model = mouth ? mouth->c_str() : nullptr;
     o.viseme_model = visemes ? visemes->c_str() : nullptr;
     o.head_style = headStyle ? headStyle->c_str() : nullptr;
-    o.sample_rate_hz = rate;
-    o.wait_for_head = waitForHead ? 1 : 0;
     return o;
   }
 };
@@ -148,13 +147,13 @@ py::dict frameOf(const th_frame& frame) {
 class Models {
  public:
   explicit Models(const ModelChoice& choice) {
-    const th_stream_options options = choice.options(16000.0, false);
-    th_models* opened = nullptr;
+    const th_models_options options = choice.options();
+    th_models* loaded = nullptr;
     {
       py::gil_scoped_release unlocked;
-      check(th_models_open(&options, &opened));
+      check(th_models_load(&options, &loaded));
     }
-    models_.reset(opened, th_models_free);
+    models_.reset(loaded, th_models_free);
   }
   const th_models* get() const { return models_.get(); }
 
@@ -162,14 +161,25 @@ class Models {
   std::shared_ptr<th_models> models_;
 };
 
+// The models given, or those the choice names, read into `own` for the one call that needs them; NULL for the
+// installed ones, which the library reads for the call (an animation only the file models it uses).
+const th_models* modelsFor(const Models* given, const ModelChoice& choice, std::optional<Models>& own) {
+  if (given != nullptr) return given->get();
+  if (!choice.any()) return nullptr;
+  own.emplace(choice);
+  return own->get();
+}
+
 class Stream {
  public:
-  Stream(double sampleRate, ModelChoice choice, bool waitForHead, const Models* models) {
-    const th_stream_options options = choice.options(sampleRate, waitForHead);
-    if (models != nullptr)
-      check(th_stream_open_models(models->get(), &options, &stream_));
-    else
-      check(th_stream_open(&options, &stream_));
+  // On `models` (not null), or on models of its own, read from the files `choice` names.
+  Stream(double sampleRate, const ModelChoice& choice, bool waitForHead, const Models* models) {
+    th_stream_settings settings;
+    check(th_stream_settings_init(&settings));
+    settings.sample_rate_hz = sampleRate;
+    settings.wait_for_head = waitForHead ? 1 : 0;
+    std::optional<Models> own;  // the stream keeps what it uses
+    check(th_stream_start(modelsFor(models, choice, own), &settings, &stream_));
   }
   ~Stream() { th_stream_close(stream_); }
   Stream(const Stream&) = delete;
@@ -265,10 +275,10 @@ void bindClasses(py::module_& module) {
       .def(py::init([](double sampleRate, std::optional<std::string> head, std::optional<std::string> mouth,
                        std::optional<std::string> visemes, bool waitForHead, const Models* models,
                        std::optional<std::string> headStyle) {
-             if (models != nullptr && (head || mouth || visemes || headStyle))
+             const ModelChoice choice{head, mouth, visemes, headStyle};
+             if (models != nullptr && choice.any())
                throw TalkingheadError("Stream: models, or the model files and head style, not both");
-             return std::make_unique<Stream>(sampleRate, ModelChoice{head, mouth, visemes, headStyle}, waitForHead,
-                                             models);
+             return std::make_unique<Stream>(sampleRate, choice, waitForHead, models);
            }),
            py::arg("sample_rate") = 16000.0, py::arg("head_model") = py::none(), py::arg("mouth_model") = py::none(),
            py::arg("viseme_model") = py::none(), py::arg("wait_for_head") = false, py::arg("models") = py::none(),
@@ -309,10 +319,13 @@ void bindFunctions(py::module_& module) {
       [](const std::string& path, std::optional<std::string> head, std::optional<std::string> mouth,
          std::optional<std::string> visemes, const Models* models, std::optional<py::function> callable,
          std::optional<std::string> headStyle) {
-        if (models != nullptr && (head || mouth || visemes || headStyle))
-          throw TalkingheadError("animate: models, or the model files and head style, not both");
         const ModelChoice choice{head, mouth, visemes, headStyle};
-        th_stream_options options = choice.options(16000.0, false);
+        if (models != nullptr && choice.any())
+          throw TalkingheadError("animate: models, or the model files and head style, not both");
+        std::optional<Models> own;
+        const th_models* animateWith = modelsFor(models, choice, own);
+        th_animate_options options;
+        check(th_animate_options_init(&options));
         Progress progress(std::move(callable));
         options.progress = progress.function();
         options.user_data = progress.userData();
@@ -320,8 +333,7 @@ void bindFunctions(py::module_& module) {
         th_status status = TH_OK;
         {
           py::gil_scoped_release unlocked;  // the work is ours: other Python threads go on
-          status = models != nullptr ? th_animate_file_models(models->get(), path.c_str(), &options, &animation)
-                                     : th_animate_file(path.c_str(), &options, &animation);
+          status = th_animate(animateWith, path.c_str(), &options, &animation);
         }
         progress.check(status);
         return std::make_unique<Animation>(animation);

@@ -180,7 +180,7 @@ void LivePanel::plotSection() {
 void LivePanel::latencySection(const PanelView& view) {
   if (!ImGui::CollapsingHeader("Latency", ImGuiTreeNodeFlags_DefaultOpen) || view.live == nullptr) return;
   const pipeline::LivePipeline& live = *view.live;
-  const FrameStats& stats = view.stats;
+  const pipeline::FrameStats& stats = view.stats;
   const pipeline::DecoderLookahead& lookahead = live.lookahead();
   const double processing = stats.processingMs();
   const double queue = stats.queueMs();

@@ -18,11 +18,11 @@
 #include <utility>
 #include <vector>
 
-#include "live/frame_stats.h"
 #include "live/option_widgets.h"
 #include "outputs/live_output.h"
 #include "outputs/output_settings.h"
 #include "pipeline/animation_frame.h"
+#include "pipeline/frame_stats.h"
 #include "pipeline/live.h"
 
 namespace th::app {
@@ -45,7 +45,7 @@ PanelChanges settingsWidgets(outputs::LiveSessionSettings& settings, std::vector
 struct PanelView {
   pipeline::LivePipeline* live = nullptr;  // null: no pipeline yet
   outputs::LiveSessionSettings& settings;
-  const FrameStats& stats;
+  const pipeline::FrameStats& stats;
   std::uint64_t displayStarved = 0;                 // the playout's
   bool speaking = false;                            // the idle behaviour hears speech
   const std::string& modelError;                    // the last model file that would not load (the running ones stay)

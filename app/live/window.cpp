@@ -23,11 +23,11 @@
 #include "core/error.h"
 #include "head_style_clip.h"
 #include "interrupt.h"
-#include "live/frame_stats.h"
 #include "live/panel.h"
 #include "live/settings_file.h"
 #include "outputs/live_display.h"
 #include "outputs/live_output.h"
+#include "pipeline/frame_stats.h"
 #include "pipeline/live.h"
 #include "pipeline/playout.h"
 #include "render/gl_context.h"
@@ -190,7 +190,7 @@ class LiveWindow {
       }
       const bool resized = fitTo(size);
       takeFrames();
-      FrameTimes times;
+      pipeline::FrameTimes times;
       drawFrame(size, resized, times);
       if (!arguments_.screenshot.empty() && static_cast<int>(stats_.framesDrawn()) + 1 >= arguments_.frames) {
         render::writePng(arguments_.screenshot, grabWindow(size));
@@ -215,7 +215,7 @@ class LiveWindow {
   }
 
   // The face, and the panel when it changed or the driver does not keep the column between swaps.
-  void drawFrame(std::pair<int, int> size, bool resized, FrameTimes& times) {
+  void drawFrame(std::pair<int, int> size, bool resized, pipeline::FrameTimes& times) {
     const auto drawStart = std::chrono::steady_clock::now();
     keptColumn_.tick();
     const bool checking = keptColumn_.reading();
@@ -238,7 +238,7 @@ class LiveWindow {
     times.panelMs = panelNow ? millisecondsBetween(faceDone, std::chrono::steady_clock::now()) : -1.0;
   }
 
-  void swap(std::chrono::steady_clock::time_point loopStart, FrameTimes& times) {
+  void swap(std::chrono::steady_clock::time_point loopStart, pipeline::FrameTimes& times) {
     const auto swapStart = std::chrono::steady_clock::now();
     window_.swapBuffers();
     const auto swapped = std::chrono::steady_clock::now();
@@ -320,7 +320,7 @@ class LiveWindow {
   }
 
   // The face's part of a frame: play out, display, draw.
-  void drawFace(FrameTimes& times) {
+  void drawFace(pipeline::FrameTimes& times) {
     bool shown = false;
     pipeline::AnimationFrame frame = playOut(shown);
     // The idle motion, and the outputs sent the face as drawn (outputs/live_display.h: as headless and the
@@ -364,7 +364,7 @@ class LiveWindow {
   // The head posed by the frame as displayed, drawn into the window beside the panel: our face by the FAPs, a
   // character by the weights the outputs got (its mouth by the visemes where the decoder has them and it has
   // viseme targets).
-  void drawHead(const outputs::AvatarFrame& drawn, FrameTimes& times) {
+  void drawHead(const outputs::AvatarFrame& drawn, pipeline::FrameTimes& times) {
     const auto setupStart = std::chrono::steady_clock::now();
     head_->pose(drawn.faps, drawn);
     times.faceSetupMs = millisecondsBetween(setupStart, std::chrono::steady_clock::now());
@@ -525,7 +525,7 @@ class LiveWindow {
   int headStyle_ = 0;
   std::string headStyleLine_;
   LivePanel panel_;
-  FrameStats stats_;
+  pipeline::FrameStats stats_;
   KeptColumnCheck keptColumn_;
   face::FapFrame lastDecoded_{};  // the decoders' last pose (before idle motion)
   double shownSeconds_ = -1.0;    // the instant of speech drawn this frame (-1: none yet)

@@ -26,20 +26,13 @@ namespace {
 
 constexpr double kFps = kHeadFramesPerSecond;
 
-HeadModel train(const std::vector<HeadRecording>& parts, const animation::HeadModelOptions& options, double* seconds) {
-  const auto start = std::chrono::steady_clock::now();
-  HeadModel model = animation::trainHeadModel(parts, options);
-  if (seconds) *seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  return model;
-}
-
 HeadSpeakerResult evaluateSpeaker(const HeadCorpus& corpus, const std::string& speaker,
                                   const std::vector<const HeadRecording*>& heldOut, const HeadProtocolOptions& options,
                                   const HeadModel& oneSpeaker) {
   HeadSpeakerResult result;
   result.speaker = speaker;
   const std::vector<HeadRecording> parts = headTrainingSet(corpus, speaker);
-  const HeadModel model = train(parts, options.model, &result.trainingSeconds);
+  const HeadModel model = trainHeadModelTimed(parts, options.model, &result.trainingSeconds);
   std::vector<HeadJudgedClip> clips;
   for (const HeadRecording* clip : heldOut) {
     clips.push_back(judgedClipOf(*clip));
@@ -123,6 +116,14 @@ HeadSpeakerResult evaluateSpeaker(const HeadCorpus& corpus, const std::string& s
 }
 
 }  // namespace
+
+HeadModel trainHeadModelTimed(const std::vector<HeadRecording>& parts, const animation::HeadModelOptions& options,
+                              double* seconds) {
+  const auto start = std::chrono::steady_clock::now();
+  HeadModel model = animation::trainHeadModel(parts, options);
+  if (seconds) *seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return model;
+}
 
 HeadCorpus loadHeadCorpus(double trainingFraction) {
   HeadCorpus corpus;
@@ -272,7 +273,7 @@ HeadSummary summariseHeadSpeakers(const std::vector<HeadSpeakerResult>& speakers
 HeadProtocolResult evaluateHeadLeaveOneSpeakerOut(const HeadCorpus& corpus, const HeadProtocolOptions& options,
                                                   const std::function<void(const HeadSpeakerResult&)>& onSpeaker) {
   // The old default: the paper's setting, one speaker (BEAT2's training part), its Viterbi states' poses.
-  const HeadModel oneSpeaker = train({corpus.beat2Train}, options.model, nullptr);
+  const HeadModel oneSpeaker = trainHeadModelTimed({corpus.beat2Train}, options.model, nullptr);
   HeadProtocolResult result;
   const auto add = [&](const std::string& speaker, const std::vector<const HeadRecording*>& heldOut) {
     result.speakers.push_back(evaluateSpeaker(corpus, speaker, heldOut, options, oneSpeaker));
@@ -339,7 +340,7 @@ HeadStyleReport evaluateHeadStyles(const HeadCorpus& corpus, const HeadProtocolO
   for (auto& [speaker, pairs] : speakers) {
     HeadStyleSpeaker result;
     result.speaker = speaker;
-    const HeadModel model = train(headTrainingSet(corpus, speaker), options.model, nullptr);
+    const HeadModel model = trainHeadModelTimed(headTrainingSet(corpus, speaker), options.model, nullptr);
     std::vector<HeadJudgedClip> clips;
     std::vector<HeadSynthesisOptions> styled;
     for (const Pair& pair : pairs) {

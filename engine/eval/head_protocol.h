@@ -37,6 +37,9 @@ struct HeadCorpus {
 
 // The shared corpora; the first `trainingFraction` of BEAT2's take trains.
 HeadCorpus loadHeadCorpus(double trainingFraction);
+// animation::trainHeadModel, with the seconds it took in `seconds` if given.
+animation::HeadModel trainHeadModelTimed(const std::vector<animation::HeadRecording>& parts,
+                                         const animation::HeadModelOptions& options, double* seconds);
 // The training recordings without speaker `heldOut` ("" keeps every speaker).
 std::vector<animation::HeadRecording> headTrainingSet(const HeadCorpus& corpus, const std::string& heldOut);
 

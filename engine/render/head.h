@@ -87,4 +87,18 @@ struct HeadOptions {
 std::unique_ptr<Head> makeHead(const avatar::Avatar* character, GlContext& context, const HeadOptions& options,
                                const face::FaceModel* face = nullptr);
 
+// An off-screen context and a head drawn in it, what the commands that draw into files share (render, poses,
+// strip, sidebyside): the character (which must outlive this) where there is one, else our default face. It
+// belongs to the thread that made it (its OSMesa context).
+//
+//   th::render::OffscreenHead stage(character, {.width = 640, .height = 480});
+//   const th::render::Image& frame = stage.head->draw(animation, seconds);   // RGB, top row first
+struct OffscreenHead {
+  OffscreenContext context;
+  std::unique_ptr<Head> head;
+
+  OffscreenHead(const avatar::Avatar* character, const HeadOptions& options)
+      : head(makeHead(character, context, options)) {}
+};
+
 }  // namespace th::render

@@ -33,9 +33,13 @@ tinygltf::Model loadGltf(const fs::path& path) {
 class LibraryAvatarAnimation : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
+    th_models* models = nullptr;
+    ASSERT_EQ(th_models_load(nullptr, &models), TH_OK) << th_last_error();
     th_animation* made = nullptr;
-    ASSERT_EQ(th_animate_file(th::sharedDataPath("speech/arctic/arctic_a0001.wav").c_str(), nullptr, &made), TH_OK)
-        << th_last_error();
+    const th_status animated =
+        th_animate(models, th::sharedDataPath("speech/arctic/arctic_a0001.wav").c_str(), nullptr, &made);
+    th_models_free(models);
+    ASSERT_EQ(animated, TH_OK) << th_last_error();
     animation_ = made;
   }
   static void TearDownTestSuite() {

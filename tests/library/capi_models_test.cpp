@@ -1,9 +1,10 @@
-// th_models through libtalkinghead: streams opened on one models handle, on two threads at once, give the frames
-// of a stream opened alone (label `threads`: ThreadSanitizer runs it), and keep their models after the handle is
-// freed; a file animated on the handle is the one th_animate_file makes.
+// th_models through libtalkinghead: streams started on one models handle, on two threads at once, give the frames
+// of a stream started alone on a handle of its own, and keep their models after the handle is freed; files
+// animated on one handle on two threads are the one animated alone.
 #include <gtest/gtest.h>
 
 #include <cstring>
+#include <string>
 #include <thread>
 #include <vector>
 
@@ -33,24 +34,27 @@ void expectSameFrames(const std::vector<th_frame>& got, const std::vector<th_fra
     ASSERT_EQ(std::memcmp(&got[i], &expected[i], sizeof(th_frame)), 0) << "frame " << i;
 }
 
-TEST(LibraryModels, StreamsOnOneHandleOnTwoThreadsGiveTheFramesOfAStreamOpenedAlone) {
+TEST(LibraryModels, StreamsOnOneHandleOnTwoThreadsGiveTheFramesOfAStreamStartedAlone) {
   double rate = 0.0;
   const std::vector<float> samples =
       th::test::readWavSamples(th::sharedDataPath("speech/arctic/arctic_a0001.wav").string(), rate);
   ASSERT_GT(samples.size(), 16000u);
-  th_stream_options options;
-  ASSERT_EQ(th_stream_options_init(&options), TH_OK);
-  options.sample_rate_hz = rate;
+  th_stream_settings settings;
+  ASSERT_EQ(th_stream_settings_init(&settings), TH_OK);
+  settings.sample_rate_hz = rate;
 
+  th_models* own = nullptr;
+  ASSERT_EQ(th_models_load(nullptr, &own), TH_OK) << th_last_error();
   th_stream* alone = nullptr;
-  ASSERT_EQ(th_stream_open(&options, &alone), TH_OK) << th_last_error();
+  ASSERT_EQ(th_stream_start(own, &settings, &alone), TH_OK) << th_last_error();
+  th_models_free(own);
   const std::vector<th_frame> expected = streamFrames(alone, samples, 160);
   ASSERT_GT(expected.size(), 60u);
 
   th_models* models = nullptr;
-  ASSERT_EQ(th_models_open(&options, &models), TH_OK) << th_last_error();
+  ASSERT_EQ(th_models_load(nullptr, &models), TH_OK) << th_last_error();
   th_stream* streams[2] = {nullptr, nullptr};
-  for (th_stream*& stream : streams) ASSERT_EQ(th_stream_open_models(models, &options, &stream), TH_OK);
+  for (th_stream*& stream : streams) ASSERT_EQ(th_stream_start(models, &settings, &stream), TH_OK);
   th_models_free(models);  // the streams keep the models they use
 
   std::vector<th_frame> got[2];
@@ -64,13 +68,16 @@ TEST(LibraryModels, StreamsOnOneHandleOnTwoThreadsGiveTheFramesOfAStreamOpenedAl
 
 TEST(LibraryModels, AFileAnimatedOnTheHandleIsTheOneAnimatedAlone) {
   const std::string speech = th::sharedDataPath("speech/arctic/arctic_a0001.wav").string();
+  th_models* own = nullptr;
+  ASSERT_EQ(th_models_load(nullptr, &own), TH_OK) << th_last_error();
   th_animation* alone = nullptr;
-  ASSERT_EQ(th_animate_file(speech.c_str(), nullptr, &alone), TH_OK) << th_last_error();
+  ASSERT_EQ(th_animate(own, speech.c_str(), nullptr, &alone), TH_OK) << th_last_error();
+  th_models_free(own);
   th_models* models = nullptr;
-  ASSERT_EQ(th_models_open(nullptr, &models), TH_OK) << th_last_error();
+  ASSERT_EQ(th_models_load(nullptr, &models), TH_OK) << th_last_error();
   th_animation* shared[2] = {nullptr, nullptr};
-  std::thread first([&] { EXPECT_EQ(th_animate_file_models(models, speech.c_str(), nullptr, &shared[0]), TH_OK); });
-  std::thread second([&] { EXPECT_EQ(th_animate_file_models(models, speech.c_str(), nullptr, &shared[1]), TH_OK); });
+  std::thread first([&] { EXPECT_EQ(th_animate(models, speech.c_str(), nullptr, &shared[0]), TH_OK); });
+  std::thread second([&] { EXPECT_EQ(th_animate(models, speech.c_str(), nullptr, &shared[1]), TH_OK); });
   first.join();
   second.join();
   th_models_free(models);
@@ -90,14 +97,17 @@ TEST(LibraryModels, AFileAnimatedOnTheHandleIsTheOneAnimatedAlone) {
   th_animation_free(alone);
 }
 
-TEST(LibraryModels, ABadModelFileFailsAtOpenNamingIt) {
-  th_stream_options options;
-  th_stream_options_init(&options);
-  options.head_model = "/nonexistent/head.json";
-  th_models* models = nullptr;
-  EXPECT_EQ(th_models_open(&options, &models), TH_ERROR_FILE);
-  EXPECT_EQ(models, nullptr);
-  EXPECT_NE(std::string(th_last_error()).find("/nonexistent/head.json"), std::string::npos) << th_last_error();
+TEST(LibraryModels, ABadModelFileFailsAtLoadNamingIt) {
+  for (const auto field : {&th_models_options::head_model, &th_models_options::mouth_model,
+                           &th_models_options::viseme_model, &th_models_options::head_style}) {
+    th_models_options options;
+    th_models_options_init(&options);
+    options.*field = "/nonexistent/model.json";
+    th_models* models = nullptr;
+    EXPECT_EQ(th_models_load(&options, &models), TH_ERROR_FILE);
+    EXPECT_EQ(models, nullptr);
+    EXPECT_NE(std::string(th_last_error()).find("/nonexistent/model.json"), std::string::npos) << th_last_error();
+  }
 }
 
 }  // namespace

@@ -1,4 +1,4 @@
-#include "live/frame_stats.h"
+#include "pipeline/frame_stats.h"
 
 #include <algorithm>
 #include <cstdio>
@@ -6,7 +6,7 @@
 #include "core/cpu_time.h"
 #include "core/statistics.h"
 
-namespace th::app {
+namespace th::pipeline {
 namespace {
 
 constexpr std::size_t kStatFrames = 150;  // the rolling figures are medians over the last 5 s
@@ -15,34 +15,34 @@ constexpr double kStartUpMs = 500.0;
 // machine's slow display still gives them in a few seconds.
 constexpr std::size_t kFewestSoundToLipsFrames = 10;
 
-void record(std::deque<double>& values, double value) {
+void recordStat(std::deque<double>& values, double value) {
   values.push_back(value);
   while (values.size() > kStatFrames) values.pop_front();
 }
 
-double median(const std::deque<double>& values) {
+double rollingMedian(const std::deque<double>& values) {
   return quantile(std::vector<double>(values.begin(), values.end()), 0.5);
 }
 
 }  // namespace
 
 void FrameStats::frameTaken(const pipeline::AnimationFrame& frame, std::int64_t nowNs) {
-  record(processingMs_, static_cast<double>(frame.decodedNs - frame.inputReadNs) * 1e-6);
-  record(queueMs_, static_cast<double>(nowNs - frame.decodedNs) * 1e-6);
+  recordStat(processingMs_, static_cast<double>(frame.decodedNs - frame.inputReadNs) * 1e-6);
+  recordStat(queueMs_, static_cast<double>(nowNs - frame.decodedNs) * 1e-6);
 }
 
 void FrameStats::playoutBehind(double ms) {
-  record(behindMs_, ms);
+  recordStat(behindMs_, ms);
 }
 
 void FrameStats::frameDrawn(const FrameTimes& times) {
   ++framesDrawn_;
-  record(displayMs_, times.faceSetupMs + times.glMs + std::max(times.panelMs, 0.0) + times.swapMs);
-  record(stageMs_[0], times.faceSetupMs);
-  record(stageMs_[1], times.glMs);
-  if (times.panelMs >= 0.0) record(stageMs_[2], times.panelMs);  // on the frames that draw it
-  record(stageMs_[3], times.swapMs);
-  record(periodMs_, times.periodMs);
+  recordStat(displayMs_, times.faceSetupMs + times.glMs + std::max(times.panelMs, 0.0) + times.swapMs);
+  recordStat(stageMs_[0], times.faceSetupMs);
+  recordStat(stageMs_[1], times.glMs);
+  if (times.panelMs >= 0.0) recordStat(stageMs_[2], times.panelMs);  // on the frames that draw it
+  recordStat(stageMs_[3], times.swapMs);
+  recordStat(periodMs_, times.periodMs);
   // Start-up (the first half second: shaders compiled, buffers filled) is left out of the summary. Counted in
   // time, not frames: a loaded machine draws few frames in it, and its run should still be summed up.
   if (framesDrawn_ > 1) msSinceFirstFrame_ += times.periodMs;
@@ -60,31 +60,31 @@ void FrameStats::soundToLips(double lateMs) {
 }
 
 double FrameStats::processingMs() const {
-  return median(processingMs_);
+  return rollingMedian(processingMs_);
 }
 double FrameStats::queueMs() const {
-  return median(queueMs_);
+  return rollingMedian(queueMs_);
 }
 double FrameStats::behindMs() const {
-  return median(behindMs_);
+  return rollingMedian(behindMs_);
 }
 double FrameStats::displayMs() const {
-  return median(displayMs_);
+  return rollingMedian(displayMs_);
 }
 double FrameStats::periodMs() const {
-  return median(periodMs_);
+  return rollingMedian(periodMs_);
 }
 double FrameStats::faceSetupMs() const {
-  return median(stageMs_[0]);
+  return rollingMedian(stageMs_[0]);
 }
 double FrameStats::glMs() const {
-  return median(stageMs_[1]);
+  return rollingMedian(stageMs_[1]);
 }
 double FrameStats::panelMs() const {
-  return median(stageMs_[2]);
+  return rollingMedian(stageMs_[2]);
 }
 double FrameStats::swapMs() const {
-  return median(stageMs_[3]);
+  return rollingMedian(stageMs_[3]);
 }
 
 void FrameStats::printSummary(double secondsOpen, std::uint64_t panelDraws) const {
@@ -122,4 +122,4 @@ void FrameStats::printSoundToLips(double firstSoundSeconds, double firstDeviceDe
       static_cast<unsigned long long>(underruns));
 }
 
-}  // namespace th::app
+}  // namespace th::pipeline

@@ -2,7 +2,7 @@
 // drawing, each stage of a frame), and over the whole run for the summary printed when the window closes (frame
 // rate, CPU a frame, the sound-to-lips offset of a recording played aloud).
 //
-//   th::app::FrameStats stats;
+//   th::pipeline::FrameStats stats;
 //   stats.frameTaken(frame, nowNs);        // each animation frame the display takes
 //   stats.frameDrawn(times);               // each display frame
 //   stats.printSummary(secondsOpen);
@@ -17,7 +17,7 @@
 
 #include "pipeline/animation_frame.h"
 
-namespace th::app {
+namespace th::pipeline {
 
 // Milliseconds of one display frame.
 struct FrameTimes {
@@ -65,4 +65,4 @@ class FrameStats {
   std::uint64_t framesDrawn_ = 0;
 };
 
-}  // namespace th::app
+}  // namespace th::pipeline

@@ -1,5 +1,5 @@
 // The live window's summary: start-up left out by time, so a slow display's run is still summed up.
-#include "live/frame_stats.h"
+#include "pipeline/frame_stats.h"
 
 #include <gtest/gtest.h>
 
@@ -7,21 +7,21 @@
 
 namespace {
 
-th::app::FrameTimes framePeriod(double ms) {
-  th::app::FrameTimes times;
+th::pipeline::FrameTimes framePeriod(double ms) {
+  th::pipeline::FrameTimes times;
   times.periodMs = ms;
   times.busyMs = ms * 0.5;
   return times;
 }
 
-std::string summaryOf(const th::app::FrameStats& stats) {
+std::string summaryOf(const th::pipeline::FrameStats& stats) {
   testing::internal::CaptureStdout();
   stats.printSummary(8.0, 10);
   return testing::internal::GetCapturedStdout();
 }
 
 TEST(FrameStats, ASlowDisplaysRunIsSummedUpWithoutItsFirstHalfSecond) {
-  th::app::FrameStats stats;
+  th::pipeline::FrameStats stats;
   for (int frame = 0; frame < 32; ++frame) stats.frameDrawn(framePeriod(250.0));  // 4 frames/s for 8 s
   const std::string summary = summaryOf(stats);
   // Frames 2 and 3 end the half second; the 29 after it are summed up.
@@ -29,13 +29,13 @@ TEST(FrameStats, ASlowDisplaysRunIsSummedUpWithoutItsFirstHalfSecond) {
 }
 
 TEST(FrameStats, NothingIsSummedUpWithinTheStartUp) {
-  th::app::FrameStats stats;
+  th::pipeline::FrameStats stats;
   for (int frame = 0; frame < 20; ++frame) stats.frameDrawn(framePeriod(10.0));  // 0.19 s
   EXPECT_EQ(summaryOf(stats), "");
 }
 
 TEST(FrameStats, SoundToLipsNeedsTenFrames) {
-  th::app::FrameStats stats;
+  th::pipeline::FrameStats stats;
   for (int frame = 0; frame < 9; ++frame) stats.soundToLips(50.0);
   testing::internal::CaptureStdout();
   stats.printSoundToLips(1.0, 30.0, 100.0, 0);

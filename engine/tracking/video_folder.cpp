@@ -1,20 +1,19 @@
-#include "video_folder.h"
+#include "tracking/video_folder.h"
 
-#include <iostream>
 #include <system_error>
 
 #include "core/progress.h"
 #include "face/face_model.h"
 
-namespace th::app {
+namespace th::tracking {
 
 std::filesystem::path tracksFolderFor(const std::filesystem::path& output, const std::string& given) {
   if (!given.empty()) return given;
   return std::filesystem::path(output).replace_extension().string() + "_tracks";
 }
 
-tracking::VideoCorpus trackVideos(const std::vector<std::filesystem::path>& videos, const std::filesystem::path& tracks,
-                                  tracking::VideoCorpusOptions options) {
+VideoCorpus trackVideos(const std::vector<std::filesystem::path>& videos, const std::filesystem::path& tracks,
+                        VideoCorpusOptions options, std::ostream& log) {
   options.trackFolder = tracks;
   const face::FaceModel face = face::FaceModel::buildDefault();
   std::error_code error;
@@ -22,9 +21,8 @@ tracking::VideoCorpus trackVideos(const std::vector<std::filesystem::path>& vide
   try {
     ProgressOptions clipCount;
     clipCount.unitsPerSecond = 0.0;  // clips, not seconds of media: no real-time factor
-    ProgressBar bar(static_cast<double>(videos.size()), "track", std::cerr, clipCount);
-    tracking::VideoCorpus corpus =
-        tracking::loadVideoCorpus(videos, face, options, [&](int done, int) { bar.update(done); });
+    ProgressBar bar(static_cast<double>(videos.size()), "track", log, clipCount);
+    VideoCorpus corpus = loadVideoCorpus(videos, face, options, [&](int done, int) { bar.update(done); });
     bar.finish();
     return corpus;
   } catch (...) {
@@ -33,4 +31,4 @@ tracking::VideoCorpus trackVideos(const std::vector<std::filesystem::path>& vide
   }
 }
 
-}  // namespace th::app
+}  // namespace th::tracking
