@@ -115,8 +115,7 @@ class FapStreamFormat final : public AnimationFormat {
   };
 
   // `2.1 NAME FPS NFRAMES` into the track's name and rate; returns NFRAMES.
-  static long long readFapHeader(std::string_view line, const fs::path& path, int headerLine,
-                                 face::FapTrack& track) {
+  static long long readFapHeader(std::string_view line, const fs::path& path, int headerLine, face::FapTrack& track) {
     const Fields header = splitWhitespace(line, 4);
     if (header.count != 4) {
       failAt(path, headerLine,
@@ -141,8 +140,7 @@ class FapStreamFormat final : public AnimationFormat {
   static std::bitset<face::kNumFaps> readFapMask(std::string_view line, const fs::path& path, int maskLine) {
     const Fields flags = splitWhitespace(line, face::kNumFaps);
     if (flags.count != face::kNumFaps)
-      failAt(path, maskLine,
-             "the mask has " + std::to_string(flags.count) + " flags; expected 68 (a 0 or 1 per FAP)");
+      failAt(path, maskLine, "the mask has " + std::to_string(flags.count) + " flags; expected 68 (a 0 or 1 per FAP)");
     std::bitset<face::kNumFaps> mask;
     for (std::size_t i = 0; i < flags.items.size(); ++i) {
       if (flags.items[i] == "1") {

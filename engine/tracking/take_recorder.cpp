@@ -152,7 +152,8 @@ RecordedTake recordTalkingVideo(const RecordingOptions& options, const std::func
   grabUntilStopped(*camera, *writer, microphone, options, stopRequested, frame.clone(), takeSound, take);
   takeSound();
   writer->finish();
-  if (take.framesWritten < 2 || sound.empty()) throw Error("record: " + take.stoppedBy + " before anything was recorded");
+  if (take.framesWritten < 2 || sound.empty())
+    throw Error("record: " + take.stoppedBy + " before anything was recorded");
   // A device that would not run at 16 kHz ran at its own rate (Capture); the take is kept at 16 kHz.
   const std::vector<float> sound16k = rate == kTakeRateHz ? sound : audio::resample(sound, rate, kTakeRateHz);
   audio::writeWav16(take.sound, sound16k, static_cast<int>(kTakeRateHz));
