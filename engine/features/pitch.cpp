@@ -136,8 +136,25 @@ void OnlinePitchTracker::analyseFrame(long long frameIndex) {
   AnalysedFrame& frame = analysed(frameIndex);
   frame.candidates.clear();
   frame.bestCorrelation = 0.0f;
+  frame.candidates.push_back({0.0f, 0.0f, unvoicedStrength(localPeak)});
+
+  if (localPeak > 0.0) {
+    fft_.forward();
+    std::complex<float>* spectrum = fft_.spectrum();
+    for (int k = 0; k < fft_.numBins(); ++k) spectrum[k] = std::norm(spectrum[k]);
+    fft_.inverse();
+    const float energy = time[0];
+    if (energy > 0.0f) {
+      normaliseCorrelation(energy);
+      addPeakCandidates(frame);
+    }
+  }
+  viterbiStep(frame, frameIndex > 0 ? &analysed(frameIndex - 1) : nullptr);
+}
+
+// Praat's unvoiced strength: the voicing threshold, raised for frames much quieter than the loudest so far.
+double OnlinePitchTracker::unvoicedStrength(double localPeak) const {
   const double vt = options_.voicingThreshold;
-  // Praat's unvoiced strength: the voicing threshold, raised for frames much quieter than the loudest so far.
   double levelPeak = localPeak;
   if (options_.levelWindowMs > 0.0) {
     // The level that decides silence is taken near the frame's centre, so that a loud neighbour inside the
@@ -149,81 +166,78 @@ void OnlinePitchTracker::analyseFrame(long long frameIndex) {
     }
   }
   const double relativePeak = runningPeak_ > 0 ? levelPeak / runningPeak_ : 0.0;
-  const double unvoicedStrength = vt + std::max(0.0, 2.0 - relativePeak / (options_.silenceThreshold / (1.0 + vt)));
-  frame.candidates.push_back({0.0f, 0.0f, unvoicedStrength});
+  return vt + std::max(0.0, 2.0 - relativePeak / (options_.silenceThreshold / (1.0 + vt)));
+}
 
-  if (localPeak > 0.0) {
-    fft_.forward();
-    std::complex<float>* spectrum = fft_.spectrum();
-    for (int k = 0; k < fft_.numBins(); ++k) spectrum[k] = std::norm(spectrum[k]);
-    fft_.inverse();
-    const float energy = time[0];
-    if (energy > 0.0f) {
-      // Normalise every lag once, in a loop the compiler can vectorise.
-      if (options_.normalisation == PitchNormalisation::kNccf) {
-        // By the energies of the two overlapping parts (<= 1 by Cauchy-Schwarz even at onsets, where the
-        // window-autocorrelation normalisation overshoots for long lags). The inverse FFT is unnormalised:
-        // its output is fft size times the autocorrelation.
-        const float total = energyPrefix_[static_cast<size_t>(windowLength_)];
-        const auto scale = static_cast<float>(fft_.size());
-        for (int lag = 1; lag <= maxLag_ + 1; ++lag) {
-          const float head = energyPrefix_[static_cast<size_t>(windowLength_ - lag)];
-          const float tail = total - energyPrefix_[static_cast<size_t>(lag)];
-          const float denominator = std::sqrt(head * tail) * scale * windowAutocorrelation_[static_cast<size_t>(lag)];
-          correlation_[static_cast<size_t>(lag)] = denominator > 0.0f ? time[lag] / denominator : 0.0f;
-        }
-      } else {
-        for (int lag = 1; lag <= maxLag_ + 1; ++lag) {
-          correlation_[static_cast<size_t>(lag)] =
-              time[lag] / (energy * windowAutocorrelation_[static_cast<size_t>(lag)]);
-        }
-      }
-      auto r = [&](int lag) { return correlation_[static_cast<size_t>(lag)]; };
-      float previous = r(minLag_ - 1);
-      float current = r(minLag_);
-      for (int lag = minLag_; lag <= maxLag_; ++lag) {
-        const float next = r(lag + 1);
-        if (current > 0.0f && current >= previous && current > next) {
-          // Parabolic refinement of the peak's lag and height.
-          const double curvature = previous - 2.0 * current + next;
-          double offset = curvature < 0.0 ? 0.5 * (previous - next) / curvature : 0.0;
-          offset = std::clamp(offset, -0.5, 0.5);
-          double height = current - 0.25 * (previous - next) * offset;
-          if (height > 1.0) height = 1.0 / height;  // as Praat: interpolation overshoot counts against it
-          const double period = lag + offset;
-          const double f0 = sampleRateHz_ / period;
-          if (f0 >= options_.minF0Hz && f0 <= options_.maxF0Hz) {
-            const double periodicity = shortWindowLength_ > 0 ? (1.0 - options_.shortWeight) * height +
-                                                                    options_.shortWeight * shortCorrelation(period)
-                                                              : height;
-            double strength = periodicity - options_.octaveCost * std::log2(options_.minF0Hz / f0);
-            // A signal periodic in P is periodic in 2P too: if half this period correlates nearly as well,
-            // this candidate is most likely a sub-octave, so it pays a penalty.
-            const int halfLag = static_cast<int>(std::lround(period / 2.0));
-            if (options_.subharmonicPenalty > 0.0 && halfLag - 1 >= 1) {
-              float halfBest = 0.0f;
-              for (int h = halfLag - 1; h <= halfLag + 1; ++h) halfBest = std::max(halfBest, r(h));
-              if (halfBest >= options_.subharmonicRatio * height) strength -= options_.subharmonicPenalty;
-            }
-            Candidate candidate{static_cast<float>(f0), static_cast<float>(height), strength};
-            frame.bestCorrelation = std::max(frame.bestCorrelation, candidate.correlation);
-            if (static_cast<int>(frame.candidates.size()) <= options_.maxCandidates) {
-              frame.candidates.push_back(candidate);
-            } else {
-              // Replace the weakest voiced candidate if this one is stronger.
-              auto weakest =
-                  std::min_element(frame.candidates.begin() + 1, frame.candidates.end(),
-                                   [](const Candidate& a, const Candidate& b) { return a.strength < b.strength; });
-              if (weakest->strength < strength) *weakest = candidate;
-            }
-          }
-        }
-        previous = current;
-        current = next;
-      }
+// The autocorrelation in the FFT's time buffer (the inverse FFT of the power spectrum; `energy` its lag 0) into
+// correlation_, every lag normalised once, in a loop the compiler can vectorise.
+void OnlinePitchTracker::normaliseCorrelation(float energy) {
+  const float* time = fft_.timeData();
+  if (options_.normalisation == PitchNormalisation::kNccf) {
+    // By the energies of the two overlapping parts (<= 1 by Cauchy-Schwarz even at onsets, where the
+    // window-autocorrelation normalisation overshoots for long lags). The inverse FFT is unnormalised:
+    // its output is fft size times the autocorrelation.
+    const float total = energyPrefix_[static_cast<size_t>(windowLength_)];
+    const auto scale = static_cast<float>(fft_.size());
+    for (int lag = 1; lag <= maxLag_ + 1; ++lag) {
+      const float head = energyPrefix_[static_cast<size_t>(windowLength_ - lag)];
+      const float tail = total - energyPrefix_[static_cast<size_t>(lag)];
+      const float denominator = std::sqrt(head * tail) * scale * windowAutocorrelation_[static_cast<size_t>(lag)];
+      correlation_[static_cast<size_t>(lag)] = denominator > 0.0f ? time[lag] / denominator : 0.0f;
+    }
+  } else {
+    for (int lag = 1; lag <= maxLag_ + 1; ++lag) {
+      correlation_[static_cast<size_t>(lag)] = time[lag] / (energy * windowAutocorrelation_[static_cast<size_t>(lag)]);
     }
   }
-  viterbiStep(frame, frameIndex > 0 ? &analysed(frameIndex - 1) : nullptr);
+}
+
+// Each peak of the normalised autocorrelation between the lags of maxF0Hz and minF0Hz, refined by a parabola,
+// as a voiced candidate (the strongest maxCandidates of them kept).
+void OnlinePitchTracker::addPeakCandidates(AnalysedFrame& frame) const {
+  auto r = [&](int lag) { return correlation_[static_cast<size_t>(lag)]; };
+  float previous = r(minLag_ - 1);
+  float current = r(minLag_);
+  for (int lag = minLag_; lag <= maxLag_; ++lag) {
+    const float next = r(lag + 1);
+    if (current > 0.0f && current >= previous && current > next) {
+      // Parabolic refinement of the peak's lag and height.
+      const double curvature = previous - 2.0 * current + next;
+      double offset = curvature < 0.0 ? 0.5 * (previous - next) / curvature : 0.0;
+      offset = std::clamp(offset, -0.5, 0.5);
+      double height = current - 0.25 * (previous - next) * offset;
+      if (height > 1.0) height = 1.0 / height;  // as Praat: interpolation overshoot counts against it
+      const double period = lag + offset;
+      const double f0 = sampleRateHz_ / period;
+      if (f0 >= options_.minF0Hz && f0 <= options_.maxF0Hz) {
+        const double periodicity = shortWindowLength_ > 0 ? (1.0 - options_.shortWeight) * height +
+                                                                options_.shortWeight * shortCorrelation(period)
+                                                          : height;
+        double strength = periodicity - options_.octaveCost * std::log2(options_.minF0Hz / f0);
+        // A signal periodic in P is periodic in 2P too: if half this period correlates nearly as well,
+        // this candidate is most likely a sub-octave, so it pays a penalty.
+        const int halfLag = static_cast<int>(std::lround(period / 2.0));
+        if (options_.subharmonicPenalty > 0.0 && halfLag - 1 >= 1) {
+          float halfBest = 0.0f;
+          for (int h = halfLag - 1; h <= halfLag + 1; ++h) halfBest = std::max(halfBest, r(h));
+          if (halfBest >= options_.subharmonicRatio * height) strength -= options_.subharmonicPenalty;
+        }
+        Candidate candidate{static_cast<float>(f0), static_cast<float>(height), strength};
+        frame.bestCorrelation = std::max(frame.bestCorrelation, candidate.correlation);
+        if (static_cast<int>(frame.candidates.size()) <= options_.maxCandidates) {
+          frame.candidates.push_back(candidate);
+        } else {
+          // Replace the weakest voiced candidate if this one is stronger.
+          auto weakest =
+              std::min_element(frame.candidates.begin() + 1, frame.candidates.end(),
+                               [](const Candidate& a, const Candidate& b) { return a.strength < b.strength; });
+          if (weakest->strength < strength) *weakest = candidate;
+        }
+      }
+    }
+    previous = current;
+    current = next;
+  }
 }
 
 // Normalised cross-correlation between the two halves of a lag-spanning pair of short windows centred on the

@@ -94,6 +94,9 @@ class OnlinePitchTracker {
 
   void analyseAvailableFrames();
   void analyseFrame(long long frameIndex);
+  double unvoicedStrength(double localPeak) const;
+  void normaliseCorrelation(float energy);
+  void addPeakCandidates(AnalysedFrame& frame) const;
   void viterbiStep(AnalysedFrame& current, const AnalysedFrame* previous) const;
   void decideUpTo(long long lastFrameToDecide, long long tracebackFrom);
   AnalysedFrame& analysed(long long frameIndex) { return ring_[static_cast<size_t>(frameIndex % ring_.size())]; }
