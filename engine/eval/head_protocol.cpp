@@ -293,16 +293,20 @@ HeadProtocolResult evaluateHeadLeaveOneSpeakerOut(const HeadCorpus& corpus, cons
   return result;
 }
 
-HeadStyleReport evaluateHeadStyles(const HeadCorpus& corpus, const HeadProtocolOptions& options,
-                                   const std::function<void(const HeadStyleSpeaker&)>& onSpeaker) {
-  // Each speaker's (scored clip, style clip) pairs.
-  struct Pair {
-    HeadRecording scored;
-    HeadRecording style;
-  };
-  std::vector<std::pair<std::string, std::vector<Pair>>> speakers;
+namespace {
+
+// A clip scored, and the other clip of the same person its style is fitted on.
+struct StyleClipPair {
+  HeadRecording scored;
+  HeadRecording style;
+};
+
+// Each speaker's pairs: BEAT2's held-out part styled from its training part; each talking-head speaker's clips
+// each styled from the next, or a single clip's halves each from the other.
+std::vector<std::pair<std::string, std::vector<StyleClipPair>>> styleClipPairs(const HeadCorpus& corpus) {
+  std::vector<std::pair<std::string, std::vector<StyleClipPair>>> speakers;
   {
-    Pair beat2{corpus.beat2Test, corpus.beat2Train};
+    StyleClipPair beat2{corpus.beat2Test, corpus.beat2Train};
     beat2.scored.name += " (held-out part)";
     beat2.style.name += " (training part)";
     speakers.push_back({corpus.beat2Test.speaker, {beat2}});
@@ -314,7 +318,7 @@ HeadStyleReport evaluateHeadStyles(const HeadCorpus& corpus, const HeadProtocolO
     std::vector<const HeadRecording*> own;
     for (const auto& clip : corpus.styleTalk)
       if (clip.speaker == name) own.push_back(&clip);
-    std::vector<Pair> pairs;
+    std::vector<StyleClipPair> pairs;
     if (own.size() >= 2) {
       for (std::size_t i = 0; i < own.size(); ++i) pairs.push_back({*own[i], *own[(i + 1) % own.size()]});
     } else {
@@ -329,6 +333,14 @@ HeadStyleReport evaluateHeadStyles(const HeadCorpus& corpus, const HeadProtocolO
     }
     speakers.push_back({name, std::move(pairs)});
   }
+  return speakers;
+}
+
+}  // namespace
+
+HeadStyleReport evaluateHeadStyles(const HeadCorpus& corpus, const HeadProtocolOptions& options,
+                                   const std::function<void(const HeadStyleSpeaker&)>& onSpeaker) {
+  auto speakers = styleClipPairs(corpus);
 
   // A single clip's halves are shorter than a user's 20-60 s: the fit takes them down to 8 s.
   animation::HeadStyleFitOptions fit;
@@ -343,7 +355,7 @@ HeadStyleReport evaluateHeadStyles(const HeadCorpus& corpus, const HeadProtocolO
     const HeadModel model = trainHeadModelTimed(headTrainingSet(corpus, speaker), options.model, nullptr);
     std::vector<HeadJudgedClip> clips;
     std::vector<HeadSynthesisOptions> styled;
-    for (const Pair& pair : pairs) {
+    for (const StyleClipPair& pair : pairs) {
       clips.push_back(judgedClipOf(pair.scored));
       result.scored.push_back(pair.scored.name);
       result.styledFrom.push_back(pair.style.name);
