@@ -74,6 +74,40 @@ bool fapSliders(const face::FaceModel& face, const std::vector<std::string_view>
   return moved;
 }
 
+// One panel header per FAP group, in the order the standard first names it.
+std::vector<std::string_view> fapGroupsOf(const face::FaceModel& face) {
+  std::vector<std::string_view> groups;
+  for (int number = 3; number <= face::kNumFaps; ++number)
+    if (face.supports(number) &&
+        std::find(groups.begin(), groups.end(), face::fapDefinition(number).group) == groups.end())
+      groups.push_back(face::fapDefinition(number).group);
+  return groups;
+}
+
+// Orbit with the left button, zoom with the wheel, unless the panel has the mouse.
+void orbitWithMouse(render::OrbitCamera& camera, const render::OrbitCamera& home) {
+  const ImGuiIO& io = ImGui::GetIO();
+  if (io.WantCaptureMouse) return;
+  if (ImGui::IsMouseDragging(ImGuiMouseButton_Left)) {
+    camera.yawDegrees -= 0.3f * io.MouseDelta.x;
+    camera.pitchDegrees = std::clamp(camera.pitchDegrees + 0.3f * io.MouseDelta.y, -80.0f, 80.0f);
+  }
+  camera.distance =
+      std::clamp(camera.distance * (1.0f - 0.1f * io.MouseWheel), 0.25f * home.distance, 6.0f * home.distance);
+}
+
+// A button per key pose; true when one was pressed (its FAPs are then in `faps`).
+bool poseButtons(face::FapFrame& faps) {
+  bool pressed = false;
+  ImGui::TextUnformatted("Poses:");
+  for (const face::Pose& pose : face::keyPoses()) {
+    ImGui::SameLine();
+    if (ImGui::GetContentRegionAvail().x < 80) ImGui::NewLine();
+    if (ImGui::SmallButton(pose.name.c_str())) faps = pose.faps, pressed = true;
+  }
+  return pressed;
+}
+
 void runShow(const ShowArguments& arguments) {
   std::optional<face::FapTrack> animation;
   if (!arguments.animation.empty()) animation = formats::readAnimation(arguments.animation);
@@ -93,12 +127,7 @@ void runShow(const ShowArguments& arguments) {
   ImGui_ImplGlfw_InitForOpenGL(window.window(), true);
   ImGui_ImplOpenGL3_Init("#version 330 core");
 
-  // One panel header per FAP group, in the order the standard first names it.
-  std::vector<std::string_view> groups;
-  for (int number = 3; number <= face::kNumFaps; ++number)
-    if (face.supports(number) &&
-        std::find(groups.begin(), groups.end(), face::fapDefinition(number).group) == groups.end())
-      groups.push_back(face::fapDefinition(number).group);
+  const std::vector<std::string_view> groups = fapGroupsOf(face);
 
   face::FapFrame faps{};
   bool playing = animation.has_value();
@@ -120,16 +149,7 @@ void runShow(const ShowArguments& arguments) {
     ImGui_ImplGlfw_NewFrame();
     ImGui::NewFrame();
 
-    // Orbit with the left button, zoom with the wheel, unless the panel has the mouse.
-    const ImGuiIO& io = ImGui::GetIO();
-    if (!io.WantCaptureMouse) {
-      if (ImGui::IsMouseDragging(ImGuiMouseButton_Left)) {
-        camera.yawDegrees -= 0.3f * io.MouseDelta.x;
-        camera.pitchDegrees = std::clamp(camera.pitchDegrees + 0.3f * io.MouseDelta.y, -80.0f, 80.0f);
-      }
-      camera.distance =
-          std::clamp(camera.distance * (1.0f - 0.1f * io.MouseWheel), 0.25f * home.distance, 6.0f * home.distance);
-    }
+    orbitWithMouse(camera, home);
 
     ImGui::SetNextWindowPos(ImVec2(10, 10), ImGuiCond_FirstUseEver);
     ImGui::SetNextWindowSize(ImVec2(420, static_cast<float>(size.second) - 20), ImGuiCond_FirstUseEver);
@@ -145,12 +165,7 @@ void runShow(const ShowArguments& arguments) {
         playStart = glfwGetTime();
       }
     }
-    ImGui::TextUnformatted("Poses:");
-    for (const face::Pose& pose : face::keyPoses()) {
-      ImGui::SameLine();
-      if (ImGui::GetContentRegionAvail().x < 80) ImGui::NewLine();
-      if (ImGui::SmallButton(pose.name.c_str())) faps = pose.faps, playing = false;
-    }
+    if (poseButtons(faps)) playing = false;
     double seconds = -1.0;  // of the animation playing
     if (playing && animation) {
       seconds = std::fmod(glfwGetTime() - playStart, animation->durationSeconds());
