@@ -10,6 +10,7 @@
 #include <iterator>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <span>
 
 #include "core/error.h"
 
@@ -50,6 +51,41 @@ void appendU32(Bytes& bytes, std::uint32_t value) {
 
 bool isGlb(const Bytes& bytes) {
   return bytes.size() >= 12 && std::memcmp(bytes.data(), "glTF", 4) == 0;
+}
+
+// One view's data by its mode (and filter), as meshoptimizer's decoders return: 0 when it decodes.
+int decodeMeshoptView(const nlohmann::json& meshopt, const std::string& mode, unsigned char* destination,
+                      std::size_t count, std::size_t stride, std::span<const unsigned char> compressed) {
+  if (mode == "TRIANGLES")
+    return meshopt_decodeIndexBuffer(destination, count, stride, compressed.data(), compressed.size());
+  if (mode == "INDICES")
+    return meshopt_decodeIndexSequence(destination, count, stride, compressed.data(), compressed.size());
+  if (mode != "ATTRIBUTES") return -1;
+  const int status = meshopt_decodeVertexBuffer(destination, count, stride, compressed.data(), compressed.size());
+  const std::string filter = meshopt.value("filter", std::string("NONE"));
+  if (status == 0 && filter == "OCTAHEDRAL") meshopt_decodeFilterOct(destination, count, stride);
+  if (status == 0 && filter == "QUATERNION") meshopt_decodeFilterQuat(destination, count, stride);
+  if (status == 0 && filter == "EXPONENTIAL") meshopt_decodeFilterExp(destination, count, stride);
+  return status;
+}
+
+// A GLB of `json` and `bin`: the header, the JSON chunk padded with spaces, the BIN chunk padded with zeros.
+Bytes packGlb(const nlohmann::json& json, Bytes bin) {
+  std::string text = json.dump();
+  while (text.size() % 4 != 0) text.push_back(' ');
+  padBytes(bin, 4);
+  Bytes out;
+  out.reserve(28 + text.size() + bin.size());
+  appendU32(out, 0x46546C67u);  // "glTF"
+  appendU32(out, 2);
+  appendU32(out, static_cast<std::uint32_t>(28 + text.size() + bin.size()));
+  appendU32(out, static_cast<std::uint32_t>(text.size()));
+  appendU32(out, 0x4E4F534Au);
+  out.insert(out.end(), text.begin(), text.end());
+  appendU32(out, static_cast<std::uint32_t>(bin.size()));
+  appendU32(out, 0x004E4942u);
+  out.insert(out.end(), bin.begin(), bin.end());
+  return out;
 }
 
 // EXT_meshopt_compression, decoded into its fallback buffers: tinygltf reads a GLB's BIN chunk into the first
@@ -118,19 +154,8 @@ Bytes decodeMeshoptJson(const fs::path& path, const Bytes& glb) {
     unsigned char* destination = bin.data() + target;
     const unsigned char* compressed = bin.data() + source;
     const std::string mode = meshopt.at("mode").get<std::string>();
-    int status = -1;
-    if (mode == "ATTRIBUTES") {
-      status = meshopt_decodeVertexBuffer(destination, count, stride, compressed, sourceLength);
-      const std::string filter = meshopt.value("filter", std::string("NONE"));
-      if (status == 0 && filter == "OCTAHEDRAL") meshopt_decodeFilterOct(destination, count, stride);
-      if (status == 0 && filter == "QUATERNION") meshopt_decodeFilterQuat(destination, count, stride);
-      if (status == 0 && filter == "EXPONENTIAL") meshopt_decodeFilterExp(destination, count, stride);
-    } else if (mode == "TRIANGLES") {
-      status = meshopt_decodeIndexBuffer(destination, count, stride, compressed, sourceLength);
-    } else if (mode == "INDICES") {
-      status = meshopt_decodeIndexSequence(destination, count, stride, compressed, sourceLength);
-    }
-    if (status != 0) throw bad(std::string(kMeshopt) + " data that does not decode (mode " + mode + ")");
+    if (decodeMeshoptView(meshopt, mode, destination, count, stride, {compressed, sourceLength}) != 0)
+      throw bad(std::string(kMeshopt) + " data that does not decode (mode " + mode + ")");
     view["extensions"].erase(kMeshopt);
     if (view["extensions"].empty()) view.erase("extensions");
   }
@@ -142,21 +167,7 @@ Bytes decodeMeshoptJson(const fs::path& path, const Bytes& glb) {
     if (names.empty()) json.erase(list);
   }
 
-  std::string text = json.dump();
-  while (text.size() % 4 != 0) text.push_back(' ');
-  padBytes(bin, 4);
-  Bytes out;
-  out.reserve(28 + text.size() + bin.size());
-  out.insert(out.end(), {'g', 'l', 'T', 'F'});
-  appendU32(out, 2);
-  appendU32(out, static_cast<std::uint32_t>(28 + text.size() + bin.size()));
-  appendU32(out, static_cast<std::uint32_t>(text.size()));
-  appendU32(out, 0x4E4F534Au);
-  out.insert(out.end(), text.begin(), text.end());
-  appendU32(out, static_cast<std::uint32_t>(bin.size()));
-  appendU32(out, 0x004E4942u);
-  out.insert(out.end(), bin.begin(), bin.end());
-  return out;
+  return packGlb(json, std::move(bin));
 }
 
 Bytes decodeMeshopt(const fs::path& path, const Bytes& glb) {
@@ -228,7 +239,7 @@ Bytes editGlbJson(const fs::path& path, const Bytes& glb, Edit edit) {
   while (text.size() % 4 != 0) text.push_back(' ');
   const Bytes rest(glb.begin() + 20 + jsonLength, glb.end());
   Bytes out;
-  out.insert(out.end(), {'g', 'l', 'T', 'F'});
+  appendU32(out, 0x46546C67u);  // "glTF"
   appendU32(out, 2);
   appendU32(out, static_cast<std::uint32_t>(20 + text.size() + rest.size()));
   appendU32(out, static_cast<std::uint32_t>(text.size()));
