@@ -345,8 +345,7 @@ th_status th_models_options_init_sized(th_models_options* options, size_t struct
 }
 
 th_status th_stream_settings_init_sized(th_stream_settings* settings, size_t struct_size) {
-  return initSized(settings, struct_size, defaultStreamSettings(), kFirstStreamSettingsSize,
-                   "th_stream_settings_init");
+  return initSized(settings, struct_size, defaultStreamSettings(), kFirstStreamSettingsSize, "th_stream_settings_init");
 }
 
 th_status th_animate_options_init_sized(th_animate_options* options, size_t struct_size) {
@@ -581,6 +580,7 @@ th_status th_stream_open_models(const th_models* models, const th_stream_options
   const std::optional<th_stream_options> known =
       readSized(options, defaultStreamOptions(), kFirstStreamOptionsSize, "th_stream_open_models");
   if (!known) return TH_ERROR_ARGUMENT;
+  if (checkRate(known->sample_rate_hz, "th_stream_open_models") != TH_OK) return TH_ERROR_ARGUMENT;  // the call made
   const OptionsPerVerb given = split(*known);
   return th_stream_start(models, &given.stream, stream);
 }
