@@ -48,8 +48,8 @@
  *   th_models_load(&choice, &models);
  *
  * A frame: its time, the MPEG-4 FAPs (the face's standard parameters), ARKit's 52 blendshape weights, the
- * Oculus/OpenXR 15 viseme weights and VRM's five vowels, the viseme shown (held at least 100 ms) and Rhubarb's
- * mouth shape for it, and the head's rotation.
+ * Oculus/OpenXR 15 viseme weights and VRM's five vowels, the viseme shown (held at least 67 ms; 100 ms from a
+ * viseme model) and Rhubarb's mouth shape for it, and the head's rotation.
  *
  * Threads: a stream or an animation belongs to one thread at a time; different ones may be used on different
  * threads at once. A th_models handle may be used by any number of threads at once. Progress callbacks are called
