@@ -362,6 +362,70 @@ void readVrm1(const tinygltf::Model& model, Avatar& avatar) {
   }
 }
 
+// The meshes of the scene's nodes, in draw order, with their triangle primitives and morph targets; returns each
+// glTF mesh's first instance (-1: none), which VRM 0's blend shapes name.
+std::vector<int> readSceneMeshes(const std::filesystem::path& path, const tinygltf::Model& model, Avatar& avatar) {
+  std::vector<int> meshOfGltfMesh(model.meshes.size(), -1);
+  for (const int n : avatar.drawOrder) {
+    const tinygltf::Node& node = model.nodes[static_cast<std::size_t>(n)];
+    if (node.mesh < 0 || node.mesh >= static_cast<int>(model.meshes.size())) continue;
+    const tinygltf::Mesh& source = model.meshes[static_cast<std::size_t>(node.mesh)];
+    MeshInstance mesh;
+    mesh.name = source.name.empty() ? node.name : source.name;
+    mesh.node = n;
+    mesh.skin = node.skin;
+    for (const tinygltf::Primitive& primitive : source.primitives) {
+      if (primitive.mode != -1 && primitive.mode != TINYGLTF_MODE_TRIANGLES) continue;  // lines and points: not a face
+      mesh.primitives.push_back(primitiveOf(path, model, primitive, mesh.name));
+    }
+    if (mesh.primitives.empty()) continue;
+    const std::size_t targets = mesh.primitives.front().targetPositions.size();
+    for (const Primitive& p : mesh.primitives)
+      if (p.targetPositions.size() != targets)
+        throw fileError(path, "mesh " + mesh.name + " has primitives with different morph targets");
+    mesh.targetNames = namesIn(source.extras);
+    if (mesh.targetNames.empty() && !source.primitives.empty())
+      mesh.targetNames = namesIn(source.primitives.front().extras);
+    mesh.targetNames.resize(targets);
+    for (double w : source.weights) mesh.restWeights.push_back(static_cast<float>(w));
+    mesh.restWeights.resize(targets, 0.0f);
+    if (meshOfGltfMesh[static_cast<std::size_t>(node.mesh)] < 0)
+      meshOfGltfMesh[static_cast<std::size_t>(node.mesh)] = static_cast<int>(avatar.meshes.size());
+    avatar.meshes.push_back(std::move(mesh));
+  }
+  return meshOfGltfMesh;
+}
+
+// The skins, their joints checked, and each mesh's joint indices checked against its skin.
+void readAvatarSkins(const std::filesystem::path& path, const tinygltf::Model& model, Avatar& avatar) {
+  for (const tinygltf::Skin& source : model.skins) {
+    Skin skin;
+    skin.joints = source.joints;
+    for (const int joint : skin.joints)
+      if (joint < 0 || joint >= static_cast<int>(avatar.nodes.size()))
+        throw fileError(path, "has a skin joint that is not a node");
+    if (source.inverseBindMatrices >= 0) {
+      const Eigen::MatrixXf matrices = accessorFloats(model, source.inverseBindMatrices, path.string() + ": a skin");
+      if (matrices.rows() != 16 || matrices.cols() != static_cast<Eigen::Index>(skin.joints.size()))
+        throw fileError(path, "has a skin whose inverse bind matrices do not match its joints");
+      for (Eigen::Index j = 0; j < matrices.cols(); ++j)
+        skin.inverseBind.push_back(Eigen::Map<const Eigen::Matrix4f>(matrices.col(j).data()));
+    } else {
+      skin.inverseBind.assign(skin.joints.size(), Eigen::Matrix4f::Identity());
+    }
+    avatar.skins.push_back(std::move(skin));
+  }
+  for (const MeshInstance& mesh : avatar.meshes) {
+    if (mesh.skin >= static_cast<int>(avatar.skins.size()))
+      throw fileError(path, "mesh " + mesh.name + " names a skin it does not have");
+    for (const Primitive& p : mesh.primitives) {
+      if (mesh.skin < 0 || p.joints.size() == 0) continue;
+      if (p.joints.maxCoeff() >= avatar.skins[static_cast<std::size_t>(mesh.skin)].joints.size())
+        throw fileError(path, "mesh " + mesh.name + " has a joint index past its skin's joints");
+    }
+  }
+}
+
 }  // namespace
 
 Avatar loadAvatar(const std::filesystem::path& path) {
@@ -393,61 +457,9 @@ Avatar loadAvatar(const std::filesystem::path& path) {
   };
   for (const int root : roots) visit(root);
 
-  std::vector<int> meshOfGltfMesh(model.meshes.size(), -1);
-  for (const int n : avatar.drawOrder) {
-    const tinygltf::Node& node = model.nodes[static_cast<std::size_t>(n)];
-    if (node.mesh < 0 || node.mesh >= static_cast<int>(model.meshes.size())) continue;
-    const tinygltf::Mesh& source = model.meshes[static_cast<std::size_t>(node.mesh)];
-    MeshInstance mesh;
-    mesh.name = source.name.empty() ? node.name : source.name;
-    mesh.node = n;
-    mesh.skin = node.skin;
-    for (const tinygltf::Primitive& primitive : source.primitives) {
-      if (primitive.mode != -1 && primitive.mode != TINYGLTF_MODE_TRIANGLES) continue;  // lines and points: not a face
-      mesh.primitives.push_back(primitiveOf(path, model, primitive, mesh.name));
-    }
-    if (mesh.primitives.empty()) continue;
-    const std::size_t targets = mesh.primitives.front().targetPositions.size();
-    for (const Primitive& p : mesh.primitives)
-      if (p.targetPositions.size() != targets)
-        throw fileError(path, "mesh " + mesh.name + " has primitives with different morph targets");
-    mesh.targetNames = namesIn(source.extras);
-    if (mesh.targetNames.empty() && !source.primitives.empty())
-      mesh.targetNames = namesIn(source.primitives.front().extras);
-    mesh.targetNames.resize(targets);
-    for (double w : source.weights) mesh.restWeights.push_back(static_cast<float>(w));
-    mesh.restWeights.resize(targets, 0.0f);
-    if (meshOfGltfMesh[static_cast<std::size_t>(node.mesh)] < 0)
-      meshOfGltfMesh[static_cast<std::size_t>(node.mesh)] = static_cast<int>(avatar.meshes.size());
-    avatar.meshes.push_back(std::move(mesh));
-  }
+  const std::vector<int> meshOfGltfMesh = readSceneMeshes(path, model, avatar);
   if (avatar.meshes.empty()) throw fileError(path, "has no triangle mesh in its scene");
-  for (const tinygltf::Skin& source : model.skins) {
-    Skin skin;
-    skin.joints = source.joints;
-    for (const int joint : skin.joints)
-      if (joint < 0 || joint >= static_cast<int>(avatar.nodes.size()))
-        throw fileError(path, "has a skin joint that is not a node");
-    if (source.inverseBindMatrices >= 0) {
-      const Eigen::MatrixXf matrices = accessorFloats(model, source.inverseBindMatrices, path.string() + ": a skin");
-      if (matrices.rows() != 16 || matrices.cols() != static_cast<Eigen::Index>(skin.joints.size()))
-        throw fileError(path, "has a skin whose inverse bind matrices do not match its joints");
-      for (Eigen::Index j = 0; j < matrices.cols(); ++j)
-        skin.inverseBind.push_back(Eigen::Map<const Eigen::Matrix4f>(matrices.col(j).data()));
-    } else {
-      skin.inverseBind.assign(skin.joints.size(), Eigen::Matrix4f::Identity());
-    }
-    avatar.skins.push_back(std::move(skin));
-  }
-  for (const MeshInstance& mesh : avatar.meshes) {
-    if (mesh.skin >= static_cast<int>(avatar.skins.size()))
-      throw fileError(path, "mesh " + mesh.name + " names a skin it does not have");
-    for (const Primitive& p : mesh.primitives) {
-      if (mesh.skin < 0 || p.joints.size() == 0) continue;
-      if (p.joints.maxCoeff() >= avatar.skins[static_cast<std::size_t>(mesh.skin)].joints.size())
-        throw fileError(path, "mesh " + mesh.name + " has a joint index past its skin's joints");
-    }
-  }
+  readAvatarSkins(path, model, avatar);
   for (const tinygltf::Material& material : model.materials) avatar.materials.push_back(materialOf(material));
   for (const tinygltf::Texture& texture : model.textures) avatar.textures.push_back(textureOf(model, texture));
   if (model.extensions.count("VRMC_vrm") > 0)
