@@ -395,6 +395,55 @@ void saveMouthNetwork(const std::filesystem::path& path, const MouthNetwork& mod
   out.commit();
 }
 
+namespace {
+
+// The visual FAPs and the basis of their components, which must match.
+void readVisualParts(const Json& json, const JsonFields& fields, const std::filesystem::path& path,
+                     MouthNetwork& model) {
+  const Json& faps = fields.array(fields.member(json, "visual_faps", ""), "visual_faps");
+  for (std::size_t i = 0; i < faps.size(); ++i) {
+    const std::int64_t fap = fields.integer(faps[i], JsonFields::indexed("visual_faps", i));
+    if (fap < 1 || fap > 68 || (!model.visualFaps.empty() && fap <= model.visualFaps.back()))
+      fields.fail(JsonFields::indexed("visual_faps", i), "must be FAP numbers 1..68 in ascending order");
+    model.visualFaps.push_back(static_cast<int>(fap));
+  }
+  const Json& basis = fields.object(fields.member(json, "visual_basis", ""), "visual_basis");
+  try {
+    model.basis = VisualBasis::fromParts(
+        vectorOf(fields, fields.member(basis, "mean", "visual_basis"), "visual_basis.mean", -1),
+        vectorOf(fields, fields.member(basis, "scale", "visual_basis"), "visual_basis.scale", -1),
+        matrixOf(fields, fields.member(basis, "unmixing", "visual_basis"), "visual_basis.unmixing"),
+        matrixOf(fields, fields.member(basis, "mixing", "visual_basis"), "visual_basis.mixing"),
+        fields.number(fields.member(basis, "explained_variance", "visual_basis"), "visual_basis.explained_variance"));
+  } catch (const Error& error) {
+    const std::string what = error.what();
+    if (what.rfind(path.string(), 0) == 0) throw;
+    fields.fail("visual_basis", what);
+  }
+  if (model.basis.inputDimension() != static_cast<int>(model.visualFaps.size()))
+    fields.fail("visual_faps", "must name one FAP per row of the visual basis");
+}
+
+// How the mouth classes follow one another (articulation.h's class HMM), checked.
+ClassSequence classSequenceFrom(const Json& sequence, const JsonFields& fields) {
+  ClassSequence result;
+  fields.object(sequence, "class_sequence");
+  fields.onlyKnownFields(sequence, {"mean_run", "bigrams", "starts"}, "class_sequence");
+  result.meanRun =
+      vectorOf(fields, fields.member(sequence, "mean_run", "class_sequence"), "class_sequence.mean_run", kClasses);
+  result.starts =
+      vectorOf(fields, fields.member(sequence, "starts", "class_sequence"), "class_sequence.starts", kClasses);
+  result.bigrams = matrixOf(fields, fields.member(sequence, "bigrams", "class_sequence"), "class_sequence.bigrams");
+  if (result.bigrams.rows() != kClasses || result.bigrams.cols() != kClasses)
+    fields.fail("class_sequence.bigrams", "must be 17 x 17");
+  if ((result.meanRun.array() < 0.0).any() || (result.starts.array() <= 0.0).any() ||
+      (result.bigrams.array() <= 0.0).any())
+    fields.fail("class_sequence", "runs must be >= 0, starts and bigrams > 0");
+  return result;
+}
+
+}  // namespace
+
 MouthNetwork loadMouthNetwork(const std::filesystem::path& path) {
   const Json json = readJsonFile(path, "mouth network");
   const JsonFields fields(path.string());
@@ -426,28 +475,7 @@ MouthNetwork loadMouthNetwork(const std::filesystem::path& path) {
     fields.fail("subframes_per_second", "must be " + std::to_string(kSubframesPerSecond));
   model.normalisation = features::readSpeechNormalisation(fields.member(json, "speech_normalisation", ""), fields,
                                                           "speech_normalisation", model.priorMean, kNetworkMfcc);
-  const Json& faps = fields.array(fields.member(json, "visual_faps", ""), "visual_faps");
-  for (std::size_t i = 0; i < faps.size(); ++i) {
-    const std::int64_t fap = fields.integer(faps[i], JsonFields::indexed("visual_faps", i));
-    if (fap < 1 || fap > 68 || (!model.visualFaps.empty() && fap <= model.visualFaps.back()))
-      fields.fail(JsonFields::indexed("visual_faps", i), "must be FAP numbers 1..68 in ascending order");
-    model.visualFaps.push_back(static_cast<int>(fap));
-  }
-  const Json& basis = fields.object(fields.member(json, "visual_basis", ""), "visual_basis");
-  try {
-    model.basis = VisualBasis::fromParts(
-        vectorOf(fields, fields.member(basis, "mean", "visual_basis"), "visual_basis.mean", -1),
-        vectorOf(fields, fields.member(basis, "scale", "visual_basis"), "visual_basis.scale", -1),
-        matrixOf(fields, fields.member(basis, "unmixing", "visual_basis"), "visual_basis.unmixing"),
-        matrixOf(fields, fields.member(basis, "mixing", "visual_basis"), "visual_basis.mixing"),
-        fields.number(fields.member(basis, "explained_variance", "visual_basis"), "visual_basis.explained_variance"));
-  } catch (const Error& error) {
-    const std::string what = error.what();
-    if (what.rfind(path.string(), 0) == 0) throw;
-    fields.fail("visual_basis", what);
-  }
-  if (model.basis.inputDimension() != static_cast<int>(model.visualFaps.size()))
-    fields.fail("visual_faps", "must name one FAP per row of the visual basis");
+  readVisualParts(json, fields, path, model);
   model.shapeMean = vectorOf(fields, fields.member(json, "lip_shape_mean", ""), "lip_shape_mean", 2);
   model.shapeDeviation = vectorOf(fields, fields.member(json, "lip_shape_deviation", ""), "lip_shape_deviation", 2);
   if ((model.shapeDeviation.array() <= 0.0).any()) fields.fail("lip_shape_deviation", "must be positive");
@@ -458,19 +486,7 @@ MouthNetwork loadMouthNetwork(const std::filesystem::path& path) {
   if (model.classShapes.rows() != static_cast<Eigen::Index>(model.visualFaps.size()) ||
       model.classShapes.cols() != kClasses)
     fields.fail("class_shapes", "must be one row of 17 per visual FAP");
-  const Json& sequence = fields.object(fields.member(json, "class_sequence", ""), "class_sequence");
-  fields.onlyKnownFields(sequence, {"mean_run", "bigrams", "starts"}, "class_sequence");
-  model.sequence.meanRun =
-      vectorOf(fields, fields.member(sequence, "mean_run", "class_sequence"), "class_sequence.mean_run", kClasses);
-  model.sequence.starts =
-      vectorOf(fields, fields.member(sequence, "starts", "class_sequence"), "class_sequence.starts", kClasses);
-  model.sequence.bigrams =
-      matrixOf(fields, fields.member(sequence, "bigrams", "class_sequence"), "class_sequence.bigrams");
-  if (model.sequence.bigrams.rows() != kClasses || model.sequence.bigrams.cols() != kClasses)
-    fields.fail("class_sequence.bigrams", "must be 17 x 17");
-  if ((model.sequence.meanRun.array() < 0.0).any() || (model.sequence.starts.array() <= 0.0).any() ||
-      (model.sequence.bigrams.array() <= 0.0).any())
-    fields.fail("class_sequence", "runs must be >= 0, starts and bigrams > 0");
+  model.sequence = classSequenceFrom(fields.member(json, "class_sequence", ""), fields);
   if (json.contains("opening_gradient"))
     model.openingGradient = vectorOf(fields, json["opening_gradient"], "opening_gradient",
                                      static_cast<Eigen::Index>(model.visualFaps.size()));
