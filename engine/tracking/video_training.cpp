@@ -187,6 +187,54 @@ std::vector<animation::MouthRecording> VideoCorpus::recordings() const {
   return all;
 }
 
+namespace {
+
+// One clip: its track (re-used from the track folder when `reuse` and it is up to date with the video, else made
+// and fitted, and kept there), its sound, synchronised to the lips if asked, and the head's motion if asked.
+VideoClip loadVideoClip(const std::filesystem::path& video, const face::FaceModel& face,
+                        const VideoCorpusOptions& options, const std::vector<int>& faps, bool reuse) {
+  VideoClip clip;
+  clip.video = video;
+  const std::filesystem::path cached =
+      options.trackFolder.empty() ? std::filesystem::path() : options.trackFolder / trackFileName(video);
+  std::optional<Track> track;
+  if (reuse && upToDate(cached, video)) {
+    track = readTrackCsv(cached);
+    if (sorted(track->fittedFaps) != faps) track.reset();  // fitted with other FAPs: fit again
+  }
+  if (!track) {
+    track = trackVideo(video, options.track);
+    fitTrack(*track, face, options.fit);
+    if (!cached.empty()) writeTrackCsv(cached, *track);
+    clip.trackedNow = true;
+  }
+  track->video = video;
+  const audio::AudioClip sound = readClipSound(video);
+  clip.recording = mouthRecordingOf(*track, sound.samples, animation::kMouthFramesPerSecond, 0.0, &clip.lipShape);
+  if (options.synchronise) {
+    const auto jaw = std::find(faps.begin(), faps.end(), 3);
+    if (jaw == faps.end()) throw fileError(video, "cannot be synchronised without the jaw (FAP 3) fitted");
+    clip.soundOffset = estimateSoundOffset(clip.recording.speech.levelDb, clip.recording.visual.row(jaw - faps.begin()),
+                                           clip.lipShape.row(0), animation::kMouthFramesPerSecond, options.sync);
+    if (clip.soundOffset.lateSeconds != 0.0)
+      clip.recording = mouthRecordingOf(*track, sound.samples, animation::kMouthFramesPerSecond,
+                                        clip.soundOffset.lateSeconds, &clip.lipShape);
+  }
+  if (clip.recording.numFrames() < 2) throw fileError(video, "is shorter than two animation frames");
+  if (options.heads) {
+    try {
+      clip.head = headRecordingOf(*track, sound.samples);
+    } catch (const Error& error) {
+      clip.headMissing = error.what();
+    }
+  }
+  clip.meanResidualPixels = meanResidual(*track);
+  clip.faceFoundShare = static_cast<double>(track->framesFound()) / static_cast<double>(track->frames.size());
+  return clip;
+}
+
+}  // namespace
+
 VideoCorpus loadVideoCorpus(const std::vector<std::filesystem::path>& videos, const face::FaceModel& face,
                             const VideoCorpusOptions& options, const std::function<void(int, int)>& progress) {
   const auto start = std::chrono::steady_clock::now();
@@ -216,47 +264,8 @@ VideoCorpus loadVideoCorpus(const std::vector<std::filesystem::path>& videos, co
   std::mutex progressMutex;
   int done = 0;
   parallelFor(videos.size(), options.threads, [&](std::size_t i) {
-    const std::filesystem::path& video = videos[i];
     try {
-      VideoClip clip;
-      clip.video = video;
-      const std::filesystem::path cached =
-          options.trackFolder.empty() ? std::filesystem::path() : options.trackFolder / trackFileName(video);
-      std::optional<Track> track;
-      if (reuse && upToDate(cached, video)) {
-        track = readTrackCsv(cached);
-        if (sorted(track->fittedFaps) != faps) track.reset();  // fitted with other FAPs: fit again
-      }
-      if (!track) {
-        track = trackVideo(video, options.track);
-        fitTrack(*track, face, options.fit);
-        if (!cached.empty()) writeTrackCsv(cached, *track);
-        clip.trackedNow = true;
-      }
-      track->video = video;
-      const audio::AudioClip sound = readClipSound(video);
-      clip.recording = mouthRecordingOf(*track, sound.samples, animation::kMouthFramesPerSecond, 0.0, &clip.lipShape);
-      if (options.synchronise) {
-        const auto jaw = std::find(faps.begin(), faps.end(), 3);
-        if (jaw == faps.end()) throw fileError(video, "cannot be synchronised without the jaw (FAP 3) fitted");
-        clip.soundOffset =
-            estimateSoundOffset(clip.recording.speech.levelDb, clip.recording.visual.row(jaw - faps.begin()),
-                                clip.lipShape.row(0), animation::kMouthFramesPerSecond, options.sync);
-        if (clip.soundOffset.lateSeconds != 0.0)
-          clip.recording = mouthRecordingOf(*track, sound.samples, animation::kMouthFramesPerSecond,
-                                            clip.soundOffset.lateSeconds, &clip.lipShape);
-      }
-      if (clip.recording.numFrames() < 2) throw fileError(video, "is shorter than two animation frames");
-      if (options.heads) {
-        try {
-          clip.head = headRecordingOf(*track, sound.samples);
-        } catch (const Error& error) {
-          clip.headMissing = error.what();
-        }
-      }
-      clip.meanResidualPixels = meanResidual(*track);
-      clip.faceFoundShare = static_cast<double>(track->framesFound()) / static_cast<double>(track->frames.size());
-      loaded[i] = std::move(clip);
+      loaded[i] = loadVideoClip(videos[i], face, options, faps, reuse);
     } catch (const std::exception& error) {
       reasons[i] = error.what();
     }
