@@ -23,6 +23,70 @@ namespace {
 
 using namespace avatar_draw;  // the draw lists and shader variants (avatar_draw.h)
 
+// A texture with its mipmaps (0: an empty image, drawn untextured).
+GLuint uploadAvatarTexture(const avatar::Texture& texture) {
+  GLuint id = 0;
+  if (texture.width > 0 && texture.height > 0) {
+    glGenTextures(1, &id);
+    glBindTexture(GL_TEXTURE_2D, id);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    // glTF's images run from the top row with v = 0 there: uploaded as they are, v samples them the same way.
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_SRGB8_ALPHA8, texture.width, texture.height, 0, GL_RGBA, GL_UNSIGNED_BYTE,
+                 texture.rgba.data());
+    glGenerateMipmap(GL_TEXTURE_2D);
+    // Trilinear: bilinear filtering in the nearest mipmap level saved the VRoid character a tenth of its frame,
+    // but its level switches along a surface where the derivatives cross a power of two, and the same frame
+    // drawn at another offset (the live window's, beside the panel) changed by up to 7 levels there.
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    const GLint wrap = texture.repeat ? GL_REPEAT : GL_CLAMP_TO_EDGE;
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, wrap);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, wrap);
+  }
+  return id;
+}
+
+// Primitive p of mesh m: its buffers (positions and normals rewritten each frame, UVs and indices once) and its
+// culling clusters, whose bounds are measured when the meshes are set.
+PrimitiveBuffers primitiveBuffersOf(const avatar::Avatar& avatar, std::size_t m, std::size_t p) {
+  const avatar::Primitive& primitive = avatar.meshes[m].primitives[p];
+  PrimitiveBuffers b;
+  b.mesh = static_cast<int>(m);
+  b.primitive = static_cast<int>(p);
+  b.material = primitive.material;
+  b.indices = static_cast<GLsizei>(primitive.indices.size());
+  b.blended = primitive.material >= 0 && primitive.material < static_cast<int>(avatar.materials.size()) &&
+              avatar.materials[static_cast<std::size_t>(primitive.material)].alpha == avatar::AlphaMode::kBlend;
+  const auto indices = static_cast<std::uint32_t>(primitive.indices.size() / 3 * 3);
+  for (std::uint32_t first = 0; first < indices; first += 3 * kClusterTriangles)
+    b.clusters.push_back({.first = first,
+                          .count = std::min(3 * kClusterTriangles, indices - first),
+                          .bounds = Eigen::AlignedBox3f(),
+                          .moves = true});
+  glGenVertexArrays(1, &b.vao);
+  glBindVertexArray(b.vao);
+  glGenBuffers(1, &b.dynamicBuffer);
+  glBindBuffer(GL_ARRAY_BUFFER, b.dynamicBuffer);
+  glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(primitive.positions.cols() * 6 * sizeof(float)), nullptr,
+               GL_DYNAMIC_DRAW);
+  glEnableVertexAttribArray(0);
+  glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 6 * sizeof(float), nullptr);
+  glEnableVertexAttribArray(1);
+  glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, 6 * sizeof(float), reinterpret_cast<void*>(3 * sizeof(float)));
+  glGenBuffers(1, &b.uvBuffer);
+  glBindBuffer(GL_ARRAY_BUFFER, b.uvBuffer);
+  glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(primitive.uv.size() * sizeof(float)), primitive.uv.data(),
+               GL_STATIC_DRAW);
+  glEnableVertexAttribArray(2);
+  glVertexAttribPointer(2, 2, GL_FLOAT, GL_FALSE, 2 * sizeof(float), nullptr);
+  glGenBuffers(1, &b.indexBuffer);
+  glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, b.indexBuffer);
+  glBufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(primitive.indices.size() * sizeof(std::uint32_t)),
+               primitive.indices.data(), GL_STATIC_DRAW);
+  glBindVertexArray(0);
+  return b;
+}
+
 }  // namespace
 
 struct AvatarRenderer::Gl {
@@ -82,65 +146,10 @@ AvatarRenderer::AvatarRenderer(GlContext& context, const avatar::Avatar& avatar,
     g.aspect = glGetUniformLocation(g.backgroundProgram, "uAspect");
     glGenVertexArrays(1, &g.emptyVao);
 
-    for (const avatar::Texture& texture : avatar.textures) {
-      GLuint id = 0;
-      if (texture.width > 0 && texture.height > 0) {
-        glGenTextures(1, &id);
-        glBindTexture(GL_TEXTURE_2D, id);
-        glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-        // glTF's images run from the top row with v = 0 there: uploaded as they are, v samples them the same way.
-        glTexImage2D(GL_TEXTURE_2D, 0, GL_SRGB8_ALPHA8, texture.width, texture.height, 0, GL_RGBA, GL_UNSIGNED_BYTE,
-                     texture.rgba.data());
-        glGenerateMipmap(GL_TEXTURE_2D);
-        // Trilinear: bilinear filtering in the nearest mipmap level saved the VRoid character a tenth of its frame,
-        // but its level switches along a surface where the derivatives cross a power of two, and the same frame
-        // drawn at another offset (the live window's, beside the panel) changed by up to 7 levels there.
-        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
-        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-        const GLint wrap = texture.repeat ? GL_REPEAT : GL_CLAMP_TO_EDGE;
-        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, wrap);
-        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, wrap);
-      }
-      g.textures.push_back(id);
-    }
+    for (const avatar::Texture& texture : avatar.textures) g.textures.push_back(uploadAvatarTexture(texture));
     for (std::size_t m = 0; m < avatar.meshes.size(); ++m) {
       for (std::size_t p = 0; p < avatar.meshes[m].primitives.size(); ++p) {
-        const avatar::Primitive& primitive = avatar.meshes[m].primitives[p];
-        PrimitiveBuffers b;
-        b.mesh = static_cast<int>(m);
-        b.primitive = static_cast<int>(p);
-        b.material = primitive.material;
-        b.indices = static_cast<GLsizei>(primitive.indices.size());
-        b.blended = primitive.material >= 0 && primitive.material < static_cast<int>(avatar.materials.size()) &&
-                    avatar.materials[static_cast<std::size_t>(primitive.material)].alpha == avatar::AlphaMode::kBlend;
-        const auto indices = static_cast<std::uint32_t>(primitive.indices.size() / 3 * 3);
-        for (std::uint32_t first = 0; first < indices; first += 3 * kClusterTriangles)
-          b.clusters.push_back({.first = first,
-                                .count = std::min(3 * kClusterTriangles, indices - first),
-                                .bounds = Eigen::AlignedBox3f(),
-                                .moves = true});
-        glGenVertexArrays(1, &b.vao);
-        glBindVertexArray(b.vao);
-        glGenBuffers(1, &b.dynamicBuffer);
-        glBindBuffer(GL_ARRAY_BUFFER, b.dynamicBuffer);
-        glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(primitive.positions.cols() * 6 * sizeof(float)), nullptr,
-                     GL_DYNAMIC_DRAW);
-        glEnableVertexAttribArray(0);
-        glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 6 * sizeof(float), nullptr);
-        glEnableVertexAttribArray(1);
-        glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, 6 * sizeof(float), reinterpret_cast<void*>(3 * sizeof(float)));
-        glGenBuffers(1, &b.uvBuffer);
-        glBindBuffer(GL_ARRAY_BUFFER, b.uvBuffer);
-        glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(primitive.uv.size() * sizeof(float)), primitive.uv.data(),
-                     GL_STATIC_DRAW);
-        glEnableVertexAttribArray(2);
-        glVertexAttribPointer(2, 2, GL_FLOAT, GL_FALSE, 2 * sizeof(float), nullptr);
-        glGenBuffers(1, &b.indexBuffer);
-        glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, b.indexBuffer);
-        glBufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(primitive.indices.size() * sizeof(std::uint32_t)),
-                     primitive.indices.data(), GL_STATIC_DRAW);
-        glBindVertexArray(0);
-        g.primitives.push_back(b);
+        g.primitives.push_back(primitiveBuffersOf(avatar, m, p));
       }
     }
     for (PrimitiveBuffers& b : g.primitives) {
