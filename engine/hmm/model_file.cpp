@@ -128,32 +128,7 @@ class ModelReader : public JsonFields {
   }
 
   HmmModel read(const Json& document, std::string* trainingJson) {
-    if (!document.is_object()) {
-      throw fileError(name_, "not a talkinghead HMM model (the top level is " + kindOf(document) + ", not an object)");
-    }
-    if (!document.contains("format")) {
-      throw fileError(name_, "not a talkinghead HMM model (it has no \"format\" field)");
-    }
-    const Json& format = member(document, "format", "");
-    if (!format.is_string() || format.get_ref<const std::string&>() != kFormatName) {
-      fail("format", "is " + describe(format) + ", not \"talkinghead-hmm\": not a talkinghead HMM model");
-    }
-    // The version before anything else: a newer file may well have fields this reader does not know.
-    const std::int64_t version = integer(member(document, "version", ""), "version");
-    const std::string thisVersion = std::to_string(kModelFileVersion);
-    if (version > kModelFileVersion) {
-      fail("version", "is " + std::to_string(version) +
-                          ": the file was written by a newer talkinghead (this one reads version " + thisVersion + ")");
-    }
-    if (version < kModelFileVersion) {
-      fail("version", "is " + std::to_string(version) +
-                          ", which is not a version of this format (this talkinghead reads version " + thisVersion +
-                          ")");
-    }
-    onlyKnownFields(
-        document,
-        {"format", "version", "covariance", "columns", "blocks", "initial", "transition", "states", "training"}, "",
-        "a version-1 model file");
+    checkFormatAndVersion(document);
 
     const std::string& covarianceName = string(member(document, "covariance", ""), "covariance");
     if (covarianceName != "full" && covarianceName != "diagonal") {
@@ -214,6 +189,36 @@ class ModelReader : public JsonFields {
   }
 
  private:
+  // What the file says it is: a talkinghead HMM, of the version this reader reads, with no field it does not know.
+  void checkFormatAndVersion(const Json& document) const {
+    if (!document.is_object()) {
+      throw fileError(name_, "not a talkinghead HMM model (the top level is " + kindOf(document) + ", not an object)");
+    }
+    if (!document.contains("format")) {
+      throw fileError(name_, "not a talkinghead HMM model (it has no \"format\" field)");
+    }
+    const Json& format = member(document, "format", "");
+    if (!format.is_string() || format.get_ref<const std::string&>() != kFormatName) {
+      fail("format", "is " + describe(format) + ", not \"talkinghead-hmm\": not a talkinghead HMM model");
+    }
+    // The version before anything else: a newer file may well have fields this reader does not know.
+    const std::int64_t version = integer(member(document, "version", ""), "version");
+    const std::string thisVersion = std::to_string(kModelFileVersion);
+    if (version > kModelFileVersion) {
+      fail("version", "is " + std::to_string(version) +
+                          ": the file was written by a newer talkinghead (this one reads version " + thisVersion + ")");
+    }
+    if (version < kModelFileVersion) {
+      fail("version", "is " + std::to_string(version) +
+                          ", which is not a version of this format (this talkinghead reads version " + thisVersion +
+                          ")");
+    }
+    onlyKnownFields(
+        document,
+        {"format", "version", "covariance", "columns", "blocks", "initial", "transition", "states", "training"}, "",
+        "a version-1 model file");
+  }
+
   GaussianMixture readState(const Json& state, std::size_t j, CovarianceType type, std::size_t& dimension) const {
     const std::string field = indexed("states", j);
     object(state, field);
