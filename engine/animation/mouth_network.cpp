@@ -164,6 +164,31 @@ nn::Frames framesOf(const MouthNetwork& model, const std::vector<NetworkRecordin
 
 }  // namespace
 
+namespace {
+
+// The classes' shapes: per class, the mean of its frames' FAPs less the mean over every labelled frame (rows FAPs).
+Eigen::MatrixXd classShapesOf(const std::vector<NetworkRecording>& recordings, Eigen::Index rows) {
+  Eigen::MatrixXd sums = Eigen::MatrixXd::Zero(rows, kClasses);
+  Eigen::VectorXd counts = Eigen::VectorXd::Zero(kClasses);
+  for (const NetworkRecording& r : recordings)
+    for (Eigen::Index t = 0; t < std::min<Eigen::Index>(r.faps.cols(), static_cast<Eigen::Index>(r.classes.size()));
+         ++t) {
+      const int c = r.classes[static_cast<std::size_t>(t)];
+      if (c < 0) continue;
+      sums.col(c) += r.faps.col(t);
+      counts[c] += 1.0;
+    }
+  Eigen::MatrixXd shapes = Eigen::MatrixXd::Zero(rows, kClasses);
+  if (counts.sum() > 0.0) {
+    const Eigen::VectorXd mean = sums.rowwise().sum() / counts.sum();
+    for (int c = 0; c < kClasses; ++c)
+      if (counts[c] > 0.0) shapes.col(c) = sums.col(c) / counts[c] - mean;
+  }
+  return shapes;
+}
+
+}  // namespace
+
 MouthNetworkTraining trainMouthNetwork(const std::vector<NetworkRecording>& recordings,
                                        const std::vector<int>& visualFaps, const MouthNetworkOptions& options,
                                        const std::vector<NetworkRecording>& validation) {
@@ -219,26 +244,7 @@ MouthNetworkTraining trainMouthNetwork(const std::vector<NetworkRecording>& reco
   for (const NetworkRecording& r : recordings)
     if (!r.classes.empty()) labels.push_back(r.classes);
   model.sequence = classSequenceOf(labels);
-  // The classes' shapes: per class, the mean of its frames' FAPs less the mean over every labelled frame.
-  {
-    const auto rows = static_cast<Eigen::Index>(visualFaps.size());
-    Eigen::MatrixXd sums = Eigen::MatrixXd::Zero(rows, kClasses);
-    Eigen::VectorXd counts = Eigen::VectorXd::Zero(kClasses);
-    for (const NetworkRecording& r : recordings)
-      for (Eigen::Index t = 0; t < std::min<Eigen::Index>(r.faps.cols(), static_cast<Eigen::Index>(r.classes.size()));
-           ++t) {
-        const int c = r.classes[static_cast<std::size_t>(t)];
-        if (c < 0) continue;
-        sums.col(c) += r.faps.col(t);
-        counts[c] += 1.0;
-      }
-    model.classShapes = Eigen::MatrixXd::Zero(rows, kClasses);
-    if (counts.sum() > 0.0) {
-      const Eigen::VectorXd mean = sums.rowwise().sum() / counts.sum();
-      for (int c = 0; c < kClasses; ++c)
-        if (counts[c] > 0.0) model.classShapes.col(c) = sums.col(c) / counts[c] - mean;
-    }
-  }
+  model.classShapes = classShapesOf(recordings, static_cast<Eigen::Index>(visualFaps.size()));
 
   model.heads = headsFor(options.visualComponents);
   model.heads[kClassHead].weight = options.classWeight;
