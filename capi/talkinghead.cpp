@@ -20,6 +20,7 @@
 #include "avatar/avatar_animation.h"
 #include "avatar/avatar_model.h"
 #include "avatar/avatar_pose.h"
+#include "capi_support.h"
 #include "core/error.h"
 #include "face/face_model.h"
 #include "formats/animation_format.h"
@@ -37,10 +38,16 @@ namespace {
 
 thread_local std::string lastError;
 
-th_status fail(th_status status, std::string message) {
+}  // namespace
+
+th_status th::capi::fail(th_status status, std::string message) {
   lastError = std::move(message);
   return status;
 }
+
+using namespace th::capi;
+
+namespace {
 
 // Runs `body`, turning what it throws into a status and the thread's message.
 template <typename Body>
@@ -59,82 +66,6 @@ th_status guarded(th_status onError, Body&& body) {
   }
 }
 
-// The caller's struct as this library knows it: the bytes its struct_size covers (a program built against an
-// older header has a shorter one), the fields past them as `defaults` has them. nullopt (and the thread's
-// message) for a struct_size below the struct's first version, `firstSize`.
-template <typename Struct>
-std::optional<Struct> readSized(const Struct* given, const Struct& defaults, std::size_t firstSize,
-                                const char* function) {
-  if (given == nullptr) return defaults;
-  if (given->struct_size < firstSize) {
-    fail(TH_ERROR_ARGUMENT, std::string(function) + ": struct_size " + std::to_string(given->struct_size) +
-                                " is smaller than the struct's first version (" + std::to_string(firstSize) +
-                                "): set it with the struct's _init function");
-    return std::nullopt;
-  }
-  Struct known = defaults;
-  std::memcpy(static_cast<void*>(&known), given, std::min(given->struct_size, sizeof(Struct)));
-  known.struct_size = sizeof(Struct);
-  return known;
-}
-
-// The sizes of the structs' first versions: th_frame's and th_stream_options' of 0.2 (the fields before those
-// appended since), th_export_options' of 0.2, and the options per verb of 0.3, whole.
-constexpr std::size_t kFirstFrameSize = offsetof(th_frame, head_rotation_unity);
-constexpr std::size_t kFirstStreamOptionsSize = offsetof(th_stream_options, progress);
-constexpr std::size_t kFirstExportOptionsSize = sizeof(th_export_options);
-constexpr std::size_t kFirstModelsOptionsSize = sizeof(th_models_options);
-constexpr std::size_t kFirstStreamSettingsSize = sizeof(th_stream_settings);
-constexpr std::size_t kFirstAnimateOptionsSize = sizeof(th_animate_options);
-
-constexpr double kDefaultSampleRateHz = 16000.0;
-
-th_models_options defaultModelsOptions() {
-  th_models_options options{};
-  options.struct_size = sizeof(th_models_options);
-  return options;
-}
-
-th_stream_settings defaultStreamSettings() {
-  th_stream_settings settings{};
-  settings.struct_size = sizeof(th_stream_settings);
-  settings.sample_rate_hz = kDefaultSampleRateHz;
-  return settings;
-}
-
-th_animate_options defaultAnimateOptions() {
-  th_animate_options options{};
-  options.struct_size = sizeof(th_animate_options);
-  return options;
-}
-
-th_stream_options defaultStreamOptions() {
-  th_stream_options options{};
-  options.struct_size = sizeof(th_stream_options);
-  options.sample_rate_hz = kDefaultSampleRateHz;
-  return options;
-}
-
-// The deprecated all-purpose options split by verb, for the calls that now do the work.
-struct OptionsPerVerb {
-  th_models_options models = defaultModelsOptions();
-  th_stream_settings stream = defaultStreamSettings();
-  th_animate_options animate = defaultAnimateOptions();
-};
-
-OptionsPerVerb split(const th_stream_options& options) {
-  OptionsPerVerb split;
-  split.models.head_model = options.head_model;
-  split.models.mouth_model = options.mouth_model;
-  split.models.viseme_model = options.viseme_model;
-  split.models.head_style = options.head_style;
-  split.stream.sample_rate_hz = options.sample_rate_hz;
-  split.stream.wait_for_head = options.wait_for_head;
-  split.animate.progress = options.progress;
-  split.animate.user_data = options.user_data;
-  return split;
-}
-
 th_export_options defaultExportOptions() {
   const th::pipeline::VideoExportOptions video;
   th_export_options options{};
@@ -144,21 +75,6 @@ th_export_options defaultExportOptions() {
   options.frames_per_second = video.framesPerSecond;
   options.crf = video.crf;
   return options;
-}
-
-// The defaults written into the caller's struct as far as its size (fields this library does not know zero).
-template <typename Struct>
-th_status initSized(Struct* given, std::size_t size, const Struct& defaults, std::size_t firstSize,
-                    const char* function) {
-  if (given == nullptr) return fail(TH_ERROR_ARGUMENT, std::string(function) + ": a NULL struct");
-  if (size < firstSize)
-    return fail(TH_ERROR_ARGUMENT, std::string(function) + ": struct_size " + std::to_string(size) +
-                                       " is smaller than the struct's first version (" + std::to_string(firstSize) +
-                                       ")");
-  std::memset(static_cast<void*>(given), 0, size);
-  std::memcpy(static_cast<void*>(given), &defaults, std::min(size, sizeof(Struct)));
-  given->struct_size = size;
-  return TH_OK;
 }
 
 // A frame written into the caller's, as far as its struct_size reaches.
@@ -272,17 +188,13 @@ struct th_animation {
   th::face::FapTrack track;
 };
 
-namespace {
+namespace th::capi {
 
 th_status checkRate(double rate, const char* function) {
   if (rate >= 8000.0 && rate <= 192000.0) return TH_OK;
   return fail(TH_ERROR_ARGUMENT,
               std::string(function) + ": the sample rate " + std::to_string(rate) + " Hz is not 8000..192000");
 }
-
-// Which of a handle's models are read when it is made: live's, for streams (th_models_load), or the offline
-// path's alone, for the one recording th_animate (models NULL) or th_animate_file animates on a handle of its own.
-enum class ReadNow { streamModels, fileModels };
 
 th_status loadModelsHandle(const th_models_options* options, ReadNow readNow, const char* function,
                            th_models** models) {
@@ -304,6 +216,10 @@ th_status loadModelsHandle(const th_models_options* options, ReadNow readNow, co
     *models = opened.release();
   });
 }
+
+}  // namespace th::capi
+
+namespace {
 
 th_status openStream(const th::pipeline::LiveSettings& settings,
                      std::shared_ptr<const th::pipeline::AnimationModels> models, const th_stream_settings& given,
@@ -538,99 +454,6 @@ th_status th_export(const char* recording, const char* mp4, const th_export_opti
     // The file is whole now; a last report, which can no longer cancel.
     if (cancelled) cancelled(1.0);
   });
-}
-
-// The calls deprecated in the header, kept for programs built against 0.2: each checks its arguments as it
-// always did, then hands the options it was given, split by verb, to the call that does the work.
-
-th_status th_stream_options_init_sized(th_stream_options* options, size_t struct_size) {
-  return initSized(options, struct_size, defaultStreamOptions(), kFirstStreamOptionsSize, "th_stream_options_init");
-}
-
-th_status th_models_open(const th_stream_options* options, th_models** models) {
-  if (models == nullptr) return fail(TH_ERROR_ARGUMENT, "th_models_open: models is NULL");
-  *models = nullptr;
-  const std::optional<th_stream_options> known =
-      readSized(options, defaultStreamOptions(), kFirstStreamOptionsSize, "th_models_open");
-  if (!known) return TH_ERROR_ARGUMENT;
-  const OptionsPerVerb given = split(*known);
-  return th_models_load(&given.models, models);
-}
-
-th_status th_stream_open(const th_stream_options* options, th_stream** stream) {
-  if (stream == nullptr) return fail(TH_ERROR_ARGUMENT, "th_stream_open: stream is NULL");
-  *stream = nullptr;
-  const std::optional<th_stream_options> known =
-      readSized(options, defaultStreamOptions(), kFirstStreamOptionsSize, "th_stream_open");
-  if (!known) return TH_ERROR_ARGUMENT;
-  if (checkRate(known->sample_rate_hz, "th_stream_open") != TH_OK) return TH_ERROR_ARGUMENT;  // before any model
-  const OptionsPerVerb given = split(*known);
-  // A models handle of its own, which the stream outlives.
-  th_models* models = nullptr;
-  if (const th_status loaded = th_models_load(&given.models, &models); loaded != TH_OK) return loaded;
-  const th_status started = th_stream_start(models, &given.stream, stream);
-  th_models_free(models);
-  return started;
-}
-
-th_status th_stream_open_models(const th_models* models, const th_stream_options* options, th_stream** stream) {
-  if (models == nullptr || stream == nullptr)
-    return fail(TH_ERROR_ARGUMENT, "th_stream_open_models: models or stream is NULL");
-  *stream = nullptr;
-  const std::optional<th_stream_options> known =
-      readSized(options, defaultStreamOptions(), kFirstStreamOptionsSize, "th_stream_open_models");
-  if (!known) return TH_ERROR_ARGUMENT;
-  if (checkRate(known->sample_rate_hz, "th_stream_open_models") != TH_OK) return TH_ERROR_ARGUMENT;  // the call made
-  const OptionsPerVerb given = split(*known);
-  return th_stream_start(models, &given.stream, stream);
-}
-
-th_status th_animate_file(const char* recording, const th_stream_options* options, th_animation** animation) {
-  if (recording == nullptr || animation == nullptr)
-    return fail(TH_ERROR_ARGUMENT, "th_animate_file: recording or animation is NULL");
-  *animation = nullptr;
-  const std::optional<th_stream_options> known =
-      readSized(options, defaultStreamOptions(), kFirstStreamOptionsSize, "th_animate_file");
-  if (!known) return TH_ERROR_ARGUMENT;
-  const OptionsPerVerb given = split(*known);
-  th_models* models = nullptr;
-  if (const th_status loaded = loadModelsHandle(&given.models, ReadNow::fileModels, "th_animate_file", &models);
-      loaded != TH_OK)
-    return loaded;
-  const th_status animated = th_animate(models, recording, &given.animate, animation);
-  th_models_free(models);
-  return animated;
-}
-
-th_status th_animate_file_models(const th_models* models, const char* recording, const th_stream_options* options,
-                                 th_animation** animation) {
-  if (models == nullptr || recording == nullptr || animation == nullptr)
-    return fail(TH_ERROR_ARGUMENT, "th_animate_file_models: models, recording or animation is NULL");
-  *animation = nullptr;
-  const std::optional<th_stream_options> known =
-      readSized(options, defaultStreamOptions(), kFirstStreamOptionsSize, "th_animate_file_models");
-  if (!known) return TH_ERROR_ARGUMENT;
-  const OptionsPerVerb given = split(*known);
-  return th_animate(models, recording, &given.animate, animation);
-}
-
-namespace {
-th_status exportSized(const char* recording, const char* mp4, int width, int height, const char* avatar) {
-  th_export_options options;
-  th_export_options_init(&options);
-  options.width = width;
-  options.height = height;
-  options.avatar = avatar;
-  return th_export(recording, mp4, &options);
-}
-}  // namespace
-
-th_status th_export_file(const char* recording, const char* mp4, int width, int height) {
-  return exportSized(recording, mp4, width, height, nullptr);
-}
-
-th_status th_export_file_avatar(const char* recording, const char* mp4, int width, int height, const char* avatar) {
-  return exportSized(recording, mp4, width, height, avatar);
 }
 
 const char* th_arkit_name(int index) {
