@@ -26,6 +26,48 @@ namespace {
 
 constexpr double kFps = kHeadFramesPerSecond;
 
+// What the model must beat on a speaker's held-out clips: the paper's one-speaker model, the mean pose, another
+// clip's real motion and a random walk with the training speakers' statistics.
+std::vector<HeadRow> headBaselines(const HeadCorpus& corpus, const std::string& speaker,
+                                   const std::vector<HeadRecording>& parts, const std::vector<HeadJudgedClip>& clips,
+                                   const HeadSpeakerTruth& truth, const HeadModel& oneSpeaker,
+                                   const HeadProtocolOptions& options) {
+  std::vector<HeadRow> baselines;
+  // The old default: the paper's model of one speaker (BEAT2's first part; for its speaker, not left out).
+  baselines.push_back(judgeHead(
+      std::string("old default (one speaker, paper") + (speaker == corpus.beat2Train.speaker ? "; his own)" : ")"),
+      clips, truth, [&](std::size_t i) {
+        return animation::synthesiseHead(oneSpeaker, clips[i].clip->prosody, Eigen::RowVectorXd(),
+                                         {.variant = HeadVariant::kStateMeans, .voicedOnly = false});
+      }));
+  baselines.push_back(judgeHead("the mean pose", clips, truth, [&](std::size_t i) {
+    return Eigen::MatrixXd::Zero(3, clips[i].clip->numFrames()).eval();
+  }));
+  // Another speaker's real motion: the longest training clip of a speaker other than this one.
+  const HeadRecording* other = nullptr;
+  for (const auto& part : parts)
+    if (other == nullptr || part.numFrames() > other->numFrames()) other = &part;
+  baselines.push_back(judgeHead("another clip's real motion (" + other->name + ")", clips, truth, [&](std::size_t i) {
+    return otherSpeakersMotion(*other, clips[i].clip->numFrames());
+  }));
+  // A random walk with the training speakers' statistics (their mean pose std and step std), mean over seeds.
+  Eigen::Vector3d poseStd = Eigen::Vector3d::Zero(), stepStd = Eigen::Vector3d::Zero();
+  for (const auto& part : parts) {
+    const HeadMetrics self = evaluateHead(part.rotations, part.rotations, 1e9);
+    poseStd += self.truthPoseStd / static_cast<double>(parts.size());
+    stepStd += self.truthVelocityStd / static_cast<double>(parts.size());
+  }
+  std::vector<HeadRow> walkRuns;
+  for (unsigned seed = 1; seed <= options.walks; ++seed) {
+    walkRuns.push_back(judgeHead("", clips, truth, [&](std::size_t i) {
+      return matchedRandomWalk(poseStd, stepStd, clips[i].clip->numFrames(), seed * 100 + static_cast<unsigned>(i));
+    }));
+  }
+  baselines.push_back(
+      meanHeadRow("random walk, matched statistics (mean of " + std::to_string(options.walks) + ")", walkRuns));
+  return baselines;
+}
+
 HeadSpeakerResult evaluateSpeaker(const HeadCorpus& corpus, const std::string& speaker,
                                   const std::vector<const HeadRecording*>& heldOut, const HeadProtocolOptions& options,
                                   const HeadModel& oneSpeaker) {
@@ -74,39 +116,8 @@ HeadSpeakerResult evaluateSpeaker(const HeadCorpus& corpus, const std::string& s
     }));
   }
 
-  std::vector<HeadRow>& baselines = result.baselines;
-  // The old default: the paper's model of one speaker (BEAT2's first part; for its speaker, not left out).
-  baselines.push_back(judgeHead(
-      std::string("old default (one speaker, paper") + (speaker == corpus.beat2Train.speaker ? "; his own)" : ")"),
-      clips, truth, [&](std::size_t i) {
-        return animation::synthesiseHead(oneSpeaker, clips[i].clip->prosody, Eigen::RowVectorXd(),
-                                         {.variant = HeadVariant::kStateMeans, .voicedOnly = false});
-      }));
-  baselines.push_back(judgeHead("the mean pose", clips, truth, [&](std::size_t i) {
-    return Eigen::MatrixXd::Zero(3, clips[i].clip->numFrames()).eval();
-  }));
-  // Another speaker's real motion: the longest training clip of a speaker other than this one.
-  const HeadRecording* other = nullptr;
-  for (const auto& part : parts)
-    if (other == nullptr || part.numFrames() > other->numFrames()) other = &part;
-  baselines.push_back(judgeHead("another clip's real motion (" + other->name + ")", clips, truth, [&](std::size_t i) {
-    return otherSpeakersMotion(*other, clips[i].clip->numFrames());
-  }));
-  // A random walk with the training speakers' statistics (their mean pose std and step std), mean over seeds.
-  Eigen::Vector3d poseStd = Eigen::Vector3d::Zero(), stepStd = Eigen::Vector3d::Zero();
-  for (const auto& part : parts) {
-    const HeadMetrics self = evaluateHead(part.rotations, part.rotations, 1e9);
-    poseStd += self.truthPoseStd / static_cast<double>(parts.size());
-    stepStd += self.truthVelocityStd / static_cast<double>(parts.size());
-  }
-  std::vector<HeadRow> walkRuns;
-  for (unsigned seed = 1; seed <= options.walks; ++seed) {
-    walkRuns.push_back(judgeHead("", clips, truth, [&](std::size_t i) {
-      return matchedRandomWalk(poseStd, stepStd, clips[i].clip->numFrames(), seed * 100 + static_cast<unsigned>(i));
-    }));
-  }
-  baselines.push_back(
-      meanHeadRow("random walk, matched statistics (mean of " + std::to_string(options.walks) + ")", walkRuns));
+  result.baselines = headBaselines(corpus, speaker, parts, clips, truth, oneSpeaker, options);
+  const std::vector<HeadRow>& baselines = result.baselines;
 
   double bestBaseline = 1e300;
   for (const auto& row : baselines) bestBaseline = std::min(bestBaseline, row.frechet);
