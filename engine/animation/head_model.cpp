@@ -76,6 +76,22 @@ hmm::TrainingResult trainMotionHmm(const std::vector<Eigen::MatrixXd>& motion, d
                                            .rampIterations = options.rampIterations}));
 }
 
+// The mean and covariance of the prosody of every voiced frame.
+std::pair<Eigen::VectorXd, Eigen::MatrixXd> allVoicedProsody(const std::vector<Eigen::MatrixXd>& voicedProsody) {
+  constexpr int kProsody = ProsodyTracker::kDimension;
+  Eigen::VectorXd mean = Eigen::VectorXd::Zero(kProsody);
+  Eigen::MatrixXd second = Eigen::MatrixXd::Zero(kProsody, kProsody);
+  double count = 0.0;
+  for (const auto& kept : voicedProsody) {
+    mean += kept.rowwise().sum();
+    second += kept * kept.transpose();
+    count += static_cast<double>(kept.cols());
+  }
+  mean /= count;
+  Eigen::MatrixXd covariance = second / count - mean * mean.transpose();
+  return {std::move(mean), std::move(covariance)};
+}
+
 // Step 2: re-map velocities, accelerations and prosody onto the motion states through γ (paper, step 3). The
 // prosody only where the voice is: unvoiced frames are not decoded by it either (gatedEmissions).
 void remapOntoMotionStates(const hmm::HmmModel& motionModel, const std::vector<HeadRecording>& parts,
@@ -119,16 +135,7 @@ void remapOntoMotionStates(const hmm::HmmModel& motionModel, const std::vector<H
   const Eigen::VectorXd dynamicFloor = hmm::varianceFloorFor(dynamics, 1e-3);
   const Eigen::VectorXd prosodyFloor = hmm::varianceFloorFor(voicedProsody, 1e-3);
   // The prosody of all voiced frames: a state the voice never visits decodes as the average voice.
-  Eigen::VectorXd allMean = Eigen::VectorXd::Zero(kProsody);
-  Eigen::MatrixXd allSecond = Eigen::MatrixXd::Zero(kProsody, kProsody);
-  double allCount = 0.0;
-  for (const auto& kept : voicedProsody) {
-    allMean += kept.rowwise().sum();
-    allSecond += kept * kept.transpose();
-    allCount += static_cast<double>(kept.cols());
-  }
-  allMean /= allCount;
-  const Eigen::MatrixXd allCovariance = allSecond / allCount - allMean * allMean.transpose();
+  const auto [allMean, allCovariance] = allVoicedProsody(voicedProsody);
   model.hmm.initial = motionModel.initial;
   model.hmm.transition = motionModel.transition;
   for (int j = 0; j < n; ++j) {
