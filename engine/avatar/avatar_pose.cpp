@@ -183,6 +183,38 @@ AvatarPose restPose(const Avatar& avatar) {
   return pose;
 }
 
+namespace {
+
+// A VRM character's expressions: its five vowels, and its blinks (one for both lids where it has no blink of
+// each), added to the morph targets they bind, each weight at most 1.
+void addVrmExpressions(const Avatar& avatar, const AvatarInput& input, AvatarPose& pose) {
+  const float blinkLeft = input.arkit[static_cast<std::size_t>(formats::arkitIndex("eyeBlinkLeft"))];
+  const float blinkRight = input.arkit[static_cast<std::size_t>(formats::arkitIndex("eyeBlinkRight"))];
+  const bool separateLids = avatar.expressions.count("blinkLeft") > 0 && avatar.expressions.count("blinkRight") > 0;
+  const std::array<std::pair<const char*, float>, 8> driven{
+      {{"aa", input.vrm[0]},
+       {"ih", input.vrm[1]},
+       {"ou", input.vrm[2]},
+       {"ee", input.vrm[3]},
+       {"oh", input.vrm[4]},
+       {"blink", separateLids ? 0.0f : 0.5f * (blinkLeft + blinkRight)},
+       {"blinkLeft", separateLids ? blinkLeft : 0.0f},
+       {"blinkRight", separateLids ? blinkRight : 0.0f}}};
+  for (const auto& [name, weight] : driven) {
+    const auto found = avatar.expressions.find(name);
+    if (found == avatar.expressions.end()) continue;
+    for (const TargetBind& bind : found->second) {
+      if (bind.mesh < 0 || bind.target < 0 ||
+          bind.target >= static_cast<int>(pose.weights[static_cast<std::size_t>(bind.mesh)].size()))
+        continue;
+      float& w = pose.weights[static_cast<std::size_t>(bind.mesh)][static_cast<std::size_t>(bind.target)];
+      w = std::min(1.0f, w + weight * bind.weight);
+    }
+  }
+}
+
+}  // namespace
+
 void poseAvatar(const Avatar& avatar, const AvatarRig& rig, const AvatarInput& input, AvatarPose& pose) {
   if (pose.weights.size() != avatar.meshes.size() || pose.locals.size() != avatar.nodes.size()) pose = restPose(avatar);
   for (std::size_t m = 0; m < avatar.meshes.size(); ++m) {
@@ -207,31 +239,7 @@ void poseAvatar(const Avatar& avatar, const AvatarRig& rig, const AvatarInput& i
     for (std::size_t k = 0; k < rig.visemeTargets[m].size(); ++k)
       if (const int t = rig.visemeTargets[m][k]; t >= 0) weights[static_cast<std::size_t>(t)] = visemes[k];
   }
-  if (rig.scheme == MorphScheme::kVrmExpressions) {
-    const float blinkLeft = input.arkit[static_cast<std::size_t>(formats::arkitIndex("eyeBlinkLeft"))];
-    const float blinkRight = input.arkit[static_cast<std::size_t>(formats::arkitIndex("eyeBlinkRight"))];
-    const bool separateLids = avatar.expressions.count("blinkLeft") > 0 && avatar.expressions.count("blinkRight") > 0;
-    const std::array<std::pair<const char*, float>, 8> driven{
-        {{"aa", input.vrm[0]},
-         {"ih", input.vrm[1]},
-         {"ou", input.vrm[2]},
-         {"ee", input.vrm[3]},
-         {"oh", input.vrm[4]},
-         {"blink", separateLids ? 0.0f : 0.5f * (blinkLeft + blinkRight)},
-         {"blinkLeft", separateLids ? blinkLeft : 0.0f},
-         {"blinkRight", separateLids ? blinkRight : 0.0f}}};
-    for (const auto& [name, weight] : driven) {
-      const auto found = avatar.expressions.find(name);
-      if (found == avatar.expressions.end()) continue;
-      for (const TargetBind& bind : found->second) {
-        if (bind.mesh < 0 || bind.target < 0 ||
-            bind.target >= static_cast<int>(pose.weights[static_cast<std::size_t>(bind.mesh)].size()))
-          continue;
-        float& w = pose.weights[static_cast<std::size_t>(bind.mesh)][static_cast<std::size_t>(bind.target)];
-        w = std::min(1.0f, w + weight * bind.weight);
-      }
-    }
-  }
+  if (rig.scheme == MorphScheme::kVrmExpressions) addVrmExpressions(avatar, input, pose);
   // Bones: the rest pose, then the head's rotation shared between neck and head, and the eyes' gaze.
   for (std::size_t n = 0; n < avatar.nodes.size(); ++n) pose.locals[n] = avatar.nodes[n].local();
   const auto restGlobalRotation = [&](int node) {
