@@ -82,7 +82,24 @@ void IdleMotion::apply(double seconds, double levelDb, const IdleSwitches& switc
     }
   }
 
-  // Blinks: close, hold, open; spontaneous ones slower while the voice is on, one likely where a phrase ends.
+  const double closure = blinkClosure(voice, elapsed);
+  if (switches.blinks) {
+    faps[19] = std::max(faps[19], kFullClose * closure);
+    faps[20] = std::max(faps[20], kFullClose * closure);
+  }
+
+  followGaze();
+  if (switches.gaze) {
+    faps[23] += angleUnits(yaw_);
+    faps[24] += angleUnits(yaw_);
+    faps[25] += angleUnits(pitch_);
+    faps[26] += angleUnits(pitch_);
+  }
+}
+
+// Blinks: close, hold, open; spontaneous ones slower while the voice is on, one likely where a phrase ends. The
+// lids' closure now, 0..1.
+double IdleMotion::blinkClosure(bool voice, double elapsed) {
   if (voice) {
     if (voiceStart_ < 0.0) voiceStart_ = now_;
     lastVoice_ = now_;
@@ -110,12 +127,11 @@ void IdleMotion::apply(double seconds, double levelDb, const IdleSwitches& switc
       closure = 1.0 - smoothstep((t - options_.closeSeconds - options_.closedSeconds) / options_.openSeconds);
     }
   }
-  if (switches.blinks) {
-    faps[19] = std::max(faps[19], kFullClose * closure);
-    faps[20] = std::max(faps[20], kFullClose * closure);
-  }
+  return closure;
+}
 
-  // Gaze: fixations joined by saccades.
+// Gaze: fixations joined by saccades.
+void IdleMotion::followGaze() {
   if (now_ >= nextFixation_) {
     fromYaw_ = yaw_;
     fromPitch_ = pitch_;
@@ -129,12 +145,6 @@ void IdleMotion::apply(double seconds, double levelDb, const IdleSwitches& switc
     const double w = smoothstep((now_ - saccadeStart_) / options_.saccadeSeconds);
     yaw_ = fromYaw_ + w * (toYaw_ - fromYaw_);
     pitch_ = fromPitch_ + w * (toPitch_ - fromPitch_);
-  }
-  if (switches.gaze) {
-    faps[23] += angleUnits(yaw_);
-    faps[24] += angleUnits(yaw_);
-    faps[25] += angleUnits(pitch_);
-    faps[26] += angleUnits(pitch_);
   }
 }
 

@@ -81,6 +81,8 @@ class IdleMotion {
   void scheduleBlink();
   void startBlink(bool atBoundary);
   void scheduleFixation(double after);
+  double blinkClosure(bool voice, double elapsed);
+  void followGaze();
 
   IdleMotionOptions options_;
   std::mt19937 random_;
