@@ -314,6 +314,43 @@ IterationRecord baumWelchIteration(HmmModel& model, const std::vector<Eigen::Mat
   return record;
 }
 
+namespace {
+
+// The most similar pairs of states tried in turn, each merge judged after a few EM iterations without trimming (the
+// other parameters need them to adapt: measured, right after the merge most profitable merges still score lower),
+// against the unmerged model after as many. The first that scores higher is kept (model, statistics, `after` and the
+// record updated): true; false when none does.
+bool mergeIfBetter(HmmModel& model, SufficientStatistics& statistics, const std::vector<Eigen::MatrixXd>& sequences,
+                   const Eigen::VectorXd& floor, const EstimationHooks& hooks, int iteration, double& after,
+                   IterationRecord& record) {
+  auto settle = [&](HmmModel& settling, SufficientStatistics& settlingStatistics) {
+    for (int step = 0; step < kMergeSettleIterations; ++step) {
+      maximisationStep(settling, settlingStatistics, floor, hooks, {.iteration = iteration, .mayTrim = false});
+      settlingStatistics = expectationStep(settling, sequences);
+    }
+    return posteriorOf(settling, settlingStatistics.logLikelihood, hooks, iteration);
+  };
+  HmmModel unmerged = model;
+  SufficientStatistics unmergedStatistics = statistics;
+  const double threshold = std::max(after, settle(unmerged, unmergedStatistics));
+  for (const auto& [a, b] : mergeCandidates(model, statistics, hooks.stateMergeCandidates)) {
+    HmmModel merged = mergeStates(model, statistics, a, b, floor, hooks.covariancePriorWeight);
+    SufficientStatistics mergedStatistics = expectationStep(merged, sequences);
+    const double mergedPosterior = settle(merged, mergedStatistics);
+    if (mergedPosterior > threshold) {
+      record.stepGain += mergedPosterior - after;
+      after = mergedPosterior;
+      model = std::move(merged);
+      statistics = std::move(mergedStatistics);
+      ++record.statesMerged;
+      return true;
+    }
+  }
+  return false;
+}
+
+}  // namespace
+
 TrainingResult trainHmm(const std::vector<Eigen::MatrixXd>& sequences, const TrainingOptions& options,
                         const EstimationHooks& hooks) {
   TrainingResult result;
@@ -351,36 +388,10 @@ TrainingResult trainHmm(const std::vector<Eigen::MatrixXd>& sequences, const Tra
     statistics = std::move(candidateStatistics);
     const bool priorSettled = iteration >= hooks.priorFinalFrom;
     record.stepGain = after - before;
-    // At the final prior, once EM gains little, try merging the most similar pairs of states. A merge is judged
-    // after a few EM iterations without trimming (the other parameters need them to adapt: measured, right
-    // after the merge most profitable merges still score lower), against the unmerged model after as many.
+    // At the final prior, once EM gains little, try merging the most similar pairs of states.
     const bool settled = priorSettled && std::abs(record.stepGain) / totalFrames < kMergeTolerance;
     if (settled && !mergesExhausted && hooks.stateMergeCandidates > 0 && model.numStates() > 1) {
-      mergesExhausted = true;
-      auto settle = [&](HmmModel& settling, SufficientStatistics& settlingStatistics) {
-        for (int step = 0; step < kMergeSettleIterations; ++step) {
-          maximisationStep(settling, settlingStatistics, floor, hooks, {.iteration = iteration, .mayTrim = false});
-          settlingStatistics = expectationStep(settling, sequences);
-        }
-        return posteriorOf(settling, settlingStatistics.logLikelihood, hooks, iteration);
-      };
-      HmmModel unmerged = model;
-      SufficientStatistics unmergedStatistics = statistics;
-      const double threshold = std::max(after, settle(unmerged, unmergedStatistics));
-      for (const auto& [a, b] : mergeCandidates(model, statistics, hooks.stateMergeCandidates)) {
-        HmmModel merged = mergeStates(model, statistics, a, b, floor, hooks.covariancePriorWeight);
-        SufficientStatistics mergedStatistics = expectationStep(merged, sequences);
-        const double mergedPosterior = settle(merged, mergedStatistics);
-        if (mergedPosterior > threshold) {
-          record.stepGain += mergedPosterior - after;
-          after = mergedPosterior;
-          model = std::move(merged);
-          statistics = std::move(mergedStatistics);
-          ++record.statesMerged;
-          mergesExhausted = false;
-          break;
-        }
-      }
+      mergesExhausted = !mergeIfBetter(model, statistics, sequences, floor, hooks, iteration, after, record);
     }
     result.history.push_back(record);
     // Converged when the step gained (almost) nothing, the prior no longer changes and no merge was kept.
