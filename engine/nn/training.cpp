@@ -201,6 +201,40 @@ std::vector<DenseLayer> lossGradients(const Network& network, const std::vector<
   return gradients;
 }
 
+namespace {
+
+// One AdamW step on a batch of n frames' summed gradients (the step-th of totalSteps), with the learning rate on a
+// cosine from its start to its final value over all steps.
+void adamWStep(Network& network, const std::vector<DenseLayer>& gradients, AdamState& adam, long step, long totalSteps,
+               Eigen::Index n, const TrainingOptions& options) {
+  constexpr double kBeta1 = 0.9, kBeta2 = 0.999, kEpsilon = 1e-8;
+  const double done = static_cast<double>(step - 1) / static_cast<double>(std::max(totalSteps - 1, 1L));
+  const double rate = options.finalLearningRate + 0.5 * (options.learningRate - options.finalLearningRate) *
+                                                      (1.0 + std::cos(3.14159265358979323846 * done));
+  const double correction1 = 1.0 - std::pow(kBeta1, static_cast<double>(step));
+  const double correction2 = 1.0 - std::pow(kBeta2, static_cast<double>(step));
+  const auto stepSize = static_cast<float>(rate * std::sqrt(correction2) / correction1);
+  const auto decay = static_cast<float>(1.0 - rate * options.weightDecay);
+  const auto perFrame = 1.0f / static_cast<float>(n);
+  for (std::size_t l = 0; l < network.layers().size(); ++l) {
+    DenseLayer& layer = network.mutableLayers()[l];
+    const DenseLayer& g = gradients[l];
+    Eigen::MatrixXf& m1 = adam.weightMoment1[l];
+    Eigen::MatrixXf& m2 = adam.weightMoment2[l];
+    m1 = kBeta1 * m1 + ((1.0 - kBeta1) * perFrame) * g.weights;
+    m2 = kBeta2 * m2 + ((1.0 - kBeta2) * perFrame * perFrame) * g.weights.cwiseAbs2();
+    layer.weights *= decay;
+    layer.weights.array() -= stepSize * m1.array() / (m2.array().sqrt() + static_cast<float>(kEpsilon));
+    Eigen::VectorXf& b1 = adam.biasMoment1[l];
+    Eigen::VectorXf& b2 = adam.biasMoment2[l];
+    b1 = kBeta1 * b1 + ((1.0 - kBeta1) * perFrame) * g.bias;
+    b2 = kBeta2 * b2 + ((1.0 - kBeta2) * perFrame * perFrame) * g.bias.cwiseAbs2();
+    layer.bias.array() -= stepSize * b1.array() / (b2.array().sqrt() + static_cast<float>(kEpsilon));
+  }
+}
+
+}  // namespace
+
 TrainingReport train(Network& network, const std::vector<Head>& heads, const Frames& training, const Frames* validation,
                      const TrainingOptions& options, const std::function<void(int, int)>& progress) {
   options.check();
@@ -213,7 +247,6 @@ TrainingReport train(Network& network, const std::vector<Head>& heads, const Fra
   std::iota(order.begin(), order.end(), 0);
   AdamState adam(network);
   Backpropagation pass(network);
-  constexpr double kBeta1 = 0.9, kBeta2 = 0.999, kEpsilon = 1e-8;
   long step = 0;
   const Eigen::Index batchSize = std::min<Eigen::Index>(options.batchFrames, training.size());
   const auto batchesPerEpoch = static_cast<long>((training.size() + batchSize - 1) / batchSize);
@@ -238,31 +271,7 @@ TrainingReport train(Network& network, const std::vector<Head>& heads, const Fra
       epochLoss += pass.run(network, heads, inputs.leftCols(n), targets.leftCols(n), mask.leftCols(n), options.dropout,
                             options.inputNoise, random);
 
-      // AdamW with the learning rate on a cosine from its start to its final value over all steps.
-      ++step;
-      const double done = static_cast<double>(step - 1) / static_cast<double>(std::max(totalSteps - 1, 1L));
-      const double rate = options.finalLearningRate + 0.5 * (options.learningRate - options.finalLearningRate) *
-                                                          (1.0 + std::cos(3.14159265358979323846 * done));
-      const double correction1 = 1.0 - std::pow(kBeta1, static_cast<double>(step));
-      const double correction2 = 1.0 - std::pow(kBeta2, static_cast<double>(step));
-      const auto stepSize = static_cast<float>(rate * std::sqrt(correction2) / correction1);
-      const auto decay = static_cast<float>(1.0 - rate * options.weightDecay);
-      const auto perFrame = 1.0f / static_cast<float>(n);
-      for (std::size_t l = 0; l < network.layers().size(); ++l) {
-        DenseLayer& layer = network.mutableLayers()[l];
-        const DenseLayer& g = pass.gradients()[l];
-        Eigen::MatrixXf& m1 = adam.weightMoment1[l];
-        Eigen::MatrixXf& m2 = adam.weightMoment2[l];
-        m1 = kBeta1 * m1 + ((1.0 - kBeta1) * perFrame) * g.weights;
-        m2 = kBeta2 * m2 + ((1.0 - kBeta2) * perFrame * perFrame) * g.weights.cwiseAbs2();
-        layer.weights *= decay;
-        layer.weights.array() -= stepSize * m1.array() / (m2.array().sqrt() + static_cast<float>(kEpsilon));
-        Eigen::VectorXf& b1 = adam.biasMoment1[l];
-        Eigen::VectorXf& b2 = adam.biasMoment2[l];
-        b1 = kBeta1 * b1 + ((1.0 - kBeta1) * perFrame) * g.bias;
-        b2 = kBeta2 * b2 + ((1.0 - kBeta2) * perFrame * perFrame) * g.bias.cwiseAbs2();
-        layer.bias.array() -= stepSize * b1.array() / (b2.array().sqrt() + static_cast<float>(kEpsilon));
-      }
+      adamWStep(network, pass.gradients(), adam, ++step, totalSteps, n, options);
     }
     report.trainingLoss.push_back(epochLoss / static_cast<double>(training.size()));
     if (!std::isfinite(report.trainingLoss.back()))
