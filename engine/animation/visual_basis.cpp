@@ -111,6 +111,23 @@ void checkOptions(const VisualBasisOptions& options, Eigen::Index dimension, Eig
   if (!(options.tolerance > 0.0)) throw Error("visual basis: the FastICA tolerance must be positive");
 }
 
+// Each parameter's standard deviation, or 1 where it is constant (kConstantRelativeSpread says why).
+Eigen::VectorXd standardisingScales(const Eigen::MatrixXd& data, const Eigen::MatrixXd& centred) {
+  const double inverseFrames = 1.0 / static_cast<double>(data.cols());
+  Eigen::VectorXd scale = Eigen::VectorXd::Ones(data.rows());
+  for (Eigen::Index i = 0; i < data.rows(); ++i) {
+    double sumSquares = 0.0;
+    double largest = 0.0;
+    for (Eigen::Index t = 0; t < data.cols(); ++t) {
+      sumSquares += centred(i, t) * centred(i, t);
+      largest = std::max(largest, std::abs(data(i, t)));
+    }
+    const double deviation = std::sqrt(sumSquares * inverseFrames);
+    if (deviation > kConstantRelativeSpread * largest) scale[i] = deviation;
+  }
+  return scale;
+}
+
 }  // namespace
 
 VisualBasis VisualBasis::fit(const Eigen::MatrixXd& data, const VisualBasisOptions& options) {
@@ -126,16 +143,7 @@ VisualBasis VisualBasis::fit(const Eigen::MatrixXd& data, const VisualBasisOptio
   Eigen::MatrixXd centred = data.colwise() - basis.mean_;
   basis.scale_ = Eigen::VectorXd::Ones(d);
   if (options.standardise) {
-    for (Eigen::Index i = 0; i < d; ++i) {
-      double sumSquares = 0.0;
-      double largest = 0.0;
-      for (Eigen::Index t = 0; t < numFrames; ++t) {
-        sumSquares += centred(i, t) * centred(i, t);
-        largest = std::max(largest, std::abs(data(i, t)));
-      }
-      const double deviation = std::sqrt(sumSquares * inverseFrames);
-      if (deviation > kConstantRelativeSpread * largest) basis.scale_[i] = deviation;
-    }
+    basis.scale_ = standardisingScales(data, centred);
     centred = basis.scale_.cwiseInverse().asDiagonal() * centred;
   }
 
