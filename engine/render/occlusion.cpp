@@ -83,32 +83,12 @@ void smoothOverTriangles(Eigen::VectorXf& open, const std::vector<std::array<int
   }
 }
 
-}  // namespace
-
-Eigen::VectorXf computeOpenness(const Eigen::Matrix3Xd& positions, const Eigen::Matrix3Xf& normals,
-                                const std::vector<std::array<int, 3>>& triangles, const std::vector<int>& triangleGroup,
-                                const std::vector<std::uint32_t>& occludedBy, const OcclusionOptions& options) {
-  const Eigen::Index n = positions.cols();
-  if (normals.cols() != n || static_cast<Eigen::Index>(occludedBy.size()) != n ||
-      triangleGroup.size() != triangles.size())
-    throw Error("computeOpenness: positions, normals, groups and masks disagree in size");
-  Eigen::VectorXf open = Eigen::VectorXf::Ones(n);
-  if (n == 0 || triangles.empty() || options.directions <= 0 || options.resolution <= 0) return open;
-
-  const Eigen::Vector3f low = positions.rowwise().minCoeff().cast<float>();
-  const Eigen::Vector3f high = positions.rowwise().maxCoeff().cast<float>();
-  const Eigen::Vector3f centre = 0.5f * (low + high);
-  const float radius = 0.5f * (high - low).norm() * 1.02f + 1e-3f;
-  const int size = options.resolution;
-  const float texel = 2.0f * radius / static_cast<float>(size);
-  const float depthRange = 2.0f * radius;  // near = radius, far = 3 * radius from the eye
-
-  DepthViews gl;
+// The depth program, the mesh's vertices p (its triangles are given per pass, in the index buffer) and a size x size
+// depth target, bound and set for the passes: depth tested and written, no culling, no blending.
+void openDepthViews(DepthViews& gl, const Eigen::Matrix3Xf& p, int size) {
   gl.program = linkProgram(shaders::kDepth_vert, shaders::kDepth_frag, "depth");
-  const GLint viewProjectionAt = glGetUniformLocation(gl.program, "uViewProjection");
   glGenVertexArrays(1, &gl.vao);
   glBindVertexArray(gl.vao);
-  const Eigen::Matrix3Xf p = positions.cast<float>();
   glGenBuffers(1, &gl.vertexBuffer);
   glBindBuffer(GL_ARRAY_BUFFER, gl.vertexBuffer);
   glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(p.size() * static_cast<Eigen::Index>(sizeof(float))), p.data(),
@@ -135,6 +115,32 @@ Eigen::VectorXf computeOpenness(const Eigen::Matrix3Xd& positions, const Eigen::
   glDisable(GL_CULL_FACE);  // a surface blocks light from both its sides
   glDisable(GL_BLEND);
   glPixelStorei(GL_PACK_ALIGNMENT, 4);
+}
+
+}  // namespace
+
+Eigen::VectorXf computeOpenness(const Eigen::Matrix3Xd& positions, const Eigen::Matrix3Xf& normals,
+                                const std::vector<std::array<int, 3>>& triangles, const std::vector<int>& triangleGroup,
+                                const std::vector<std::uint32_t>& occludedBy, const OcclusionOptions& options) {
+  const Eigen::Index n = positions.cols();
+  if (normals.cols() != n || static_cast<Eigen::Index>(occludedBy.size()) != n ||
+      triangleGroup.size() != triangles.size())
+    throw Error("computeOpenness: positions, normals, groups and masks disagree in size");
+  Eigen::VectorXf open = Eigen::VectorXf::Ones(n);
+  if (n == 0 || triangles.empty() || options.directions <= 0 || options.resolution <= 0) return open;
+
+  const Eigen::Vector3f low = positions.rowwise().minCoeff().cast<float>();
+  const Eigen::Vector3f high = positions.rowwise().maxCoeff().cast<float>();
+  const Eigen::Vector3f centre = 0.5f * (low + high);
+  const float radius = 0.5f * (high - low).norm() * 1.02f + 1e-3f;
+  const int size = options.resolution;
+  const float texel = 2.0f * radius / static_cast<float>(size);
+  const float depthRange = 2.0f * radius;  // near = radius, far = 3 * radius from the eye
+
+  const Eigen::Matrix3Xf p = positions.cast<float>();
+  DepthViews gl;
+  openDepthViews(gl, p, size);
+  const GLint viewProjectionAt = glGetUniformLocation(gl.program, "uViewProjection");
 
   const std::vector<Eigen::Vector3f> directions = fibonacciSphere(options.directions);
 
