@@ -108,6 +108,51 @@ bool poseButtons(face::FapFrame& faps) {
   return pressed;
 }
 
+// What the panel changes from frame to frame.
+struct ShowState {
+  face::FapFrame faps{};
+  bool playing = false;
+  double playStart = 0.0;  // glfwGetTime() when the animation last started playing
+};
+
+// What the panel shows, unchanged from frame to frame.
+struct ShowPanel {
+  const std::optional<face::FapTrack>& animation;
+  const face::FaceModel& face;
+  const std::vector<std::string_view>& groups;
+  std::string description;  // the character's (empty for our face)
+  int height = 0;           // the window's, for the panel's first size
+};
+
+// The panel, ImGui's "Face" window: reset buttons, play or pause, key poses, the FAPs'
+// sliders. Returns the instant of the animation playing (-1: none; the FAPs in `state` are shown).
+double facePanel(ShowState& state, const ShowPanel& panel, render::OrbitCamera& camera,
+                 const render::OrbitCamera& home) {
+  ImGui::SetNextWindowPos(ImVec2(10, 10), ImGuiCond_FirstUseEver);
+  ImGui::SetNextWindowSize(ImVec2(420, static_cast<float>(panel.height) - 20), ImGuiCond_FirstUseEver);
+  ImGui::Begin("Face");
+  if (!panel.description.empty()) ImGui::TextUnformatted(panel.description.c_str());
+  if (ImGui::Button("Reset FAPs")) state.faps = {};
+  ImGui::SameLine();
+  if (ImGui::Button("Reset view")) camera = home;
+  if (panel.animation) {
+    ImGui::SameLine();
+    if (ImGui::Button(state.playing ? "Pause" : "Play")) {
+      state.playing = !state.playing;
+      state.playStart = glfwGetTime();
+    }
+  }
+  if (poseButtons(state.faps)) state.playing = false;
+  double seconds = -1.0;
+  if (state.playing && panel.animation) {
+    seconds = std::fmod(glfwGetTime() - state.playStart, panel.animation->durationSeconds());
+    state.faps = panel.animation->at(seconds);
+  }
+  if (fapSliders(panel.face, panel.groups, state.faps)) state.playing = false;
+  ImGui::End();
+  return seconds;
+}
+
 void runShow(const ShowArguments& arguments) {
   std::optional<face::FapTrack> animation;
   if (!arguments.animation.empty()) animation = formats::readAnimation(arguments.animation);
@@ -129,9 +174,7 @@ void runShow(const ShowArguments& arguments) {
 
   const std::vector<std::string_view> groups = fapGroupsOf(face);
 
-  face::FapFrame faps{};
-  bool playing = animation.has_value();
-  double playStart = glfwGetTime();
+  ShowState state{.playing = animation.has_value(), .playStart = glfwGetTime()};
   int frame = 0;
   std::pair<int, int> lastSize{0, 0};
   while (!window.shouldClose()) {
@@ -151,28 +194,13 @@ void runShow(const ShowArguments& arguments) {
 
     orbitWithMouse(camera, home);
 
-    ImGui::SetNextWindowPos(ImVec2(10, 10), ImGuiCond_FirstUseEver);
-    ImGui::SetNextWindowSize(ImVec2(420, static_cast<float>(size.second) - 20), ImGuiCond_FirstUseEver);
-    ImGui::Begin("Face");
-    if (character) ImGui::TextUnformatted(head->description().c_str());
-    if (ImGui::Button("Reset FAPs")) faps = {};
-    ImGui::SameLine();
-    if (ImGui::Button("Reset view")) camera = home;
-    if (animation) {
-      ImGui::SameLine();
-      if (ImGui::Button(playing ? "Pause" : "Play")) {
-        playing = !playing;
-        playStart = glfwGetTime();
-      }
-    }
-    if (poseButtons(faps)) playing = false;
-    double seconds = -1.0;  // of the animation playing
-    if (playing && animation) {
-      seconds = std::fmod(glfwGetTime() - playStart, animation->durationSeconds());
-      faps = animation->at(seconds);
-    }
-    if (fapSliders(face, groups, faps)) playing = false;
-    ImGui::End();
+    const double seconds = facePanel(state,
+                                     {.animation = animation,
+                                      .face = face,
+                                      .groups = groups,
+                                      .description = character ? head->description() : std::string(),
+                                      .height = size.second},
+                                     camera, home);
     ImGui::Render();
 
     // A playing animation poses the head with its visemes too (a character's viseme targets); sliders and poses
@@ -180,7 +208,7 @@ void runShow(const ShowArguments& arguments) {
     if (seconds >= 0.0)
       head->poseAt(*animation, seconds);
     else
-      head->pose(faps, nullptr);
+      head->pose(state.faps, nullptr);
     head->drawIntoWindow(window);
     ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
     if (!arguments.screenshot.empty() && ++frame >= arguments.frames) {
