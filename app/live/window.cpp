@@ -30,6 +30,7 @@
 #include "pipeline/frame_stats.h"
 #include "pipeline/live.h"
 #include "pipeline/playout.h"
+#include "render/back_buffer_check.h"
 #include "render/gl_context.h"
 #include "render/head.h"
 #include "render/image.h"
@@ -56,60 +57,6 @@ int samplesFor(render::WindowContext& window, int asked) {
 std::shared_ptr<const pipeline::AnimationModels> loadModelsOf(const outputs::LiveSessionSettings& settings) {
   return std::make_shared<const pipeline::AnimationModels>(pipeline::loadModels(settings));
 }
-
-// The panel's column is drawn again only when what it shows changes, if the window's back buffer keeps its
-// pixels from one frame to the next. GL leaves them undefined after a swap; Mesa's software path (llvmpipe under
-// X) keeps them, a GPU's swap chain does not. So it is checked: a frame leaves a mark in a corner of the column
-// (one pixel, for one frame), and the next reads it back before drawing anything. Found: the column is kept; not
-// found: drawn every frame from then on. Checked again after a resize, and every 10 s while found (a mark one
-// pixel wide for one frame does not show).
-class KeptColumnCheck {
- public:
-  enum class State { kToMark, kToRead, kKept, kNotKept };
-
-  void again() { state_ = State::kToMark; }
-  bool reading() const { return state_ == State::kToRead; }
-  bool kept() const { return state_ == State::kKept; }
-  bool marking() const { return state_ == State::kToMark; }
-
-  // At the loop's top: a kept column is checked again every 10 s.
-  void tick() {
-    if (state_ == State::kKept && std::chrono::steady_clock::now() - checkedAt_ > std::chrono::seconds(10))
-      state_ = State::kToMark;
-  }
-
-  void mark(std::pair<int, int> size) {
-    glEnable(GL_SCISSOR_TEST);
-    glScissor(0, size.second - 1, 1, 1);
-    glClearColor(kMark[0] / 255.0f, kMark[1] / 255.0f, kMark[2] / 255.0f, 1.0f);
-    glClear(GL_COLOR_BUFFER_BIT);
-    glDisable(GL_SCISSOR_TEST);
-    state_ = State::kToRead;
-  }
-
-  void read(std::pair<int, int> size) {
-    std::array<std::uint8_t, 4> pixel{};
-    glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
-    glReadBuffer(GL_BACK);
-    glPixelStorei(GL_PACK_ALIGNMENT, 1);
-    glReadPixels(0, size.second - 1, 1, 1, GL_RGBA, GL_UNSIGNED_BYTE, pixel.data());
-    const bool found = std::equal(kMark.begin(), kMark.end(), pixel.begin());
-    checkedAt_ = std::chrono::steady_clock::now();
-    const bool first = !reported_;
-    reported_ = true;
-    state_ = found ? State::kKept : State::kNotKept;
-    if (first || !found)  // said once, and again if it stops keeping them
-      std::cout << "live: the window's back buffer " << (found ? "keeps" : "does not keep")
-                << " its pixels between frames: the panel is drawn " << (found ? "when it changes" : "every frame")
-                << std::endl;
-  }
-
- private:
-  static constexpr std::array<std::uint8_t, 3> kMark{17, 201, 83};
-  State state_ = State::kToMark;
-  std::chrono::steady_clock::time_point checkedAt_;
-  bool reported_ = false;
-};
 
 class LiveWindow {
  public:
@@ -219,7 +166,10 @@ class LiveWindow {
     const auto drawStart = std::chrono::steady_clock::now();
     keptColumn_.tick();
     const bool checking = keptColumn_.reading();
-    if (checking) keptColumn_.read(size);
+    if (checking && keptColumn_.read(size))  // said once, and again if it stops keeping them
+      std::cout << "live: the window's back buffer " << (keptColumn_.kept() ? "keeps" : "does not keep")
+                << " its pixels between frames: the panel is drawn "
+                << (keptColumn_.kept() ? "when it changes" : "every frame") << std::endl;
     const bool panelNow = resized || checking || !keptColumn_.kept() || panelNeedsDrawing();
     if (panelNow) {
       // The panel's background is this clear (llvmpipe clears with a memset, where ImGui's window background
@@ -526,12 +476,12 @@ class LiveWindow {
   std::string headStyleLine_;
   LivePanel panel_;
   pipeline::FrameStats stats_;
-  KeptColumnCheck keptColumn_;
-  face::FapFrame lastDecoded_{};  // the decoders' last pose (before idle motion)
-  double shownSeconds_ = -1.0;    // the instant of speech drawn this frame (-1: none yet)
-  int framesWithout_ = 0;         // display frames since the playout last had a frame
-  bool panelStale_ = true;        // animation frames came in since the panel was drawn
-  bool panelSpills_ = false;      // it last drew beyond its column
+  render::BackBufferCheck keptColumn_;  // the panel is drawn again only when it changes, where the column is kept
+  face::FapFrame lastDecoded_{};        // the decoders' last pose (before idle motion)
+  double shownSeconds_ = -1.0;          // the instant of speech drawn this frame (-1: none yet)
+  int framesWithout_ = 0;               // display frames since the playout last had a frame
+  bool panelStale_ = true;              // animation frames came in since the panel was drawn
+  bool panelSpills_ = false;            // it last drew beyond its column
   std::chrono::steady_clock::time_point panelDrawn_, lastInput_;
   std::array<double, 2> cursor_{-1.0, -1.0};
   std::uint64_t panelDraws_ = 0;
