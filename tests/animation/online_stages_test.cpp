@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "core/error.h"
+#include "made_up_speech.h"
 
 namespace {
 
@@ -59,16 +60,7 @@ void checkContract(OnlineStage<In, Out>& stage, const std::vector<In>& inputs, b
   EXPECT_THROW(stage.accept(inputs.front()), th::Error) << "input after its end";
 }
 
-std::vector<SpeechFrame> madeUpSpeech(int frames, int mfcc, unsigned seed) {
-  std::mt19937 random(seed);
-  std::normal_distribution<double> noise(0.0, 1.0);
-  std::vector<SpeechFrame> speech(static_cast<std::size_t>(frames));
-  for (SpeechFrame& frame : speech) {
-    frame.levelDb = -30.0 + 10.0 * noise(random);
-    frame.mfcc = Eigen::VectorXd::NullaryExpr(mfcc, [&] { return 5.0 * noise(random); });
-  }
-  return speech;
-}
+using th::test::madeUpSpeech;
 
 TEST(OnlineStages, HeadStage) {
   const HeadModel model = loadHeadModel(modelPath("head.json"));

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "core/error.h"
+#include "made_up_speech.h"
 
 namespace {
 
@@ -19,16 +20,7 @@ std::string modelPath(const char* name) {
   return std::string(TALKINGHEAD_SOURCE_DIR) + "/models/" + name;
 }
 
-std::vector<SpeechFrame> madeUpFrames(int frames, int mfcc, unsigned seed) {
-  std::mt19937 random(seed);
-  std::normal_distribution<double> noise(0.0, 1.0);
-  std::vector<SpeechFrame> speech(static_cast<std::size_t>(frames));
-  for (SpeechFrame& frame : speech) {
-    frame.levelDb = -30.0 + 10.0 * noise(random);
-    frame.mfcc = Eigen::VectorXd::NullaryExpr(mfcc, [&] { return 5.0 * noise(random); });
-  }
-  return speech;
-}
+using th::test::madeUpSpeech;
 
 SpeechFrames matrixOf(const std::vector<SpeechFrame>& frames) {
   SpeechFrames speech;
@@ -89,7 +81,7 @@ TEST(RecordingStages, HeadBatchOrStreaming) {
 
 TEST(RecordingStages, MouthBatchOrStreaming) {
   const MouthModel model = loadMouthModel(modelPath("mouth.json"));
-  const std::vector<SpeechFrame> speech = madeUpFrames(200, 11, 4);
+  const std::vector<SpeechFrame> speech = madeUpSpeech(200, 11, 4);
   const MouthSynthesisOptions batch{.method = MouthMethod::kInversion, .maxIterations = 20};
   const std::vector<MouthFrame> frames = runWhole(*makeMouthStage(model, batch), speech);
   const Eigen::MatrixXd expected = synthesiseMouth(model, matrixOf(speech), batch);
@@ -102,7 +94,7 @@ TEST(RecordingStages, MouthBatchOrStreaming) {
 
 TEST(RecordingStages, VisemesBatchOrStreaming) {
   const VisemeModel model = loadVisemeModel(modelPath("visemes.json"));
-  const std::vector<SpeechFrame> speech = madeUpFrames(200, static_cast<int>(model.priorMean.size()), 5);
+  const std::vector<SpeechFrame> speech = madeUpSpeech(200, static_cast<int>(model.priorMean.size()), 5);
   const std::vector<VisemeFrame> frames = runWhole(*makeVisemeStage(model, -1), speech);
   const th::face::VisemeTrack expected = decodeVisemes(model, matrixOf(speech));
   ASSERT_EQ(frames.size(), expected.classes.size());
@@ -115,7 +107,7 @@ TEST(RecordingStages, VisemesBatchOrStreaming) {
 
 TEST(RecordingStages, ArticulationOnTheWholeRecording) {
   const MouthNetwork model = loadMouthNetwork(modelPath("articulation.json"));
-  const std::vector<SpeechFrame> subframes = madeUpFrames(3 * 100 + 1, kNetworkMfcc, 6);
+  const std::vector<SpeechFrame> subframes = madeUpSpeech(3 * 100 + 1, kNetworkMfcc, 6);
   // The cepstral mean of the whole recording: the network hears it before its first frame.
   const std::vector<MouthNetworkFrame> heard = runWhole(*makeMouthNetworkStage(model, true), subframes);
   const SpeechFrames matrix = matrixOf(subframes);

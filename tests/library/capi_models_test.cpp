@@ -9,30 +9,14 @@
 #include <vector>
 
 #include "core/data_path.h"
+#include "stream_frames.h"
 #include "talkinghead/talkinghead.h"
 #include "wav_samples.h"
 
 namespace {
 
-std::vector<th_frame> streamFrames(th_stream* stream, const std::vector<float>& samples, std::size_t block) {
-  std::vector<th_frame> frames;
-  th_frame frame;
-  th_frame_init(&frame);
-  for (std::size_t at = 0; at < samples.size(); at += block) {
-    EXPECT_EQ(th_stream_push(stream, samples.data() + at, std::min(block, samples.size() - at)), TH_OK);
-    while (th_stream_pull(stream, &frame) == 1) frames.push_back(frame);
-  }
-  EXPECT_EQ(th_stream_finish(stream), TH_OK);
-  while (th_stream_pull(stream, &frame) == 1) frames.push_back(frame);
-  th_stream_close(stream);
-  return frames;
-}
-
-void expectSameFrames(const std::vector<th_frame>& got, const std::vector<th_frame>& expected) {
-  ASSERT_EQ(got.size(), expected.size());
-  for (std::size_t i = 0; i < got.size(); ++i)
-    ASSERT_EQ(std::memcmp(&got[i], &expected[i], sizeof(th_frame)), 0) << "frame " << i;
-}
+using th::test::expectSameFrames;
+using th::test::pullAllFrames;
 
 TEST(LibraryModels, StreamsOnOneHandleOnTwoThreadsGiveTheFramesOfAStreamStartedAlone) {
   double rate = 0.0;
@@ -48,7 +32,7 @@ TEST(LibraryModels, StreamsOnOneHandleOnTwoThreadsGiveTheFramesOfAStreamStartedA
   th_stream* alone = nullptr;
   ASSERT_EQ(th_stream_start(own, &settings, &alone), TH_OK) << th_last_error();
   th_models_free(own);
-  const std::vector<th_frame> expected = streamFrames(alone, samples, 160);
+  const std::vector<th_frame> expected = pullAllFrames(alone, samples, 160);
   ASSERT_GT(expected.size(), 60u);
 
   th_models* models = nullptr;
@@ -58,8 +42,8 @@ TEST(LibraryModels, StreamsOnOneHandleOnTwoThreadsGiveTheFramesOfAStreamStartedA
   th_models_free(models);  // the streams keep the models they use
 
   std::vector<th_frame> got[2];
-  std::thread first([&] { got[0] = streamFrames(streams[0], samples, 160); });
-  std::thread second([&] { got[1] = streamFrames(streams[1], samples, 1234); });  // another block size
+  std::thread first([&] { got[0] = pullAllFrames(streams[0], samples, 160); });
+  std::thread second([&] { got[1] = pullAllFrames(streams[1], samples, 1234); });  // another block size
   first.join();
   second.join();
   expectSameFrames(got[0], expected);

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "core/data_path.h"
+#include "stream_frames.h"
 #include "talkinghead/talkinghead.h"
 #include "wav_samples.h"
 
@@ -31,18 +32,7 @@ Struct garbage() {
 }
 
 std::vector<th_frame> pulled(th_stream* stream, const std::vector<float>& samples) {
-  std::vector<th_frame> frames;
-  th_frame frame;
-  th_frame_init(&frame);
-  const std::size_t block = 441;
-  for (std::size_t at = 0; at < samples.size(); at += block) {
-    EXPECT_EQ(th_stream_push(stream, samples.data() + at, std::min(block, samples.size() - at)), TH_OK);
-    while (th_stream_pull(stream, &frame) == 1) frames.push_back(frame);
-  }
-  EXPECT_EQ(th_stream_finish(stream), TH_OK);
-  while (th_stream_pull(stream, &frame) == 1) frames.push_back(frame);
-  th_stream_close(stream);
-  return frames;
+  return th::test::pullAllFrames(stream, samples, 441);
 }
 
 std::vector<th_frame> framesOf(th_animation* animation) {
@@ -55,11 +45,10 @@ std::vector<th_frame> framesOf(th_animation* animation) {
   return frames;
 }
 
+// Frames of a recording long enough to compare (more than two seconds), byte for byte.
 void expectSameFrames(const std::vector<th_frame>& got, const std::vector<th_frame>& expected) {
   ASSERT_GT(expected.size(), 60u);
-  ASSERT_EQ(got.size(), expected.size());
-  for (std::size_t i = 0; i < got.size(); ++i)
-    ASSERT_EQ(std::memcmp(&got[i], &expected[i], sizeof(th_frame)), 0) << "frame " << i;
+  th::test::expectSameFrames(got, expected);
 }
 
 TEST(LibraryVerbOptions, InitGivesTheDefaults) {
