@@ -1,6 +1,5 @@
 #include "pipeline/offline.h"
 
-#include <algorithm>
 #include <map>
 
 #include "animation/fap_mapping.h"
